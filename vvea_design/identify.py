@@ -1,0 +1,515 @@
+"""Identification: the paper's eq. 14 and its extensions, fitted to recordings.
+
+The paper (section 4) fits ::
+
+    f = g p2 x + L(γ) ẋ + C sign(ẋ)                      (eq. 14)
+
+by least squares (eq. 15) and lists g, C (its "B") and one L per valve in
+Table 3. The model is linear in its parameters, so here it is solved exactly
+by bounded linear least squares (g, C, L >= 0). The same engine fits the
+extended models of :mod:`vvea_design.diagnose` (eq. 14 plus effects from
+:mod:`vvea_design.effects`): amplitudes are linear, each effect's one shape
+parameter is searched on a grid and refined.
+
+Samples within one run are not independent (correlated noise), so the
+parameter uncertainties are cluster-robust (sandwich) standard errors with
+whole experiments as clusters, not the naive i.i.d. ones.
+
+Everything is computed from per-experiment normal-equation blocks
+``G_e = X_eᵀX_e``, ``b_e = X_eᵀy_e``, so refitting without some experiments
+(grouped cross-validation) costs a ``p x p`` solve.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.linalg import cho_factor, cho_solve, solve_triangular
+from scipy.optimize import lsq_linear, minimize_scalar
+
+from .effects import CATALOGUE, FitData, Param, baseline_columns, effect_params
+from .recordings import Recordings
+
+__all__ = [
+    "PAPER_TABLE3",
+    "PAPER_ERROR_BAND_PCT",
+    "Blocks",
+    "ModelFit",
+    "assemble",
+    "blocks",
+    "solve_bounded",
+    "fit_model",
+    "fit_eq14",
+    "table3",
+    "error_band_pct",
+    "format_table3",
+    "write_identification",
+]
+
+#: Table 3 of the paper (value per parameter name).
+PAPER_TABLE3: dict[str, float] = {
+    "g": 23.31,
+    "C": 125.5,
+    "L(50)": 0.4,
+    "L(80)": 0.5,
+    "L(100)": 7.1,
+    "L(104)": 15.1,
+    "L(106)": 25.3,
+    "L(108)": 40.6,
+    "L(109)": 52.7,
+    "L(110)": 85.2,
+    "L(120)": 1024.7,
+}
+#: The paper's error band of eq. 14 against its measurements (% of nominal force).
+PAPER_ERROR_BAND_PCT = (-9.5, 12.0)
+
+
+# ------------------------------------------------------------------ engine
+def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | None = None):
+    """Design matrix of eq. 14 plus ``effects``.
+
+    Parameters
+    ----------
+    D : FitData
+    effects : sequence of str
+        Effect ids from :data:`vvea_design.effects.CATALOGUE`.
+    shapes : dict
+        Shape-parameter value per effect id (ignored for effects without one).
+    ctx : dict
+        Context for effects that need the current model (relief valve:
+        ``damping_force_N``).
+
+    Returns
+    -------
+    X : (n, p) array
+    params : list[Param]
+    groups : dict[str, slice]
+        Columns of the baseline (``"eq14"``) and of each effect.
+    """
+    shapes = shapes or {}
+    ctx = ctx or {}
+    X0, params = baseline_columns(D)
+    cols = [X0]
+    groups = {"eq14": slice(0, X0.shape[1])}
+    p = X0.shape[1]
+    for eid in effects:
+        eff = CATALOGUE[eid]
+        sv = shapes.get(eid, np.nan)
+        if eff.damping_mask is not None:
+            m = eff.damping_mask(D, sv, ctx)
+            X0[m, 2:] = 0.0
+        c = eff.columns(D, sv, ctx)
+        cols.append(c)
+        params = params + list(effect_params(eff, D))
+        groups[eid] = slice(p, p + c.shape[1])
+        p += c.shape[1]
+    return np.column_stack(cols), params, groups
+
+
+@dataclass(frozen=True)
+class Blocks:
+    """Per-experiment normal-equation blocks of a design."""
+
+    G: np.ndarray  #: (n_exp, p, p)
+    b: np.ndarray  #: (n_exp, p)
+    yy: np.ndarray  #: (n_exp,)
+    n: np.ndarray  #: samples per experiment
+    lower: np.ndarray
+    upper: np.ndarray
+
+    def sse(self, theta: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
+        """Sum of squared residuals per experiment for parameters ``theta``."""
+        G, b, yy = (self.G, self.b, self.yy) if rows is None else (self.G[rows], self.b[rows], self.yy[rows])
+        return yy - 2 * b @ theta + np.einsum("i,eij,j->e", theta, G, theta)
+
+
+def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
+    """Normal-equation blocks per experiment (``bounds`` = row offsets)."""
+    ne = len(bounds) - 1
+    p = X.shape[1]
+    G = np.empty((ne, p, p))
+    b = np.empty((ne, p))
+    yy = np.empty(ne)
+    for e in range(ne):
+        Xe = X[bounds[e] : bounds[e + 1]]
+        ye = y[bounds[e] : bounds[e + 1]]
+        G[e] = Xe.T @ Xe
+        b[e] = Xe.T @ ye
+        yy[e] = ye @ ye
+    lo = np.array([q.lower for q in params], float)
+    hi = np.array([q.upper for q in params], float)
+    return Blocks(G, b, yy, np.diff(bounds), lo, hi)
+
+
+def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Minimise ``θᵀGθ - 2bᵀθ`` subject to ``lower <= θ <= upper``.
+
+    Columns are scaled to unit diagonal; a tiny ridge keeps parameters of
+    absent columns (a valve missing from a training fold) at zero.
+    """
+    d = np.sqrt(np.clip(np.diag(G), 0, None))
+    d[d == 0] = 1.0
+    Gs = G / np.outer(d, d) + 1e-10 * np.eye(len(b))
+    bs = b / d
+    cf = cho_factor(Gs)
+    th = cho_solve(cf, bs) / d
+    if np.all(th >= lower - 1e-12) and np.all(th <= upper + 1e-12):
+        return th
+    R = np.triu(cf[0]) if not cf[1] else np.triu(cf[0].T)
+    c = solve_triangular(R.T, bs, lower=True)
+    sol = lsq_linear(R, c, bounds=(lower * d, upper * d), method="bvls")
+    return sol.x / d
+
+
+@dataclass(frozen=True)
+class ModelFit:
+    """A fitted model: eq. 14 plus zero or more effects.
+
+    Attributes
+    ----------
+    effects : tuple[str]
+        Effect ids included.
+    shapes : dict
+        Fitted shape parameter per effect id (NaN when the effect has none).
+    params : list[Param]
+        Amplitude parameters in column order.
+    theta : array
+        Fitted amplitudes (units of ``params``).
+    se : array
+        Cluster-robust standard errors (experiments as clusters).
+    rmse_N : float
+        In-sample RMS residual (N).
+    n_rows : int
+        Samples used.
+    groups : dict
+        Column slice per effect (``"eq14"`` for the baseline).
+    ctx : dict
+        Context used (relief valve).
+    """
+
+    effects: tuple
+    shapes: dict
+    params: list
+    theta: np.ndarray
+    se: np.ndarray
+    rmse_N: float
+    n_rows: int
+    groups: dict
+    ctx: dict = field(default_factory=dict)
+    shape_se: dict = field(default_factory=dict)
+
+    @property
+    def values(self) -> dict[str, float]:
+        """Parameter name -> value."""
+        return {q.name: float(v) for q, v in zip(self.params, self.theta)}
+
+    @property
+    def errors(self) -> dict[str, float]:
+        """Parameter name -> standard error."""
+        return {q.name: float(v) for q, v in zip(self.params, self.se)}
+
+    def design(self, D: FitData) -> np.ndarray:
+        """Design matrix of this model on ``D``."""
+        ctx = _relief_ctx(self, D) if "relief_valve" in self.effects else self.ctx
+        return assemble(D, self.effects, self.shapes, ctx)[0]
+
+    def predict(self, D: FitData) -> np.ndarray:
+        """Model force (N) at the samples of ``D``."""
+        return self.design(D) @ self.theta
+
+    def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
+        """Force (N) the effect adds relative to the same model without it."""
+        X = self.design(D)
+        sl = self.groups[effect_id]
+        f = X[:, sl] @ self.theta[sl]
+        if effect_id == "relief_valve":
+            m = CATALOGUE["relief_valve"].damping_mask(D, self.shapes["relief_valve"], _relief_ctx(self, D))
+            X0, _ = baseline_columns(D)
+            f = f - np.where(m, X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop], 0.0)
+        return f
+
+    def damping_force(self, D: FitData) -> np.ndarray:
+        """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
+        X0, _ = baseline_columns(D)
+        return X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop]
+
+
+def _relief_ctx(fit: ModelFit, D: FitData) -> dict:
+    return {"damping_force_N": fit.damping_force(D)}
+
+
+def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    G = Bk.G[rows].sum(0)
+    scores = Bk.b[rows] - np.einsum("eij,j->ei", Bk.G[rows], theta)
+    meat = scores.T @ scores
+    ne = len(rows)
+    d = np.sqrt(np.clip(np.diag(G), 1e-300, None))
+    Gi = np.linalg.pinv(G / np.outer(d, d)) / np.outer(d, d)
+    cov = Gi @ meat @ Gi * (ne / max(ne - 1, 1))
+    return np.sqrt(np.clip(np.diag(cov), 0, None))
+
+
+def fit_model(
+    D: FitData,
+    effects=(),
+    *,
+    experiments: np.ndarray | None = None,
+    shapes: dict | None = None,
+    ctx: dict | None = None,
+    refine: bool = True,
+) -> ModelFit:
+    """Fit eq. 14 plus ``effects`` to the experiments ``experiments`` of ``D``.
+
+    Shape parameters not given in ``shapes`` are searched on the effect's
+    grid one effect at a time (two sweeps), then refined by a bounded scalar
+    search in log space when ``refine``.
+
+    Parameters
+    ----------
+    D : FitData
+    effects : sequence of str
+    experiments : int array, optional
+        Experiment indices to fit (default all).
+    shapes : dict, optional
+        Fixed shape values per effect id.
+    ctx : dict, optional
+        Context (relief valve ``damping_force_N``); computed from the eq.-14
+        fit when needed and not given.
+    refine : bool
+        Refine grid-searched shape parameters.
+
+    Returns
+    -------
+    ModelFit
+    """
+    effects = tuple(effects)
+    rows = np.arange(D.n_exp) if experiments is None else np.asarray(experiments, int)
+    shapes = dict(shapes or {})
+    if ctx is None and "relief_valve" in effects:
+        base = fit_model(D, (), experiments=rows)
+        ctx = _relief_ctx(base, D)
+    ctx = ctx or {}
+    free = [e for e in effects if CATALOGUE[e].shape is not None and e not in shapes]
+    # start values: the middle of each grid
+    for e in free:
+        g = CATALOGUE[e].grid(D, ctx)
+        shapes[e] = float(g[len(g) // 2]) if len(g) else np.nan
+
+    def train_sse(sh):
+        X, params, _ = assemble(D, effects, sh, ctx)
+        Bk = blocks(X, D.y, D.bounds, params)
+        th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
+        return float(Bk.sse(th, rows).sum()), th, Bk, params
+
+    for _sweep in range(2 if len(free) > 1 else 1):
+        for e in free:
+            g = CATALOGUE[e].grid(D, ctx)
+            if len(g) == 0:
+                continue
+            costs = []
+            for val in g:
+                sh = dict(shapes)
+                sh[e] = float(val)
+                costs.append(train_sse(sh)[0])
+            k = int(np.argmin(costs))
+            shapes[e] = float(g[k])
+            if refine and len(g) > 1 and _sweep == (1 if len(free) > 1 else 0):
+                lo, hi = g[max(k - 1, 0)], g[min(k + 1, len(g) - 1)]
+                if hi > lo:
+
+                    def f(z, e=e):
+                        sh = dict(shapes)
+                        sh[e] = float(np.exp(z))
+                        return train_sse(sh)[0]
+
+                    r = minimize_scalar(f, bounds=(np.log(lo), np.log(hi)), method="bounded", options={"xatol": 1e-3})
+                    if r.fun <= costs[k]:
+                        shapes[e] = float(np.exp(r.x))
+    sse, th, Bk, params = train_sse(shapes)
+    X, params, groups = assemble(D, effects, shapes, ctx)
+    se = _cluster_se(Bk, th, rows)
+    n_rows = int(Bk.n[rows].sum())
+    return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / n_rows)), n_rows, groups, ctx)
+
+
+# ------------------------------------------------------------------ eq. 14
+def fit_eq14(rec: Recordings | FitData) -> ModelFit:
+    """Fit the paper's eq. 14 (g, C, one L per valve) to a campaign.
+
+    Parameters
+    ----------
+    rec : Recordings or FitData
+
+    Returns
+    -------
+    ModelFit
+        Parameters ``g`` (N/mm/MPa), ``C`` (N), ``L(γ)`` (N s/mm) with
+        cluster-robust standard errors.
+    """
+    D = rec if isinstance(rec, FitData) else FitData.from_recordings(rec)
+    return fit_model(D, ())
+
+
+def table3(fit: ModelFit) -> pd.DataFrame:
+    """Table 3's layout: parameter, unit, value, standard error, paper value.
+
+    The paper calls the Coulomb friction ``B`` in Table 3 and ``C`` in eq. 14.
+    """
+    rows = []
+    sl = fit.groups["eq14"]
+    for q, v, s in zip(fit.params[sl], fit.theta[sl], fit.se[sl]):
+        name = "B (=C)" if q.name == "C" else q.name
+        rows.append(
+            dict(parameter=name, unit=q.unit, value=float(v), std_error=float(s), paper=PAPER_TABLE3.get(q.name, np.nan))
+        )
+    return pd.DataFrame(rows)
+
+
+def format_table3(df: pd.DataFrame) -> str:
+    """Plain-text rendering of :func:`table3` (Parameter / Unit / Value ± se / Paper)."""
+    lines = [f"{'Parameter':<10} {'Unit':<10} {'Value':>22} {'Paper':>9}"]
+    for r in df.itertuples():
+        val = f"{r.value:10.2f} ± {r.std_error:<8.2f}"
+        pap = "" if not np.isfinite(r.paper) else f"{r.paper:9.2f}"
+        lines.append(f"{r.parameter:<10} {r.unit:<10} {val:>22} {pap:>9}")
+    return "\n".join(lines)
+
+
+def error_band_pct(D: FitData, force_model_N: np.ndarray) -> tuple[float, float]:
+    """Model error (model - measured) in % of the nominal force, min and max.
+
+    The nominal force of an experiment is its largest measured |force|; the
+    paper's band for eq. 14 is -9.5 % ... +12 %.
+    """
+    nom = np.zeros(D.n)
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        nom[a:b] = np.max(np.abs(D.y[a:b]))
+    err = 100.0 * (force_model_N - D.y) / nom
+    return float(err.min()), float(err.max())
+
+
+# ------------------------------------------------------------------ figures & files
+def _fig10(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ex = rec.experiments
+    speeds = sorted(ex["speed_mm_s"].unique())
+    valves = list(D.valves)
+    pressures = sorted(ex["p2_MPa"].unique())
+    colors = dict(zip(pressures, plt.cm.viridis(np.linspace(0.1, 0.85, len(pressures)))))
+    fig, axes = plt.subplots(
+        2 * len(valves), len(speeds), figsize=(2.2 * len(speeds), 1.35 * 2 * len(valves)), sharex=True, squeeze=False
+    )
+    for _, r in ex.iterrows():
+        i = valves.index(r["valve_deg"])
+        j = speeds.index(r["speed_mm_s"])
+        k = int(np.flatnonzero(ex["experiment"].to_numpy() == r["experiment"])[0])
+        a, b = D.bounds[k], D.bounds[k + 1]
+        ax, axe = axes[2 * i, j], axes[2 * i + 1, j]
+        c = colors[r["p2_MPa"]]
+        ax.plot(D.x[a:b], D.y[a:b], ".", ms=1, color=c)
+        ax.plot(D.x[a:b], fmod[a:b], "-", lw=0.7, color="k")
+        axe.plot(D.x[a:b], fmod[a:b] - D.y[a:b], "-", lw=0.6, color=c)
+    for i, v in enumerate(valves):
+        axes[2 * i, 0].set_ylabel(f"γ={v:g}°\nF [N]", fontsize=6)
+        axes[2 * i + 1, 0].set_ylabel("err [N]", fontsize=6)
+    for j, s in enumerate(speeds):
+        axes[0, j].set_title(f"ẋ = {s:g} mm/s", fontsize=7)
+        axes[-1, j].set_xlabel("x [mm]", fontsize=6)
+    for ax in axes.flat:
+        ax.tick_params(labelsize=5)
+    handles = [plt.Line2D([], [], color=colors[p], marker=".", ls="", label=f"meas. p2={p:g} MPa") for p in pressures]
+    handles.append(plt.Line2D([], [], color="k", label="model eq. 14"))
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1, 0.985))
+    fig.savefig(path, dpi=70)
+    plt.close(fig)
+
+
+def _fig11(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> dict:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ex = rec.experiments
+    sel = ex[(ex["speed_mm_s"] == ex["speed_mm_s"].min())]
+    p_med = sorted(sel["p2_MPa"].unique())[len(sel["p2_MPa"].unique()) // 2]
+    sel = sel[sel["p2_MPa"] == p_med]
+    v_med = sorted(sel["valve_deg"].unique())[len(sel) // 2]
+    r = sel[sel["valve_deg"] == v_med].iloc[0]
+    k = int(np.flatnonzero(ex["experiment"].to_numpy() == r["experiment"])[0])
+    a, b = D.bounds[k], D.bounds[k + 1]
+    err = fmod[a:b] - D.y[a:b]
+    fig, (ax, axe) = plt.subplots(2, 1, figsize=(6, 5.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    ax.plot(D.x[a:b], D.y[a:b], ".", ms=3, label="measurement")
+    ax.plot(D.x[a:b], fmod[a:b], "-", color="k", label="model eq. 14")
+    ax.set_ylabel("force [N]")
+    ax.set_title(
+        f"{r['experiment']}: ẋ = {r['speed_mm_s']:g} mm/s, p2 = {r['p2_MPa']:g} MPa, γ = {r['valve_deg']:g}°"
+    )
+    ax.legend()
+    axe.plot(D.x[a:b], err, "-", color="C3")
+    axe.set_ylabel("model − meas. [N]")
+    axe.set_xlabel("displacement x [mm]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return dict(
+        experiment=str(r["experiment"]),
+        max_abs_error_N=float(np.abs(err).max()),
+        max_force_N=float(np.abs(D.y[a:b]).max()),
+    )
+
+
+def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | None = None) -> dict:
+    """Fit eq. 14 and write Table 3 (CSV), a JSON summary and Figs 10/11 (PNG).
+
+    Parameters
+    ----------
+    rec : Recordings
+    out_dir : path
+        Created if missing. Files: ``table3.csv``, ``identification.json``,
+        ``fig10_model_vs_measurement.png``, ``fig11_force_displacement.png``.
+    fit : ModelFit, optional
+        A precomputed eq.-14 fit.
+
+    Returns
+    -------
+    dict
+        The JSON summary.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    D = FitData.from_recordings(rec)
+    fit = fit or fit_model(D, ())
+    tab = table3(fit)
+    tab.to_csv(out / "table3.csv", index=False)
+    fmod = fit.predict(D)
+    band = error_band_pct(D, fmod)
+    _fig10(rec, D, fmod, out / "fig10_model_vs_measurement.png")
+    f11 = _fig11(rec, D, fmod, out / "fig11_force_displacement.png")
+    summary = dict(
+        source=rec.source,
+        model="eq14: f = g p2 x + L(gamma) xdot + C sign(xdot)",
+        rows_read=rec.rows_read,
+        rows_left_out=D.rows_left_out,
+        rows_left_out_reason="samples at rest (start, turning point, end): friction is set-valued there",
+        n_experiments=rec.n_experiments,
+        velocity_fallback_experiments=rec.n_savgol,
+        parameters={r.parameter: dict(value=r.value, std_error=r.std_error, unit=r.unit, paper=(None if not np.isfinite(r.paper) else r.paper)) for r in tab.itertuples()},
+        rmse_N=fit.rmse_N,
+        error_band_pct=dict(ours=list(band), paper=list(PAPER_ERROR_BAND_PCT)),
+        fig11=f11,
+        files=["table3.csv", "identification.json", "fig10_model_vs_measurement.png", "fig11_force_displacement.png"],
+    )
+    (out / "identification.json").write_text(json.dumps(summary, indent=2))
+    return summary

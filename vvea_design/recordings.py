@@ -1,0 +1,435 @@
+"""Tension-test recordings: reader, validation and velocity estimate.
+
+Reads the exchange format of ``shared/specs/recordings.md`` (CSV or Parquet):
+one tidy table, one row per sample, many experiments per file, columns
+``experiment, time_s, displacement_mm, force_N, p2_MPa, valve_deg`` and the
+optional label ``speed_mm_s``. Other columns are kept and ignored.
+
+Velocity is derived from ``time_s`` and ``displacement_mm`` only. A naive
+finite difference is useless here: 2 µm of displacement noise at 20 ms
+sampling is 0.1 mm/s, i.e. 100 N at a damping of 1000 N s/mm. The reader
+therefore fits, per experiment, the test machine's motion profile (constant
+acceleration to a cruise speed, cruise, a constant-deceleration reversal,
+cruise back, constant deceleration to rest) to the displacement by least
+squares and differentiates the fitted profile analytically. Where that
+profile does not describe an experiment (fit error well above the
+displacement noise) the velocity falls back to a Savitzky-Golay derivative
+on each monotone segment; the number of such experiments is reported.
+
+Example
+-------
+>>> from vvea_design.recordings import read_recordings
+>>> rec = read_recordings("../shared/recordings/campaign_a.csv")  # doctest: +SKIP
+>>> rec.n_experiments, rec.data["velocity_mm_s"].abs().max()        # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import least_squares
+from scipy.signal import savgol_filter
+
+__all__ = [
+    "RecordingsError",
+    "Recordings",
+    "REQUIRED_COLUMNS",
+    "MIN_SAMPLES_PER_EXPERIMENT",
+    "REST_FRACTION",
+    "read_recordings",
+    "recordings_from_frame",
+    "trapezoid_profile",
+]
+
+#: Columns every file must hold (name -> meaning, unit).
+REQUIRED_COLUMNS: dict[str, str] = {
+    "experiment": "identifier of one test run (text)",
+    "time_s": "time since the start of the experiment (s)",
+    "displacement_mm": "piston displacement x, + = extension (mm)",
+    "force_N": "measured external force, + = tension (N)",
+    "p2_MPa": "pressure preset of the positive chamber (MPa)",
+    "valve_deg": "throttle valve position gamma (degree)",
+}
+#: A sample is "at rest" when its speed is below this fraction of the cruise
+#: speed (start, turning point, end): friction is set-valued there (anything
+#: between -C and +C), so models of sign(ẋ) leave these samples out.
+REST_FRACTION = 0.02
+#: An experiment with fewer samples than this is rejected.
+MIN_SAMPLES_PER_EXPERIMENT = 8
+
+_NUMERIC = ("time_s", "displacement_mm", "force_N", "p2_MPa", "valve_deg")
+
+
+class RecordingsError(ValueError):
+    """A recordings file that does not follow the exchange format."""
+
+
+@dataclass(frozen=True)
+class Recordings:
+    """A validated campaign with derived kinematics.
+
+    Attributes
+    ----------
+    data : pandas.DataFrame
+        One row per sample, in file order, with the format's columns plus
+        ``velocity_mm_s`` (estimated ẋ, mm/s), ``direction`` (+1 extending,
+        -1 retracting, 0 at rest), ``time_since_reversal_s`` (s since the
+        last start or reversal of motion), ``campaign_time_s`` (s since the
+        start of the first experiment, experiments laid end to end in file
+        order) and ``exp_index`` (0-based experiment number in run order).
+    experiments : pandas.DataFrame
+        One row per experiment: ``experiment, p2_MPa, valve_deg, speed_mm_s``
+        (nominal label, or the fitted cruise speed when absent),
+        ``n_samples``, ``velocity_method`` ("profile" or "savgol"),
+        ``profile_rms_mm`` (displacement misfit of the motion profile).
+    source : str
+        File the campaign was read from (or ``"<frame>"``).
+    rows_read : int
+        Rows in the file.
+    rows_left_out : int
+        Rows the reader left out (the reader leaves none out; the field is
+        carried so that every consumer can report it).
+    displacement_noise_mm : float
+        Robust estimate of the displacement measurement noise (mm).
+    """
+
+    data: pd.DataFrame
+    experiments: pd.DataFrame
+    source: str
+    rows_read: int
+    rows_left_out: int = 0
+    displacement_noise_mm: float = 0.0
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def n_experiments(self) -> int:
+        """Number of experiments in the campaign."""
+        return len(self.experiments)
+
+    @property
+    def n_savgol(self) -> int:
+        """Experiments whose velocity came from the Savitzky-Golay fallback."""
+        return int((self.experiments["velocity_method"] == "savgol").sum())
+
+    def subset(self, experiment_ids) -> "Recordings":
+        """The campaign restricted to the given experiment identifiers (run order kept)."""
+        keep = set(map(str, experiment_ids))
+        d = self.data[self.data["experiment"].isin(keep)].reset_index(drop=True)
+        e = self.experiments[self.experiments["experiment"].isin(keep)].reset_index(drop=True)
+        return Recordings(d, e, self.source, len(d), 0, self.displacement_noise_mm, self.notes)
+
+
+# ---------------------------------------------------------------- reading
+def read_recordings(path: str | Path) -> Recordings:
+    """Read and validate a recordings file (``.csv`` or ``.parquet``).
+
+    Parameters
+    ----------
+    path
+        CSV (comma separated, header line, ``.`` decimal point) or Parquet
+        file with the exchange-format columns.
+
+    Returns
+    -------
+    Recordings
+        The validated campaign with estimated velocity.
+
+    Raises
+    ------
+    RecordingsError
+        Naming the file, the column or row and what is wrong.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise RecordingsError(f"{path}: file not found")
+    suffix = path.suffix.lower()
+    try:
+        if suffix in (".parquet", ".pq"):
+            frame = pd.read_parquet(path)
+            line_offset = 0
+        else:
+            frame = pd.read_csv(path, dtype={"experiment": str}, keep_default_na=True)
+            line_offset = 2  # header is line 1, first data row line 2
+    except Exception as exc:  # pragma: no cover - depends on the parser's message
+        raise RecordingsError(f"{path}: cannot be read as {'Parquet' if suffix in ('.parquet', '.pq') else 'CSV'}: {exc}") from exc
+    return recordings_from_frame(frame, source=str(path), line_offset=line_offset)
+
+
+def _where(source: str, idx: int, line_offset: int) -> str:
+    return f"{source}: line {idx + line_offset}" if line_offset else f"{source}: row {idx}"
+
+
+def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_offset: int = 0) -> Recordings:
+    """Validate a table in the exchange format and derive the kinematics.
+
+    Parameters
+    ----------
+    frame
+        The table (columns as in the file).
+    source
+        Name used in error messages.
+    line_offset
+        Added to a 0-based row index to name the line in error messages
+        (2 for a CSV with a header line, 0 for "row" numbering).
+
+    Raises
+    ------
+    RecordingsError
+        Missing column, non-numeric value, NaN, time not increasing inside
+        an experiment, too few samples, an experiment with two pressures or
+        two valve positions, an experiment split into non-contiguous blocks.
+    """
+    frame = frame.reset_index(drop=True)
+    missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
+    if missing:
+        raise RecordingsError(
+            f"{source}: missing required column(s) {', '.join(missing)} "
+            f"(found: {', '.join(map(str, frame.columns))})"
+        )
+    if len(frame) == 0:
+        raise RecordingsError(f"{source}: no data rows")
+    d = frame.copy()
+    d["experiment"] = d["experiment"].astype(object)
+    bad_id = d["experiment"].isna()
+    if bad_id.any():
+        i = int(np.flatnonzero(bad_id.to_numpy())[0])
+        raise RecordingsError(f"{_where(source, i, line_offset)}: column experiment is empty (NaN)")
+    d["experiment"] = d["experiment"].astype(str)
+    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
+    for c in cols:
+        num = pd.to_numeric(d[c], errors="coerce")
+        bad = num.isna() & d[c].notna()
+        if bad.any():
+            i = int(np.flatnonzero(bad.to_numpy())[0])
+            raise RecordingsError(
+                f"{_where(source, i, line_offset)}: column {c} holds a non-numeric value {d[c].iloc[i]!r}"
+            )
+        nan = num.isna() | ~np.isfinite(num.astype(float))
+        if nan.any():
+            i = int(np.flatnonzero(nan.to_numpy())[0])
+            raise RecordingsError(f"{_where(source, i, line_offset)}: column {c} is NaN/empty or infinite")
+        d[c] = num.astype(float)
+
+    exp = d["experiment"].to_numpy()
+    starts = np.r_[True, exp[1:] != exp[:-1]]
+    block_ids = exp[starts]
+    if len(set(block_ids)) != len(block_ids):
+        seen: set[str] = set()
+        for i in np.flatnonzero(starts):
+            if exp[i] in seen:
+                raise RecordingsError(
+                    f"{_where(source, int(i), line_offset)}: rows of experiment {exp[i]!r} are not contiguous "
+                    "(it appears again after another experiment)"
+                )
+            seen.add(exp[i])
+    bounds = np.r_[np.flatnonzero(starts), len(d)]
+    t = d["time_s"].to_numpy()
+    for k in range(len(block_ids)):
+        a, b = bounds[k], bounds[k + 1]
+        name = block_ids[k]
+        if b - a < MIN_SAMPLES_PER_EXPERIMENT:
+            raise RecordingsError(
+                f"{_where(source, int(a), line_offset)}: experiment {name!r} has only {b - a} samples "
+                f"(at least {MIN_SAMPLES_PER_EXPERIMENT} needed)"
+            )
+        dt = np.diff(t[a:b])
+        if np.any(dt <= 0):
+            i = int(a + 1 + np.flatnonzero(dt <= 0)[0])
+            raise RecordingsError(
+                f"{_where(source, i, line_offset)}: time_s does not increase inside experiment {name!r} "
+                f"({t[i - 1]!r} then {t[i]!r})"
+            )
+        for c in ("p2_MPa", "valve_deg"):
+            vals = d[c].to_numpy()[a:b]
+            if np.any(vals != vals[0]):
+                i = int(a + np.flatnonzero(vals != vals[0])[0])
+                what = "pressures" if c == "p2_MPa" else "valve positions"
+                raise RecordingsError(
+                    f"{_where(source, i, line_offset)}: experiment {name!r} has two {what} in column {c} "
+                    f"({vals[0]!r} and {vals[i - a]!r})"
+                )
+        if d["p2_MPa"].iloc[a] <= 0:
+            raise RecordingsError(
+                f"{_where(source, int(a), line_offset)}: experiment {name!r}: p2_MPa must be > 0, got {d['p2_MPa'].iloc[a]!r}"
+            )
+    return _derive(d, bounds, block_ids, source)
+
+
+# ---------------------------------------------------------------- kinematics
+def trapezoid_profile(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float, x0_mm: float = 0.0):
+    """Displacement and velocity of the test machine's out-and-back motion.
+
+    Constant acceleration ``a`` from rest to the cruise speed ``v``, cruise,
+    constant deceleration reaching the turning point at ``t_rev`` (velocity
+    zero there), and the mirror image back to rest at ``2 t_rev``.
+
+    Parameters
+    ----------
+    t : array, s
+    v_mm_s : float
+        Cruise speed (mm/s), > 0.
+    a_mm_s2 : float
+        Acceleration (mm/s²), > 0.
+    t_rev_s : float
+        Time of the turning point (s).
+    x0_mm : float
+        Displacement at rest (mm).
+
+    Returns
+    -------
+    x_mm, v_mm_s : arrays
+    """
+    t = np.asarray(t, float)
+    ta = v_mm_s / a_mm_s2
+    tm = np.minimum(t, 2 * t_rev_s - t)  # mirror about the turning point
+    tm = np.clip(tm, 0.0, None)
+    # outward ramp
+    x = np.where(
+        tm < ta,
+        0.5 * a_mm_s2 * tm**2,
+        np.where(
+            tm < t_rev_s - ta,
+            0.5 * a_mm_s2 * ta**2 + v_mm_s * (tm - ta),
+            v_mm_s * (t_rev_s - ta) - 0.5 * a_mm_s2 * np.clip(t_rev_s - tm, 0, None) ** 2,
+        ),
+    )
+    vel = np.where(tm < ta, a_mm_s2 * tm, np.where(tm < t_rev_s - ta, v_mm_s, a_mm_s2 * np.clip(t_rev_s - tm, 0, None)))
+    sign = np.where(t <= t_rev_s, 1.0, -1.0)
+    vel = np.where((t < 0) | (t > 2 * t_rev_s), 0.0, vel * sign)
+    return x0_mm + x, vel
+
+
+def _fit_profile(t: np.ndarray, x: np.ndarray):
+    """Least-squares fit of :func:`trapezoid_profile`; returns (params, rms, x_fit, v_fit)."""
+    k = int(np.argmax(x))
+    t_rev0 = t[k]
+    v0 = max((x[k] - x[0]) / max(t_rev0 - t[0], 1e-9), 1e-6)
+    ta0 = min(0.2, 0.2 * t_rev0)
+    p0 = np.array([v0, v0 / ta0, t_rev0, x[0]])
+
+    def res(p):
+        return trapezoid_profile(t, p[0], p[1], p[2], p[3])[0] - x
+
+    lo = [1e-9, 1e-9, t[0], -np.inf]
+    hi = [np.inf, np.inf, t[-1], np.inf]
+    best = None
+    for scale in (1.0, 0.3, 3.0):  # a few acceleration guesses: the kink makes the cost non-smooth
+        q0 = p0.copy()
+        q0[1] = p0[1] * scale
+        try:
+            sol = least_squares(res, q0, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
+        except ValueError:
+            continue
+        if best is None or sol.cost < best.cost:
+            best = sol
+    p = best.x
+    xf, vf = trapezoid_profile(t, *p)
+    rms = float(np.sqrt(np.mean((xf - x) ** 2)))
+    return p, rms, xf, vf
+
+
+def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Savitzky-Golay derivative on each monotone segment (split at the turning sample)."""
+    n = len(x)
+    k = int(np.argmax(x))
+    v = np.zeros(n)
+    for a, b in ((0, k + 1), (k, n)):
+        seg_t, seg_x = t[a:b], x[a:b]
+        m = len(seg_x)
+        if m < 3:
+            continue
+        w = min(11, m if m % 2 == 1 else m - 1)
+        poly = min(2, w - 1)
+        dt = float(np.median(np.diff(seg_t)))
+        dv = savgol_filter(seg_x, w, poly, deriv=1, delta=dt, mode="interp")
+        if a == 0:
+            v[a:b] = dv
+        else:
+            v[k] = 0.5 * (v[k] + dv[0])
+            v[k + 1 : b] = dv[1:]
+    return v
+
+
+def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str) -> Recordings:
+    t_all = d["time_s"].to_numpy()
+    x_all = d["displacement_mm"].to_numpy()
+    n = len(d)
+    vel = np.zeros(n)
+    tsr = np.zeros(n)
+    ctime = np.zeros(n)
+    exp_index = np.zeros(n, dtype=int)
+    rows = []
+    noise = []
+    turning = np.zeros(n, dtype=bool)
+    offset = 0.0
+    for k in range(len(names)):
+        a, b = bounds[k], bounds[k + 1]
+        t, x = t_all[a:b], x_all[a:b]
+        # displacement noise from second differences of the interior
+        d2 = np.diff(x, 2)
+        sig = float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
+        noise.append(sig)
+        p, rms, _, vf = _fit_profile(t, x)
+        tol = max(4.0 * sig, 1e-3 * max(np.ptp(x), 1e-9))
+        if rms <= tol:
+            v, method = vf, "profile"
+        else:
+            v, method = _savgol_velocity(t, x), "savgol"
+        vel[a:b] = v
+        if method == "profile":
+            # samples that fall on the start, the turning point or the end of
+            # the motion (within a tenth of a sample step) are at rest
+            dt_med = float(np.median(np.diff(t)))
+            for tz in (0.0, p[2], 2 * p[2]):
+                i = int(np.argmin(np.abs(t - tz)))
+                if abs(t[i] - tz) < 0.1 * dt_med:
+                    turning[a + i] = True
+        # time since the last start/reversal of motion
+        sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+        last = t[0]
+        prev = 0.0
+        for i in range(b - a):
+            s = sgn[i]
+            if s != 0 and s != prev:
+                last = t[i - 1] if i > 0 else t[0]
+                prev = s
+            tsr[a + i] = t[i] - last
+        ctime[a:b] = offset + (t - t[0])
+        offset += (t[-1] - t[0]) + float(np.median(np.diff(t)))
+        exp_index[a:b] = k
+        speed = float(d["speed_mm_s"].iloc[a]) if "speed_mm_s" in d.columns else float(p[0])
+        rows.append(
+            dict(
+                experiment=names[k],
+                p2_MPa=float(d["p2_MPa"].iloc[a]),
+                valve_deg=float(d["valve_deg"].iloc[a]),
+                speed_mm_s=speed,
+                n_samples=int(b - a),
+                velocity_method=method,
+                profile_rms_mm=rms,
+                fitted_speed_mm_s=float(p[0]),
+                fitted_accel_mm_s2=float(p[1]),
+            )
+        )
+    out = d.copy()
+    if "speed_mm_s" not in out.columns:
+        out["speed_mm_s"] = np.repeat([r["speed_mm_s"] for r in rows], np.diff(bounds))
+    out["velocity_mm_s"] = vel
+    cruise = np.repeat([r["fitted_speed_mm_s"] for r in rows], np.diff(bounds))
+    out["at_rest"] = (np.abs(vel) <= REST_FRACTION * np.abs(cruise)) | turning
+    out["direction"] = np.where(out["at_rest"], 0, np.sign(vel)).astype(int)
+    out["time_since_reversal_s"] = tsr
+    out["campaign_time_s"] = ctime
+    out["exp_index"] = exp_index
+    experiments = pd.DataFrame(rows)
+    return Recordings(
+        data=out,
+        experiments=experiments,
+        source=source,
+        rows_read=n,
+        rows_left_out=0,
+        displacement_noise_mm=float(np.median(noise)),
+    )
