@@ -250,15 +250,16 @@ class Design:
 
     @property
     def V2_capacity_mm3(self) -> float:
-        """Largest V2 the annulus can hold with the bladder at its innermost cast position, mm³."""
+        """Largest V2 the annulus can hold: the bladder cast so close to the inner tube that at
+        x = 0 (mean inward shift) it keeps just ``bladder_min_gap_mm``, mm³."""
         f = self.fixed
-        r_o = self.inner_tube_outer_radius_mm + f.bladder_min_gap_mm + self._inward_shift_at(self.inner_tube_outer_radius_mm + f.bladder_min_gap_mm) + f.bladder_thickness_mm
-        gas = math.pi * max(self.outer_bore_radius_mm**2 - r_o**2, 0.0) * self.bladder_free_length_mm
-        return gas + self.displaced_volume_mm3 * f.bladder_cast_fill + f.dead_volume_2_mm3
-
-    def _inward_shift_at(self, r_inner: float) -> float:
         L = self.bladder_free_length_mm
-        return -self.bladder_volume_change_mm3["compressed"] / (2 * math.pi * r_inner * L) if L > 0 else math.inf
+        a = self.inner_tube_outer_radius_mm + f.bladder_min_gap_mm
+        c = -self.bladder_volume_change_mm3["compressed"] / (2 * math.pi * L)
+        r_bi = 0.5 * (a + math.sqrt(a * a + 4 * c))  # r_bi - c / r_bi = a
+        r_bo = r_bi + f.bladder_thickness_mm
+        gas = math.pi * max(self.outer_bore_radius_mm**2 - r_bo**2, 0.0) * L
+        return gas + self.displaced_volume_mm3 * f.bladder_cast_fill + f.dead_volume_2_mm3
 
     @property
     def bladder_outer_radius_mm(self) -> float:
@@ -271,6 +272,17 @@ class Design:
     @property
     def bladder_inner_radius_mm(self) -> float:
         return self.bladder_outer_radius_mm - self.fixed.bladder_thickness_mm
+
+    def bladder_equivalent_outer_radius_mm(self, x_mm: float) -> float:
+        """Outer radius of the straight sleeve that leaves exactly the chamber-2 gas of
+        displacement ``x_mm`` (``V2 - A2 x`` minus dead volume) in the annulus, mm.
+
+        The real bladder bulges between its clamps; this equal-volume cylinder
+        is what the CAD draws as the chamber-2 gas domain at x = 0.
+        """
+        L = self.bladder_free_length_mm
+        gas = self.V2_mm3 - self.fixed.dead_volume_2_mm3 - self.A2_mm2 * x_mm
+        return math.sqrt(max(self.outer_bore_radius_mm**2 - gas / (math.pi * L), 1e-9))
 
     @property
     def bladder_mid_radius_mm(self) -> float:

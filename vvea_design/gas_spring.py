@@ -194,12 +194,12 @@ class GasSpring:
 #: Paper Fig. 5 reference (see docs/paper-interpretation.md): chamber 2 acts
 #: through the fluid on the 30 mm working piston, chamber 1 on the bore of the
 #: 59.5 mm outer tube with a 1.2 mm wall (57.1 mm); V1 = 1.22e5 mm³,
-#: V2 = 7.34e4 mm³, F(0) = 0. The charge p2 = 2.385 MPa makes F(40) = 1827 N.
+#: V2 = 7.34e4 mm³, F(0) = 0. The charge p2 = 2.3866 MPa makes F(40) = 1827 N.
 PAPER_FIG5 = GasSpring(
     A1_mm2=float(np.pi / 4 * 57.1**2),
     A2_mm2=float(np.pi / 4 * 30.0**2),
     V1_mm3=1.22e5,
     V2_mm3=7.34e4,
-    p1_MPa=float(np.pi / 4 * 30.0**2 / (np.pi / 4 * 57.1**2) * 2.385),
-    p2_MPa=2.385,
+    p1_MPa=float(30.0**2 / 57.1**2 * 2.3866),
+    p2_MPa=2.3866,
 )

@@ -1,0 +1,80 @@
+"""The `vvea` command line of the spring side, and the linearity regression helpers."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from vvea_design.cli import app
+from vvea_design.design import Design
+from vvea_design.design_io import save_design
+from vvea_design.spec import Requirements, evaluate_design
+from vvea_design.testing import LinearityRegression, assert_linearity, check_linearity
+
+runner = CliRunner()
+
+
+@pytest.fixture()
+def design_json(tmp_path):
+    req = Requirements()
+    return save_design(tmp_path / "d.json", evaluate_design(Design(35.3, 59.5, 47000.0, 98000.0), req), req)
+
+
+def test_check_passes_and_fails_with_exit_codes(design_json):
+    ok = runner.invoke(app, ["check", str(design_json), "--max-linearity", "0.02"])
+    assert ok.exit_code == 0, ok.output
+    bad = runner.invoke(app, ["check", str(design_json), "--max-linearity", "0.01"])
+    assert bad.exit_code == 1
+    assert "exceeds the limit" in bad.output
+
+
+def test_check_catches_an_edited_design(design_json):
+    data = json.loads(design_json.read_text())
+    data["parameters"]["V2_mm3"] *= 0.6  # a designer shrinks the gas volume by hand
+    design_json.write_text(json.dumps(data))
+    res = runner.invoke(app, ["check", str(design_json), "--max-linearity", "0.02"])
+    assert res.exit_code == 1 and "FAIL" in res.output
+
+
+def test_pytest_helper(design_json):
+    lin = check_linearity(design_json, 0.02)
+    assert 0 < lin < 0.02
+    assert_linearity(design_json, 0.02)
+    with pytest.raises(LinearityRegression, match="exceeds the limit"):
+        assert_linearity(design_json, 0.005)
+
+
+def test_spring_command_writes_curve_and_plot(design_json, tmp_path):
+    res = runner.invoke(app, ["spring", str(design_json), "--out", str(tmp_path / "s"), "--p2", "2"])
+    assert res.exit_code == 0, res.output
+    lines = (tmp_path / "s" / "spring.csv").read_text().splitlines()
+    assert lines[0] == "x_mm,force_N,stiffness_N_per_mm,P1_MPa,P2_MPa" and len(lines) == 82
+    assert (tmp_path / "s" / "spring.png").stat().st_size > 10_000
+
+
+def test_bad_inputs_exit_with_messages(tmp_path, design_json):
+    res = runner.invoke(app, ["spring", str(tmp_path / "none.json")])
+    assert res.exit_code == 2 and "does not exist" in res.output
+    spec = tmp_path / "bad.toml"
+    spec.write_text("max_outer_diameter_mm = -1\n")
+    res = runner.invoke(app, ["optimise", "--spec", str(spec), "--out", str(tmp_path / "o.json")])
+    assert res.exit_code == 2 and "max_outer_diameter_mm" in res.output
+    res = runner.invoke(app, ["check", str(design_json), "--max-linearity", "5"])
+    assert res.exit_code == 2
+
+
+def test_infeasible_spec_exits_3_and_names_the_constraint(tmp_path):
+    spec = tmp_path / "tight.toml"
+    spec.write_text("max_outer_diameter_mm = 36.0\nmin_mean_stiffness_N_per_mm = 150.0\n")
+    res = runner.invoke(app, ["optimise", "--spec", str(spec), "--out", str(tmp_path / "o.json")])
+    assert res.exit_code == 3
+    assert "no design meets the requirements" in res.output
+    assert not (tmp_path / "o.json").exists()
+
+
+def test_map_command(design_json, tmp_path):
+    res = runner.invoke(app, ["map", str(design_json), "--x", "piston_diameter_mm", "--y", "V1_mm3", "--n", "9",
+                              "--out", str(tmp_path / "m")])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "m" / "map_piston_diameter_mm_V1_mm3.png").exists()
+    assert len((tmp_path / "m" / "map_piston_diameter_mm_V1_mm3.csv").read_text().splitlines()) == 82

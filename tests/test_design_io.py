@@ -1,0 +1,96 @@
+"""The design JSON: round trip, reproducible curve from parameters, clear errors for bad files."""
+
+import json
+
+import numpy as np
+import pytest
+
+from vvea_design.design import Design
+from vvea_design.design_io import (
+    DesignFileError,
+    load_design,
+    load_requirements_from_design,
+    save_design,
+    spring_from_json,
+)
+from vvea_design.gas_spring import force_N
+from vvea_design.spec import Requirements, evaluate_design
+
+REQUIRED = {
+    "parameters": ["piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2", "p1_MPa",
+                   "p2_MPa", "travel_mm", "n_polytropic"],
+    "performance": ["linearity_error", "mean_stiffness_N_per_mm", "max_force_N", "mass_g", "peak_pressure_MPa"],
+}
+
+
+@pytest.fixture()
+def design_file(tmp_path):
+    req = Requirements()
+    ev = evaluate_design(Design(35.3, 59.5, 47000.0, 98000.0), req)
+    return save_design(tmp_path / "design.json", ev, req, optimiser={"seed": 0}), ev, req
+
+
+def test_contents_and_round_trip(design_file):
+    path, ev, req = design_file
+    data = json.loads(path.read_text())
+    assert data["format"] == "vvea-design" and data["format_version"] == 1
+    for section, keys in REQUIRED.items():
+        assert set(keys) <= set(data[section])
+    assert set(data["constraints"]) == set(ev.margins)
+    assert all(isinstance(v, float) for v in data["constraints"].values())
+    assert load_design(path) == ev.design
+    assert load_requirements_from_design(path) == req
+
+
+def test_force_curve_reproducible_from_parameters_alone(design_file):
+    path, ev, _ = design_file
+    p = json.loads(path.read_text())["parameters"]
+    x = np.linspace(0, p["travel_mm"], 201)
+    F = force_N(x, p["A1_mm2"], p["A2_mm2"], p["V1_mm3"], p["V2_mm3"], p["p1_MPa"], p["p2_MPa"], p["n_polytropic"])
+    np.testing.assert_allclose(F, ev.design.gas_spring.force_N(x), rtol=1e-12)
+    assert spring_from_json(path).linearity_error() == pytest.approx(ev.linearity_error, rel=1e-12)
+
+
+def test_byte_stable(design_file, tmp_path):
+    path, ev, req = design_file
+    again = save_design(tmp_path / "again.json", ev, req, optimiser={"seed": 0})
+    assert again.read_bytes() == path.read_bytes()
+
+
+def _mutate(path, fn):
+    data = json.loads(path.read_text())
+    fn(data)
+    path.write_text(json.dumps(data))
+    return path
+
+
+@pytest.mark.parametrize(
+    "mutation, match",
+    [
+        (lambda d: d.update(format="something-else"), "not a vvea design file"),
+        (lambda d: d.update(format_version=99), "unsupported format_version"),
+        (lambda d: d["parameters"].pop("V2_mm3"), r"parameters.V2_mm3 is missing"),
+        (lambda d: d["parameters"].update(A1_mm2="big"), r"parameters.A1_mm2 must be a finite number"),
+        (lambda d: d["parameters"].update(A1_mm2=1234.0), r"parameters.A1_mm2 = 1234 disagrees"),
+        (lambda d: d["parameters"].update(piston_diameter_mm=-3.0), "piston_diameter_mm must be a positive number"),
+        (lambda d: d["fixed"].update(colour="red"), "fixed has unknown key"),
+        (lambda d: d.pop("parameters"), "missing object 'parameters'"),
+    ],
+)
+def test_bad_design_json_gets_a_clear_error(design_file, mutation, match):
+    path = _mutate(design_file[0], mutation)
+    with pytest.raises(DesignFileError, match=match) as exc:
+        load_design(path)
+    assert str(path) in str(exc.value)
+
+
+def test_foreign_and_broken_files(tmp_path):
+    p = tmp_path / "x.json"
+    p.write_text("{not json")
+    with pytest.raises(DesignFileError, match="not valid JSON"):
+        load_design(p)
+    p.write_text("[1, 2, 3]")
+    with pytest.raises(DesignFileError, match="expected a JSON object"):
+        load_design(p)
+    with pytest.raises(DesignFileError, match="does not exist"):
+        load_design(tmp_path / "missing.json")

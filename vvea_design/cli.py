@@ -1,0 +1,265 @@
+"""The `vvea` command line: a thin layer over the library.
+
+Spring side (this module): ``optimise``, ``spring``, ``check``, ``pareto``,
+``map`` and ``design`` (the main job: everything into one folder). Other
+topics register their commands from their own modules (``cli_*.py``).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.table import Table
+
+from .progress import console
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.",
+)
+
+out_console = console  # status and tables on stderr; data files on disk
+
+
+def _fail(msg: str, code: int = 2) -> None:
+    console.print("[bold red]error:[/]", end=" ")
+    console.print(msg, markup=False, highlight=False, soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def _print_evaluation(ev, title: str) -> None:
+    perf = ev.performance()
+    t = Table(title=title, show_header=True)
+    t.add_column("quantity")
+    t.add_column("value", justify="right")
+    for key in ("linearity_error", "mean_stiffness_N_per_mm", "max_force_N", "mass_g", "peak_pressure_MPa",
+                "p1_MPa", "housing_length_mm"):
+        v = perf[key]
+        t.add_row(key, f"{100 * v:.3f} %" if key == "linearity_error" else f"{v:.4g}")
+    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2"):
+        t.add_row(name, f"{getattr(ev.design, name):.5g}")
+    console.print(t)
+    c = Table(title="constraints (margin > 0 = satisfied)")
+    c.add_column("constraint")
+    c.add_column("value", justify="right")
+    c.add_column("limit", justify="right")
+    c.add_column("margin", justify="right")
+    for name, m in ev.margins.items():
+        d = ev.details[name]
+        style = "red" if m < -1e-9 else ("yellow" if m < 1e-3 else "green")
+        rel = "<=" if d["kind"] == "max" else ">="
+        c.add_row(name, f"{float(d['value']):.4g} {d['unit']}", f"{rel} {float(d['limit']):.4g}", f"[{style}]{m:+.4f}[/]")
+    console.print(c)
+
+
+def _optimise_to(spec: Optional[Path], seed: int, out: Path):
+    from .design_io import save_design
+    from .optimise import Infeasible, optimise
+    from .plots import plot_spring
+    from .spec import SpecError, load_requirements
+
+    try:
+        req = load_requirements(spec)
+    except SpecError as exc:
+        _fail(str(exc))
+    try:
+        res = optimise(req, seed=seed)
+    except Infeasible as exc:
+        _print_evaluation(exc.result.evaluation, "least-violating design")
+        _fail(str(exc), code=3)
+    save_design(out, res.evaluation, req, optimiser=res.summary())
+    png = out.with_name(out.stem + "_force.png")
+    plot_spring(res.design.gas_spring, png, extra_charges_MPa=(1.0, 2.0),
+                title=f"optimised design: linearity {100 * res.evaluation.linearity_error:.2f} %")
+    _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
+    console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
+                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
+    console.print(f"wrote {out} and {png}")
+    return res, req
+
+
+@app.command()
+def optimise(
+    out: Path = typer.Option(Path("design.json"), "--out", "-o", help="design JSON to write (a _force.png goes beside it)"),
+    spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML (default: the paper's unit)"),
+    seed: int = typer.Option(0, "--seed", help="seed of the global search (same seed, same design)"),
+) -> None:
+    """Find the most linear spring that meets the requirements; write design.json and its force plot."""
+    _optimise_to(spec, seed, out)
+
+
+@app.command()
+def spring(
+    design: Path = typer.Argument(..., help="design JSON"),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="folder for spring.csv and spring.png (default: beside the design)"),
+    p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
+) -> None:
+    """Force curve, stiffness and linearity of a design (from its parameters alone)."""
+    from .design_io import DesignFileError, spring_from_json
+    from .gas_spring import linearity_error, mean_stiffness_N_per_mm
+    from .plots import plot_spring
+
+    try:
+        gs = spring_from_json(design)
+    except DesignFileError as exc:
+        _fail(str(exc))
+    if p2 is not None:
+        if p2 <= 0:
+            _fail(f"--p2 must be > 0 MPa, got {p2}")
+        gs = gs.with_pressures(p2)
+    out = out or design.parent
+    out.mkdir(parents=True, exist_ok=True)
+    x = gs.x_mm(81)
+    F = gs.force_N(x)
+    k = gs.stiffness_N_per_mm(x)
+    P1, P2 = gs.pressures_MPa(x)
+    with open(out / "spring.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
+        for row in zip(x, F, k, P1, P2):
+            w.writerow([f"{v:.6g}" for v in row])
+    png = plot_spring(gs, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0))
+    xf = gs.x_mm(401)
+    Ff = gs.force_N(xf)
+    console.print(f"linearity error {100 * float(linearity_error(xf, Ff)):.3f} %, mean stiffness "
+                  f"{float(mean_stiffness_N_per_mm(xf, Ff)):.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
+                  f"F({gs.travel_mm:g}) = {float(Ff[-1]):.1f} N")
+    console.print(f"wrote {out / 'spring.csv'} and {png}")
+
+
+@app.command()
+def check(
+    design: Path = typer.Argument(..., help="design JSON"),
+    max_linearity: float = typer.Option(..., "--max-linearity", help="largest acceptable linearity error (fraction, 0.015 = 1.5 %)"),
+) -> None:
+    """Fail (exit 1) when a design's linearity error exceeds the limit: a regression gate."""
+    from .design_io import DesignFileError
+    from .testing import LinearityRegression, check_linearity
+
+    if not 0 < max_linearity < 1:
+        _fail(f"--max-linearity is a fraction in (0, 1), got {max_linearity}")
+    try:
+        lin = check_linearity(design, max_linearity)
+    except DesignFileError as exc:
+        _fail(str(exc))
+    except LinearityRegression as exc:
+        console.print("[bold red]FAIL[/]", end=" ")
+        console.print(str(exc), markup=False, highlight=False, soft_wrap=True)
+        raise typer.Exit(1)
+    console.print(f"[green]OK[/] {design}: linearity error {100 * lin:.3f} % <= {100 * max_linearity:.3f} %")
+
+
+@app.command()
+def pareto(
+    axis: str = typer.Option("stiffness", "--axis", help="swept requirement: stiffness | outer_diameter | mass"),
+    values: str = typer.Option(..., "--values", help="comma-separated values of the swept requirement"),
+    spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML"),
+    out: Path = typer.Option(Path("pareto"), "--out", "-o", help="output folder"),
+    seed: int = typer.Option(0, "--seed"),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://host:port)"),
+) -> None:
+    """Pareto front: best linearity against stiffness, outer diameter or mass (CSV + PNG)."""
+    from .optimise import PARETO_AXES, pareto_front
+    from .plots import plot_pareto
+    from .spec import SpecError, load_requirements
+
+    if axis not in PARETO_AXES:
+        _fail(f"--axis must be one of {sorted(PARETO_AXES)}, got {axis!r}")
+    try:
+        vals = [float(v) for v in values.split(",") if v.strip()]
+    except ValueError:
+        _fail(f"--values must be comma-separated numbers, got {values!r}")
+    if not vals:
+        _fail("--values is empty")
+    try:
+        req = load_requirements(spec)
+    except SpecError as exc:
+        _fail(str(exc))
+    rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
+    out.mkdir(parents=True, exist_ok=True)
+    keys = sorted({k for r in rows for k in r})
+    with open(out / f"pareto_{axis}.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    field, label = PARETO_AXES[axis]
+    png = plot_pareto(rows, field, label, out / f"pareto_{axis}.png", title=f"linearity vs {axis}")
+    for r in rows:
+        lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
+        console.print(f"{field} = {r[field]:g}: {lin}")
+    console.print(f"wrote {out / f'pareto_{axis}.csv'} and {png}")
+
+
+@app.command("map")
+def map_(
+    design: Path = typer.Argument(..., help="design JSON (the other variables are held at its values)"),
+    x: str = typer.Option("outer_diameter_mm", "--x", help="variable on the x axis"),
+    y: str = typer.Option("V2_mm3", "--y", help="variable on the y axis"),
+    n: int = typer.Option(61, "--n", help="grid points per axis"),
+    out: Path = typer.Option(Path("map"), "--out", "-o", help="output folder"),
+) -> None:
+    """2-D map of linearity over any two design variables, infeasible region marked."""
+    import numpy as np
+
+    from .design_io import DesignFileError, load_design, load_requirements_from_design
+    from .optimise import linearity_map
+    from .plots import plot_linearity_map
+
+    try:
+        d = load_design(design)
+        req = load_requirements_from_design(design)
+        m = linearity_map(d, req, x, y, n=n)
+    except (DesignFileError, ValueError) as exc:
+        _fail(str(exc))
+    out.mkdir(parents=True, exist_ok=True)
+    png = plot_linearity_map(m, out / f"map_{x}_{y}.png", optimum=(getattr(d, x), getattr(d, y)))
+    with open(out / f"map_{x}_{y}.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
+        for iy, yv in enumerate(m["y"]):
+            for ix, xv in enumerate(m["x"]):
+                lin = m["linearity"][iy, ix]
+                w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
+                            int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
+    console.print(f"wrote {png}")
+
+
+@app.command()
+def design(
+    out: Path = typer.Option(Path("vvea_out"), "--out", "-o", help="folder for everything"),
+    spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML (default: the paper's unit)"),
+    seed: int = typer.Option(0, "--seed"),
+    renders: bool = typer.Option(True, "--renders/--no-renders", help="make the CAD PNG renders"),
+) -> None:
+    """The main job: optimise, then spring curve, CAD and bladder check, all into one folder."""
+    out.mkdir(parents=True, exist_ok=True)
+    design_json = out / "design.json"
+    res, req = _optimise_to(spec, seed, design_json)
+    for step in DESIGN_STEPS:
+        step(design_json, out, renders)
+    console.print(f"[bold green]done[/]: everything is in {out}/")
+
+
+def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
+    spring(design_json, out=out / "spring", p2=None)
+
+
+#: Steps of ``vvea design`` after the optimisation: f(design_json, out_dir, renders).
+DESIGN_STEPS = [_step_spring]
+
+
+def main() -> None:  # console-script entry point
+    try:
+        app()
+    except KeyboardInterrupt:  # pragma: no cover
+        console.print("interrupted")
+        sys.exit(130)
+
+
+__all__ = ["app", "main", "DESIGN_STEPS"]

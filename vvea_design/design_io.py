@@ -1,0 +1,206 @@
+"""The design JSON: the file a designer keeps and feeds to every later step.
+
+Layout (``format_version`` 1)::
+
+    {
+      "format": "vvea-design",
+      "format_version": 1,
+      "parameters": {piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3,
+                     A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
+                     setpoint_x0_mm},
+      "fixed":       {every FixedParameters field},
+      "geometry":    {derived lengths/radii/volumes, for reading},
+      "performance": {linearity_error, mean_stiffness_N_per_mm, max_force_N,
+                      mass_g, peak_pressure_MPa, ...},
+      "constraints": {name: margin (positive = satisfied)},
+      "constraint_details": {name: {value, limit, unit, kind}},
+      "spec":        {the requirements used},
+      "optimiser":   {seed, evaluations, seconds, ...}       (optional)
+    }
+
+The force curve is reproducible from ``parameters`` alone with paper eq. 5
+(see :func:`spring_from_json`). :func:`load_design` rebuilds the frozen
+:class:`~vvea_design.design.Design` and checks that the stored areas and
+pressures agree with it, so an edited file cannot silently disagree with
+itself.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import fields
+from pathlib import Path
+from typing import Any
+
+from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
+from .gas_spring import GasSpring
+from .spec import Evaluation, Requirements, evaluate_design
+
+__all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
+           "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate"]
+
+FORMAT = "vvea-design"
+FORMAT_VERSION = 1
+
+PARAMETER_KEYS = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2",
+                  "p1_MPa", "p2_MPa", "travel_mm", "n_polytropic")
+
+
+class DesignFileError(ValueError):
+    """A design JSON that is malformed, foreign or inconsistent (names file and key)."""
+
+
+def _clean(v: Any) -> Any:
+    """Plain-JSON values (numpy scalars to Python; non-finite floats to null)."""
+    if isinstance(v, dict):
+        return {str(k): _clean(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_clean(x) for x in v]
+    if hasattr(v, "item") and not isinstance(v, (str, bytes)):
+        v = v.item()
+    if isinstance(v, float):
+        return v if math.isfinite(v) else None
+    return v
+
+
+def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | None = None) -> dict:
+    """The design JSON content of an evaluated design."""
+    d = evaluation.design
+    gs = d.gas_spring
+    out = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "parameters": {
+            "piston_diameter_mm": d.piston_diameter_mm,
+            "outer_diameter_mm": d.outer_diameter_mm,
+            "V1_mm3": d.V1_mm3,
+            "V2_mm3": d.V2_mm3,
+            "A1_mm2": gs.A1_mm2,
+            "A2_mm2": gs.A2_mm2,
+            "p1_MPa": gs.p1_MPa,
+            "p2_MPa": gs.p2_MPa,
+            "travel_mm": gs.travel_mm,
+            "n_polytropic": gs.n_polytropic,
+            "setpoint_x0_mm": d.setpoint_x0_mm,
+        },
+        "fixed": d.fixed.to_dict(),
+        "geometry": d.geometry_summary(),
+        "performance": {
+            **evaluation.performance(),
+            "wall_safety_factors": d.wall_safety_factors(),
+            "minimum_walls_mm": d.minimum_walls_mm(req.min_wall_safety_factor),
+            "mass_breakdown_g": d.mass_breakdown_g(),
+        },
+        "constraints": evaluation.margins,
+        "constraint_details": evaluation.details,
+        "spec": req.to_dict(),
+    }
+    if optimiser:
+        out["optimiser"] = optimiser
+    return _clean(out)
+
+
+def save_design(path: str | Path, evaluation: Evaluation, req: Requirements, optimiser: dict | None = None) -> Path:
+    """Write the design JSON (sorted keys, 2-space indent, trailing newline: byte-stable)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(design_to_dict(evaluation, req, optimiser), indent=2, sort_keys=True) + "\n",
+                    encoding="utf-8")
+    return path
+
+
+def read_design_json(path: str | Path) -> dict:
+    """Parse and validate the envelope of a design JSON (format, version, parameters)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DesignFileError(f"design file {str(path)!r} does not exist")
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DesignFileError(f"{path}: not valid JSON: {exc}") from None
+    _check_envelope(data, str(path))
+    return data
+
+
+def _check_envelope(data: Any, src: str) -> None:
+    if not isinstance(data, dict):
+        raise DesignFileError(f"{src}: expected a JSON object, got {type(data).__name__}")
+    if data.get("format") != FORMAT:
+        raise DesignFileError(f"{src}: not a vvea design file (key 'format' is {data.get('format')!r}, expected {FORMAT!r})")
+    ver = data.get("format_version")
+    if ver != FORMAT_VERSION:
+        raise DesignFileError(f"{src}: unsupported format_version {ver!r} (this version reads {FORMAT_VERSION})")
+    params = data.get("parameters")
+    if not isinstance(params, dict):
+        raise DesignFileError(f"{src}: missing object 'parameters'")
+    for key in PARAMETER_KEYS:
+        if key not in params:
+            raise DesignFileError(f"{src}: parameters.{key} is missing")
+        v = params[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise DesignFileError(f"{src}: parameters.{key} must be a finite number, got {v!r}")
+
+
+def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
+    """The gas spring from ``parameters`` alone (eq. 5): what `vvea check` and `vvea spring` evaluate."""
+    if isinstance(path_or_data, dict):
+        data, src = path_or_data, "design"
+        _check_envelope(data, src)
+    else:
+        data, src = read_design_json(path_or_data), str(path_or_data)
+    p = data["parameters"]
+    try:
+        return GasSpring(p["A1_mm2"], p["A2_mm2"], p["V1_mm3"], p["V2_mm3"], p["p1_MPa"], p["p2_MPa"],
+                         p["travel_mm"], p["n_polytropic"])
+    except ValueError as exc:
+        raise DesignFileError(f"{src}: parameters: {exc}") from None
+
+
+def load_design_dict(data: dict, src: str = "design") -> Design:
+    """Rebuild the frozen design from a parsed design JSON, checking its consistency."""
+    _check_envelope(data, src)
+    p = data["parameters"]
+    fixed_raw = data.get("fixed", {})
+    if not isinstance(fixed_raw, dict):
+        raise DesignFileError(f"{src}: 'fixed' must be an object")
+    known = {f.name for f in fields(FixedParameters)}
+    bad = set(fixed_raw) - known
+    if bad:
+        raise DesignFileError(f"{src}: fixed has unknown key(s) {sorted(bad)}")
+    try:
+        fixed = FixedParameters(**{**fixed_raw, "travel_mm": p["travel_mm"], "n_polytropic": p["n_polytropic"]})
+        design = Design(
+            **{k: p[k] for k in DECISION_VARIABLES},
+            p2_MPa=p["p2_MPa"],
+            setpoint_x0_mm=p.get("setpoint_x0_mm", 0.0),
+            fixed=fixed,
+        )
+    except (DesignError, TypeError) as exc:
+        raise DesignFileError(f"{src}: {exc}") from None
+    for key, value in (("A1_mm2", design.A1_mm2), ("A2_mm2", design.A2_mm2), ("p1_MPa", design.p1_MPa)):
+        stored = float(p[key])
+        if not math.isclose(stored, value, rel_tol=1e-6, abs_tol=1e-9):
+            raise DesignFileError(
+                f"{src}: parameters.{key} = {stored:.6g} disagrees with the geometry ({value:.6g}); "
+                "edit the decision variables (piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, p2_MPa), "
+                "not the derived values, or re-run `vvea optimise`"
+            )
+    return design
+
+
+def load_design(path: str | Path) -> Design:
+    """Read a design JSON file into the frozen :class:`~vvea_design.design.Design`."""
+    return load_design_dict(read_design_json(path), str(path))
+
+
+def load_requirements_from_design(path: str | Path) -> Requirements:
+    """The requirements stored in a design JSON (its ``spec``)."""
+    data = read_design_json(path)
+    spec = dict(data.get("spec") or {})
+    return Requirements.from_dict(spec, source=f"{path}: spec") if spec else Requirements()
+
+
+def reevaluate(path: str | Path) -> Evaluation:
+    """Load a design and evaluate it against the requirements stored with it."""
+    return evaluate_design(load_design(path), load_requirements_from_design(path))

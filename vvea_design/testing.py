@@ -1,0 +1,49 @@
+"""Linearity regression helpers for designers' own test suites.
+
+Example (in your project's tests)::
+
+    from vvea_design.testing import assert_linearity
+
+    def test_my_unit_stays_linear():
+        assert_linearity("designs/my_unit.json", max_linearity=0.015)
+
+The design file is evaluated from its ``parameters`` alone (paper eq. 5), so
+an edited file is judged by what it says, not by what it was.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .design_io import spring_from_json
+from .gas_spring import GasSpring
+
+__all__ = ["LinearityRegression", "check_linearity", "assert_linearity"]
+
+
+class LinearityRegression(AssertionError):
+    """A design's linearity error exceeds the agreed limit."""
+
+
+def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float, num: int = 401) -> float:
+    """Return the design's linearity error; raise :class:`LinearityRegression` above ``max_linearity``.
+
+    ``design`` is a design JSON path, its parsed dict, or a
+    :class:`~vvea_design.gas_spring.GasSpring`.
+    """
+    gs = design if isinstance(design, GasSpring) else spring_from_json(design)
+    lin = gs.linearity_error(num)
+    if lin > max_linearity:
+        x = gs.x_mm(num)
+        F = gs.force_N(x)
+        raise LinearityRegression(
+            f"{design if not isinstance(design, dict) else 'design'}: linearity error {100 * lin:.3f} % exceeds the "
+            f"limit {100 * max_linearity:.3f} % (force span {float(F.max() - F.min()):.1f} N over "
+            f"0–{gs.travel_mm:g} mm)"
+        )
+    return lin
+
+
+def assert_linearity(design: str | Path | dict | GasSpring, max_linearity: float) -> None:
+    """pytest-friendly assertion: fails with a readable message when the design regresses."""
+    check_linearity(design, max_linearity)
