@@ -65,3 +65,15 @@ def test_linearity_map_marks_infeasible_regions(result):
     with pytest.raises(ValueError, match="unknown design variable"):
         linearity_map(result.design, Requirements(), "length", "V2_mm3")
     assert set(DECISION_VARIABLES) >= {m["var_x"], m["var_y"]}
+
+
+def test_packing_free_bound_is_below_our_design_and_close_to_it(result):
+    from vvea_design.optimise import gas_volume_bound
+
+    d = result.design
+    b = gas_volume_bound(d.V1_mm3 + d.V2_mm3, maxiter=150)
+    assert b["feasible"]
+    # no layout does better with the same gas than the bound; ours is within 0.2 percentage points of it
+    assert b["linearity_error"] <= result.evaluation.linearity_error + 1e-4
+    assert result.evaluation.linearity_error - b["linearity_error"] < 0.002
+    assert b["A1_mm2"] == pytest.approx(b["A2_mm2"], rel=0.05)  # equal areas: both chambers at the charge limit

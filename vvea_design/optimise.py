@@ -34,6 +34,7 @@ __all__ = [
     "pareto_front",
     "linearity_map",
     "PARETO_AXES",
+    "gas_volume_bound",
 ]
 
 
@@ -315,7 +316,8 @@ def linearity_map(
     Returns a dict with the axes (``x``, ``y``), ``linearity`` (nan where the
     design cannot be built) and ``feasible`` (all margins >= 0) grids of shape
     ``(n, n)`` indexed ``[iy, ix]``, and the name of the most violated
-    constraint at every point (``worst``).
+    constraint at every point (``worst``). The default ranges are ±40 % around
+    the design, clipped to the search bounds.
     """
     for v in (var_x, var_y):
         if v not in DECISION_VARIABLES:
@@ -323,8 +325,14 @@ def linearity_map(
     if var_x == var_y:
         raise ValueError("the two map variables must differ")
     bounds = dict(zip(DECISION_VARIABLES, req.search_bounds()))
-    xs = np.linspace(*(x_range or bounds[var_x]), n)
-    ys = np.linspace(*(y_range or bounds[var_y]), n)
+
+    def around(var):  # default range: ±40 % around the design, inside the search bounds
+        v = float(getattr(design, var))
+        lo, hi = bounds[var]
+        return max(lo, 0.6 * v), min(hi, 1.4 * v)
+
+    xs = np.linspace(*(x_range or around(var_x)), n)
+    ys = np.linspace(*(y_range or around(var_y)), n)
     lin = np.full((n, n), np.nan)
     feas = np.zeros((n, n), dtype=bool)
     worst = np.full((n, n), "unbuildable", dtype=object)
@@ -345,3 +353,47 @@ def linearity_map(
                 worst[iy, ix] = name if m < 0 else ""
             advance()
     return {"var_x": var_x, "var_y": var_y, "x": xs, "y": ys, "linearity": lin, "feasible": feas, "worst": worst}
+
+
+# ---------------------------------------------------------------------------
+# Packing-free bound
+# ---------------------------------------------------------------------------
+
+def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, seed: int = 0,
+                     maxiter: int = 400) -> dict:
+    """Best linearity any layout could reach with ``V1 + V2 <= total_gas_mm3``.
+
+    Ignores packing entirely: only eq. 5, the charge limit (both chambers <=
+    ``max_charge_MPa``, F(0) = 0 so ``p1 = A2/A1 p2``), the stiffness
+    requirement and the minimum gas left at full stroke. It tells how much
+    gas a target linearity needs, whatever the housing.
+    """
+    from .gas_spring import force_N, linearity_error, mean_stiffness_N_per_mm
+
+    req = req or Requirements()
+    x = np.linspace(0.0, req.travel_mm, 201)
+    pmax = req.max_charge_MPa
+    fmin = req.min_gas_fraction_at_full_stroke
+
+    def curve(v):
+        A1, A2, V1, V2 = v
+        if V2 - A2 * req.travel_mm <= max(fmin, 1e-3) * V2:
+            return None
+        return force_N(x, A1, A2, V1, V2, A2 / A1 * pmax, pmax, req.n_polytropic)
+
+    def obj(v):
+        F = curve(v)
+        return 1.0 if F is None else float(linearity_error(x, F))
+
+    def cons(v):
+        F = curve(v)
+        k = -1.0 if F is None else float(mean_stiffness_N_per_mm(x, F)) / req.min_mean_stiffness_N_per_mm - 1
+        gas_left = (v[3] - v[1] * req.travel_mm) / v[3] - fmin
+        return np.array([v[0] - v[1], 1 - (v[2] + v[3]) / total_gas_mm3, k, gas_left])
+
+    r = differential_evolution(obj, [(100, 5000), (100, 5000), (1e3, total_gas_mm3), (1e3, total_gas_mm3)],
+                               constraints=[NonlinearConstraint(cons, 0, np.inf)], seed=seed, popsize=20,
+                               maxiter=maxiter, tol=1e-8, polish=False, init="sobol")
+    A1, A2, V1, V2 = (float(v) for v in r.x)
+    return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(r.fun), "A1_mm2": A1, "A2_mm2": A2,
+            "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons(r.x) >= -1e-6))}

@@ -89,8 +89,8 @@ def plot_linearity_map(m: dict, path: str | Path, optimum: tuple[float, float] |
     """Filled contours of linearity (%) over two variables, infeasible region hatched."""
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
     X, Y = np.meshgrid(m["x"], m["y"])
-    lin = 100 * np.clip(m["linearity"], 0, 0.2)
-    cs = ax.contourf(X, Y, lin, levels=np.linspace(0, 20, 41), cmap="viridis_r", extend="max")
+    lin = 100 * np.clip(m["linearity"], 0, 0.1)
+    cs = ax.contourf(X, Y, lin, levels=np.linspace(0, 10, 41), cmap="viridis_r", extend="max")
     ax.contour(X, Y, lin, levels=[1, 1.86, 3, 5, 10], colors="w", linewidths=0.7)
     fig.colorbar(cs, ax=ax, label="linearity error [%]")
     infeas = (~m["feasible"]).astype(float)
