@@ -193,6 +193,7 @@ def optimise(
             polish=False,
             callback=_cb,
         )
+        advance(maxiter - gens)  # converged early: complete the bar
     best_x = np.asarray(de.x, dtype=float)
     polished = False
     if polish:
