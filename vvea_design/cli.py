@@ -68,8 +68,15 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
         req = load_requirements(spec)
     except SpecError as exc:
         _fail(str(exc))
+    strain_fn = None
+    if req.max_bladder_strain is not None:
+        from functools import partial
+
+        from .bladder import strain_bound
+
+        strain_fn = partial(strain_bound, material=req.bladder_material)
     try:
-        res = optimise(req, seed=seed)
+        res = optimise(req, seed=seed, bladder_strain_fn=strain_fn)
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
@@ -250,8 +257,13 @@ def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
     spring(design_json, out=out / "spring", p2=None)
 
 
+from . import cli_bladder  # noqa: E402  (topic modules register their commands on the app)
+
+for _module in (cli_bladder,):
+    _module.register(app)
+
 #: Steps of ``vvea design`` after the optimisation: f(design_json, out_dir, renders).
-DESIGN_STEPS = [_step_spring]
+DESIGN_STEPS = [_step_spring, cli_bladder.design_step]
 
 
 def main() -> None:  # console-script entry point

@@ -73,6 +73,7 @@ class FixedParameters:
     bladder_clamp_mm: float = 5.0  #: axial length of each clamped end (support ring / top clamp)
     bladder_cast_fill: float = 0.5  #: stroke fraction at which the bladder has its cast shape
     bladder_min_gap_mm: float = 0.5  #: radial clearance the bladder keeps at both stroke ends
+    bladder_bulge_factor: float = 1.5  #: peak / mean radial shift between the clamps (1.5 = parabolic, as the FE check finds)
     dead_volume_1_mm3: float = 0.0  #: chamber-1 gas outside the inner-tube column (ports)
     dead_volume_2_mm3: float = 0.0  #: chamber-2 gas outside the bladder annulus (ports)
     housing_material: str = "al-6061-t6"
@@ -251,11 +252,11 @@ class Design:
     @property
     def V2_capacity_mm3(self) -> float:
         """Largest V2 the annulus can hold: the bladder cast so close to the inner tube that at
-        x = 0 (mean inward shift) it keeps just ``bladder_min_gap_mm``, mm³."""
+        x = 0 (peak inward shift) it keeps just ``bladder_min_gap_mm``, mm³."""
         f = self.fixed
         L = self.bladder_free_length_mm
         a = self.inner_tube_outer_radius_mm + f.bladder_min_gap_mm
-        c = -self.bladder_volume_change_mm3["compressed"] / (2 * math.pi * L)
+        c = -f.bladder_bulge_factor * self.bladder_volume_change_mm3["compressed"] / (2 * math.pi * L)
         r_bi = 0.5 * (a + math.sqrt(a * a + 4 * c))  # r_bi - c / r_bi = a
         r_bo = r_bi + f.bladder_thickness_mm
         gas = math.pi * max(self.outer_bore_radius_mm**2 - r_bo**2, 0.0) * L
@@ -298,12 +299,18 @@ class Design:
         }
 
     def bladder_clearance_mm(self) -> dict[str, float]:
-        """Radial room left beyond ``bladder_min_gap_mm`` at both stroke ends, mm (negative = collision)."""
+        """Radial room left beyond ``bladder_min_gap_mm`` at both stroke ends, mm (negative = collision).
+
+        The bladder's largest shift is ``bladder_bulge_factor`` times its mean
+        shift: clamped at both ends it deflects about parabolically (peak = 1.5
+        × mean), which the FE check (``vvea bladder``) confirms.
+        """
         s = self.bladder_shift_mm()
         g = self.fixed.bladder_min_gap_mm
+        k = self.fixed.bladder_bulge_factor
         return {
-            "compressed": self.bladder_inner_radius_mm + s["compressed"] - self.inner_tube_outer_radius_mm - g,
-            "expanded": self.outer_bore_radius_mm - (self.bladder_outer_radius_mm + s["expanded"]) - g,
+            "compressed": self.bladder_inner_radius_mm + k * s["compressed"] - self.inner_tube_outer_radius_mm - g,
+            "expanded": self.outer_bore_radius_mm - (self.bladder_outer_radius_mm + k * s["expanded"]) - g,
         }
 
     @property

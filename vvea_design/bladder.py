@@ -1,0 +1,570 @@
+"""The bladder check: strain of the silicone sleeve over the stroke, and its radial room.
+
+The bladder is a silicone sleeve cast as a straight cylinder (mid radius
+``R``, wall ``H``) and clamped at both ends, a free length ``L`` apart, in the
+annulus between the inner tube and the outer-tube bore (see
+:mod:`vvea_design.design`). The piston pushes fluid into it and draws it
+out again; relative to the cast shape the fluid volume changes by
+``design.bladder_volume_change_mm3`` = {"compressed" (x = 0, < 0),
+"expanded" (x = travel, > 0)}.
+
+For each stroke end :func:`check_membrane` solves the axisymmetric
+hyperelastic membrane (:mod:`vvea_design.membrane`) at that prescribed
+volume change, with the tension-field relaxation where the sleeve wrinkles,
+and reports
+
+* the largest tensile principal strain of the membrane (wrinkles relaxed),
+* the pressure difference that holds the shape (fluid minus gas),
+* where the membrane is wrinkled or slack,
+* the radial gaps to the inner tube and the outer bore (the FE has no
+  contact: a negative gap means the bladder would touch, and the strain
+  beyond that point is not physical),
+* a **bending bound** at the clamped ends. The membrane meets the clamp at
+  an angle ``dphi`` to the axis; the real wall is built in, so it turns
+  through ``dphi`` in a boundary layer whose decay rate ``s`` solves
+  ``D s^4 - T s^2 + (E h / R^2) = 0`` (a tensioned cylindrical shell:
+  bending stiffness ``D = mu h^3 / 3`` for an incompressible sheet,
+  meridional tension ``T``, hoop stiffness ``E h / R^2 = 3 mu h / R^2``).
+  Every root has ``|s|^2 <= T / D + 2 beta^2`` with ``beta^4 = 2.25 / (R h)^2``,
+  so the surface bending strain is bounded by
+  ``eps_b = (h / 2) dphi sqrt(T / D + 2 beta^2)``. The strain bound of a stroke end
+  is ``max(max membrane strain, clamp meridional strain + eps_b)``.
+
+:func:`strain_bound` is the same check on a coarser mesh, for the
+optimiser: two coarse meshes (48 and 24 elements), Richardson-extrapolated
+and multiplied by :data:`SURROGATE_FACTOR`; about 0.1 s per design after
+the first call (``studies/bench_bladder.py``). The tests check it stays above
+the fine check.
+
+Units: mm, mm³, MPa; strains are engineering strains as fractions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .membrane import (
+    SLACK,
+    TAUT,
+    MembraneError,
+    MembraneSolution,
+    MooneyRivlin,
+    sleeve_meridian,
+    solve_volume,
+)
+from .silicones import Silicone, StrainCriterion, get_criterion, get_silicone
+
+__all__ = [
+    "BladderError",
+    "BladderResult",
+    "StrokeEnd",
+    "check_membrane",
+    "check_bladder",
+    "strain_bound",
+    "write_bladder_report",
+    "plot_bladder",
+    "bending_strain",
+    "DEFAULT_MATERIAL",
+    "DEFAULT_ELEMENTS",
+    "SURROGATE_ELEMENTS",
+    "SURROGATE_FACTOR",
+    "PAPER_BLADDER",
+]
+
+DEFAULT_MATERIAL = "dragon-skin-20"
+DEFAULT_ELEMENTS = 96  #: elements along the meridian of the full check
+SURROGATE_ELEMENTS = 48  #: elements of the fast :func:`strain_bound` (Richardson with half as many)
+SURROGATE_FACTOR = 1.05  #: safety factor of the fast bound over its extrapolated coarse meshes
+ENDS = ("expanded", "compressed")
+
+#: The paper's bladder, reconstructed (docs/bladder.md gives the reasoning): 59.5 mm housing with
+#: 1.5 mm walls (bore radius 28.25 mm), 30 mm piston in a 1.5 mm inner tube (16.5 mm), 132.5 mm
+#: long with 8 + 14 mm end caps and 5 mm clamps (free length 100.5 mm), 1.5 mm wall cast at
+#: mid-stroke with the chamber-2 gas of mid-stroke (V2 = 73 400 mm³ at x = 0 minus half the
+#: stroke, about 59 300 mm³) outside it; full stroke pi/4 30² 40 = 28 274 mm³, split evenly.
+PAPER_BLADDER = {
+    "inner_tube_outer_radius_mm": 16.5,
+    "outer_bore_radius_mm": 28.25,
+    "free_length_mm": 100.5,
+    "thickness_mm": 1.5,
+    "mid_radius_mm": round(math.sqrt(28.25**2 - (73400.0 - math.pi / 8 * 30**2 * 40) / (math.pi * 100.5)) - 0.75, 3),
+    "stroke_volume_mm3": math.pi / 4 * 30**2 * 40,
+}
+
+
+class BladderError(ValueError):
+    """A bladder that cannot be checked: bad dimensions, unknown material, a volume change it cannot take."""
+
+
+# ------------------------------------------------------------------- results
+@dataclass(frozen=True, eq=False)
+class StrokeEnd:
+    """The membrane at one end of the stroke."""
+
+    solution: MembraneSolution
+    max_principal_strain: float  #: largest tensile principal strain of the membrane, fraction
+    min_geometric_strain: float  #: most negative meridian/hoop strain of the surface (taken up by wrinkles), fraction
+    bending_strain: float  #: bending bound at the worse clamp, fraction
+    clamp_strain: float  #: clamp meridional strain + bending bound, worse clamp, fraction
+    strain_bound: float  #: max(max_principal_strain, clamp_strain), fraction
+    wrinkled_fraction: float  #: wrinkled or slack share of the area
+    slack_z_mm: list  #: reference z-intervals [z0, z1] (from the lower clamp) that are wrinkled or slack, mm
+    gap_inner_tube_mm: float | None  #: smallest gap to the inner tube (negative = touches), mm
+    gap_outer_bore_mm: float | None  #: smallest gap to the outer bore (negative = touches), mm
+
+    @property
+    def pressure_MPa(self) -> float:
+        return self.solution.pressure_MPa
+
+    @property
+    def touches(self) -> dict[str, bool]:
+        return {
+            "inner_tube": self.gap_inner_tube_mm is not None and self.gap_inner_tube_mm < 0,
+            "outer_bore": self.gap_outer_bore_mm is not None and self.gap_outer_bore_mm < 0,
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class BladderResult:
+    """The bladder check of one sleeve (see :func:`check_membrane`)."""
+
+    mid_radius_mm: float
+    free_length_mm: float
+    thickness_mm: float
+    silicone_key: str
+    silicone: Silicone
+    criterion: StrainCriterion | None  #: None when the allowable strain was given as a number
+    allowable_strain: float  #: fraction
+    volume_change_mm3: dict  #: {"expanded", "compressed"}, mm³
+    ends: dict  #: {"expanded": StrokeEnd, "compressed": StrokeEnd}
+    inner_tube_outer_radius_mm: float | None = None
+    outer_bore_radius_mm: float | None = None
+    n_elements: int = DEFAULT_ELEMENTS
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def strain_bound(self) -> float:
+        """Largest strain bound over both stroke ends (membrane + clamp bending), fraction."""
+        return max(e.strain_bound for e in self.ends.values())
+
+    @property
+    def passes_strain(self) -> bool:
+        return self.strain_bound <= self.allowable_strain
+
+    @property
+    def passes_room(self) -> bool:
+        return not any(any(e.touches.values()) for e in self.ends.values())
+
+    @property
+    def passes(self) -> bool:
+        """Strain bound within the allowable strain and no contact with inner tube or bore."""
+        return self.passes_strain and self.passes_room
+
+    def to_dict(self) -> dict:
+        """The content of ``bladder.json`` (plain JSON types, units in the keys)."""
+        e = self.ends
+        by_end = lambda f: {k: f(e[k]) for k in ENDS}  # noqa: E731
+        return {
+            "membrane": {
+                "mid_radius_mm": self.mid_radius_mm,
+                "free_length_mm": self.free_length_mm,
+                "thickness_mm": self.thickness_mm,
+                "shear_modulus_MPa": self.silicone.shear_modulus_MPa,
+                "model": "incompressible neo-Hookean membrane, tension-field relaxed, clamped ends",
+                "n_elements": self.n_elements,
+            },
+            "material": {"key": self.silicone_key, **self.silicone.to_dict()},
+            "criterion": self.criterion.to_dict() if self.criterion else {"name": "given", "formula": "value"},
+            "room": {
+                "inner_tube_outer_radius_mm": self.inner_tube_outer_radius_mm,
+                "outer_bore_radius_mm": self.outer_bore_radius_mm,
+            },
+            "volume_change_mm3": {k: float(self.volume_change_mm3[k]) for k in ENDS},
+            "max_principal_strain": by_end(lambda s: s.max_principal_strain),
+            "min_geometric_strain": by_end(lambda s: s.min_geometric_strain),
+            "bending_strain": by_end(lambda s: s.bending_strain),
+            "clamp_strain": by_end(lambda s: s.clamp_strain),
+            "strain_bound_by_end": by_end(lambda s: s.strain_bound),
+            "pressure_MPa": by_end(lambda s: s.pressure_MPa),
+            "regularisation": by_end(lambda s: s.solution.regularisation),
+            "wrinkled_area_fraction": by_end(lambda s: s.wrinkled_fraction),
+            "wrinkled_z_mm": by_end(lambda s: s.slack_z_mm),
+            "gap_inner_tube_mm": by_end(lambda s: s.gap_inner_tube_mm),
+            "gap_outer_bore_mm": by_end(lambda s: s.gap_outer_bore_mm),
+            "touches": by_end(lambda s: s.touches),
+            "strain_bound": self.strain_bound,
+            "allowable_strain": self.allowable_strain,
+            "passes_strain": self.passes_strain,
+            "passes_room": self.passes_room,
+            "passes": self.passes,
+            **self.extra,
+        }
+
+
+# -------------------------------------------------------------------- checks
+def _positive(name: str, v) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0:
+        raise BladderError(f"{name} must be a positive number, got {v!r}")
+    return float(v)
+
+
+def bending_strain(solution: MembraneSolution, end: int) -> tuple[float, float]:
+    """Bending bound at a clamped end (``end`` 0 = first node, -1 = last).
+
+    Returns
+    -------
+    (bending_strain, clamp_strain)
+        ``(h/2) dphi sqrt(T/D + 2 beta^2)`` and that plus the tensile
+        meridional membrane strain at the clamp, fractions. Angle, tension,
+        thickness and strain are extrapolated from the first two elements to
+        the clamp node (linearly in arc length).
+    """
+    ref = solution.meridian
+    f = solution.fields
+    r, z = solution.r_mm, solution.z_mm
+    # angle to the clamp direction (the reference meridian there) of the first two elements, extrapolated
+    # linearly in arc length to the clamp node: O(h^2), where the first chord alone is O(h)
+    idx = [0, 1, 2] if end == 0 else [-1, -2, -3]
+    tR, tZ = ref.r_mm[idx[1]] - ref.r_mm[idx[0]], ref.z_mm[idx[1]] - ref.z_mm[idx[0]]
+    ang, s_mid, s = [], [], 0.0
+    for a, b in ((idx[0], idx[1]), (idx[1], idx[2])):
+        dr, dz = r[b] - r[a], z[b] - z[a]
+        ang.append(math.atan2(tR * dz - tZ * dr, tR * dr + tZ * dz))
+        ds = math.hypot(dr, dz)
+        s_mid.append(s + ds / 2)
+        s += ds
+    w = s_mid[0] / (s_mid[1] - s_mid[0])
+
+    def at_clamp(v0: float, v1: float) -> float:
+        return v0 - (v1 - v0) * w
+
+    e0, e1 = (0, 1) if end == 0 else (ref.n_elements - 1, ref.n_elements - 2)
+    dphi = abs(at_clamp(*ang))
+    h = at_clamp(float(f["thickness_mm"][e0]), float(f["thickness_mm"][e1]))
+    mu = solution.material.shear_modulus_MPa
+    D = mu * h**3 / 3.0
+    T = max(at_clamp(float(f["T1_N_per_mm"][e0]), float(f["T1_N_per_mm"][e1])), 0.0)
+    R = float(r[idx[0]])
+    beta2 = 1.5 / (R * h)
+    eps_b = 0.5 * h * dphi * math.sqrt(T / D + 2 * beta2)
+    eps_m = max(at_clamp(float(f["l1_eff"][e0]), float(f["l1_eff"][e1])) - 1.0, 0.0)
+    return eps_b, eps_m + eps_b
+
+
+def _slack_intervals(ref_z: np.ndarray, state: np.ndarray) -> list[list[float]]:
+    out: list[list[float]] = []
+    for e, s in enumerate(state):
+        if s == TAUT:
+            continue
+        z0, z1 = float(ref_z[e]), float(ref_z[e + 1])
+        if out and abs(out[-1][1] - z0) < 1e-9:
+            out[-1][1] = z1
+        else:
+            out.append([z0, z1])
+    return [[round(a, 3), round(b, 3)] for a, b in out]
+
+
+def _stroke_end(sol: MembraneSolution, r_in: float | None, r_out: float | None) -> StrokeEnd:
+    f = sol.fields
+    b0, c0 = bending_strain(sol, 0)
+    b1, c1 = bending_strain(sol, -1)
+    geo = min(float(np.min(f["l1"])), float(np.min(f["l2"]))) - 1.0
+    # node thickness: mean of the adjacent elements
+    h = f["thickness_mm"]
+    hn = np.concatenate([[h[0]], 0.5 * (h[1:] + h[:-1]), [h[-1]]])
+    gap_in = float(np.min(sol.r_mm - hn / 2) - r_in) if r_in is not None else None
+    gap_out = float(r_out - np.max(sol.r_mm + hn / 2)) if r_out is not None else None
+    mps = sol.max_principal_strain
+    return StrokeEnd(
+        solution=sol,
+        max_principal_strain=mps,
+        min_geometric_strain=geo,
+        bending_strain=max(b0, b1),
+        clamp_strain=max(c0, c1),
+        strain_bound=max(mps, c0, c1),
+        wrinkled_fraction=sol.wrinkled_fraction,
+        slack_z_mm=_slack_intervals(sol.meridian.z_mm, sol.state),
+        gap_inner_tube_mm=gap_in,
+        gap_outer_bore_mm=gap_out,
+    )
+
+
+def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: float,
+                   volume_change_mm3: dict, material: str | Silicone = DEFAULT_MATERIAL,
+                   criterion: str | StrainCriterion | float | None = None, *,
+                   inner_tube_outer_radius_mm: float | None = None, outer_bore_radius_mm: float | None = None,
+                   n_elements: int = DEFAULT_ELEMENTS, relaxed: bool = True) -> BladderResult:
+    """Check a clamped sleeve from plain numbers (the design-free core of :func:`check_bladder`).
+
+    Parameters
+    ----------
+    mid_radius_mm, free_length_mm, thickness_mm : float
+        Cast sleeve: mid-surface radius, length between the clamps, wall, mm.
+    volume_change_mm3 : dict
+        ``{"expanded": dV >= 0, "compressed": dV <= 0}`` — fluid volume
+        relative to the cast shape at the two stroke ends, mm³.
+    material : str or Silicone
+        Key of :data:`vvea_design.silicones.SILICONES` or a :class:`Silicone`.
+    criterion : str, StrainCriterion, float or None
+        Allowable-strain criterion (``None`` = ``"cyclic"``), or the allowable
+        strain itself as a fraction.
+    inner_tube_outer_radius_mm, outer_bore_radius_mm : float, optional
+        Radial room; when given, volume changes that would push the sleeve
+        through them are refused and the gaps are reported.
+    n_elements : int
+        Elements along the meridian.
+    relaxed : bool
+        Tension-field relaxation (wrinkling); ``False`` only for comparisons.
+
+    Raises
+    ------
+    BladderError
+        Non-positive dimensions, unknown material or criterion, a volume
+        change of the wrong sign or one the sleeve cannot take.
+    """
+    from .silicones import allowable_strain
+
+    R = _positive("mid_radius_mm", mid_radius_mm)
+    L = _positive("free_length_mm", free_length_mm)
+    H = _positive("thickness_mm", thickness_mm)
+    if H >= R:
+        raise BladderError(f"thickness_mm ({H:g}) must be smaller than mid_radius_mm ({R:g})")
+    try:
+        sil = get_silicone(material)
+        numeric = isinstance(criterion, (int, float)) and not isinstance(criterion, bool)
+        crit = None if numeric else get_criterion(criterion)
+        allow = allowable_strain(sil, criterion)
+    except ValueError as exc:
+        raise BladderError(str(exc)) from None
+    if not isinstance(volume_change_mm3, dict) or set(volume_change_mm3) != set(ENDS):
+        raise BladderError(f"volume_change_mm3 must be a dict with keys {ENDS}, got {volume_change_mm3!r}")
+    dv = {k: float(volume_change_mm3[k]) for k in ENDS}
+    for k, v in dv.items():
+        if not math.isfinite(v):
+            raise BladderError(f"volume_change_mm3[{k!r}] must be finite, got {v!r}")
+    if dv["expanded"] < 0:
+        raise BladderError(f"volume_change_mm3['expanded'] must be >= 0 (fluid in), got {dv['expanded']:g}")
+    if dv["compressed"] > 0:
+        raise BladderError(f"volume_change_mm3['compressed'] must be <= 0 (fluid out), got {dv['compressed']:g}")
+    r_in = None if inner_tube_outer_radius_mm is None else _positive("inner_tube_outer_radius_mm", inner_tube_outer_radius_mm)
+    r_out = None if outer_bore_radius_mm is None else _positive("outer_bore_radius_mm", outer_bore_radius_mm)
+    # the fluid can at most empty the space between tube and sleeve, the gas the space outside it
+    fluid_max = math.pi * (R**2 - (r_in or 0.0) ** 2) * L
+    if r_in is not None and R - H / 2 <= r_in:
+        raise BladderError(f"the sleeve (inner radius {R - H / 2:.3f} mm) does not clear the inner tube "
+                           f"(outer radius {r_in:.3f} mm)")
+    if -dv["compressed"] >= fluid_max:
+        raise BladderError(
+            f"volume_change_mm3['compressed'] = {dv['compressed']:.0f} mm³: the sleeve cannot give up more than "
+            f"the {fluid_max:.0f} mm³ it encloses{' above the inner tube' if r_in else ''}")
+    if r_out is not None:
+        if R + H / 2 >= r_out:
+            raise BladderError(f"the sleeve (outer radius {R + H / 2:.3f} mm) does not fit the bore "
+                               f"(radius {r_out:.3f} mm)")
+        gas_max = math.pi * (r_out**2 - R**2) * L
+        if dv["expanded"] >= gas_max:
+            raise BladderError(
+                f"volume_change_mm3['expanded'] = {dv['expanded']:.0f} mm³: the sleeve cannot take more than the "
+                f"{gas_max:.0f} mm³ between it and the bore")
+    try:
+        mat = MooneyRivlin.neo_hookean(sil.shear_modulus_MPa)
+        ref = sleeve_meridian(R, L, H, int(n_elements))
+        ends = {}
+        for k in ENDS:
+            sol = solve_volume(ref, mat, dv[k], relaxed=relaxed)
+            ends[k] = _stroke_end(sol, r_in, r_out)
+    except MembraneError as exc:
+        raise BladderError(str(exc)) from None
+    key = material if isinstance(material, str) else sil.name
+    return BladderResult(R, L, H, key, sil, crit, allow, dv, ends, r_in, r_out, int(n_elements))
+
+
+def _design_sleeve(design) -> dict:
+    """Sleeve numbers of a :class:`~vvea_design.design.Design`, with checks naming the design field."""
+    f = design.fixed
+    L = design.bladder_free_length_mm
+    if not L > 0:
+        raise BladderError(f"bladder_free_length_mm is {L:.3f} mm: the clamps (fixed.bladder_clamp_mm) take the "
+                           f"whole inner length; increase V1_mm3")
+    if design.bladder_inner_radius_mm <= design.inner_tube_outer_radius_mm:
+        raise BladderError(
+            f"V2_mm3 ({design.V2_mm3:.0f}) leaves no room for the cast bladder: its inner radius "
+            f"{design.bladder_inner_radius_mm:.3f} mm is inside the inner tube ({design.inner_tube_outer_radius_mm:.3f} mm)")
+    if design.bladder_outer_radius_mm >= design.outer_bore_radius_mm:
+        raise BladderError(
+            f"V2_mm3 ({design.V2_mm3:.0f}) is too small: the cast bladder (outer radius "
+            f"{design.bladder_outer_radius_mm:.3f} mm) does not fit the bore ({design.outer_bore_radius_mm:.3f} mm)")
+    return dict(mid_radius_mm=design.bladder_mid_radius_mm, free_length_mm=L, thickness_mm=f.bladder_thickness_mm,
+                volume_change_mm3=dict(design.bladder_volume_change_mm3),
+                inner_tube_outer_radius_mm=design.inner_tube_outer_radius_mm,
+                outer_bore_radius_mm=design.outer_bore_radius_mm)
+
+
+def check_bladder(design, material: str | Silicone = DEFAULT_MATERIAL,
+                  criterion: str | StrainCriterion | float | None = None, *,
+                  n_elements: int = DEFAULT_ELEMENTS) -> BladderResult:
+    """Check the bladder of ``design`` over its stroke (FE membrane at both stroke ends).
+
+    Parameters
+    ----------
+    design : vvea_design.design.Design
+    material : str or Silicone
+        Casting silicone (default ``"dragon-skin-20"``).
+    criterion : str, StrainCriterion, float or None
+        Allowable-strain criterion (default ``"cyclic"``) or the allowable strain.
+    n_elements : int
+        Elements along the meridian (96: the strain bound within ~0.2 % of its converged value).
+
+    Returns
+    -------
+    BladderResult
+        ``to_dict()`` gives the ``bladder.json`` content. About 0.1-0.7 s per
+        design (the first call in a process builds the solvers, ~0.5 s more).
+
+    Raises
+    ------
+    BladderError
+        A design whose bladder does not fit, an unknown material or
+        criterion, a stroke the sleeve cannot take.
+    """
+    return check_membrane(**_design_sleeve(design), material=material, criterion=criterion, n_elements=n_elements)
+
+
+def strain_bound(design, material: str | Silicone = DEFAULT_MATERIAL, *,
+                 n_elements: int = SURROGATE_ELEMENTS) -> float:
+    """Fast strain bound of ``design``'s bladder for the optimiser (fraction).
+
+    The check of :func:`check_bladder` on two coarse meshes (``n_elements``
+    and half as many), Richardson-extrapolated for its O(h^2) convergence,
+    times :data:`SURROGATE_FACTOR`. The tests and the verification study
+    check it stays above the fine check. About 0.1 s per call on this
+    machine (up to 0.6 s for a very long, nearly slack sleeve; the first
+    call in a process builds the solvers, ~0.5 s more).
+    Returns ``inf`` for a design whose bladder cannot take the stroke at
+    all, so that an optimiser sees an infeasible point rather than an
+    exception.
+    """
+    n = max(int(n_elements), 8)
+    try:
+        sleeve = _design_sleeve(design)
+        fine = check_membrane(**sleeve, material=material, criterion=1.0, n_elements=n).strain_bound
+        coarse = check_membrane(**sleeve, material=material, criterion=1.0, n_elements=n // 2).strain_bound
+    except BladderError:
+        return math.inf
+    return SURROGATE_FACTOR * max(fine + (fine - coarse) / 3.0, fine)
+
+
+# -------------------------------------------------------------------- report
+def plot_bladder(result: BladderResult, path: str | Path, title: str = "") -> Path:
+    """Deformed meridians at both stroke ends coloured by strain (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    fig, axes = plt.subplots(1, 2, figsize=(9, 6), sharey=True, constrained_layout=True)
+    strains = [result.ends[k].solution.element_max_principal_strain for k in ENDS]
+    vmax = max(max(float(s.max()) for s in strains), 1e-6)
+    norm = matplotlib.colors.Normalize(0.0, vmax)
+    lc = None
+    for ax, k in zip(axes, ENDS):
+        e = result.ends[k]
+        sol = e.solution
+        ref = sol.meridian
+        ax.plot(ref.r_mm, ref.z_mm, "k--", lw=0.8, label="cast")
+        pts = np.column_stack([sol.r_mm, sol.z_mm])
+        segs = np.stack([pts[:-1], pts[1:]], axis=1)
+        lc = LineCollection(segs, cmap="viridis", norm=norm, linewidths=4)
+        lc.set_array(sol.element_max_principal_strain)
+        ax.add_collection(lc)
+        wr = sol.state != TAUT
+        if np.any(wr):
+            mid = 0.5 * (pts[:-1] + pts[1:])
+            sl = sol.state == SLACK
+            every = np.zeros(wr.size, bool)
+            every[:: max(1, wr.size // 25)] = True
+            ax.plot(mid[wr & ~sl & every, 0], mid[wr & ~sl & every, 1], "x", color="tab:red", ms=4,
+                    label="wrinkled (hoop slack)")
+            if np.any(sl):
+                ax.plot(mid[sl, 0], mid[sl, 1], "o", mfc="none", color="tab:orange", ms=4, label="slack")
+        if result.inner_tube_outer_radius_mm is not None:
+            ax.axvline(result.inner_tube_outer_radius_mm, color="0.5", lw=3, label="inner tube")
+        if result.outer_bore_radius_mm is not None:
+            ax.axvline(result.outer_bore_radius_mm, color="0.3", lw=3, label="outer bore")
+        touch = [n for n, t in e.touches.items() if t]
+        ax.set_title(f"{k}: dV = {result.volume_change_mm3[k]:+.0f} mm³\n"
+                     f"p = {e.pressure_MPa:+.3g} MPa, max strain {100 * e.max_principal_strain:.1f} %, "
+                     f"bound {100 * e.strain_bound:.1f} %" + (f"\nTOUCHES {', '.join(touch)}" if touch else ""),
+                     fontsize=9)
+        ax.set_xlabel("radius r (mm)")
+        lo = min(result.inner_tube_outer_radius_mm or sol.r_mm.min(), sol.r_mm.min()) - 1
+        hi = max(result.outer_bore_radius_mm or sol.r_mm.max(), sol.r_mm.max()) + 1
+        ax.set_xlim(lo, hi)
+        ax.legend(fontsize=7, loc="upper left")
+    axes[0].set_ylabel("axial position z from the lower clamp (mm)")
+    fig.colorbar(lc, ax=axes, label="max principal strain (-)")
+    if title:
+        fig.suptitle(title)
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _profile_rows(result: BladderResult) -> list[dict]:
+    rows = []
+    for k in ENDS:
+        sol = result.ends[k].solution
+        f = sol.fields
+        ps = sol.principal_strains
+        for e in range(sol.meridian.n_elements):
+            rows.append({
+                "stroke_end": k,
+                "element": e,
+                "z_ref_mm": 0.5 * (sol.meridian.z_mm[e] + sol.meridian.z_mm[e + 1]),
+                "r_mm": 0.5 * (sol.r_mm[e] + sol.r_mm[e + 1]),
+                "z_mm": 0.5 * (sol.z_mm[e] + sol.z_mm[e + 1]),
+                "strain_meridional": ps[e, 0],
+                "strain_hoop": ps[e, 1],
+                "strain_thickness": ps[e, 2],
+                "geometric_strain_meridional": f["l1"][e] - 1,
+                "geometric_strain_hoop": f["l2"][e] - 1,
+                "state": ["taut", "wrinkled", "slack"][int(f["state"][e])],
+                "tension_meridional_N_per_mm": f["T1_N_per_mm"][e],
+                "tension_hoop_N_per_mm": f["T2_N_per_mm"][e],
+            })
+    return rows
+
+
+def write_bladder_report(design, out_dir: str | Path, material: str | Silicone = DEFAULT_MATERIAL,
+                         criterion: str | StrainCriterion | float | None = None, *,
+                         n_elements: int = DEFAULT_ELEMENTS) -> dict:
+    """Check ``design``'s bladder and write ``bladder.json``, ``bladder_profile.csv`` and ``bladder.png`` to ``out_dir``.
+
+    Returns
+    -------
+    dict
+        The ``bladder.json`` content, plus ``"files"`` (the paths written).
+    """
+    import csv
+
+    res = check_bladder(design, material, criterion, n_elements=n_elements)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    png = plot_bladder(res, out / "bladder.png", title=f"bladder check ({res.silicone.name})")
+    rows = _profile_rows(res)
+    csv_path = out / "bladder_profile.csv"
+    with csv_path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    d = res.to_dict()
+    d["files"] = {"json": str(out / "bladder.json"), "csv": str(csv_path), "png": str(png)}
+    (out / "bladder.json").write_text(json.dumps(d, indent=2))
+    return d

@@ -1,0 +1,96 @@
+"""``vvea bladder design.json --out DIR``: the bladder strain check (thin layer over :mod:`vvea_design.bladder`).
+
+Wire it in with ``register(app)``; ``design_step`` is the matching step for
+``vvea design`` (``DESIGN_STEPS.append(design_step)``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+__all__ = ["register", "bladder", "design_step", "print_bladder"]
+
+
+def print_bladder(d: dict) -> None:
+    """A table of the bladder.json content on the console."""
+    from rich.table import Table
+
+    from .progress import console
+
+    t = Table(title=f"bladder check — {d['material']['name']}, criterion {d['criterion']['name']} "
+                    f"({d['criterion']['formula']})")
+    t.add_column("quantity")
+    t.add_column("expanded", justify="right")
+    t.add_column("compressed", justify="right")
+
+    def row(label, key, fmt):
+        t.add_row(label, *(fmt(d[key][k]) for k in ("expanded", "compressed")))
+
+    pct = lambda v: f"{100 * v:.2f} %"  # noqa: E731
+    row("volume change (mm³)", "volume_change_mm3", lambda v: f"{v:+.0f}")
+    row("pressure fluid - gas (MPa)", "pressure_MPa", lambda v: f"{v:+.5f}")
+    row("max principal strain (membrane)", "max_principal_strain", pct)
+    row("clamp strain (membrane + bending)", "clamp_strain", pct)
+    row("wrinkled area", "wrinkled_area_fraction", lambda v: f"{100 * v:.0f} %")
+    row("gap to inner tube (mm)", "gap_inner_tube_mm", lambda v: "-" if v is None else f"{v:.2f}")
+    row("gap to outer bore (mm)", "gap_outer_bore_mm", lambda v: "-" if v is None else f"{v:.2f}")
+    console.print(t)
+    ok = "[bold green]PASSES[/]" if d["passes"] else "[bold red]FAILS[/]"
+    console.print(f"strain bound {100 * d['strain_bound']:.2f} % vs allowable {100 * d['allowable_strain']:.2f} % "
+                  f"({'ok' if d['passes_strain'] else 'too high'}); radial room "
+                  f"{'ok' if d['passes_room'] else 'the bladder touches'} -> {ok}")
+
+
+def bladder(
+    design_json: Path = typer.Argument(..., help="design JSON (from `vvea optimise` / `vvea design`)"),
+    out: Path = typer.Option(Path("bladder_out"), "--out", "-o", help="folder for bladder.json, CSV and PNG"),
+    material: str = typer.Option("dragon-skin-20", "--material", "-m", help="casting silicone key"),
+    criterion: Optional[str] = typer.Option(None, "--criterion", "-c",
+                                            help="allowable-strain criterion: cyclic (default) | static"),
+    allowable: Optional[float] = typer.Option(None, "--allowable", help="allowable strain as a fraction (overrides --criterion)"),
+    elements: int = typer.Option(96, "--elements", help="finite elements along the meridian"),
+) -> None:
+    """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
+    from .bladder import BladderError, write_bladder_report
+    from .design import DesignError
+    from .design_io import load_design
+    from .progress import console
+    from .silicones import CRITERIA, SILICONES
+
+    if material not in SILICONES:
+        console.print(f"[bold red]error:[/] unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
+        raise typer.Exit(2)
+    if criterion is not None and criterion not in CRITERIA:
+        console.print(f"[bold red]error:[/] unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
+        raise typer.Exit(2)
+    if elements < 8:
+        console.print(f"[bold red]error:[/] --elements must be >= 8, got {elements}")
+        raise typer.Exit(2)
+    try:
+        design = load_design(design_json)
+    except (OSError, ValueError, DesignError) as exc:
+        console.print(f"[bold red]error:[/] {design_json}: {exc}")
+        raise typer.Exit(2)
+    try:
+        with console.status("solving the bladder membrane at both stroke ends"):
+            d = write_bladder_report(design, out, material, allowable if allowable is not None else criterion,
+                                     n_elements=elements)
+    except BladderError as exc:
+        console.print(f"[bold red]error:[/] {exc}")
+        raise typer.Exit(2)
+    print_bladder(d)
+    console.print(f"wrote {d['files']['json']}, {d['files']['csv']}, {d['files']['png']}")
+
+
+def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
+    """Step of ``vvea design``: the bladder check into ``out/bladder``."""
+    bladder(design_json, out=Path(out) / "bladder", material="dragon-skin-20", criterion=None, allowable=None,
+            elements=96)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``bladder`` command to ``app``."""
+    app.command("bladder")(bladder)
