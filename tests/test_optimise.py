@@ -77,3 +77,16 @@ def test_packing_free_bound_is_below_our_design_and_close_to_it(result):
     assert b["linearity_error"] <= result.evaluation.linearity_error + 1e-4
     assert result.evaluation.linearity_error - b["linearity_error"] < 0.002
     assert b["A1_mm2"] == pytest.approx(b["A2_mm2"], rel=0.05)  # equal areas: both chambers at the charge limit
+
+
+def test_bladder_strain_bound_as_a_constraint():
+    from vvea_design.bladder import strain_bound
+
+    req = Requirements(max_bladder_strain=0.20)
+    with pytest.raises(ValueError, match="bladder_strain_fn"):
+        optimise(req, progress=False)
+    r = optimise(req, seed=0, progress=False, maxiter=100, bladder_strain_fn=strain_bound)
+    ev = r.evaluation
+    assert ev.feasible and r.polished
+    assert ev.details["bladder_strain"]["value"] <= 0.20 + 1e-6
+    assert ev.details["bladder_strain"]["value"] == pytest.approx(strain_bound(ev.design), rel=1e-9)
