@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PACKAGES=(libgl1 libegl1 libosmesa6 libxrender1 libxext6 libglu1-mesa xvfb)
+APT_PACKAGES=(libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri libx11-6 libxrender1)
 
 if command -v apt-get >/dev/null 2>&1; then
   SUDO=""

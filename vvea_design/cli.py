@@ -257,13 +257,13 @@ def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
     spring(design_json, out=out / "spring", p2=None)
 
 
-from . import cli_bladder  # noqa: E402  (topic modules register their commands on the app)
+from . import cli_bladder, cli_cad  # noqa: E402  (topic modules register their commands on the app)
 
-for _module in (cli_bladder,):
+for _module in (cli_cad, cli_bladder):
     _module.register(app)
 
 #: Steps of ``vvea design`` after the optimisation: f(design_json, out_dir, renders).
-DESIGN_STEPS = [_step_spring, cli_bladder.design_step]
+DESIGN_STEPS = [_step_spring, cli_cad.design_step, cli_bladder.design_step]
 
 
 def main() -> None:  # console-script entry point

@@ -1,0 +1,30 @@
+"""CAD of the spring-damper unit from the frozen design (build123d solids,
+trimesh checks, pyvista renders).
+
+Data flow: :class:`~vvea_design.design.Design` -> :class:`Layout` (derived
+radii and levels, validated) -> part functions (``parts``, ``bladder``,
+``gas``, ``mould``) -> :func:`build_cad` (every solid once) ->
+:func:`write_cad` (STEP, STL, manifest, renders).
+
+One module per concept: ``layout`` (dimensions and CAD parameters),
+``parts`` (housing, piston with rod), ``bladder`` (bladder, support ring),
+``gas`` (gas domains), ``mould`` (bladder mould), ``assembly`` (the set,
+named assembly, checks), ``export`` (deterministic files, manifest),
+``render`` (off-screen pictures).
+"""
+
+from .assembly import CadModel, assembly, build_cad, interference_mm3, mould_void
+from .bladder import bladder, bladder_volume_mm3, support_ring
+from .export import STEP_TIMESTAMP, step_bytes, stl_bytes, to_mesh, write_cad
+from .gas import gas_chamber_1, gas_chamber_2
+from .layout import CadError, CadParameters, Layout
+from .mould import Mould, mould
+from .parts import housing, housing_pieces, piston, piston_faces_mm2, piston_volume_mm3
+
+__all__ = [
+    "CadError", "CadParameters", "Layout", "CadModel", "Mould",
+    "build_cad", "write_cad", "assembly", "interference_mm3", "mould_void",
+    "housing", "housing_pieces", "piston", "piston_volume_mm3", "piston_faces_mm2",
+    "bladder", "bladder_volume_mm3", "support_ring", "gas_chamber_1", "gas_chamber_2", "mould",
+    "STEP_TIMESTAMP", "step_bytes", "stl_bytes", "to_mesh",
+]

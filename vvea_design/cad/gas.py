@@ -1,0 +1,33 @@
+"""Gas domains at x = 0 as solids: what the optimiser's V1 and V2 look like.
+
+* **Chamber 1** (A1/V1, grows with x): the inner-tube bore above the piston,
+  radius ``piston_diameter_mm / 2`` from the piston top to the top cap,
+  volume ``A1 * chamber1_length_mm = V1 - fixed.dead_volume_1_mm3``.
+* **Chamber 2** (A2/V2, shrinks with x): the annulus between the outer-tube
+  bore and the *equal-volume straight sleeve* of radius
+  ``design.bladder_equivalent_outer_radius_mm(0)`` over the bladder's free
+  length, volume ``V2 - fixed.dead_volume_2_mm3``. The real bladder at x = 0
+  is the cast sleeve deflated inwards (and bulging between its clamps); this
+  domain has its volume, not its shape, and so overlaps the cast bladder drawing.
+
+The dead volumes (ports, default 0) are not drawn.
+"""
+
+from __future__ import annotations
+
+from build123d import Solid
+
+from ._shapes import cylinder, ring
+from .layout import Layout
+
+__all__ = ["gas_chamber_1", "gas_chamber_2"]
+
+
+def gas_chamber_1(lay: Layout) -> Solid:
+    """Chamber-1 gas at x = 0, mm."""
+    return cylinder(lay.r_piston, lay.z_piston_top(0.0), lay.z_cap)
+
+
+def gas_chamber_2(lay: Layout) -> Solid:
+    """Chamber-2 gas at x = 0 (equal-volume straight sleeve), mm."""
+    return ring(lay.r_gas2_inner, lay.r_bore, lay.z_free0, lay.z_free1)

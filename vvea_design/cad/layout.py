@@ -1,0 +1,292 @@
+"""Derived CAD dimensions: one place that turns a frozen :class:`Design` into
+the radii and axial levels every part is drawn from.
+
+Frame (all parts, assembly): axis = global Z, ``z = 0`` at the underside of
+the base, the top cap's top face at ``z = housing_length_mm``. ``x > 0``
+(extension) moves the piston *down*, towards the base, by ``x`` mm.
+
+The numbers the design does not fix (feature sizes: seal grooves, ports,
+valve bores, mould walls, shrinkage) are :class:`CadParameters`; they never
+change a volume or an area the optimiser saw. All lengths in mm.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+from functools import cached_property
+
+from ..design import Design, DesignError
+
+__all__ = ["CadParameters", "Layout", "CadError"]
+
+
+class CadError(DesignError):
+    """A design or a CAD parameter that cannot be drawn (names the field)."""
+
+
+@dataclass(frozen=True)
+class CadParameters:
+    """Feature sizes the optimiser does not see (mm, except ``shrinkage``).
+
+    Every field is validated in ``__post_init__``; a bad value raises
+    :class:`CadError` naming the field before any geometry is built.
+    """
+
+    seal_groove_depth_mm: float = 1.5  #: radial depth of the piston and rod seal grooves
+    seal_groove_width_mm: float = 2.4  #: axial width of a piston seal groove
+    rod_thread_core_mm: float = 4.2  #: tapped hole (M5 core) in the rod end for the bottom eye
+    rod_thread_depth_mm: float = 10.0  #: depth of that tapped hole
+    fill_port_mm: float = 2.0  #: gas fill-port drilling through the top cap
+    fill_port_counterbore_mm: float = 4.2  #: M5 core counterbore of the fill ports (where it fits)
+    fill_port_counterbore_depth_mm: float = 4.0  #: its depth from the top face
+    throttle_bore_mm: float = 6.0  #: rotary throttle valve bore (radial, in the base)
+    relief_bore_mm: float = 5.0  #: spring-ball relief valve bore (radial, opposite the throttle)
+    relief_seat_mm: float = 2.5  #: relief valve seat drilling
+    fluid_channel_mm: float = 3.0  #: vertical fluid channels in the base (largest; shrinks to fit)
+    servo_screw_core_mm: float = 2.5  #: M3 core of the two servo-mount screws
+    servo_screw_depth_mm: float = 6.0  #: their depth
+    ring_channel_mm: float = 2.0  #: axial fluid channels of the support ring (largest; shrinks to fit)
+    ring_channels: int = 6  #: number of support-ring channels
+    clamp_groove_fraction: float = 0.6  #: bladder cuff depth as a fraction of ``fixed.bladder_clamp_mm``
+    bead_height_mm: float = 0.4  #: radial height of the sealing beads (largest; shrinks to fit)
+    bead_length_mm: float = 1.5  #: axial length of a sealing bead
+    mould_shrinkage: float = 0.001  #: linear shrinkage of the silicone; cavity = bladder x (1 + s)
+    mould_wall_mm: float = 6.0  #: mould wall around the cavity (y and z)
+    mould_side_mm: float = 16.0  #: mould wall in x (holds sprue and registration pins)
+    mould_core_wall_mm: float = 3.0  #: wall of the hollow core
+    mould_core_spigot_mm: float = 5.0  #: core length sticking out of each mould end
+    sprue_mm: float = 4.0  #: sprue diameter
+    sprue_funnel_mm: float = 8.0  #: sprue funnel diameter at the top (the drafted entry)
+    runner_mm: float = 3.0  #: horizontal runner from the sprue into the lowest point of the cavity
+    vent_mm: float = 1.5  #: vent diameter
+    vents: int = 3  #: number of vents at the top of the cavity
+    pin_mm: float = 3.0  #: registration pin diameter
+    pin_length_mm: float = 4.0  #: registration pin length past the parting plane
+    pin_clearance_mm: float = 0.1  #: radial clearance of the pin holes
+    stl_tolerance_mm: float = 0.05  #: STL linear deflection
+    stl_angular_tolerance_rad: float = 0.1  #: STL angular deflection
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ("ring_channels", "vents"):
+                if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                    raise CadError(f"cad.{f.name} must be an integer >= 1, got {v!r}")
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise CadError(f"cad.{f.name} must be a finite number, got {v!r}")
+            if f.name == "mould_shrinkage":
+                if not 0.0 <= v < 0.1:
+                    raise CadError(f"cad.mould_shrinkage must be in [0, 0.1), got {v!r}")
+            elif v <= 0:
+                raise CadError(f"cad.{f.name} must be > 0, got {v!r}")
+        if not 0.2 <= self.clamp_groove_fraction <= 0.8:
+            raise CadError(f"cad.clamp_groove_fraction must be in [0.2, 0.8], got {self.clamp_groove_fraction!r}")
+        if self.sprue_funnel_mm < self.sprue_mm:
+            raise CadError("cad.sprue_funnel_mm must be >= cad.sprue_mm")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Radii (``r_*``) and axial levels (``z_*``) of one design, mm.
+
+    Built from the design's public properties only, and checked: a layout
+    whose features do not fit raises :class:`CadError` naming the field to
+    change, before any solid is built.
+    """
+
+    design: Design
+    cad: CadParameters = CadParameters()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.design, Design):
+            raise CadError(f"design must be a vvea_design.design.Design, got {type(self.design).__name__}")
+        if not isinstance(self.cad, CadParameters):
+            raise CadError(f"cad must be CadParameters, got {type(self.cad).__name__}")
+        self.check()
+
+    # ----------------------------------------------------------- radii
+    @property
+    def r_outer(self) -> float:
+        """Outer tube outer radius = envelope radius."""
+        return self.design.outer_diameter_mm / 2
+
+    @property
+    def r_bore(self) -> float:
+        """Outer tube bore."""
+        return self.design.outer_bore_radius_mm
+
+    @property
+    def r_piston(self) -> float:
+        """Inner tube bore = piston radius."""
+        return self.design.piston_diameter_mm / 2
+
+    @property
+    def r_inner_tube(self) -> float:
+        return self.design.inner_tube_outer_radius_mm
+
+    @property
+    def r_rod(self) -> float:
+        return self.design.fixed.rod_diameter_mm / 2
+
+    @property
+    def r_bladder_in(self) -> float:
+        """Cast bladder sleeve, inner radius."""
+        return self.design.bladder_inner_radius_mm
+
+    @property
+    def r_bladder_out(self) -> float:
+        """Cast bladder sleeve, outer radius."""
+        return self.design.bladder_outer_radius_mm
+
+    @cached_property
+    def bead_mm(self) -> float:
+        """Radial height of the sealing beads (shrunk to a quarter of the free gap if needed)."""
+        return min(self.cad.bead_height_mm,
+                   0.25 * (self.r_bladder_in - self.r_inner_tube),
+                   0.25 * (self.r_bore - self.r_bladder_out))
+
+    @property
+    def r_gas2_inner(self) -> float:
+        """Inner radius of the chamber-2 gas domain at x = 0 (equal-volume straight sleeve)."""
+        return self.design.bladder_equivalent_outer_radius_mm(0.0)
+
+    @cached_property
+    def ring_channel_d(self) -> float:
+        """Support-ring channel diameter, sized to the gap inside the bladder bead."""
+        return min(self.cad.ring_channel_mm, 0.6 * (self.r_bladder_in - self.bead_mm - self.r_inner_tube))
+
+    @property
+    def r_ring_channel(self) -> float:
+        """Radius of the support-ring channels (fluid side, inside the bladder)."""
+        return 0.5 * (self.r_inner_tube + self.r_bladder_in - self.bead_mm)
+
+    @cached_property
+    def fill_port_d(self) -> float:
+        return min(self.cad.fill_port_mm, 0.6 * (self.r_bore - self.r_bladder_out - self.bead_mm))
+
+    @property
+    def r_port2(self) -> float:
+        """Chamber-2 fill port radius (gas side, outside the bladder bead)."""
+        return 0.5 * (self.r_bladder_out + self.bead_mm + self.r_bore)
+
+    @property
+    def r_port1(self) -> float:
+        """Chamber-1 fill port radius (over the piston)."""
+        return 0.6 * self.r_piston
+
+    @cached_property
+    def base_channel_d(self) -> float:
+        return min(self.cad.fluid_channel_mm, 0.5 * (self.r_piston - self.r_rod))
+
+    @property
+    def r_channel_a(self) -> float:
+        """Base channel from the fluid column (inside the inner tube, outside the rod)."""
+        return 0.5 * (self.r_rod + self.r_piston)
+
+    @cached_property
+    def throttle_d(self) -> float:
+        return min(self.cad.throttle_bore_mm, self.design.fixed.base_mm - 8.0)
+
+    @cached_property
+    def relief_d(self) -> float:
+        return min(self.cad.relief_bore_mm, self.throttle_d)
+
+    @property
+    def x_valve_inner(self) -> float:
+        """Inner end of the radial valve bores (keeps 1.5 mm of wall to the rod bore)."""
+        return self.r_rod + 1.5
+
+    # ----------------------------------------------------------- levels
+    @property
+    def z_base_top(self) -> float:
+        return self.design.fixed.base_mm
+
+    @property
+    def z_cap(self) -> float:
+        """Underside of the top cap (top of both tubes)."""
+        return self.design.fixed.base_mm + self.design.inner_length_mm
+
+    @property
+    def z_top(self) -> float:
+        return self.design.housing_length_mm
+
+    def z_piston_bottom(self, x_mm: float = 0.0) -> float:
+        """Piston underside at displacement ``x_mm`` (x > 0 moves it down)."""
+        return self.z_base_top + self.design.fluid_column_mm - x_mm
+
+    def z_piston_top(self, x_mm: float = 0.0) -> float:
+        return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
+
+    @property
+    def clamp(self) -> float:
+        return self.design.fixed.bladder_clamp_mm
+
+    @property
+    def cuff(self) -> float:
+        """Axial depth of each bladder cuff in its clamp groove."""
+        return self.cad.clamp_groove_fraction * self.clamp
+
+    @property
+    def z_free0(self) -> float:
+        """Bottom of the bladder's free length (top of the support ring)."""
+        return self.z_base_top + self.clamp
+
+    @property
+    def z_free1(self) -> float:
+        """Top of the bladder's free length (underside of the top clamp)."""
+        return self.z_cap - self.clamp
+
+    @property
+    def z_bladder0(self) -> float:
+        return self.z_free0 - self.cuff
+
+    @property
+    def z_bladder1(self) -> float:
+        return self.z_free1 + self.cuff
+
+    @property
+    def bead_length(self) -> float:
+        return min(self.cad.bead_length_mm, 0.5 * self.cuff)
+
+    @property
+    def z_valve(self) -> float:
+        """Axis height of the radial throttle and relief bores in the base."""
+        return self.design.fixed.base_mm - 2.0 - self.throttle_d / 2
+
+    # ----------------------------------------------------------- checks
+    def check(self) -> None:
+        """Raise :class:`CadError` if a feature does not fit."""
+        d, f, c = self.design, self.design.fixed, self.cad
+        if f.base_mm < 11.0:
+            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm is too thin for the valve bores and rod seal; needs >= 11 mm")
+        if f.top_cap_mm <= c.fill_port_counterbore_depth_mm:
+            raise CadError(f"fixed.top_cap_mm = {f.top_cap_mm:g} mm must exceed cad.fill_port_counterbore_depth_mm")
+        if f.piston_height_mm < 2.5 * c.seal_groove_width_mm:
+            raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
+                           f"cad.seal_groove_width_mm = {c.seal_groove_width_mm:g} mm")
+        if c.seal_groove_depth_mm >= 0.5 * (self.r_piston - self.r_rod):
+            raise CadError("cad.seal_groove_depth_mm is deeper than half the piston's radial land")
+        if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
+            raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
+                           f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")
+        if self.r_bladder_in - self.r_inner_tube <= 0.2:
+            raise CadError(f"the cast bladder (inner radius {self.r_bladder_in:.2f} mm) touches the inner tube "
+                           f"(outer radius {self.r_inner_tube:.2f} mm): V2_mm3 too large for outer_diameter_mm")
+        if self.r_bore - self.r_bladder_out <= 0.2:
+            raise CadError(f"the cast bladder (outer radius {self.r_bladder_out:.2f} mm) touches the outer tube bore "
+                           f"({self.r_bore:.2f} mm): V2_mm3 too small")
+        if self.ring_channel_d < 0.5:
+            raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
+        if self.fill_port_d < 0.5:
+            raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
+        if self.x_valve_inner >= self.r_channel_a - self.base_channel_d / 2:
+            raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
+        if self.design.fluid_column_mm - f.travel_mm < 0.5:
+            raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
+        if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
+            raise CadError("bladder free length too short for its cuffs")

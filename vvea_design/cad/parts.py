@@ -1,0 +1,151 @@
+"""Housing and working piston (with rod) as solids of one :class:`Layout`.
+
+The housing is drawn as **one united solid** (outer tube, inner tube, top
+cap with the top bladder clamp, base) -- the parts a designer machines are
+its slices at ``z = fixed.base_mm`` and ``z = fixed.base_mm + inner_length``
+(base / tubes / top cap); the tubes are separate bar stock. Bores are drawn
+at nominal size (line-to-line with the piston and rod; tolerances go on the
+drawing), so the CAD areas are exactly the design's A1 and A2.
+"""
+
+from __future__ import annotations
+
+import math
+
+from build123d import Solid
+
+from ._shapes import bar, cut, cylinder, fuse, ring
+from .layout import Layout
+from .bladder import bladder as _bladder
+
+__all__ = ["housing", "housing_pieces", "piston", "piston_volume_mm3", "piston_faces_mm2"]
+
+
+def housing(lay: Layout) -> Solid:
+    """The housing: tubes, top cap (fill ports, top bladder clamp), base (valves, channels, rod seal).
+
+    Features (radii/levels from :class:`Layout`):
+
+    * top cap ``z_cap .. z_top`` with two fill ports: chamber 1 (over the
+      piston, ``r_port1``) and chamber 2 (through the top clamp, outside
+      the bladder, ``r_port2``), each with an M5 counterbore where it fits;
+    * top bladder clamp ``z_free1 .. z_cap`` filling the annulus, with the
+      bladder's upper cuff and bead as its groove;
+    * base ``0 .. z_base_top``: rod bore with a seal groove; the radial
+      rotary-throttle bore (+x) with two servo-mount screw holes; the
+      spring-ball relief bore (-x, stepped seat); vertical fluid channels
+      from the fluid column (``r_channel_a``) and from the support ring
+      (``r_ring_channel``) into both valve bores.
+    """
+    d, c = lay.design, lay.cad
+    f = d.fixed
+    z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
+    body = fuse(
+        ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
+        ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
+        cylinder(lay.r_outer, z1, zt),  # top cap
+        ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1),  # top bladder clamp
+        cylinder(lay.r_outer, 0.0, z0),  # base
+    )
+    tools: list[Solid] = []
+    # top clamp groove = the bladder's upper cuff (exact fit)
+    tools.append(_bladder(lay))
+    # fill ports (chamber 1 at +y over the piston, chamber 2 at +y outside the bladder)
+    for r_port, z_start in ((lay.r_port1, z1 - 0.01), (lay.r_port2, lay.z_free1 - 0.01)):
+        tools.append(cylinder(lay.fill_port_d / 2, z_start, zt + 1, y=r_port))
+        cb = c.fill_port_counterbore_mm / 2
+        if r_port + cb < lay.r_outer - 0.8 and (r_port - cb > lay.r_piston + 0.8 or r_port + cb < lay.r_piston - 0.8):
+            tools.append(cylinder(cb, zt - c.fill_port_counterbore_depth_mm, zt + 1, y=r_port))
+    # rod bore and rod seal groove
+    tools.append(cylinder(lay.r_rod, -1.0, z0 + 0.01))
+    tools.append(ring(0.0, lay.r_rod + c.seal_groove_depth_mm, 1.5, 1.5 + c.seal_groove_width_mm))
+    zv = lay.z_valve
+    # rotary throttle: radial bore along +x, channels up from it
+    tools.append(bar(lay.throttle_d / 2, (lay.x_valve_inner, 0, zv), (1, 0, 0), lay.r_outer + 1 - lay.x_valve_inner))
+    # servo mount: two screw holes flanking the throttle bore
+    ys = lay.throttle_d / 2 + 3.5
+    xs = math.sqrt(lay.r_outer**2 - ys**2)
+    for sgn in (1, -1):
+        tools.append(bar(c.servo_screw_core_mm / 2, (xs - c.servo_screw_depth_mm, sgn * ys, zv), (1, 0, 0),
+                         c.servo_screw_depth_mm + 1.0))
+    # relief valve: stepped radial bore along -x (seat drilling reaches the fluid-column channel)
+    x_b = lay.r_ring_channel - lay.ring_channel_d / 2 - 0.5
+    tools.append(bar(lay.relief_d / 2, (-(lay.r_outer + 1), 0, zv), (1, 0, 0), lay.r_outer + 1 - x_b))
+    tools.append(bar(min(c.relief_seat_mm, lay.relief_d) / 2, (-x_b - 0.01, 0, zv), (1, 0, 0),
+                     x_b - lay.x_valve_inner + 0.01))
+    # vertical channels: fluid column <-> valves <-> support ring, both valves
+    ch = lay.base_channel_d / 2
+    for sgn in (1, -1):
+        tools.append(cylinder(ch, zv, z0 + 0.01, x=sgn * lay.r_channel_a))
+        tools.append(cylinder(min(ch, lay.ring_channel_d / 2), zv, z0 + 0.01, x=sgn * lay.r_ring_channel))
+    return cut(body, *tools)
+
+
+def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]:
+    """The housing's machined parts: slices of the united :func:`housing`, mm.
+
+    ``housing_base`` (z < base top), ``housing_outer_tube`` and
+    ``housing_inner_tube`` (between base and top cap), ``housing_top_cap``
+    (the cap with the top bladder clamp spigot). Their volumes add up to the
+    united housing's; they touch on faces only.
+    """
+    h = united if united is not None else housing(lay)
+    big = lay.r_outer + 1.0
+    z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
+    regions = {
+        "housing_base": cylinder(big, -1.0, z0),
+        "housing_outer_tube": ring(lay.r_bore, big, z0, z1),
+        "housing_inner_tube": cylinder(lay.r_inner_tube, z0, z1),
+        "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
+    }
+    from ._shapes import single_solid
+
+    return {name: single_solid(h.intersect(region)) for name, region in regions.items()}
+
+
+def _groove_levels(lay: Layout, x_mm: float) -> list[tuple[float, float]]:
+    hp = lay.design.fixed.piston_height_mm
+    w = lay.cad.seal_groove_width_mm
+    zb = lay.z_piston_bottom(x_mm)
+    return [(zb + hp * q - w / 2, zb + hp * q + w / 2) for q in (0.27, 0.73)]
+
+
+def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
+    """Working piston with two seal grooves and its rod (tapped end), at displacement ``x_mm``.
+
+    The top face is the full bore (area A1); the underside is the annulus
+    between bore and rod (area A2).
+    """
+    d, c = lay.design, lay.cad
+    zb, ztp = lay.z_piston_bottom(x_mm), lay.z_piston_top(x_mm)
+    z_end = zb - d.rod_length_mm
+    body = fuse(cylinder(lay.r_piston, zb, ztp), cylinder(lay.r_rod, z_end, zb + 0.5 * d.fixed.piston_height_mm))
+    tools = [ring(lay.r_piston - c.seal_groove_depth_mm, lay.r_piston + 1, g0, g1) for g0, g1 in _groove_levels(lay, x_mm)]
+    tools.append(cylinder(c.rod_thread_core_mm / 2, z_end - 1, z_end + c.rod_thread_depth_mm))
+    return cut(body, *tools)
+
+
+def piston_volume_mm3(lay: Layout) -> float:
+    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole), mm³."""
+    d, c = lay.design, lay.cad
+    rp, rr = lay.r_piston, lay.r_rod
+    v = math.pi * rp**2 * d.fixed.piston_height_mm + math.pi * rr**2 * d.rod_length_mm
+    v -= 2 * math.pi * (rp**2 - (rp - c.seal_groove_depth_mm) ** 2) * c.seal_groove_width_mm
+    v -= math.pi * (c.rod_thread_core_mm / 2) ** 2 * c.rod_thread_depth_mm
+    return v
+
+
+def piston_faces_mm2(solid: Solid, lay: Layout, x_mm: float = 0.0) -> dict[str, float]:
+    """Measure the drawn piston areas: the planar face at the piston top (A1) and the
+    planar faces at its underside (A2 = bore minus rod), mm²."""
+    zt, zb = lay.z_piston_top(x_mm), lay.z_piston_bottom(x_mm)
+    a1 = a2 = 0.0
+    for face in solid.faces():
+        bb = face.bounding_box()
+        if bb.max.Z - bb.min.Z > 1e-6:
+            continue
+        if abs(bb.min.Z - zt) < 1e-6:
+            a1 += face.area
+        elif abs(bb.min.Z - zb) < 1e-6:
+            a2 += face.area
+    return {"A1_mm2": a1, "A2_mm2": a2}

@@ -1,0 +1,71 @@
+"""``vvea cad design.json --out DIR``: the CAD set (thin layer over :mod:`vvea_design.cad`).
+
+Wire it in with ``register(app)``; ``design_step`` is the matching step for
+``vvea design`` (``DESIGN_STEPS.append(design_step)``, writes ``out/cad``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+__all__ = ["register", "cad", "design_step", "print_manifest"]
+
+
+def print_manifest(manifest: dict) -> None:
+    """The drawn-vs-optimised table and the check results on the console."""
+    from rich.table import Table
+
+    from .progress import console
+
+    t = Table(title="CAD vs design (what is drawn is what was optimised)")
+    for col in ("quantity", "CAD", "design", "rel. error"):
+        t.add_column(col, justify="right" if col != "quantity" else "left")
+    for k, v in manifest["measured"].items():
+        t.add_row(k, f"{v['cad']:.6g}", f"{v['design']:.6g}", f"{v['rel_error']:+.1e}")
+    m = manifest["mould"]
+    t.add_row("mould cavity_volume_mm3", f"{m['cavity_volume_mm3']:.6g}", f"{m['expected_cavity_volume_mm3']:.6g}",
+              f"{(m['cavity_volume_mm3'] - m['expected_cavity_volume_mm3']) / m['expected_cavity_volume_mm3']:+.1e}")
+    console.print(t)
+    worst = max(v for pair in manifest["interference_mm3"].values() for v in pair.values())
+    walls_ok = all(w["drawn"] >= w["minimum"] for w in manifest["walls_mm"].values())
+    stl_ok = all(f.get("watertight", True) for f in manifest["files"].values())
+    console.print(f"interference (max over pairs, both stroke ends): {worst:.3g} mm³; walls >= hoop-stress minimum: "
+                  f"{'yes' if walls_ok else '[bold red]NO[/]'}; STL watertight: {'yes' if stl_ok else '[bold red]NO[/]'}; "
+                  f"sprue/vents open: {m['sprue_open'] and all(m['vents_open'])}")
+
+
+def cad(
+    design_json: Path = typer.Argument(..., help="design JSON (from `vvea optimise` / `vvea design`)"),
+    out: Path = typer.Option(Path("cad_out"), "--out", "-o", help="folder for STEP, STL, PNG and manifest.json"),
+    renders: bool = typer.Option(True, "--renders/--no-renders", help="write the off-screen PNG renders"),
+) -> None:
+    """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
+    from .cad import CadError, write_cad
+    from .design import DesignError
+    from .design_io import load_design
+    from .progress import console
+
+    try:
+        design = load_design(design_json)
+    except (OSError, ValueError, DesignError) as exc:
+        console.print(f"[bold red]error:[/] {design_json}: {exc}", markup=True, highlight=False)
+        raise typer.Exit(2)
+    try:
+        manifest = write_cad(design, out, renders=renders)
+    except CadError as exc:
+        console.print(f"[bold red]error:[/] {design_json}: {exc}", highlight=False)
+        raise typer.Exit(2)
+    print_manifest(manifest)
+    console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")
+
+
+def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
+    """Step of ``vvea design``: the CAD set into ``out/cad``."""
+    cad(design_json, out=Path(out) / "cad", renders=renders)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``cad`` command to ``app``."""
+    app.command("cad")(cad)
