@@ -5,7 +5,8 @@
 Writes into studies/results/optimise/ by default:
   design.json, design_force.png         the optimum (seed 0)
   pareto_<axis>.csv/.png                 linearity vs stiffness, outer diameter, mass
-  map_<x>_<y>.csv/.png                   linearity over two variables around the optimum
+  map_<x>_<y>.npz/.png                   linearity over two variables around the optimum
+  cast_fill.csv/.png                     where the bladder is cast: linearity vs FE strain bound
   summary.json                           the numbers quoted in the README
 """
 
@@ -33,6 +34,47 @@ SWEEPS = {
 MAPS = [("outer_diameter_mm", "V2_mm3"), ("piston_diameter_mm", "V1_mm3")]
 
 
+def cast_fill_tradeoff(out: Path, fills=(0.0, 0.25, 0.5, 0.75)) -> list[dict]:
+    """Optimum and FE bladder check for bladders cast at different stroke fractions.
+
+    Cast at x = 0 (fill 0) the bladder only expands: no inward room is needed, so the annulus holds
+    more gas (better linearity) but the whole displaced volume stretches it. Cast at mid-stroke
+    (fill 0.5, the default, like the paper's ±0.03 MPa cases) it shares the volume both ways.
+    """
+    from dataclasses import replace
+
+    import matplotlib.pyplot as plt
+
+    from vvea_design.bladder import check_bladder
+    from vvea_design.plots import save_figure
+
+    rows = []
+    for fill in fills:
+        req = Requirements()
+        req = replace(req, fixed=replace(req.fixed, bladder_cast_fill=fill))
+        r = optimise(req, seed=0, progress=False)
+        b = check_bladder(r.design).to_dict()
+        rows.append({"bladder_cast_fill": fill, "linearity_error": r.evaluation.linearity_error,
+                     "strain_bound": b["strain_bound"], "allowable_strain": b["allowable_strain"],
+                     "passes": b["passes"], "V2_mm3": r.design.V2_mm3})
+    with open(out / "cast_fill.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    ax.plot([100 * r["strain_bound"] for r in rows], [100 * r["linearity_error"] for r in rows], "o-")
+    for r in rows:
+        ax.annotate(f"cast at {r['bladder_cast_fill']:g} of stroke", (100 * r["strain_bound"], 100 * r["linearity_error"]),
+                    textcoords="offset points", xytext=(5, 5), fontsize=8)
+    ax.axvline(100 * rows[0]["allowable_strain"], color="r", ls="--", label="allowable (Dragon Skin 20, cyclic)")
+    ax.set(xlabel="bladder strain bound (FE, membrane + clamp bending) [%]", ylabel="best linearity error [%]",
+           title="where to cast the bladder: linearity vs bladder strain")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save_figure(fig, out / "cast_fill.png")
+    return rows
+
+
 def main(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     req = Requirements()
@@ -58,6 +100,7 @@ def main(out: Path, quick: bool = False) -> dict:
         m = linearity_map(res.design, req, vx, vy, n=31 if quick else 61)
         plot_linearity_map(m, out / f"map_{vx}_{vy}.png", optimum=(getattr(res.design, vx), getattr(res.design, vy)))
         np.savez_compressed(out / f"map_{vx}_{vy}.npz", x=m["x"], y=m["y"], linearity=m["linearity"], feasible=m["feasible"])
+    summary["cast_fill"] = cast_fill_tradeoff(out)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True, default=float) + "\n")
     print(json.dumps(summary["optimum"], indent=2, default=float))
     return summary
