@@ -19,7 +19,7 @@ from vvea_design.spec import Requirements, evaluate_design
 
 def main(seeds: list[int]) -> None:
     req = Requirements()
-    d = Design(35.3, 59.5, 47000.0, 98000.0)
+    d = Design(34.5, 59.5, 41500.0, 90000.0)
     n = 2000
     t = timeit.timeit(lambda: evaluate_design(d, req), number=n) / n
     print(f"one design evaluation (geometry + 401-point curve + all constraints): {1e6 * t:.0f} µs "

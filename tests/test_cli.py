@@ -17,7 +17,7 @@ runner = CliRunner()
 @pytest.fixture()
 def design_json(tmp_path):
     req = Requirements()
-    return save_design(tmp_path / "d.json", evaluate_design(Design(35.3, 59.5, 47000.0, 98000.0), req), req)
+    return save_design(tmp_path / "d.json", evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req)
 
 
 def test_check_passes_and_fails_with_exit_codes(design_json):

@@ -26,7 +26,7 @@ REQUIRED = {
 @pytest.fixture()
 def design_file(tmp_path):
     req = Requirements()
-    ev = evaluate_design(Design(35.3, 59.5, 47000.0, 98000.0), req)
+    ev = evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req)
     return save_design(tmp_path / "design.json", ev, req, optimiser={"seed": 0}), ev, req
 
 

@@ -65,7 +65,7 @@ def test_missing_file(tmp_path):
 
 
 def test_margins_have_signs_and_details():
-    d = Design(35.3, 59.5, 47000.0, 98000.0)
+    d = Design(34.5, 59.5, 41500.0, 90000.0)
     ev = evaluate_design(d, Requirements())
     assert ev.feasible
     assert list(ev.margins) == constraint_names(Requirements())
