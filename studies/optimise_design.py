@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from vvea_design.design_io import save_design
-from vvea_design.optimise import PARETO_AXES, linearity_map, optimise, pareto_front
-from vvea_design.plots import plot_linearity_map, plot_pareto, plot_spring
+from vvea_design.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
+from vvea_design.plots import plot_linearity_map, plot_spring
 from vvea_design.spec import Requirements
 
 HERE = Path(__file__).resolve().parent
@@ -87,13 +87,8 @@ def main(out: Path, quick: bool = False) -> dict:
     for axis, values in SWEEPS.items():
         vals = values[::2] if quick else values
         rows = pareto_front(req, axis, vals, seed=0)
-        keys = sorted({k for r in rows for k in r})
-        with open(out / f"pareto_{axis}.csv", "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=keys)
-            w.writeheader()
-            w.writerows(rows)
-        field, label = PARETO_AXES[axis]
-        plot_pareto(rows, field, label, out / f"pareto_{axis}.png", title=f"best linearity vs {axis}")
+        save_pareto(rows, axis, out)
+        field = PARETO_AXES[axis][0]
         summary[f"pareto_{axis}"] = [{field: r[field], "linearity_error": r.get("linearity_error"),
                                       "feasible": r["feasible"], "binding": r.get("binding", "")} for r in rows]
     for vx, vy in MAPS:

@@ -92,3 +92,13 @@ def test_design_main_job_writes_everything(tmp_path):
     assert (out / "cad" / "housing.step").exists() and manifest
     bladder = json.loads((out / "bladder" / "bladder.json").read_text())
     assert bladder["passes"] is True
+
+
+def test_pareto_command(tmp_path):
+    res = runner.invoke(app, ["pareto", "--axis", "outer_diameter", "--values", "55", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    rows = (tmp_path / "pareto_outer_diameter.csv").read_text().splitlines()
+    assert len(rows) == 2 and "linearity_error" in rows[0]
+    assert (tmp_path / "pareto_outer_diameter.png").exists()
+    bad = runner.invoke(app, ["pareto", "--axis", "colour", "--values", "1"])
+    assert bad.exit_code == 2 and "--axis must be one of" in bad.output

@@ -73,7 +73,7 @@ def _mutate(path, fn):
         (lambda d: d["parameters"].update(A1_mm2="big"), r"parameters.A1_mm2 must be a finite number"),
         (lambda d: d["parameters"].update(A1_mm2=1234.0), r"parameters.A1_mm2 = 1234 disagrees"),
         (lambda d: d["parameters"].update(piston_diameter_mm=-3.0), "piston_diameter_mm must be a positive number"),
-        (lambda d: d["fixed"].update(colour="red"), "fixed has unknown key"),
+        (lambda d: d["fixed"].update(colour="red"), "unknown fixed parameter"),
         (lambda d: d.pop("parameters"), "missing object 'parameters'"),
     ],
 )

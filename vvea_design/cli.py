@@ -8,7 +8,6 @@ topics register their commands from their own modules (``cli_*.py``).
 from __future__ import annotations
 
 import csv
-import json
 import sys
 from pathlib import Path
 from typing import Optional
@@ -172,8 +171,7 @@ def pareto(
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://host:port)"),
 ) -> None:
     """Pareto front: best linearity against stiffness, outer diameter or mass (CSV + PNG)."""
-    from .optimise import PARETO_AXES, pareto_front
-    from .plots import plot_pareto
+    from .optimise import PARETO_AXES, pareto_front, save_pareto
     from .spec import SpecError, load_requirements
 
     if axis not in PARETO_AXES:
@@ -189,18 +187,12 @@ def pareto(
     except SpecError as exc:
         _fail(str(exc))
     rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
-    out.mkdir(parents=True, exist_ok=True)
-    keys = sorted({k for r in rows for k in r})
-    with open(out / f"pareto_{axis}.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
-    field, label = PARETO_AXES[axis]
-    png = plot_pareto(rows, field, label, out / f"pareto_{axis}.png", title=f"linearity vs {axis}")
+    csv_path, png = save_pareto(rows, axis, out)
+    field = PARETO_AXES[axis][0]
     for r in rows:
         lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
         console.print(f"{field} = {r[field]:g}: {lin}")
-    console.print(f"wrote {out / f'pareto_{axis}.csv'} and {png}")
+    console.print(f"wrote {csv_path} and {png}")
 
 
 @app.command("map")

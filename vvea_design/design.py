@@ -106,6 +106,20 @@ class FixedParameters:
     def to_dict(self) -> dict:
         return asdict(self)
 
+    @classmethod
+    def from_dict(cls, data, **override) -> "FixedParameters":
+        """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error."""
+        if not isinstance(data, dict):
+            raise DesignError(f"fixed parameters must be a table/object, got {type(data).__name__}")
+        known = {f.name for f in fields(cls)}
+        bad = set(data) - known
+        if bad:
+            raise DesignError(f"unknown fixed parameter(s) {sorted(bad)}; known: {sorted(known)}")
+        try:
+            return cls(**{**data, **override})
+        except TypeError as exc:  # pragma: no cover - guarded by the key check
+            raise DesignError(str(exc)) from None
+
 
 @dataclass(frozen=True)
 class Design:

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
@@ -161,15 +160,9 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
     """Rebuild the frozen design from a parsed design JSON, checking its consistency."""
     _check_envelope(data, src)
     p = data["parameters"]
-    fixed_raw = data.get("fixed", {})
-    if not isinstance(fixed_raw, dict):
-        raise DesignFileError(f"{src}: 'fixed' must be an object")
-    known = {f.name for f in fields(FixedParameters)}
-    bad = set(fixed_raw) - known
-    if bad:
-        raise DesignFileError(f"{src}: fixed has unknown key(s) {sorted(bad)}")
     try:
-        fixed = FixedParameters(**{**fixed_raw, "travel_mm": p["travel_mm"], "n_polytropic": p["n_polytropic"]})
+        fixed = FixedParameters.from_dict(data.get("fixed", {}), travel_mm=p["travel_mm"],
+                                          n_polytropic=p["n_polytropic"])
         design = Design(
             **{k: p[k] for k in DECISION_VARIABLES},
             p2_MPa=p["p2_MPa"],

@@ -35,6 +35,7 @@ __all__ = [
     "linearity_map",
     "PARETO_AXES",
     "gas_volume_bound",
+    "save_pareto",
 ]
 
 
@@ -302,6 +303,26 @@ def pareto_front(
     for v, row in zip(values, rows):
         row[field_name] = float(v)
     return rows
+
+
+def save_pareto(rows: list[dict], axis: str, out_dir, title: str = "") -> tuple:
+    """Write a Pareto front as ``pareto_<axis>.csv`` and ``.png`` into ``out_dir``; return both paths."""
+    import csv
+    from pathlib import Path
+
+    from .plots import plot_pareto
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    csv_path = out_dir / f"pareto_{axis}.csv"
+    keys = sorted({k for r in rows for k in r})
+    with open(csv_path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    field, label = PARETO_AXES[axis]
+    png = plot_pareto(rows, field, label, out_dir / f"pareto_{axis}.png", title=title or f"best linearity vs {axis}")
+    return csv_path, png
 
 
 # ---------------------------------------------------------------------------

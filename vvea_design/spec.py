@@ -152,15 +152,9 @@ class Requirements:
                     b[name] = (float(pair[0]), float(pair[1]))
                 kwargs["bounds"] = b
             elif key == "fixed":
-                if not isinstance(value, dict):
-                    raise SpecError(f"{source}: [fixed] must be a table")
-                fknown = {f.name for f in fields(FixedParameters)}
-                bad = set(value) - fknown
-                if bad:
-                    raise SpecError(f"{source}: [fixed] unknown key(s) {sorted(bad)}; known: {sorted(fknown)}")
                 try:
-                    kwargs["fixed"] = FixedParameters(**value)
-                except (DesignError, TypeError) as exc:
+                    kwargs["fixed"] = FixedParameters.from_dict(value)
+                except DesignError as exc:
                     raise SpecError(f"{source}: [fixed] {exc}") from None
             elif key in ("bladder_material",):
                 if not isinstance(value, str):
