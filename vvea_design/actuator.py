@@ -141,7 +141,7 @@ PAPER_SETTINGS: dict[str, Actuator] = {
 }
 
 
-def dynamics(x, u, K, D_unused=None, B=B_MOTOR_KGM2, M=M_LINK_KGM2):
+def dynamics(x, u, K, B=B_MOTOR_KGM2, M=M_LINK_KGM2):
     """Right-hand side of eqs 8-10 (C_f = 0).
 
     Works on numpy arrays and on CasADi symbols alike.

@@ -63,8 +63,14 @@ class Mesh:
 
     n_intervals: int = 64  #: number of collocation intervals over the horizon
     degree: int = 3  #: Radau collocation degree (order 2d-1)
+    #: end clustering β in [0, 1) inside each phase of the horizon (rest-to-rest: the
+    #: four half periods): interval edges at (1-β)σ + β(1-cos πσ)/2, σ uniform.
+    #: β = 0 is a uniform mesh; β > 0 refines around the reference jumps.
+    grading: float = 0.0
 
     def __post_init__(self) -> None:
+        if not (0.0 <= self.grading < 1.0):
+            raise ValueError(f"Mesh.grading must be in [0, 1), got {self.grading!r}")
         if int(self.n_intervals) != self.n_intervals or self.n_intervals < 4:
             raise ValueError(f"Mesh.n_intervals must be a whole number >= 4, got {self.n_intervals!r}")
         if int(self.degree) != self.degree or not 1 <= self.degree <= 9:
@@ -98,6 +104,7 @@ class OcpResult:
     tau_Nm: np.ndarray = field(repr=False)  #: link torque at the grid points
     Z: np.ndarray = field(repr=False)  #: physical states at every collocation point (N, d+1, 5)
     U: np.ndarray = field(repr=False)  #: physical inputs per interval (N, 2)
+    t_points_s: np.ndarray = field(repr=False, default=None)  #: times of the points of Z (N, d+1)
     extra: dict = field(default_factory=dict)  #: problem-specific numbers
 
 
@@ -137,11 +144,19 @@ class _Collocation:
 
     NP = 9  # a, Ts, ds, taumax, umax, K, B, M, D_const
 
-    def __init__(self, mesh: Mesh, S: float, variable_damping: bool) -> None:
+    def __init__(self, mesh: Mesh, S: float, variable_damping: bool, phases: int = 1) -> None:
         self.mesh = mesh
         N, d = mesh.n_intervals, mesh.degree
         self.N, self.d, self.S = N, d, S
-        self.h = S / N
+        if N % phases:
+            raise ValueError(f"Mesh.n_intervals must be a multiple of {phases}, got {N}")
+        npp = N // phases
+        sig = np.linspace(0.0, 1.0, npp + 1)
+        b = mesh.grading
+        phi = (1 - b) * sig + b * (1 - np.cos(np.pi * sig)) / 2
+        edges = np.concatenate([[0.0]] + [(i + phi[1:]) * S / phases for i in range(phases)])
+        self.edges = edges  #: interval edges in normalised time, (N+1,)
+        self.h = np.diff(edges)  #: interval lengths in normalised time, (N,)
         self.variable = variable_damping
         self.nx = nx = 5 if variable_damping else 4
         self.nu = nu = 2 if variable_damping else 1
@@ -187,7 +202,7 @@ class _Collocation:
             for j in range(1, d + 1):
                 zp = sum(self.C[r, j] * Zk[r] for r in range(d + 1))
                 fj, tj, Dj = self.f(Zk[j], Uk, p)
-                g.append(zp - self.h * fj)
+                g.append(zp - self.h[k] * fj)
                 taus.append((tj, Dj))
             self.tau_at.append(taus)
         self.g = ca.vertcat(*g)
@@ -255,6 +270,7 @@ class _Collocation:
     def solve(self, solver, w0, pv, lbx, ubx):
         args = dict(x0=np.clip(w0, lbx, ubx), p=pv, lbx=lbx, ubx=ubx, lbg=0.0, ubg=0.0)
         t0 = time.perf_counter()
+        c0 = time.process_time()
         try:
             sol = solver(**args)
             st = solver.stats()
@@ -266,6 +282,7 @@ class _Collocation:
         except RuntimeError as exc:  # an error inside CasADi/IPOPT: recorded, never raised
             status, success, iters = f"error: {exc}".splitlines()[0][:200], False, -1
             w, f = np.full(self.nw, np.nan), float("nan")
+        self.last_cpu_seconds = time.process_time() - c0
         return w, f, status, success, iters, time.perf_counter() - t0
 
 
@@ -286,7 +303,7 @@ def _result_from(col: _Collocation, w, f_obj, status, success, iters, secs, pv, 
         iterations=iters,
         seconds=secs,
         w=w,
-        t_s=pv[1] * col.h * np.arange(N + 1),
+        t_s=pv[1] * col.edges,
         theta_rad=grid[:, 0],
         q_rad=grid[:, 1],
         dtheta_rad_s=grid[:, 2],
@@ -297,8 +314,23 @@ def _result_from(col: _Collocation, w, f_obj, status, success, iters, secs, pv, 
         tau_Nm=tau,
         Z=Zp,
         U=Up,
+        t_points_s=pv[1] * (col.edges[:-1, None] + col.h[:, None] * col.tau[None, :]),
         extra=extra,
     )
+
+
+def _resample(other: OcpResult, edges_s: np.ndarray, tau: np.ndarray):
+    """States (linear interpolation through all points) and inputs (value at the interval midpoint)
+    of ``other`` on another mesh with interval edges ``edges_s`` (s) and collocation points ``tau``."""
+    t_old = other.t_points_s[:, 1:].ravel()
+    t_old = np.concatenate([[0.0], t_old])
+    Z_old = np.concatenate([other.Z[:1, 0, :], other.Z[:, 1:, :].reshape(-1, 5)], axis=0)
+    h = np.diff(edges_s)
+    t_new = edges_s[:-1, None] + h[:, None] * tau[None, :]
+    Zp = np.stack([np.interp(t_new, t_old, Z_old[:, c]) for c in range(5)], axis=-1)
+    mid = edges_s[:-1] + h / 2
+    k = np.clip(np.searchsorted(other.t_s, mid, side="right") - 1, 0, len(other.U) - 1)
+    return Zp, other.U[k]
 
 
 def rest_to_rest_reference(t_s, A_rad: float, T_s: float) -> np.ndarray:
@@ -307,18 +339,28 @@ def rest_to_rest_reference(t_s, A_rad: float, T_s: float) -> np.ndarray:
     return np.where(np.mod(t, T_s) < 0.5 * T_s, 0.0, A_rad)
 
 
-def ramp_u_d_profile(actuator: Actuator, n_intervals: int, dt_s: float, D_target: float) -> np.ndarray:
+def ramp_u_d_profile(actuator: Actuator, dt_s, D_target: float) -> np.ndarray:
     """Piecewise-constant u_d driving D from D_min to ``D_target`` as fast as eq. 12 allows.
+
+    Parameters
+    ----------
+    actuator
+        Setting (D_min, u_d limit).
+    dt_s
+        Interval lengths in s, one per collocation interval.
+    D_target
+        Damping to reach and hold, N m s/rad.
 
     Feasible for the variable-damping problem; used to build multi-start
     initial guesses.
     """
+    dt = np.asarray(dt_s, dtype=float)
     D = actuator.D_min_Nms_per_rad
-    out = np.zeros(n_intervals)
-    for k in range(n_intervals):
-        u = float(np.clip((D_target - D) / dt_s, -actuator.u_d_max, actuator.u_d_max))
+    out = np.zeros(len(dt))
+    for k, h in enumerate(dt):
+        u = float(np.clip((D_target - D) / h, -actuator.u_d_max, actuator.u_d_max))
         out[k] = u
-        D += u * dt_s
+        D += u * h
     return out
 
 
@@ -340,7 +382,12 @@ class RestToRestSolver:
     True
     """
 
-    def __init__(self, mesh: Mesh = Mesh(), ipopt_options: dict | None = None) -> None:
+    #: weight of ∫ (u_d/u_d_max)² dt / t_e added to the variable-damping objective (0 = none)
+    u_d_regularisation: float = 0.0
+
+    def __init__(self, mesh: Mesh = Mesh(), ipopt_options: dict | None = None,
+                 u_d_regularisation: float = 0.0) -> None:
+        self.u_d_regularisation = float(u_d_regularisation)
         if mesh.n_intervals % 4:
             raise ValueError(
                 f"Mesh.n_intervals must be a multiple of 4 for rest-to-rest (the reference switches at "
@@ -353,17 +400,24 @@ class RestToRestSolver:
         self.solvers = {}
         self.Jfuns = {}
         N = mesh.n_intervals
-        self.qdes = np.array([0.0 if (k / N * 2.0) % 1.0 < 0.5 - 1e-12 else 1.0 for k in range(N)])
         for variable in (False, True):
-            col = _Collocation(mesh, S=2.0, variable_damping=variable)
+            col = _Collocation(mesh, S=2.0, variable_damping=variable, phases=4)
+            self.qdes = np.where(np.mod(col.edges[:-1] + 1e-12, 1.0) < 0.5, 0.0, 1.0)
             # exact tracking integral of the collocation polynomial, normalised:
             # mean of ((q - q_des)/A)^2 over the horizon = sum_k h e_k^T Mass e_k / S
             J = 0
             for k in range(N):
                 e = ca.vertcat(*[col.w[int(col.iz[k, j, 1])] - self.qdes[k] for j in range(col.d + 1)])
-                J += col.h * ca.mtimes([e.T, ca.DM(col.Mass), e])
+                J += col.h[k] * ca.mtimes([e.T, ca.DM(col.Mass), e])
             J = J / col.S
-            nlp = {"x": col.w, "p": col.p, "f": J, "g": col.g}
+            # optional regularisation of the damping rate (weight = extra parameter, 0 by default);
+            # candidates are always compared on the pure tracking integral J
+            reg = ca.SX.sym("reg")
+            R = 0
+            if variable:
+                for k in range(N):
+                    R += col.h[k] * col.w[int(col.iu[k, 1])] ** 2
+            nlp = {"x": col.w, "p": ca.vertcat(col.p, reg), "f": J + reg * R / col.S, "g": col.g}
             name = "rest_to_rest_" + ("variable" if variable else "constant")
             self.cols[variable] = col
             self.solvers[variable] = ca.nlpsol(name, "ipopt", nlp, opts)
@@ -372,10 +426,9 @@ class RestToRestSolver:
     def _col(self, act: Actuator) -> _Collocation:
         return self.cols[act.variable_damping]
 
-    @property
-    def dt_fraction(self) -> float:
-        """Interval length as a fraction of the period T."""
-        return 2.0 / self.mesh.n_intervals
+    def interval_seconds(self, T_s: float) -> np.ndarray:
+        """Physical interval lengths (s) for period ``T_s``."""
+        return self.cols[True].h * T_s
 
     def guess_from(self, other: OcpResult, actuator: Actuator, A_rad: float, T_s: float) -> np.ndarray:
         """A start for ``actuator`` built from any solution on this mesh (D clipped into range)."""
@@ -383,6 +436,9 @@ class RestToRestSolver:
         pv = col.params(actuator, A_rad, T_s)
         Zp = np.array(other.Z, dtype=float)
         Up = np.array(other.U, dtype=float)
+        if Zp.shape[:2] != (col.N, col.d + 1) or not np.allclose(other.t_points_s, pv[1] * (
+                col.edges[:-1, None] + col.h[:, None] * col.tau[None, :])):
+            Zp, Up = _resample(other, pv[1] * col.edges, col.tau)
         Zp[..., 4] = np.clip(Zp[..., 4], actuator.D_min_Nms_per_rad, actuator.D_max_Nms_per_rad)
         Up[:, 1] = np.clip(Up[:, 1], -actuator.u_d_max, actuator.u_d_max)
         return col.from_phys(Zp, Up, pv)
@@ -444,12 +500,16 @@ class RestToRestSolver:
             w0 = np.zeros(col.nw)
             if col.variable:
                 w0[col.iz[:, :, 4].ravel()] = actuator.D_min_Nms_per_rad / pv[2]
-        w, f, status, success, iters, secs = col.solve(self.solvers[col.variable], w0, pv, lbx, ubx)
+        w, f, status, success, iters, secs = col.solve(self.solvers[col.variable], w0,
+                                                       np.append(pv, self.u_d_regularisation), lbx, ubx)
+        if np.all(np.isfinite(w)):
+            f = float(self.Jfuns[col.variable](w))
         return self._result(col, w, f, status, success, iters, secs, pv, actuator, A_rad, T_s)
 
     def _result(self, col, w, f, status, success, iters, secs, pv, act, A, T) -> OcpResult:
         te = 2.0 * T
         r = _result_from(col, w, f * A**2 * te, status, success, iters, secs, pv, {})
+        r.extra["cpu_seconds"] = getattr(col, "last_cpu_seconds", 0.0) if secs > 0 else 0.0
         N = col.N
         if np.all(np.isfinite(w)):
             qc = r.Z[:, :, 1]  # (N, d+1)
@@ -507,11 +567,11 @@ class TorqueStepSolver:
             Jt = Jd = Jm = 0
             for k in range(col.N):
                 tau_m = col.p[3] * col.w[int(col.iu[k, 0])]
-                Jm += col.h * Ts * tau_m**2
+                Jm += col.h[k] * Ts * tau_m**2
                 for j in range(1, col.d + 1):
                     tj, Dj = col.tau_at[k][j - 1]
-                    Jt += col.h * Ts * col.Bq[j] * (tj - tau_ref) ** 2
-                    Jd += col.h * Ts * col.Bq[j] * (Dj - Dmin) ** 2
+                    Jt += col.h[k] * Ts * col.Bq[j] * (tj - tau_ref) ** 2
+                    Jd += col.h[k] * Ts * col.Bq[j] * (Dj - Dmin) ** 2
             J = P_tau * Jt + P_d * Jd + P_m * Jm
             scale = P_tau * tau_ref**2 * Ts + 1e-12
             p_all = ca.vertcat(col.p, wts)
@@ -572,12 +632,20 @@ class TorqueStepSolver:
         r = _result_from(col, w, obj, status, success, iters, secs, pv, {})
         # time-weighted mean damping from the collocation polynomial (quadrature)
         Dq = r.Z[:, 1:, 4]
-        meanD = float(np.sum(Dq * col.Bq[1:]) * col.h / col.S)
-        tau = r.tau_Nm
-        reach = np.nonzero(tau >= 0.95 * tau_ref_Nm)[0] if tau_ref_Nm > 0 else np.nonzero(tau <= 0.95 * tau_ref_Nm)[0]
-        t95 = float(np.interp(0.95 * tau_ref_Nm, [tau[reach[0] - 1], tau[reach[0]]],
-                              [r.t_s[reach[0] - 1], r.t_s[reach[0]]])) if len(reach) and reach[0] > 0 else (
-            0.0 if len(reach) else float("nan"))
+        meanD = float(np.sum(Dq * col.Bq[1:] * col.h[:, None]) / col.S)
+        # time to 95 % of the step, from the states at every collocation point
+        t_pts = np.concatenate([[0.0], r.t_points_s[:, 1:].ravel()])
+        Zf = np.concatenate([r.Z[:1, 0, :], r.Z[:, 1:, :].reshape(-1, 5)], axis=0)
+        tau = Zf[:, 4] * (Zf[:, 2] - Zf[:, 3]) + actuator.K_Nm_per_rad * (Zf[:, 0] - Zf[:, 1])
+        y = tau / tau_ref_Nm
+        reach = np.nonzero(y >= 0.95)[0]
+        if len(reach) == 0 or not np.all(np.isfinite(y)):
+            t95 = float("nan")
+        elif reach[0] == 0:
+            t95 = 0.0
+        else:
+            i = reach[0]
+            t95 = float(np.interp(0.95, [y[i - 1], y[i]], [t_pts[i - 1], t_pts[i]]))
         r.extra.update(
             J_tau=Jt, J_D=Jd, J_m=Jm, mean_D_Nms_per_rad=meanD, t95_s=t95,
             max_D_Nms_per_rad=float(np.max(r.Z[..., 4])), setting=actuator.name, tau_ref_Nm=tau_ref_Nm,

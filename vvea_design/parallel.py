@@ -111,8 +111,14 @@ def parallel_map(
                 for i, item in enumerate(work):
                     _done(i, func(item))
             else:
-                with ProcessPoolExecutor(max_workers=min(n, len(work))) as pool:
+                pool = ProcessPoolExecutor(max_workers=min(n, len(work)))
+                try:
                     futs = {pool.submit(func, item): i for i, item in enumerate(work)}
                     for fut in as_completed(futs):
                         _done(futs[fut], fut.result())
+                except BaseException:
+                    # an error or Ctrl-C: do not run (and then throw away) the queued items
+                    pool.shutdown(wait=True, cancel_futures=True)
+                    raise
+                pool.shutdown(wait=True)
     return results

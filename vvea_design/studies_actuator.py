@@ -34,7 +34,7 @@ import json
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -60,6 +60,7 @@ __all__ = [
     "run_safety",
     "PAPER_SAFETY",
     "mesh_convergence",
+    "solve_single",
 ]
 
 #: Collocation mesh used by the studies (chosen by ``studies/mesh_convergence.py``).
@@ -112,7 +113,7 @@ class RestToRestCase:
 
 #: Columns of results.csv, in order.
 RESULT_COLUMNS = [
-    "case_id", "setting", "A_rad", "T_s", "rmse", "valid", "status", "seconds", "success", "objective",
+    "case_id", "setting", "A_rad", "T_s", "rmse", "valid", "status", "seconds", "cpu_seconds", "success", "objective",
     "iterations", "start", "n_starts", "start_objectives", "peak_q_up1_rad", "peak_q_up2_rad",
     "mean_D_Nms_per_rad", "max_D_Nms_per_rad", "K_Nm_per_rad", "D_min_Nms_per_rad", "D_max_Nms_per_rad",
     "mesh_N", "mesh_degree",
@@ -132,11 +133,12 @@ def _solver(mesh: Mesh, ipopt_options: tuple) -> RestToRestSolver:
 def _mean_D(r: OcpResult, solver: RestToRestSolver) -> float:
     col = solver.cols[True]
     D = r.Z[:, 1:, 4]
-    return float(np.sum(D * col.Bq[1:]) * col.h / col.S)
+    return float(np.sum(D * col.Bq[1:] * col.h[:, None]) / col.S)
 
 
 def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n_starts: int,
-         secs: float, iters: int, start_obj: dict, solver: RestToRestSolver | None, status: str | None = None) -> dict:
+         secs: float, iters: int, start_obj: dict, solver: RestToRestSolver | None, status: str | None = None,
+         cpu: float = float("nan")) -> dict:
     ok = r is not None and r.success and np.isfinite(r.objective)
     return {
         "case_id": case.case_id,
@@ -147,6 +149,7 @@ def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n
         "valid": bool(r.extra["valid"]) if ok else False,
         "status": status if status is not None else (r.status if r is not None else "not solved"),
         "seconds": round(secs, 4),
+        "cpu_seconds": round(cpu, 4),
         "success": bool(ok),
         "objective": r.objective if ok else float("nan"),
         "iterations": iters,
@@ -177,8 +180,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     """Solve every setting of one case; return (rows, best results by setting name)."""
     s = _solver(case.mesh, case.ipopt_options)
     A, T = case.A_rad, case.T_s
-    N = case.mesh.n_intervals
-    dt = 2.0 * T / N
+    dt = s.interval_seconds(T)
     unknown = set(case.starts) - _ALL_STARTS
     if unknown:
         raise ValueError(f"unknown start(s) {sorted(unknown)}; choose from {sorted(_ALL_STARTS)}")
@@ -186,6 +188,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     best: dict[str, OcpResult] = {}
     info: dict[str, dict] = {}
     qp_cache: dict[tuple, OcpResult] = {}
+    cpu = {a.name: 0.0 for a in case.settings}  # CPU seconds of each setting's solves
 
     def const_solve(act: Actuator) -> OcpResult:
         key = ("const", act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
@@ -197,6 +200,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     for act in case.settings:
         if not act.variable_damping:
             r = const_solve(act)
+            cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
             best[act.name] = r
             info[act.name] = dict(start="qp", n=1, secs=r.seconds, iters=r.iterations, obj={"qp": r.objective})
     variable = [a for a in case.settings if a.variable_damping]
@@ -209,6 +213,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
         def attempt(label: str, r: OcpResult) -> None:
             nonlocal secs, iters
             secs += r.seconds
+            cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
             iters += max(r.iterations, 0)
             inf["obj"][label] = r.objective if r.success else float("nan")
             cand[label] = r
@@ -216,10 +221,11 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
         if "const-Dmin" in case.starts:
             qp = const_solve(act)
             secs += qp.seconds
+            cpu[act.name] += qp.extra.get("cpu_seconds", 0.0)
             attempt("const-Dmin (adopted)", s.evaluate_as(qp, act, A, T, status=qp.status))
             attempt("const-Dmin", s.solve(act, A, T, w0=s.guess_from(qp, act, A, T)))
         if "ramp" in case.starts:
-            prof = ramp_u_d_profile(act, N, dt, act.D_max_Nms_per_rad)
+            prof = ramp_u_d_profile(act, dt, act.D_max_Nms_per_rad)
             rq = s.solve(act, A, T, u_d_fixed=prof)
             attempt("ramp (adopted)", rq)
             if rq.success:
@@ -238,6 +244,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
                 r = s.solve(act, A, T, w0=s.guess_from(ob, act, A, T))
                 inf = info[act.name]
                 inf["secs"] += r.seconds
+                cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
                 inf["iters"] += max(r.iterations, 0)
                 label = f"cross:{other.name}"
                 inf["obj"][label] = r.objective if r.success else float("nan")
@@ -254,7 +261,7 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     for act in case.settings:
         inf = info[act.name]
         rows[act.name] = _row(case, act, best.get(act.name), inf["start"], inf["n"], inf["secs"], inf["iters"],
-                              inf["obj"], s, status=inf.get("status"))
+                              inf["obj"], s, status=inf.get("status"), cpu=cpu[act.name])
     return [rows[a.name] for a in case.settings], best
 
 
@@ -437,6 +444,7 @@ def run_rest_to_rest(
         "grid": grid_name, "cases": len(cases), "cases_solved_this_run": len(todo), "ocps": len(cases) * len(settings),
         "wall_seconds_this_run": round(wall, 2), "mesh": asdict(mesh), "starts": list(starts),
         "solver_seconds_total": round(float(df["seconds"].sum()), 2),
+        "solver_cpu_seconds_total": round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None,
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
     if figures:
@@ -478,8 +486,9 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
     df = df.copy()
     df["success"] = df["success"].astype(str).str.lower().isin(["true", "1"])
     df["valid"] = df["valid"].astype(str).str.lower().isin(["true", "1"])
-    piv = df.pivot_table(index="case_id", columns="setting", values="rmse", aggfunc="first")
-    valid = df.pivot_table(index="case_id", columns="setting", values="valid", aggfunc="first").astype(bool)
+    one = df.drop_duplicates(["case_id", "setting"], keep="last")
+    piv = one.pivot(index="case_id", columns="setting", values="rmse").astype(float)
+    valid = one.pivot(index="case_id", columns="setting", values="valid").fillna(False).astype(bool)
     any_valid = valid.any(axis=1)
     settings = list(dict.fromkeys(df["setting"]))
     varset = sorted({s for s in settings if (df.loc[df.setting == s, "D_max_Nms_per_rad"]
@@ -514,14 +523,14 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
     wins = {}
     for X in varset:
         wins[X] = {str(k): int(v) for k, v in df.loc[(df.setting == X) & df.success, "start"]
-                   .fillna("").str.replace(r"^cross:.*", "cross", regex=True).value_counts().items()}
+                   .fillna("").astype(str).str.replace(r"^cross:.*", "cross", regex=True).value_counts().items()}
     failures = df.loc[~df.success, ["case_id", "setting", "status"]]
     best_counts = {}
     for scope_sets in ([s for s in settings if s not in varset or s == v] for v in varset):
         cols = [c for c in scope_sets if c in piv.columns]
         label = "+".join(cols)
         rm = piv[cols].where(valid[cols])
-        winner = rm.idxmin(axis=1, skipna=True).where(rm.notna().any(axis=1), "none-valid")
+        winner = rm.apply(lambda r: r.dropna().idxmin() if r.notna().any() else "none-valid", axis=1)
         best_counts[label] = {str(k): int(v) for k, v in winner.value_counts().items()}
     return {
         "outperform_rtol": outperform_rtol,
@@ -654,7 +663,7 @@ def run_safety(
     tau_ref_Nm: float = 50.0,
     fixed_D_Nms_per_rad: Sequence[float] = (31.0, 200.0),
     weights: TorqueStepWeights = PAPER_TABLE6,
-    mesh: Mesh = Mesh(100, 3),
+    mesh: Mesh = Mesh(200, 3, grading=0.8),
     figures: bool = True,
 ) -> dict:
     """Section 6: torque step with variable damping vs fixed damping.
@@ -744,29 +753,36 @@ def run_safety(
     return summary
 
 
-def _plot_safety(results: dict[str, OcpResult], tau_ref: float, path: Path) -> Path:
+def _plot_safety(results: dict[str, OcpResult], tau_ref: float, path: Path, zoom_s: float = 0.03) -> Path:
+    """Fig. 14: τ, τ_m and D over the horizon (left) and over the first ``zoom_s`` seconds (right)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     colours = ["tab:green", "tab:red", "tab:blue", "tab:orange"]
-    fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
-    for c, (name, r) in zip(colours, results.items()):
-        lab = f"{name}: mean D {r.extra['mean_D_Nms_per_rad']:.1f}, t95 {r.extra['t95_s'] * 1e3:.0f} ms"
-        axes[0].plot(r.t_s, r.tau_Nm, color=c, label=lab)
-        axes[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", color=c, label=name)
-        axes[2].plot(r.t_s, r.D_Nms_per_rad, color=c, label=name)
-    axes[0].axhline(tau_ref, color="k", ls="--", lw=0.8, label="τ_ref")
-    axes[0].axhline(0.95 * tau_ref, color="0.5", ls=":", lw=0.8)
-    axes[0].set_ylabel("link torque τ (N m)")
-    axes[1].set_ylabel("motor torque τ_m (N m)")
-    axes[2].set_ylabel("damping D (N m s/rad)")
-    axes[2].set_xlabel("time t (s)")
-    for ax in axes:
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    axes[0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
+    fig, axes = plt.subplots(3, 2, figsize=(11, 7), sharex="col", gridspec_kw={"width_ratios": [1.4, 1]})
+    for col, xmax in ((0, None), (1, zoom_s)):
+        ax = axes[:, col]
+        for c, (name, r) in zip(colours, results.items()):
+            lab = f"{name}: mean D {r.extra['mean_D_Nms_per_rad']:.1f}, t95 {r.extra['t95_s'] * 1e3:.1f} ms"
+            ax[0].plot(r.t_s, r.tau_Nm, color=c, label=lab)
+            ax[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", color=c, label=name)
+            ax[2].plot(r.t_s, r.D_Nms_per_rad, color=c, label=name)
+        ax[0].axhline(tau_ref, color="k", ls="--", lw=0.8, label="τ_ref")
+        ax[0].axhline(0.95 * tau_ref, color="0.5", ls=":", lw=0.8)
+        for a in ax:
+            a.grid(alpha=0.3)
+            if xmax:
+                a.set_xlim(0, xmax)
+        ax[2].set_xlabel("time t (s)")
+    axes[0, 0].set_ylabel("link torque τ (N m)")
+    axes[1, 0].set_ylabel("motor torque τ_m (N m)")
+    axes[2, 0].set_ylabel("damping D (N m s/rad)")
+    axes[0, 0].legend(fontsize=7, loc="lower right")
+    axes[2, 0].legend(fontsize=7)
+    axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
+    axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
@@ -806,3 +822,11 @@ def mesh_convergence(
         out.append({"mesh": m, "df": df, "stats": table5_statistics(df), "wall_seconds": wall,
                     "solver_seconds": float(df["seconds"].sum())})
     return out
+
+
+def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
+    """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks)."""
+    mesh, act, A, T = item
+    r = _solver(mesh, ()).solve(act, A, T)
+    return {"mesh_N": mesh.n_intervals, "mesh_degree": mesh.degree, "setting": act.name, "A_rad": A, "T_s": T,
+            "rmse": r.extra["rmse_rad"] if r.success else float("nan"), "status": r.status, "seconds": r.seconds}

@@ -1,0 +1,97 @@
+"""How the rest-to-rest results move with the collocation mesh.
+
+Part 1: SEA and LWR (convex QPs, one global optimum each) on the whole paper grid for
+N = 32 ... 256 intervals (Radau degree 3): per-case relative change of the rmse.
+Part 2: the Table 5 statistics with every setting and the full multi-start on a 3 x 4 sub-grid
+for N = 32, 64, 128.
+
+    python studies/mesh_convergence.py        # -> studies/results/mesh_convergence/
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from vvea_design.actuator import PAPER_SETTINGS  # noqa: E402
+from vvea_design.ocp import Mesh  # noqa: E402
+from vvea_design.parallel import parallel_map  # noqa: E402
+from vvea_design.studies_actuator import GRIDS, Grid, mesh_convergence, solve_single  # noqa: E402
+
+SUBGRID = Grid((0.3, 0.6, 0.9), (0.3, 0.7, 1.1, 1.5))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "mesh_convergence")
+    ap.add_argument("--qp-meshes", default="32,64,96,128,192,256")
+    ap.add_argument("--stat-meshes", default="32,64,128")
+    ap.add_argument("--workers", type=int, default=None)
+    a = ap.parse_args()
+    a.out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    qp_N = [int(x) for x in a.qp_meshes.split(",")]
+    items = [(Mesh(N, 3), PAPER_SETTINGS[s], A, T) for N in qp_N for s in ("SEA", "LWR")
+             for A, T in GRIDS["paper"].cases()]
+    rows = parallel_map(solve_single, items, workers=a.workers, description="SEA/LWR QPs over meshes")
+    qp = pd.DataFrame(rows)
+    qp.to_csv(a.out / "sea_lwr_rmse.csv", index=False)
+    conv = []
+    for s in ("SEA", "LWR"):
+        piv = qp[qp.setting == s].pivot_table(index=["A_rad", "T_s"], columns="mesh_N", values="rmse")
+        for n0, n1 in zip(qp_N[:-1], qp_N[1:]):
+            rel = (piv[n0] / piv[n1] - 1).abs()
+            i = rel.idxmax()
+            conv.append({"setting": s, "from_N": n0, "to_N": n1, "max_rel_change": float(rel.max()),
+                         "mean_rel_change": float(rel.mean()), "worst_case_A_T": [float(i[0]), float(i[1])],
+                         "mean_rmse_to": float(piv[n1].mean())})
+    stat_N = [int(x) for x in a.stat_meshes.split(",")]
+    res = mesh_convergence([Mesh(N, 3) for N in stat_N], grid=SUBGRID, workers=a.workers)
+    stats = []
+    for r in res:
+        st = r["stats"]
+        stats.append({"mesh_N": r["mesh"].n_intervals, "wall_seconds": r["wall_seconds"],
+                      "solver_seconds": r["solver_seconds"], "mean_rmse_rad": st["mean_rmse_rad"],
+                      "pairs": {k: {kk: v[kk] for kk in ("fraction_X_beats_Y", "meanrmse_Y_over_X")}
+                                for k, v in st["pairs"].items() if k.endswith("_all")},
+                      "ivvea_vs_sea": st["ivvea_vs_sea_guarantee"], "winning_starts": st["winning_starts"]})
+        r["df"].assign(mesh_N=r["mesh"].n_intervals).to_csv(a.out / f"subgrid_results_N{r['mesh'].n_intervals}.csv",
+                                                            index=False)
+    out = {"qp_convergence": conv, "subgrid": {"A_rad": SUBGRID.A_rad, "T_s": SUBGRID.T_s}, "statistics": stats,
+           "wall_seconds": round(time.perf_counter() - t0, 1), "loadavg_end": os.getloadavg()}
+    (a.out / "mesh_convergence.json").write_text(json.dumps(out, indent=2))
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
+    for s, m in (("SEA", "o-"), ("LWR", "s-")):
+        c = [x for x in conv if x["setting"] == s]
+        ax[0].loglog([x["to_N"] for x in c], [100 * x["max_rel_change"] for x in c], m, label=f"{s} max over grid")
+        ax[0].loglog([x["to_N"] for x in c], [100 * x["mean_rel_change"] for x in c], m, mfc="none", ls="--",
+                     label=f"{s} mean over grid")
+    ax[0].axhline(0.5, color="k", lw=0.8, ls=":", label="0.5 %")
+    ax[0].set_xlabel("intervals N (refined mesh of the pair)")
+    ax[0].set_ylabel("|rmse change| on refinement (%)")
+    ax[0].legend(fontsize=7)
+    ax[0].set_title("QP settings, whole paper grid", fontsize=9)
+    for key, lab in (("VVEA_vs_SEA_all", "VVEA beats SEA"), ("iVVEA_vs_SEA_all", "iVVEA beats SEA"),
+                     ("VVEA_vs_LWR_all", "VVEA beats LWR"), ("iVVEA_vs_LWR_all", "iVVEA beats LWR")):
+        ax[1].plot([x["mesh_N"] for x in stats], [100 * x["pairs"][key]["fraction_X_beats_Y"] for x in stats], "o-",
+                   label=lab)
+    ax[1].set_xlabel("intervals N")
+    ax[1].set_ylabel("% of sub-grid cases")
+    ax[1].set_title("Table 5 fractions on the 3 x 4 sub-grid", fontsize=9)
+    ax[1].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(a.out / "mesh_convergence.png", dpi=130)
+    print(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,143 @@
+"""``vvea study ...`` commands: rest-to-rest sweep and safety study (thin layer over
+:mod:`vvea_design.studies_actuator`).
+
+Wire it in with ``register(app)``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+__all__ = ["register", "study_app"]
+
+study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (paper §5) and safety (§6).",
+                        no_args_is_help=True)
+
+
+def _grid(spec: str):
+    from .studies_actuator import GRIDS, Grid
+
+    if spec in GRIDS:
+        return spec
+    # "A1,A2,...:T1,T2,..." custom grid
+    try:
+        a, t = spec.split(":")
+        return Grid(tuple(float(x) for x in a.split(",")), tuple(float(x) for x in t.split(",")))
+    except ValueError as exc:
+        raise typer.BadParameter(
+            f"--grid must be one of {sorted(GRIDS)} or 'A1,A2,..:T1,T2,..' (rad:s), got {spec!r} ({exc})"
+        ) from exc
+
+
+@study_app.command("rest-to-rest")
+def rest_to_rest(
+    out: Path = typer.Option(..., "--out", help="Output folder (results.csv, summary.json, PNGs)."),
+    design: Optional[Path] = typer.Option(None, "--design", help="Design JSON: adds its actuator as setting 'design'."),
+    grid: str = typer.Option("paper", "--grid", help="paper | coarse | 'A1,A2:T1,T2' (rad:s)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://host:port."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default all cores)."),
+    mesh_n: int = typer.Option(0, "--mesh-n", help="Collocation intervals (multiple of 4; 0 = study default)."),
+    pulley_radius_m: Optional[float] = typer.Option(None, "--pulley-radius-m", help="Pulley radius r for --design (m)."),
+    p2_mpa: Optional[float] = typer.Option(None, "--p2-mpa", help="Recharge the design spring to p2 (MPa)."),
+    gamma_min_deg: float = typer.Option(50.0, "--gamma-min-deg", help="Lowest throttle angle used (deg)."),
+    gamma_max_deg: float = typer.Option(120.0, "--gamma-max-deg", help="Highest throttle angle used (deg)."),
+    restart: bool = typer.Option(False, "--restart", help="Discard existing results instead of resuming."),
+    no_progress: bool = typer.Option(False, "--no-progress", help="Hide the progress bar."),
+) -> None:
+    """Rest-to-rest optimal control sweep for VVEA, iVVEA, SEA, LWR (+ your design).
+
+    Resumes an interrupted sweep in the same --out folder.
+    """
+    from .actuator import PAPER_SETTINGS, from_design_json
+    from .ocp import Mesh
+    from .progress import console
+    from .studies_actuator import DEFAULT_MESH, run_rest_to_rest
+
+    settings = list(PAPER_SETTINGS.values())
+    if design is not None:
+        if not design.exists():
+            raise typer.BadParameter(f"--design: file {design} does not exist")
+        kw = dict(gamma_min_deg=gamma_min_deg, gamma_max_deg=gamma_max_deg, p2_MPa=p2_mpa)
+        if pulley_radius_m is not None:
+            kw["pulley_radius_m"] = pulley_radius_m
+        try:
+            settings.append(from_design_json(design, **kw))
+        except ValueError as exc:
+            raise typer.BadParameter(f"--design {design}: {exc}") from exc
+    try:
+        mesh = DEFAULT_MESH if mesh_n == 0 else Mesh(mesh_n, DEFAULT_MESH.degree)
+        summary = run_rest_to_rest(out, grid=_grid(grid), settings=settings, mesh=mesh, workers=workers,
+                                   scheduler=scheduler, restart=restart, progress=not no_progress)
+    except ValueError as exc:
+        raise typer.BadParameter(str(exc)) from exc
+    _print_summary(summary, console)
+    console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
+                  f"{out / 'trajectory.png'}")
+
+
+def _print_summary(summary: dict, console) -> None:
+    from rich.table import Table
+
+    tab = Table(title="Table 5: ours (all solved cases / cases with a valid setting) vs paper")
+    for c in ("statistic", "ours (all)", "ours (valid)", "paper"):
+        tab.add_column(c)
+    paper = summary["paper_table5"]
+    p = summary["pairs"]
+    xs = list(dict.fromkeys(k.split("_vs_")[0] for k in p))
+    for X in xs:
+        for Y in ("SEA", "LWR"):
+            a, v = p.get(f"{X}_vs_{Y}_all"), p.get(f"{X}_vs_{Y}_valid")
+            if not a:
+                continue
+            fa = a["fraction_X_beats_Y"]
+            fv = v["fraction_X_beats_Y"] if v else None
+            pb = paper.get(f"{X}_beats_{Y}")
+            tab.add_row(f"{X} beats {Y}", f"{fa:.1%}" if fa is not None else "-",
+                        f"{fv:.1%}" if fv is not None else "-", f"{pb:.1%}" if pb is not None else "-")
+            ra, rv = a["meanrmse_Y_over_X"], v["meanrmse_Y_over_X"] if v else None
+            pr = paper.get(f"meanrmse_{Y}_over_{X}")
+            tab.add_row(f"mean rmse {Y} / {X}", f"{ra:.3f}" if ra else "-", f"{rv:.3f}" if rv else "-",
+                        f"{pr:.3f}" if pr is not None else "-")
+    console.print(tab)
+    g = summary.get("ivvea_vs_sea_guarantee") or {}
+    if g:
+        console.print(f"iVVEA worse than SEA in {g['iVVEA_worse_than_SEA_cases']} of {g['n_cases']} cases")
+    console.print(f"winning starts: {json.dumps(summary['winning_starts'])}")
+    console.print(f"solver failures: {summary['solver_failures']['count']}")
+
+
+@study_app.command("safety")
+def safety(
+    out: Path = typer.Option(..., "--out", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
+    mesh_n: int = typer.Option(200, "--mesh-n", help="Collocation intervals over the 0.5 s horizon."),
+    tau_ref_nm: float = typer.Option(50.0, "--tau-ref-nm", help="Torque step height (N m)."),
+    link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
+) -> None:
+    """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
+    from .ocp import Mesh
+    from .progress import console
+    from .studies_actuator import run_safety
+
+    try:
+        s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
+    except ValueError as exc:
+        raise typer.BadParameter(str(exc)) from exc
+    from rich.table import Table
+
+    tab = Table(title=f"{tau_ref_nm:g} N m torque step")
+    for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
+        tab.add_column(c)
+    for name, c in s["cases"].items():
+        tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
+                    f"{c['t95_s'] * 1e3:.1f}", c["status"])
+    console.print(tab)
+    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``study`` sub-app to the main ``vvea`` app."""
+    app.add_typer(study_app, name="study")
