@@ -1,13 +1,19 @@
 """Designs the CAD tests draw (shared by tests/test_cad*.py; holds no tests itself)."""
 
-from vvea_design.design import Design, FixedParameters
+from pathlib import Path
 
-#: The reference design (section-3 scale) and other feasible ones: drawable,
-#: walls above the hoop-stress minimum, bladder room at both stroke ends.
-REFERENCE = Design(35.18, 59.5, 47107.0, 99735.0)
+from vvea_design.design import Design, FixedParameters
+from vvea_design.design_io import load_design
+
+#: The reference optimised design (cad/design.json, `vvea optimise` on the default requirements) and
+#: other designs the optimiser returned (Pareto points of studies/optimise_design.py): each feasible
+#: under its requirements - walls above the hoop-stress minimum, bladder room at both stroke ends.
+REFERENCE = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
 OTHERS = {
-    "d30_D55": Design(30.0, 55.0, 40000.0, 70000.0),
-    "d33_D57": Design(33.0, 57.0, 45000.0, 85000.0),
+    # best design for a 55 mm envelope (pareto_outer_diameter.csv)
+    "pareto_D55": Design(31.084483065248904, 54.99983172964962, 22677.213667025644, 63344.967651658226),
+    # best design for a 50 N/mm minimum stiffness (pareto_stiffness.csv)
+    "pareto_k50": Design(31.80382882729851, 56.138773074235885, 46473.411225847376, 88023.80120096414),
 }
 #: Extra designs for the slow run (other fixed parameters too).
 SLOW = {
