@@ -34,7 +34,7 @@ t = time.perf_counter()
 from vvea_design.design import Design
 from vvea_design.bladder import check_bladder
 t1 = time.perf_counter()
-check_bladder(Design(35.18, 59.5, 47107.0, 99735.0))
+check_bladder(Design(34.37, 59.5, 41342.0, 91473.0))
 print(t1 - t, time.perf_counter() - t1)
 """
 

@@ -44,11 +44,13 @@ from vvea_design.bladder import (  # noqa: E402
     _design_sleeve,
 )
 from vvea_design.design import Design, FixedParameters  # noqa: E402
+from vvea_design.design_io import load_design  # noqa: E402
 from vvea_design.membrane import MooneyRivlin, sleeve_meridian, solve_volume, solve_volume_path, sphere_meridian  # noqa: E402
 from vvea_design.progress import console, progress_bar  # noqa: E402
 
 OUT = Path(__file__).parent / "results" / "bladder_verification"
-EXAMPLE = Design(35.18, 59.5, 47107.0, 99735.0)
+#: The reference optimised design (cad/design.json).
+EXAMPLE = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
 SURROGATE_DESIGNS = {
     "example": EXAMPLE,
     "long": Design(30.0, 59.5, 60000.0, 80000.0),
