@@ -249,9 +249,9 @@ def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
     spring(design_json, out=out / "spring", p2=None)
 
 
-from . import cli_bladder, cli_cad, cli_study  # noqa: E402  (topic modules register their commands)
+from . import cli_bladder, cli_cad, cli_identify, cli_study  # noqa: E402  (topic modules register their commands)
 
-for _module in (cli_cad, cli_bladder, cli_study):
+for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
     _module.register(app)
 
 #: Steps of ``vvea design`` after the optimisation: f(design_json, out_dir, renders).

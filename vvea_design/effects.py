@@ -14,8 +14,9 @@ friction cannot pull with the motion, a leak cannot raise the pressure.
 ===================  ==========================================================
 id                   added force (N)
 ===================  ==========================================================
-gas_nonlinearity     a p2 ψ(x; V2), ψ = isothermal antagonistic law (eq. 5) per
-                     MPa of p2 minus its least-squares line through the origin
+gas_nonlinearity     p2 (a2 r2(x; V2) + a1 r1(x)): the two chamber forces of the
+                     isothermal antagonistic law (eq. 5) per MPa of p2, each
+                     minus its least-squares line through the origin
 thermal              k p2 h_τ(t),  ḣ = ẋ - h/τ   (heat exchange, polytropic gas)
 quadratic_damping    K(γ) ẋ|ẋ|   (turbulent orifice flow)
 relief_valve         damping force L(γ)ẋ capped at ±F_r (blow-off valve)
@@ -44,7 +45,9 @@ __all__ = [
     "CATALOGUE",
     "EFFECT_IDS",
     "baseline_columns",
+    "effect_params",
     "gas_remainder",
+    "chamber_remainders",
     "thermal_state",
 ]
 
@@ -75,6 +78,7 @@ class FitData:
     bounds: np.ndarray
     reference: GasSpring = PAPER_FIG5
     rows_left_out: int = 0
+    speed: np.ndarray | None = None  #: nominal speed label per sample (mm/s)
     _cache: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
@@ -84,6 +88,11 @@ class FitData:
     @property
     def n_exp(self) -> int:
         return len(self.bounds) - 1
+
+    @property
+    def n_per_exp(self) -> np.ndarray:
+        """Samples per experiment."""
+        return np.diff(self.bounds)
 
     @property
     def s(self) -> np.ndarray:
@@ -118,6 +127,7 @@ class FitData:
             bounds=np.r_[starts, len(d)],
             reference=reference,
             rows_left_out=int(len(rec.data) - len(d)) + rec.rows_left_out,
+            speed=d["speed_mm_s"].to_numpy(float),
         )
 
 
@@ -166,6 +176,29 @@ def gas_remainder(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPER_FIG
     k = float((F(xx) * xx).sum() / (xx * xx).sum())
     xc = np.clip(x, None, 0.999 * V2_mm3 / A2)
     return F(xc) - k * xc
+
+
+def _remainder(f, travel_mm: float = 40.0):
+    xx = np.linspace(0.0, travel_mm, 401)
+    f0 = float(f(np.array(0.0)))
+    k = float(((f(xx) - f0) * xx).sum() / (xx * xx).sum())
+    return lambda z: f(z) - f0 - k * z
+
+
+def chamber_remainders(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPER_FIG5, travel_mm: float = 40.0):
+    """Nonlinear parts (N per MPa of p2) of the two chamber forces of eq. 5.
+
+    Returns ``(r2, r1)``: chamber 2 ``A2 V2/(V2 - A2 x)`` (progressive) and
+    chamber 1 ``-A2 V1/(V1 + A1 x)`` (p1 = A2/A1 p2, eq. 7; regressive),
+    each minus its value at x = 0 and its least-squares line through the
+    origin over the travel.
+    Their sum is :func:`gas_remainder`.
+    """
+    A1, A2, V1 = reference.A1_mm2, reference.A2_mm2, reference.V1_mm3
+    xc = np.clip(x, None, 0.999 * V2_mm3 / A2)
+    r2 = _remainder(lambda z: A2 * V2_mm3 / (V2_mm3 - A2 * np.clip(z, None, 0.999 * V2_mm3 / A2)), travel_mm)(xc)
+    r1 = _remainder(lambda z: -A2 * V1 / (V1 + A1 * z), travel_mm)(x)
+    return r2, r1
 
 
 def thermal_state(D: FitData, tau_s: float) -> np.ndarray:
@@ -238,7 +271,8 @@ def _gas_grid(D, ctx):
 def _gas_cols(D, V2, ctx):
     key = ("gas", float(V2))
     if key not in D._cache:
-        D._cache[key] = (D.p2 * gas_remainder(D.x, V2, D.reference))[:, None]
+        c2, c1 = chamber_remainders(D.x, V2, D.reference)
+        D._cache[key] = np.column_stack([D.p2 * c2, D.p2 * c1])
     return D._cache[key]
 
 
@@ -255,10 +289,17 @@ def _relief_grid(D, ctx):
     damp = ctx.get("damping_force_N")
     if damp is None:
         return np.array([])
-    top = float(np.quantile(np.abs(damp), 0.995))
-    if top < 50.0:
+    # the damping force plateaus of the experiments: the valve opens either
+    # between two plateaus or just below the highest one
+    peaks = np.array([np.max(np.abs(damp[D.bounds[e] : D.bounds[e + 1]])) for e in range(D.n_exp)])
+    levels = np.sort(peaks[peaks > 50.0])
+    if len(levels) == 0:
         return np.array([])
-    return np.geomspace(max(50.0, top / 30.0), top, 10)
+    # plateaus within 3 % of each other are one level (same valve and speed, other pressure)
+    groups = np.split(levels, np.flatnonzero(levels[1:] > 1.03 * levels[:-1]) + 1)
+    mids = [np.sqrt(lo[-1] * hi[0]) for lo, hi in zip(groups[:-1], groups[1:])]
+    grid = np.r_[mids[-11:], 0.97 * groups[-1][0]]
+    return np.unique(grid)
 
 
 def _relief_mask(D, F_r, ctx):
@@ -292,8 +333,12 @@ def _catalogue() -> dict[str, Effect]:
             "antagonistic isothermal gas spring",
             "The two gas chambers follow Boyle's law (paper eq. 5): the compressed chamber stiffens as its volume "
             "shrinks, so the spring is progressive, not the straight line g p2 x.",
-            "f += a * p2 * psi(x; V2),  psi = eq.5(x; A1, A2, V1, V2, p1=A2/A1, p2=1 MPa) - k x",
-            (Param("a", "1", 0.0, 5.0, "amplitude of the isothermal nonlinearity (1 = reference areas)"),),
+            "f += p2 * (a2 * r2(x; V2) + a1 * r1(x)),  r2 = A2 V2/(V2 - A2 x) - k2 x,  r1 = -A2 V1/(V1 + A1 x) - k1 x "
+            "(eq. 5 per MPa of p2, p1 = A2/A1 p2, each chamber minus its straight line)",
+            (
+                Param("a2", "1", 0.0, 5.0, "chamber-2 (compressed, progressive) amplitude; 1 = reference area A2"),
+                Param("a1", "1", 0.0, 5.0, "chamber-1 (expanding, regressive) amplitude; 1 = reference V1, A1"),
+            ),
             Param("V2", "mm^3", 0.0, np.inf, "chamber-2 gas volume at x = 0"),
             _gas_grid,
             _gas_cols,

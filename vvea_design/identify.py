@@ -43,6 +43,7 @@ __all__ = [
     "blocks",
     "solve_bounded",
     "fit_model",
+    "relief_context",
     "fit_eq14",
     "table3",
     "error_band_pct",
@@ -212,10 +213,16 @@ class ModelFit:
         """Parameter name -> standard error."""
         return {q.name: float(v) for q, v in zip(self.params, self.se)}
 
+    def _ctx_for(self, D: FitData) -> dict:
+        """The context the model was fitted with, when it belongs to ``D``; else rebuilt from this fit."""
+        damp = self.ctx.get("damping_force_N")
+        if damp is not None and len(damp) == D.n:
+            return self.ctx
+        return _relief_ctx(self, D) if "relief_valve" in self.effects else {}
+
     def design(self, D: FitData) -> np.ndarray:
         """Design matrix of this model on ``D``."""
-        ctx = _relief_ctx(self, D) if "relief_valve" in self.effects else self.ctx
-        return assemble(D, self.effects, self.shapes, ctx)[0]
+        return assemble(D, self.effects, self.shapes, self._ctx_for(D))[0]
 
     def predict(self, D: FitData) -> np.ndarray:
         """Model force (N) at the samples of ``D``."""
@@ -227,7 +234,7 @@ class ModelFit:
         sl = self.groups[effect_id]
         f = X[:, sl] @ self.theta[sl]
         if effect_id == "relief_valve":
-            m = CATALOGUE["relief_valve"].damping_mask(D, self.shapes["relief_valve"], _relief_ctx(self, D))
+            m = CATALOGUE["relief_valve"].damping_mask(D, self.shapes["relief_valve"], self._ctx_for(D))
             X0, _ = baseline_columns(D)
             f = f - np.where(m, X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop], 0.0)
         return f
@@ -290,8 +297,7 @@ def fit_model(
     rows = np.arange(D.n_exp) if experiments is None else np.asarray(experiments, int)
     shapes = dict(shapes or {})
     if ctx is None and "relief_valve" in effects:
-        base = fit_model(D, (), experiments=rows)
-        ctx = _relief_ctx(base, D)
+        ctx = relief_context(D, effects, rows, shapes)
     ctx = ctx or {}
     free = [e for e in effects if CATALOGUE[e].shape is not None and e not in shapes]
     # start values: the middle of each grid
@@ -334,6 +340,26 @@ def fit_model(
     se = _cluster_se(Bk, th, rows)
     n_rows = int(Bk.n[rows].sum())
     return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / n_rows)), n_rows, groups, ctx)
+
+
+def relief_context(D: FitData, effects, experiments, shapes: dict | None = None, start: dict | None = None, iters: int = 3) -> dict:
+    """Context of the relief valve: the linear damping force L(γ)ẋ to compare with the opening force.
+
+    Starting from eq. 14 (whose L is biased low where the valve caps the
+    force), the model with the relief valve is refitted ``iters`` times,
+    each time with the damping force of the previous fit, so that the
+    samples deemed capped follow from an unbiased L.
+    """
+    rows = np.asarray(experiments, int)
+    others = tuple(e for e in effects if e != "relief_valve")
+    if start is None:
+        start = _relief_ctx(fit_model(D, others, experiments=rows, shapes=shapes), D)
+    ctx = start
+    for _ in range(iters):
+        sh = {k: v for k, v in (shapes or {}).items() if k != "relief_valve"}
+        f = fit_model(D, others + ("relief_valve",), experiments=rows, shapes=sh, ctx=ctx, refine=False)
+        ctx = _relief_ctx(f, D)
+    return ctx
 
 
 # ------------------------------------------------------------------ eq. 14
@@ -415,7 +441,7 @@ def _fig10(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> None:
         a, b = D.bounds[k], D.bounds[k + 1]
         ax, axe = axes[2 * i, j], axes[2 * i + 1, j]
         c = colors[r["p2_MPa"]]
-        ax.plot(D.x[a:b], D.y[a:b], ".", ms=1, color=c)
+        ax.plot(D.x[a:b], D.y[a:b], ",", color=c)
         ax.plot(D.x[a:b], fmod[a:b], "-", lw=0.7, color="k")
         axe.plot(D.x[a:b], fmod[a:b] - D.y[a:b], "-", lw=0.6, color=c)
     for i, v in enumerate(valves):
@@ -429,8 +455,8 @@ def _fig10(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> None:
     handles = [plt.Line2D([], [], color=colors[p], marker=".", ls="", label=f"meas. p2={p:g} MPa") for p in pressures]
     handles.append(plt.Line2D([], [], color="k", label="model eq. 14"))
     fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7)
-    fig.tight_layout(rect=(0, 0, 1, 0.985))
-    fig.savefig(path, dpi=70)
+    fig.subplots_adjust(left=0.07, right=0.99, bottom=0.03, top=0.96, wspace=0.3, hspace=0.25)
+    fig.savefig(path, dpi=55)
     plt.close(fig)
 
 
@@ -470,7 +496,7 @@ def _fig11(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> dict:
     )
 
 
-def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | None = None) -> dict:
+def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | None = None, figures: bool = True) -> dict:
     """Fit eq. 14 and write Table 3 (CSV), a JSON summary and Figs 10/11 (PNG).
 
     Parameters
@@ -481,6 +507,8 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
         ``fig10_model_vs_measurement.png``, ``fig11_force_displacement.png``.
     fit : ModelFit, optional
         A precomputed eq.-14 fit.
+    figures : bool
+        Draw Figs 10 and 11 (skip for speed when only numbers are needed).
 
     Returns
     -------
@@ -495,8 +523,12 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
     tab.to_csv(out / "table3.csv", index=False)
     fmod = fit.predict(D)
     band = error_band_pct(D, fmod)
-    _fig10(rec, D, fmod, out / "fig10_model_vs_measurement.png")
-    f11 = _fig11(rec, D, fmod, out / "fig11_force_displacement.png")
+    f11 = None
+    files = ["table3.csv", "identification.json"]
+    if figures:
+        _fig10(rec, D, fmod, out / "fig10_model_vs_measurement.png")
+        f11 = _fig11(rec, D, fmod, out / "fig11_force_displacement.png")
+        files += ["fig10_model_vs_measurement.png", "fig11_force_displacement.png"]
     summary = dict(
         source=rec.source,
         model="eq14: f = g p2 x + L(gamma) xdot + C sign(xdot)",
@@ -509,7 +541,7 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
         rmse_N=fit.rmse_N,
         error_band_pct=dict(ours=list(band), paper=list(PAPER_ERROR_BAND_PCT)),
         fig11=f11,
-        files=["table3.csv", "identification.json", "fig10_model_vs_measurement.png", "fig11_force_displacement.png"],
+        files=files,
     )
     (out / "identification.json").write_text(json.dumps(summary, indent=2))
     return summary

@@ -309,6 +309,19 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     v0 = max((x[k] - x[0]) / max(t_rev0 - t[0], 1e-9), 1e-6)
     ta0 = min(0.2, 0.2 * t_rev0)
     p0 = np.array([v0, v0 / ta0, t_rev0, x[0]])
+    # better start: straight lines through the cruise parts of both ramps
+    span = x[k] - x[0]
+    up = (np.arange(len(x)) < k) & (x > x[0] + 0.2 * span) & (x < x[0] + 0.8 * span)
+    dn = (np.arange(len(x)) > k) & (x > x[0] + 0.2 * span) & (x < x[0] + 0.8 * span)
+    if up.sum() >= 3 and dn.sum() >= 3:
+        vu, bu = np.polyfit(t[up], x[up] - x[0], 1)
+        vd, bd = np.polyfit(t[dn], x[dn] - x[0], 1)
+        if vu > 0 and vd < 0:
+            t1, t2 = -bu / vu, -bd / vd
+            vv = 0.5 * (vu - vd)
+            tr = 0.5 * (t1 + t2)
+            ta = float(np.clip(2 * t1, 1e-3 * tr, 0.45 * tr))
+            p0 = np.array([vv, vv / ta, tr, x[0]])
 
     def res(p):
         return trapezoid_profile(t, p[0], p[1], p[2], p[3])[0] - x
@@ -316,7 +329,8 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     lo = [1e-9, 1e-9, t[0], -np.inf]
     hi = [np.inf, np.inf, t[-1], np.inf]
     best = None
-    for scale in (1.0, 0.3, 3.0):  # a few acceleration guesses: the kink makes the cost non-smooth
+    p0[2] = np.clip(p0[2], t[0], t[-1])
+    for scale in (1.0, 0.3, 3.0):  # further acceleration guesses only if needed: the kink makes the cost non-smooth
         q0 = p0.copy()
         q0[1] = p0[1] * scale
         try:
@@ -325,6 +339,9 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
             continue
         if best is None or sol.cost < best.cost:
             best = sol
+        noise = np.std(np.diff(x, 2)) / np.sqrt(6.0)
+        if np.sqrt(2 * best.cost / len(x)) < 2.0 * noise:
+            break
     p = best.x
     xf, vf = trapezoid_profile(t, *p)
     rms = float(np.sqrt(np.mean((xf - x) ** 2)))

@@ -1,0 +1,141 @@
+"""Tests of the recordings reader: format, validation errors, velocity estimate."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from vvea_design.recordings import (
+    MIN_SAMPLES_PER_EXPERIMENT,
+    RecordingsError,
+    read_recordings,
+    recordings_from_frame,
+    trapezoid_profile,
+)
+from vvea_design.testbench import simulate, small_spec
+
+SHARED = Path(__file__).resolve().parents[2] / "shared" / "recordings"
+
+
+@pytest.fixture(scope="module")
+def small_frame() -> pd.DataFrame:
+    return simulate(small_spec(seed=3)).frame
+
+
+@pytest.fixture(scope="module")
+def small_csv(tmp_path_factory, small_frame) -> Path:
+    p = tmp_path_factory.mktemp("rec") / "small.csv"
+    small_frame.to_csv(p, index=False)
+    return p
+
+
+def test_reads_shared_campaign():
+    rec = read_recordings(SHARED / "campaign_a.csv")
+    d = rec.data
+    assert rec.n_experiments == 135
+    assert rec.rows_read == len(d) == 40635
+    # every experiment: start, turning point and end are the rest samples
+    assert (d.groupby("experiment")["at_rest"].sum() == 3).all()
+    assert rec.n_savgol == 0
+    # in the cruise phase the estimated speed equals the nominal label
+    cruise = d[(d["displacement_mm"] > 5) & (d["displacement_mm"] < 35)]
+    rel = np.abs(np.abs(cruise["velocity_mm_s"]) - cruise["speed_mm_s"]) / cruise["speed_mm_s"]
+    assert rel.max() < 0.01
+    # the direction flips exactly once per experiment
+    flips = d[~d["at_rest"]].groupby("experiment")["direction"].apply(lambda s: int((np.diff(s.to_numpy()) != 0).sum()))
+    assert (flips == 1).all()
+
+
+def test_velocity_matches_truth_on_simulated(small_frame):
+    rec = recordings_from_frame(small_frame, "sim")
+    spec = small_spec(seed=3)
+    err = []
+    for e, g in rec.data.groupby("experiment", sort=False):
+        s = g["speed_mm_s"].iloc[0]
+        ta = min(spec.accel_time_s, 0.25 * spec.travel_mm / s)
+        t = g["time_s"].to_numpy()
+        _, v_true = trapezoid_profile(t, s, s / ta, spec.travel_mm / s + ta)
+        err.append(np.sqrt(np.mean((g["velocity_mm_s"].to_numpy() - v_true) ** 2)) / s)
+    # displacement noise is 2 µm; a finite difference would be off by ~1e-1 mm/s at 12 mm/s
+    assert np.max(err) < 0.01
+
+
+def test_csv_and_parquet_agree(tmp_path, small_frame, small_csv):
+    pq = tmp_path / "small.parquet"
+    small_frame.to_parquet(pq)
+    a = read_recordings(small_csv)
+    b = read_recordings(pq)
+    assert a.n_experiments == b.n_experiments
+    np.testing.assert_allclose(a.data["velocity_mm_s"], b.data["velocity_mm_s"], atol=1e-6)
+    # extra columns are kept and ignored
+    assert "force_true_N" in a.data.columns
+
+
+def test_savgol_fallback_for_other_motions():
+    t = np.linspace(0, 10, 201)
+    x = 20 * (1 - np.cos(np.pi * t / 5))  # 0 -> 40 -> 0, sinusoidal, not a trapezoid
+    df = pd.DataFrame(dict(experiment="S", time_s=t, displacement_mm=x, force_N=0.0, p2_MPa=2.0, valve_deg=100.0))
+    rec = recordings_from_frame(df, "sine")
+    assert rec.n_savgol == 1
+    v_true = 20 * np.pi / 5 * np.sin(np.pi * t / 5)
+    inner = slice(10, -10)
+    assert np.max(np.abs(rec.data["velocity_mm_s"].to_numpy()[inner] - v_true[inner])) < 0.05
+
+
+def _bad(frame: pd.DataFrame, kind: str) -> pd.DataFrame:
+    f = frame.copy()
+    if kind == "missing":
+        return f.drop(columns=["force_N"])
+    if kind == "non_numeric":
+        f["force_N"] = f["force_N"].astype(object)
+        f.loc[7, "force_N"] = "12,5"
+        return f
+    if kind == "nan":
+        f.loc[9, "displacement_mm"] = np.nan
+        return f
+    if kind == "time":
+        f.loc[20, "time_s"] = f.loc[18, "time_s"]
+        return f
+    if kind == "few":
+        first = f["experiment"].iloc[0]
+        keep = f.index[f["experiment"] == first][: MIN_SAMPLES_PER_EXPERIMENT - 2]
+        return pd.concat([f.loc[keep], f[f["experiment"] != first]])
+    if kind == "two_pressures":
+        f.loc[30, "p2_MPa"] = 3.0
+        return f
+    if kind == "split":
+        first = f[f["experiment"] == f["experiment"].iloc[0]]
+        return pd.concat([first.iloc[:50], f[f["experiment"] != first["experiment"].iloc[0]], first.iloc[50:]])
+    raise AssertionError(kind)
+
+
+@pytest.mark.parametrize(
+    "kind, needle",
+    [
+        ("missing", "missing required column(s) force_N"),
+        ("non_numeric", "column force_N holds a non-numeric value"),
+        ("nan", "column displacement_mm is NaN"),
+        ("time", "time_s does not increase"),
+        ("few", "samples"),
+        ("two_pressures", "two pressures"),
+        ("split", "not contiguous"),
+    ],
+)
+def test_bad_files_get_clear_errors(tmp_path, small_frame, kind, needle):
+    p = tmp_path / f"bad_{kind}.csv"
+    _bad(small_frame, kind).to_csv(p, index=False)
+    with pytest.raises(RecordingsError) as exc:
+        read_recordings(p)
+    msg = str(exc.value)
+    assert str(p) in msg  # names the file
+    assert needle in msg
+    if kind not in ("missing",):
+        assert "line " in msg  # names the row
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(RecordingsError, match="not found"):
+        read_recordings(tmp_path / "nope.csv")
