@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-import typer
+from conftest import make_app
 from typer.testing import CliRunner
 
 from vvea_design.bladder import (
@@ -182,15 +182,8 @@ def test_report_files(tmp_path, example):
     assert on_disk == d
 
 
-def _app() -> typer.Typer:
-    app = typer.Typer()
-
-    @app.callback()
-    def _():
-        pass
-
-    register(app)
-    return app
+def _app():
+    return make_app(register)
 
 
 def _design_json(path):

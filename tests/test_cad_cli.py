@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
-import typer
+from conftest import make_app
 from typer.testing import CliRunner
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -19,14 +19,7 @@ from vvea_design.cli_cad import register  # noqa: E402
 
 @pytest.fixture(scope="module")
 def app():
-    a = typer.Typer()
-
-    @a.callback()
-    def _():
-        pass
-
-    register(a)
-    return a
+    return make_app(register)
 
 
 @pytest.fixture(scope="module")

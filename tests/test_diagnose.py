@@ -7,12 +7,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import typer
+from conftest import make_app
 from typer.testing import CliRunner
 
 from vvea_design.cli_identify import register
 from vvea_design.diagnose import DiagnoseSettings, diagnose, residual_map, write_diagnosis
-from vvea_design.effects import CATALOGUE, EFFECT_IDS, FitData
+from vvea_design.effects import CATALOGUE, EFFECT_IDS
 from vvea_design.recordings import read_recordings, recordings_from_frame
 from vvea_design.testbench import BenchmarkCase, case_spec, run_case, simulate, small_spec, summarise_benchmark
 
@@ -141,14 +141,7 @@ def test_shared_campaigns_accept_exactly_the_readme_effects(name, expected):
 
 # -- CLI ---------------------------------------------------------------------------------------------
 def _app():
-    app = typer.Typer()
-
-    @app.callback()
-    def _():
-        pass
-
-    register(app)
-    return app
+    return make_app(register)
 
 
 def test_cli_diagnose(tmp_path):

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import json
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-import typer
+from conftest import make_app
 from typer.testing import CliRunner
 
 from vvea_design.cli_identify import register
@@ -106,14 +105,7 @@ def test_write_identification(tmp_path, sim):
 
 
 def _app():
-    app = typer.Typer()
-
-    @app.callback()
-    def _():
-        pass
-
-    register(app)
-    return app
+    return make_app(register)
 
 
 def test_cli_identify(tmp_path, sim):

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-import typer
+from conftest import make_app
 from typer.testing import CliRunner
 
 import vvea_design.studies_actuator as sa
@@ -31,14 +31,7 @@ SETTINGS = tuple(PAPER_SETTINGS.values())
 
 
 def _app():
-    app = typer.Typer()
-
-    @app.callback()
-    def _main():  # pragma: no cover - typer needs a callback for sub-apps
-        pass
-
-    register(app)
-    return app
+    return make_app(register)
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from .progress import console
+from .progress import console, print_error
 
 app = typer.Typer(
     add_completion=False,
@@ -27,8 +27,7 @@ out_console = console  # status and tables on stderr; data files on disk
 
 
 def _fail(msg: str, code: int = 2) -> None:
-    console.print("[bold red]error:[/]", end=" ")
-    console.print(msg, markup=False, highlight=False, soft_wrap=True)
+    print_error(msg)
     raise typer.Exit(code)
 
 

@@ -57,29 +57,29 @@ def bladder(
     from .bladder import BladderError, write_bladder_report
     from .design import DesignError
     from .design_io import load_design
-    from .progress import console
+    from .progress import console, print_error
     from .silicones import CRITERIA, SILICONES
 
     if material not in SILICONES:
-        console.print(f"[bold red]error:[/] unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
+        print_error(f"unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
         raise typer.Exit(2)
     if criterion is not None and criterion not in CRITERIA:
-        console.print(f"[bold red]error:[/] unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
+        print_error(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
         raise typer.Exit(2)
     if elements < 8:
-        console.print(f"[bold red]error:[/] --elements must be >= 8, got {elements}")
+        print_error(f"--elements must be >= 8, got {elements}")
         raise typer.Exit(2)
     try:
         design = load_design(design_json)
     except (OSError, ValueError, DesignError) as exc:
-        console.print(f"[bold red]error:[/] {design_json}: {exc}")
+        print_error(f"{design_json}: {exc}")
         raise typer.Exit(2)
     try:
         with console.status("solving the bladder membrane at both stroke ends"):
             d = write_bladder_report(design, out, material, allowable if allowable is not None else criterion,
                                      n_elements=elements)
     except BladderError as exc:
-        console.print(f"[bold red]error:[/] {exc}")
+        print_error(f"{exc}")
         raise typer.Exit(2)
     print_bladder(d)
     console.print(f"wrote {d['files']['json']}, {d['files']['csv']}, {d['files']['png']}")

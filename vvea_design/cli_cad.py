@@ -45,17 +45,17 @@ def cad(
     from .cad import CadError, write_cad
     from .design import DesignError
     from .design_io import load_design
-    from .progress import console
+    from .progress import console, print_error
 
     try:
         design = load_design(design_json)
     except (OSError, ValueError, DesignError) as exc:
-        console.print(f"[bold red]error:[/] {design_json}: {exc}", markup=True, highlight=False)
+        print_error(f"{design_json}: {exc}")
         raise typer.Exit(2)
     try:
         manifest = write_cad(design, out, renders=renders)
     except CadError as exc:
-        console.print(f"[bold red]error:[/] {design_json}: {exc}", highlight=False)
+        print_error(f"{design_json}: {exc}")
         raise typer.Exit(2)
     print_manifest(manifest)
     console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")

@@ -10,7 +10,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from .progress import console, progress_bar
+from .progress import console, print_error, progress_bar
 
 __all__ = ["register"]
 
@@ -22,7 +22,7 @@ def _read(file: Path):
         with progress_bar(f"reading {file.name} (velocity from the motion profile)", total=None):
             return read_recordings(file)
     except RecordingsError as exc:
-        console.print(f"[red]error:[/red] {exc}")
+        print_error(f"{exc}")
         raise typer.Exit(code=2) from exc
 
 

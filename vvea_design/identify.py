@@ -31,7 +31,7 @@ import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from .effects import CATALOGUE, FitData, Param, baseline_columns, effect_params
+from .effects import CATALOGUE, FitData, baseline_columns, effect_params
 from .recordings import Recordings
 
 __all__ = [

@@ -20,6 +20,12 @@ from rich.progress import (
 console = Console(stderr=True)
 
 
+def print_error(message: str) -> None:
+    """Print ``error: <message>`` on stderr; the message is shown literally (no rich markup)."""
+    console.print("[bold red]error:[/]", end=" ")
+    console.print(str(message), markup=False, highlight=False, soft_wrap=True)
+
+
 @contextmanager
 def progress_bar(description: str, total: int | None, enabled: bool = True) -> Iterator[Callable[..., None]]:
     """Context manager yielding ``advance(n=1)``; shows done/total and time left.

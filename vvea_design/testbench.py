@@ -394,7 +394,6 @@ def run_case(case: BenchmarkCase) -> dict:
     import time
 
     from .diagnose import DiagnoseSettings, diagnose
-    from .effects import FitData
     from .recordings import recordings_from_frame
 
     t0 = time.perf_counter()

@@ -144,7 +144,7 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
 
 
 def _export(model: CadModel, out: Path, advance) -> dict:
-    d, lay, cad = model.design, model.layout, model.layout.cad
+    d, cad = model.design, model.layout.cad
     mats = part_materials(d)
     files: dict[str, dict] = {}
     meshes: dict[str, trimesh.Trimesh] = {}

@@ -261,7 +261,7 @@ class Layout:
     # ----------------------------------------------------------- checks
     def check(self) -> None:
         """Raise :class:`CadError` if a feature does not fit."""
-        d, f, c = self.design, self.design.fixed, self.cad
+        f, c = self.design.fixed, self.cad
         if f.base_mm < 11.0:
             raise CadError(f"fixed.base_mm = {f.base_mm:g} mm is too thin for the valve bores and rod seal; needs >= 11 mm")
         if f.top_cap_mm <= c.fill_port_counterbore_depth_mm:

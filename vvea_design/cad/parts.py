@@ -37,8 +37,7 @@ def housing(lay: Layout) -> Solid:
       from the fluid column (``r_channel_a``) and from the support ring
       (``r_ring_channel``) into both valve bores.
     """
-    d, c = lay.design, lay.cad
-    f = d.fixed
+    c = lay.cad
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
     body = fuse(
         ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
