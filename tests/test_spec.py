@@ -78,3 +78,10 @@ def test_margins_have_signs_and_details():
     assert list(heavy.margins) == constraint_names(Requirements(max_mass_g=100.0))
     with pytest.raises(ValueError, match="bladder_strain"):
         evaluate_design(d, Requirements(max_bladder_strain=0.3))
+
+
+def test_example_requirements_file_is_the_defaults():
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "requirements.toml"
+    assert load_requirements(example) == Requirements()
