@@ -6,6 +6,9 @@ Part 2: the Table 5 statistics with every setting and the full multi-start on a 
 for N = 32, 64, 128.
 
     python studies/mesh_convergence.py        # -> studies/results/mesh_convergence/
+    python studies/mesh_convergence.py --check-results studies/results/rest_to_rest
+        # the reported (fine-mesh) SEA rmse of a finished sweep vs N = 256 (sea_lwr_rmse.csv) and a
+        # fresh N = 384 QP, case by case -> fine_mesh_check.json
 """
 
 from __future__ import annotations
@@ -30,14 +33,45 @@ from vvea_design.studies_actuator import GRIDS, Grid, mesh_convergence, solve_si
 SUBGRID = Grid((0.3, 0.6, 0.9), (0.3, 0.7, 1.1, 1.5))
 
 
+def check_results(results_dir: Path, out: Path, finer_N: int = 384, workers=None) -> dict:
+    """Per-case relative change of the sweep's reported SEA rmse against finer meshes."""
+    df = pd.read_csv(results_dir / "results.csv")
+    sea = df[df.setting == "SEA"].set_index(["A_rad", "T_s"])
+    N = int(sea.mesh_N.iloc[0])
+    items = [(Mesh(finer_N, 3), PAPER_SETTINGS["SEA"], A, T) for A, T in sea.index]
+    ref = {finer_N: pd.DataFrame(parallel_map(solve_single, items, workers=workers, progress=False))
+           .set_index(["A_rad", "T_s"]).rmse}
+    qp_path = out / "sea_lwr_rmse.csv"
+    if qp_path.exists():
+        qp = pd.read_csv(qp_path)
+        for n in sorted(set(qp.mesh_N)):
+            if n > N:
+                ref[n] = qp[(qp.setting == "SEA") & (qp.mesh_N == n)].set_index(["A_rad", "T_s"]).rmse
+    res = {"results": str(results_dir), "reported_mesh_N": N, "n_cases": len(sea), "against": {}}
+    for n, r in sorted(ref.items()):
+        rel = (sea.rmse / r.reindex(sea.index) - 1).abs()
+        i = rel.idxmax()
+        res["against"][str(n)] = {"max_rel_change": float(rel.max()), "mean_rel_change": float(rel.mean()),
+                                  "worst_case_A_T": [float(i[0]), float(i[1])],
+                                  "cases_above_0.5_percent": int((rel > 0.005).sum())}
+    (out / "fine_mesh_check.json").write_text(json.dumps(res, indent=2))
+    print(json.dumps(res, indent=1))
+    return res
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "mesh_convergence")
     ap.add_argument("--qp-meshes", default="32,64,96,128,192,256")
     ap.add_argument("--stat-meshes", default="32,64,128")
     ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--check-results", type=Path, default=None,
+                    help="only compare this finished sweep's SEA rmse with finer meshes")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
+    if a.check_results is not None:
+        check_results(a.check_results, a.out, workers=a.workers)
+        return
     t0 = time.perf_counter()
     qp_N = [int(x) for x in a.qp_meshes.split(",")]
     items = [(Mesh(N, 3), PAPER_SETTINGS[s], A, T) for N in qp_N for s in ("SEA", "LWR")

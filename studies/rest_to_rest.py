@@ -16,7 +16,8 @@ import time
 from pathlib import Path
 
 from vvea_design.actuator import PAPER_SETTINGS, from_design_json
-from vvea_design.studies_actuator import run_rest_to_rest
+from vvea_design.ocp import Mesh
+from vvea_design.studies_actuator import DEFAULT_MESH, run_rest_to_rest
 
 
 def main() -> None:
@@ -27,14 +28,19 @@ def main() -> None:
     ap.add_argument("--scheduler", default=None)
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--restart", action="store_true")
+    ap.add_argument("--mesh-n", type=int, default=0, help="multi-start mesh intervals (0 = default 64)")
+    ap.add_argument("--fine-mesh-n", type=int, default=0,
+                    help="reporting mesh intervals (0 = default: 192 with the default --mesh-n; -1 = none)")
     a = ap.parse_args()
     settings = list(PAPER_SETTINGS.values())
     if a.design:
         settings.append(from_design_json(a.design))
     load0 = os.getloadavg()
     t0 = time.perf_counter()
-    s = run_rest_to_rest(a.out, grid=a.grid, settings=settings, workers=a.workers, scheduler=a.scheduler,
-                         restart=a.restart)
+    mesh = DEFAULT_MESH if a.mesh_n == 0 else Mesh(a.mesh_n, DEFAULT_MESH.degree)
+    fine = "auto" if a.fine_mesh_n == 0 else (None if a.fine_mesh_n < 0 else Mesh(a.fine_mesh_n, DEFAULT_MESH.degree))
+    s = run_rest_to_rest(a.out, grid=a.grid, settings=settings, mesh=mesh, fine_mesh=fine, workers=a.workers,
+                         scheduler=a.scheduler, restart=a.restart)
     wall = time.perf_counter() - t0
     print(json.dumps({"wall_seconds": round(wall, 1), "loadavg_start": load0, "loadavg_end": os.getloadavg(),
                       "pairs": s["pairs"], "ivvea_vs_sea": s["ivvea_vs_sea_guarantee"],

@@ -156,3 +156,34 @@ def test_torque_step_properties():
     # higher fixed damping -> faster torque rise
     rhi = ts.solve(base.with_(D_min_Nms_per_rad=200.0, D_max_Nms_per_rad=200.0), 50.0)
     assert rhi.extra["t95_s"] < rf.extra["t95_s"]
+
+
+def test_interpolation_onto_a_finer_mesh_reproduces_the_trajectory(solver, fine_solver):
+    """A coarse (N = 32) optimum carried onto N = 48 keeps its trajectory and objective."""
+    act, A, T = PAPER_SETTINGS["iVVEA"], 0.6, 0.8
+    r = solver.solve(act, A, T, w0=solver.guess_from(solver.solve(PAPER_SETTINGS["SEA"], A, T), act, A, T))
+    assert r.success
+    w = fine_solver.guess_from_other_mesh(r, act, A, T)
+    rf = fine_solver.evaluate_as(r, act, A, T)  # same path (resampling), as an OcpResult
+    col = fine_solver.cols[True]
+    pv = col.params(act, A, T)
+    np.testing.assert_allclose(w, col.from_phys(rf.Z, rf.U, pv), rtol=1e-12, atol=1e-12)
+    # link angle at the fine collocation points = the coarse trajectory there (within 2 % of A)
+    t_old = np.concatenate([[0.0], r.t_points_s[:, 1:].ravel()])
+    q_old = np.concatenate([r.Z[:1, 0, 1], r.Z[:, 1:, 1].ravel()])
+    q_new = rf.Z[:, 1:, 1].ravel()
+    assert np.max(np.abs(q_new - np.interp(rf.t_points_s[:, 1:].ravel(), t_old, q_old))) < 1e-12
+    # D stays in range; the fine-mesh objective of the carried solution is close to the coarse one
+    assert rf.Z[..., 4].min() >= act.D_min_Nms_per_rad - 1e-12
+    assert rf.objective == pytest.approx(r.objective, rel=0.05)
+    # one polish from it on the fine mesh converges and does not lose
+    p = fine_solver.solve(act, A, T, w0=w)
+    assert p.success and p.objective <= rf.objective * (1 + 1e-9)
+    assert np.max(np.abs(np.interp(r.t_s, p.t_s, p.q_rad) - r.q_rad)) < 0.1 * A
+
+
+def test_interpolation_to_the_same_mesh_is_the_identity(solver):
+    act, A, T = PAPER_SETTINGS["VVEA"], 0.5, 1.0
+    r = solver.solve(act, A, T)
+    w = solver.guess_from_other_mesh(r, act, A, T)
+    np.testing.assert_allclose(w, solver.guess_from(r, act, A, T), rtol=1e-9, atol=1e-9)

@@ -210,3 +210,79 @@ def test_paper_grid_guarantee(tmp_path):
     assert summary["solver_failures"]["count"] == 0
     assert summary["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
     assert summary["n_cases"] == 150
+
+
+FINE = Mesh(32, 3)
+
+
+@pytest.fixture(scope="module")
+def two_level_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("two_level")
+    summary = run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=FINE, workers=2, progress=False,
+                               figures=False)
+    return out, summary
+
+
+def test_two_level_rows_come_from_the_fine_mesh(two_level_run):
+    out, summary = two_level_run
+    df = pd.read_csv(out / "results.csv")
+    assert len(df) == len(TINY.cases()) * len(SETTINGS) and df.success.all()
+    assert (df.mesh_N == FINE.n_intervals).all() and (df.coarse_mesh_N == SMALL_MESH.n_intervals).all()
+    assert summary["run"]["fine_mesh"]["n_intervals"] == FINE.n_intervals
+    # constant damping: the fine-mesh QP; variable damping: the fine QP at D_min or the polish
+    assert set(df[df.setting.isin(["SEA", "LWR"])].start) == {"qp"}
+    var = df[df.setting.isin(["VVEA", "iVVEA"])]
+    assert var.start.str.match(r"^(polish:|const-Dmin \(adopted\))").all()
+    for so in var.start_objectives:
+        keys = json.loads(so)
+        assert any(k.startswith("N16 ") for k in keys) and "const-Dmin (adopted)" in keys
+
+
+def test_two_level_ivvea_never_worse_than_sea_on_the_fine_mesh(two_level_run):
+    out, summary = two_level_run
+    df = pd.read_csv(out / "results.csv")
+    p = df.pivot(index="case_id", columns="setting", values="objective")
+    assert (p["iVVEA"] <= p["SEA"] * (1 + 1e-12)).all()
+    assert summary["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
+    # the fine SEA objective is the direct fine-mesh QP
+    from vvea_design.ocp import RestToRestSolver
+
+    s = RestToRestSolver(FINE)
+    row = df[(df.setting == "SEA")].iloc[0]
+    r = s.solve(PAPER_SETTINGS["SEA"], float(row.A_rad), float(row.T_s))
+    assert r.objective == pytest.approx(float(row.objective), rel=1e-6)
+
+
+def test_two_level_resume_checks_the_fine_mesh(tmp_path, two_level_run):
+    out, _ = two_level_run
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["fine_mesh"]["n_intervals"] == FINE.n_intervals
+    before = pd.read_csv(out / "results.csv")
+    # the same command resumes (nothing to solve, rows unchanged)
+    s2 = run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False, figures=False)
+    assert s2["run"]["cases_solved_this_run"] == 0
+    pd.testing.assert_frame_equal(pd.read_csv(out / "results.csv")[RESULT_COLUMNS], before[RESULT_COLUMNS])
+    # another fine mesh, or none, is a different sweep
+    for fm in (Mesh(24, 3), None):
+        with pytest.raises(ValueError, match="different sweep"):
+            run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=fm, workers=1, progress=False,
+                             figures=False)
+
+
+def test_default_fine_mesh_only_with_the_default_mesh(tmp_path):
+    grid = Grid((0.4,), (0.8,))
+    s = run_rest_to_rest(tmp_path, grid=grid, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
+    assert s["run"]["fine_mesh"] is None
+    assert sa.DEFAULT_FINE_MESH.n_intervals == 192 and sa.DEFAULT_MESH.n_intervals == 64
+    with pytest.raises(ValueError, match="multiple of 4"):
+        run_rest_to_rest(tmp_path / "x", grid=grid, mesh=SMALL_MESH, fine_mesh=Mesh(30, 3), workers=1,
+                         progress=False, figures=False)
+
+
+def test_cli_fine_mesh_option(tmp_path):
+    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--grid", "0.5:0.8", "--mesh-n", "16",
+                                      "--fine-mesh-n", "24", "--workers", "1", "--out", str(tmp_path),
+                                      "--no-progress"])
+    assert res.exit_code == 0, res.output + str(res.exception)
+    df = pd.read_csv(tmp_path / "results.csv")
+    assert (df.mesh_N == 24).all() and (df.coarse_mesh_N == 16).all()

@@ -40,7 +40,11 @@ def rest_to_rest(
     grid: str = typer.Option("paper", "--grid", help="paper | coarse | 'A1,A2:T1,T2' (rad:s)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://host:port."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default all cores)."),
-    mesh_n: int = typer.Option(0, "--mesh-n", help="Collocation intervals (multiple of 4; 0 = study default)."),
+    mesh_n: int = typer.Option(0, "--mesh-n", help="Collocation intervals of the multi-start (multiple of 4; 0 = study default 64)."),
+    fine_mesh_n: int = typer.Option(
+        0, "--fine-mesh-n",
+        help="Intervals of the mesh the results are reported on: one polish per setting from the multi-start "
+             "optimum (multiple of 4; 0 = study default: 192 with the default --mesh-n, none otherwise; -1 = none)."),
     pulley_radius_m: Optional[float] = typer.Option(None, "--pulley-radius-m", help="Pulley radius r for --design (m)."),
     p2_mpa: Optional[float] = typer.Option(None, "--p2-mpa", help="Recharge the design spring to p2 (MPa)."),
     gamma_min_deg: float = typer.Option(50.0, "--gamma-min-deg", help="Lowest throttle angle used (deg)."),
@@ -70,7 +74,8 @@ def rest_to_rest(
             raise typer.BadParameter(f"--design {design}: {exc}") from exc
     try:
         mesh = DEFAULT_MESH if mesh_n == 0 else Mesh(mesh_n, DEFAULT_MESH.degree)
-        summary = run_rest_to_rest(out, grid=_grid(grid), settings=settings, mesh=mesh, workers=workers,
+        fine = "auto" if fine_mesh_n == 0 else (None if fine_mesh_n < 0 else Mesh(fine_mesh_n, DEFAULT_MESH.degree))
+        summary = run_rest_to_rest(out, grid=_grid(grid), settings=settings, mesh=mesh, fine_mesh=fine, workers=workers,
                                    scheduler=scheduler, restart=restart, progress=not no_progress)
     except ValueError as exc:
         raise typer.BadParameter(str(exc)) from exc

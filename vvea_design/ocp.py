@@ -44,6 +44,7 @@ __all__ = [
     "PAPER_TABLE6",
     "ramp_u_d_profile",
     "rest_to_rest_reference",
+    "WARM_START_IPOPT",
 ]
 
 _IPOPT_DEFAULTS = {
@@ -333,6 +334,16 @@ def _resample(other: OcpResult, edges_s: np.ndarray, tau: np.ndarray):
     return Zp, other.U[k]
 
 
+#: IPOPT options for polishing a good start (an interpolated coarse-mesh optimum) on a finer
+#: mesh: start at the given point, not pushed into the interior (measured: ~30 % fewer iterations).
+WARM_START_IPOPT = {
+    "ipopt.warm_start_init_point": "yes",
+    "ipopt.warm_start_bound_push": 1e-9,
+    "ipopt.warm_start_mult_bound_push": 1e-9,
+    "ipopt.mu_init": 1e-5,
+}
+
+
 def rest_to_rest_reference(t_s, A_rad: float, T_s: float) -> np.ndarray:
     """Square-wave reference of section 5.0.1: 0 in the first half period, A in the second."""
     t = np.asarray(t_s, dtype=float)
@@ -439,6 +450,23 @@ class RestToRestSolver:
         if Zp.shape[:2] != (col.N, col.d + 1) or not np.allclose(other.t_points_s, pv[1] * (
                 col.edges[:-1, None] + col.h[:, None] * col.tau[None, :])):
             Zp, Up = _resample(other, pv[1] * col.edges, col.tau)
+        Zp[..., 4] = np.clip(Zp[..., 4], actuator.D_min_Nms_per_rad, actuator.D_max_Nms_per_rad)
+        Up[:, 1] = np.clip(Up[:, 1], -actuator.u_d_max, actuator.u_d_max)
+        return col.from_phys(Zp, Up, pv)
+
+    def guess_from_other_mesh(self, other: OcpResult, actuator: Actuator, A_rad: float, T_s: float) -> np.ndarray:
+        """A start on *this* mesh from a solution on another (coarser or finer) mesh.
+
+        The states (including D) are interpolated linearly in time through all
+        of ``other``'s collocation points onto this mesh's collocation points;
+        the piecewise-constant inputs (τ_m, u_d) take ``other``'s value at each
+        new interval's midpoint. D is clipped into ``actuator``'s range. Used to
+        polish a coarse-mesh multi-start optimum on a fine mesh with one
+        warm-started solve (see :data:`WARM_START_IPOPT`).
+        """
+        col = self._col(actuator)
+        pv = col.params(actuator, A_rad, T_s)
+        Zp, Up = _resample(other, pv[1] * col.edges, col.tau)
         Zp[..., 4] = np.clip(Zp[..., 4], actuator.D_min_Nms_per_rad, actuator.D_max_Nms_per_rad)
         Up[:, 1] = np.clip(Up[:, 1], -actuator.u_d_max, actuator.u_d_max)
         return col.from_phys(Zp, Up, pv)
