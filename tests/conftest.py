@@ -1,5 +1,7 @@
 """Shared test helpers."""
 
+from pathlib import Path
+
 import typer
 
 
@@ -16,3 +18,7 @@ def make_app(register) -> typer.Typer:
 
     register(app)
     return app
+
+
+#: The shared example campaigns (CI clones the repository with shared/ beside it).
+SHARED_RECORDINGS = Path(__file__).resolve().parents[2] / "shared" / "recordings"

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import make_app
+from conftest import SHARED_RECORDINGS, make_app
 from typer.testing import CliRunner
 
 from vvea_design.cli_identify import register
@@ -16,7 +15,7 @@ from vvea_design.effects import CATALOGUE, EFFECT_IDS
 from vvea_design.recordings import read_recordings, recordings_from_frame
 from vvea_design.testbench import BenchmarkCase, case_spec, run_case, simulate, small_spec, summarise_benchmark
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "recordings"
+SHARED = SHARED_RECORDINGS
 SPEC_IDS = {"gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction", "leakage"}
 CONTRACT = {"baseline", "heldout_rmse_N", "effects", "unexplained_structure"}
 

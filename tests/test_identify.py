@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import make_app
+from conftest import SHARED_RECORDINGS, make_app
 from typer.testing import CliRunner
 
 from vvea_design.cli_identify import register
@@ -24,7 +23,7 @@ from vvea_design.identify import (
 from vvea_design.recordings import read_recordings, recordings_from_frame
 from vvea_design.testbench import simulate, small_spec
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "recordings"
+SHARED = SHARED_RECORDINGS
 
 
 @pytest.fixture(scope="module")

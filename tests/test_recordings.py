@@ -17,7 +17,9 @@ from vvea_design.recordings import (
 )
 from vvea_design.testbench import simulate, small_spec
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "recordings"
+from conftest import SHARED_RECORDINGS  # noqa: E402
+
+SHARED = SHARED_RECORDINGS
 
 
 @pytest.fixture(scope="module")
