@@ -85,3 +85,8 @@ def test_example_requirements_file_is_the_defaults():
 
     example = Path(__file__).resolve().parents[1] / "examples" / "requirements.toml"
     assert load_requirements(example) == Requirements()
+
+
+def test_unknown_bladder_material(tmp_path):
+    with pytest.raises(SpecError, match="bladder_material: unknown silicone"):
+        load_requirements(write(tmp_path, 'bladder_material = "chewing-gum"'))

@@ -15,7 +15,9 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from .progress import console, print_error
+from .cli_common import fail as _fail
+from .cli_common import load_design_or_exit
+from .progress import console
 
 app = typer.Typer(
     add_completion=False,
@@ -24,11 +26,6 @@ app = typer.Typer(
 )
 
 out_console = console  # status and tables on stderr; data files on disk
-
-
-def _fail(msg: str, code: int = 2) -> None:
-    print_error(msg)
-    raise typer.Exit(code)
 
 
 def _print_evaluation(ev, title: str) -> None:
@@ -205,12 +202,12 @@ def map_(
     """2-D map of linearity over any two design variables, infeasible region marked."""
     import numpy as np
 
-    from .design_io import DesignFileError, load_design, load_requirements_from_design
+    from .design_io import DesignFileError, load_requirements_from_design
     from .optimise import linearity_map
     from .plots import plot_linearity_map
 
     try:
-        d = load_design(design)
+        d = load_design_or_exit(design)
         req = load_requirements_from_design(design)
         m = linearity_map(d, req, x, y, n=n)
     except (DesignFileError, ValueError) as exc:
@@ -238,7 +235,7 @@ def design(
     """The main job: optimise, then spring curve, CAD and bladder check, all into one folder."""
     out.mkdir(parents=True, exist_ok=True)
     design_json = out / "design.json"
-    res, req = _optimise_to(spec, seed, design_json)
+    _optimise_to(spec, seed, design_json)
     for step in DESIGN_STEPS:
         step(design_json, out, renders)
     console.print(f"[bold green]done[/]: everything is in {out}/")

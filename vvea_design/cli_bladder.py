@@ -55,32 +55,23 @@ def bladder(
 ) -> None:
     """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
     from .bladder import BladderError, write_bladder_report
-    from .design import DesignError
-    from .design_io import load_design
-    from .progress import console, print_error
+    from .cli_common import fail, load_design_or_exit
+    from .progress import console
     from .silicones import CRITERIA, SILICONES
 
     if material not in SILICONES:
-        print_error(f"unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
-        raise typer.Exit(2)
+        fail(f"unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
     if criterion is not None and criterion not in CRITERIA:
-        print_error(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
-        raise typer.Exit(2)
+        fail(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
     if elements < 8:
-        print_error(f"--elements must be >= 8, got {elements}")
-        raise typer.Exit(2)
-    try:
-        design = load_design(design_json)
-    except (OSError, ValueError, DesignError) as exc:
-        print_error(f"{design_json}: {exc}")
-        raise typer.Exit(2)
+        fail(f"--elements must be >= 8, got {elements}")
+    design = load_design_or_exit(design_json)
     try:
         with console.status("solving the bladder membrane at both stroke ends"):
             d = write_bladder_report(design, out, material, allowable if allowable is not None else criterion,
                                      n_elements=elements)
     except BladderError as exc:
-        print_error(f"{exc}")
-        raise typer.Exit(2)
+        fail(str(exc))
     print_bladder(d)
     console.print(f"wrote {d['files']['json']}, {d['files']['csv']}, {d['files']['png']}")
 

@@ -43,20 +43,14 @@ def cad(
 ) -> None:
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
     from .cad import CadError, write_cad
-    from .design import DesignError
-    from .design_io import load_design
-    from .progress import console, print_error
+    from .cli_common import fail, load_design_or_exit
+    from .progress import console
 
-    try:
-        design = load_design(design_json)
-    except (OSError, ValueError, DesignError) as exc:
-        print_error(f"{design_json}: {exc}")
-        raise typer.Exit(2)
+    design = load_design_or_exit(design_json)
     try:
         manifest = write_cad(design, out, renders=renders)
     except CadError as exc:
-        print_error(f"{design_json}: {exc}")
-        raise typer.Exit(2)
+        fail(f"{design_json}: {exc}")
     print_manifest(manifest)
     console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")
 

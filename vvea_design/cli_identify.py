@@ -10,7 +10,8 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from .progress import console, print_error, progress_bar
+from .cli_common import fail
+from .progress import console, progress_bar
 
 __all__ = ["register"]
 
@@ -22,8 +23,7 @@ def _read(file: Path):
         with progress_bar(f"reading {file.name} (velocity from the motion profile)", total=None):
             return read_recordings(file)
     except RecordingsError as exc:
-        print_error(f"{exc}")
-        raise typer.Exit(code=2) from exc
+        fail(str(exc))
 
 
 def identify_cmd(

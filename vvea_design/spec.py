@@ -34,6 +34,7 @@ import numpy as np
 
 from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
 from .gas_spring import linearity_error, mean_stiffness_N_per_mm
+from .silicones import get_silicone
 
 __all__ = [
     "Requirements",
@@ -88,6 +89,10 @@ class Requirements:
             raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {self.min_gas_fraction_at_full_stroke!r}")
         if not 1.0 <= self.n_polytropic <= 1.4:
             raise SpecError(f"n_polytropic must be in [1, 1.4], got {self.n_polytropic!r}")
+        try:
+            get_silicone(self.bladder_material)
+        except ValueError as exc:
+            raise SpecError(f"bladder_material: {exc}") from None
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
             raise SpecError(f"max_mass_g must be > 0, got {self.max_mass_g!r}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):

@@ -1,0 +1,28 @@
+"""What every `vvea` command module shares: failing with a clear message, loading a design."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import NoReturn
+
+import typer
+
+from .progress import print_error
+
+__all__ = ["fail", "load_design_or_exit"]
+
+
+def fail(msg: str, code: int = 2) -> NoReturn:
+    """Print ``error: msg`` (literally, no markup) and exit with ``code`` (2 = bad input)."""
+    print_error(msg)
+    raise typer.Exit(code)
+
+
+def load_design_or_exit(path: Path):
+    """The frozen design of a design JSON; a bad file exits 2 with the loader's message (it names the file)."""
+    from .design_io import DesignFileError, load_design
+
+    try:
+        return load_design(path)
+    except DesignFileError as exc:
+        fail(str(exc))
