@@ -31,8 +31,8 @@ OUT = Path(__file__).parent / "results" / "bench_bladder.json"
 _COLD = """
 import time
 t = time.perf_counter()
-from vvea_design.design import Design
-from vvea_design.bladder import check_bladder
+from vvea_design.spring.design import Design
+from vvea_design.bladder.check import check_bladder
 t1 = time.perf_counter()
 check_bladder(Design(34.37, 59.5, 41342.0, 91473.0))
 print(t1 - t, time.perf_counter() - t1)
@@ -40,7 +40,7 @@ print(t1 - t, time.perf_counter() - t1)
 
 
 def main(argv=None) -> int:
-    from vvea_design.bladder import DEFAULT_ELEMENTS, check_bladder, strain_bound
+    from vvea_design.bladder.check import DEFAULT_ELEMENTS, check_bladder, strain_bound
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeat", type=int, default=5)

@@ -20,7 +20,7 @@ t0 = time.perf_counter()
 from vvea_design.cad import build_cad, write_cad  # noqa: E402
 from vvea_design.cad.export import _export  # noqa: E402
 from vvea_design.cad.render import render_assembly_cutaway, render_mould_open  # noqa: E402
-from vvea_design.design import Design  # noqa: E402
+from vvea_design.spring.design import Design  # noqa: E402
 
 T_IMPORT = time.perf_counter() - t0
 
@@ -32,7 +32,7 @@ def main() -> None:
     ap.add_argument("--no-renders", action="store_true", help="skip the PNG renders")
     args = ap.parse_args()
     if args.design_json:
-        from vvea_design.design_io import load_design
+        from vvea_design.spring.design_file import load_design
 
         design = load_design(args.design_json)
     else:

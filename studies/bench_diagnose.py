@@ -24,12 +24,12 @@ from pathlib import Path
 
 import numpy as np
 
-from vvea_design.diagnose import DiagnoseSettings, diagnose
-from vvea_design.effects import FitData
-from vvea_design.identify import fit_model
+from vvea_design.identification.diagnose import DiagnoseSettings, diagnose
+from vvea_design.identification.effects import FitData
+from vvea_design.identification.identify import fit_model
 from vvea_design.progress import console
-from vvea_design.recordings import read_recordings, recordings_from_frame
-from vvea_design.testbench import CampaignSpec, random_effect, simulate
+from vvea_design.identification.recordings import read_recordings, recordings_from_frame
+from vvea_design.identification.testbench import CampaignSpec, random_effect, simulate
 
 HERE = Path(__file__).resolve().parent
 

@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
-from vvea_design.actuator import PAPER_SETTINGS
-from vvea_design.ocp import RestToRestSolver
-from vvea_design.studies_actuator import DEFAULT_FINE_MESH, DEFAULT_MESH, GRIDS, RestToRestCase, run_rest_to_rest, solve_case
+from vvea_design.actuator.model import PAPER_SETTINGS
+from vvea_design.actuator.ocp import RestToRestSolver
+from vvea_design.actuator.studies import DEFAULT_FINE_MESH, DEFAULT_MESH, GRIDS, RestToRestCase, run_rest_to_rest, solve_case
 
 
 def main() -> None:

@@ -12,9 +12,9 @@ from __future__ import annotations
 import argparse
 import timeit
 
-from vvea_design.design import Design
-from vvea_design.optimise import optimise
-from vvea_design.spec import Requirements, evaluate_design
+from vvea_design.spring.design import Design
+from vvea_design.spring.optimise import optimise
+from vvea_design.spring.requirements import Requirements, evaluate_design
 
 
 def main(seeds: list[int]) -> None:

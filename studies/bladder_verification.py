@@ -34,7 +34,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vvea_design.bladder import (  # noqa: E402
+from vvea_design.bladder.check import (  # noqa: E402
     PAPER_BLADDER,
     check_bladder,
     check_membrane,
@@ -43,9 +43,9 @@ from vvea_design.bladder import (  # noqa: E402
     write_bladder_report,
     _design_sleeve,
 )
-from vvea_design.design import Design, FixedParameters  # noqa: E402
-from vvea_design.design_io import load_design  # noqa: E402
-from vvea_design.membrane import MooneyRivlin, sleeve_meridian, solve_volume, solve_volume_path, sphere_meridian  # noqa: E402
+from vvea_design.spring.design import Design, FixedParameters  # noqa: E402
+from vvea_design.spring.design_file import load_design  # noqa: E402
+from vvea_design.bladder.membrane import MooneyRivlin, sleeve_meridian, solve_volume, solve_volume_path, sphere_meridian  # noqa: E402
 from vvea_design.progress import console, progress_bar  # noqa: E402
 
 OUT = Path(__file__).parent / "results" / "bladder_verification"

@@ -20,9 +20,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from vvea_design.optimise import gas_volume_bound  # noqa: E402
+from vvea_design.spring.optimise import gas_volume_bound  # noqa: E402
 from vvea_design.parallel import parallel_map  # noqa: E402
-from vvea_design.plots import save_figure  # noqa: E402
+from vvea_design.spring.plots import save_figure  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 VOLUMES = [60e3, 80e3, 100e3, 130e3, 160e3, 200e3, 250e3, 300e3]

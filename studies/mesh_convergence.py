@@ -25,10 +25,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from vvea_design.actuator import PAPER_SETTINGS  # noqa: E402
-from vvea_design.ocp import Mesh  # noqa: E402
+from vvea_design.actuator.model import PAPER_SETTINGS  # noqa: E402
+from vvea_design.actuator.ocp import Mesh  # noqa: E402
 from vvea_design.parallel import parallel_map  # noqa: E402
-from vvea_design.studies_actuator import GRIDS, Grid, mesh_convergence, solve_single  # noqa: E402
+from vvea_design.actuator.studies import GRIDS, Grid, mesh_convergence, solve_single  # noqa: E402
 
 SUBGRID = Grid((0.3, 0.6, 0.9), (0.3, 0.7, 1.1, 1.5))
 

@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from vvea_design.design_io import save_design
-from vvea_design.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
-from vvea_design.plots import plot_linearity_map, plot_spring
-from vvea_design.spec import Requirements
+from vvea_design.spring.design_file import save_design
+from vvea_design.spring.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
+from vvea_design.spring.plots import plot_linearity_map, plot_spring
+from vvea_design.spring.requirements import Requirements
 
 HERE = Path(__file__).resolve().parent
 
@@ -45,8 +45,8 @@ def cast_fill_tradeoff(out: Path, fills=(0.0, 0.25, 0.5, 0.75)) -> list[dict]:
 
     import matplotlib.pyplot as plt
 
-    from vvea_design.bladder import check_bladder
-    from vvea_design.plots import save_figure
+    from vvea_design.bladder.check import check_bladder
+    from vvea_design.spring.plots import save_figure
 
     rows = []
     for fill in fills:

@@ -20,9 +20,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vvea_design import paper  # noqa: E402
-from vvea_design.gas_spring import least_squares_line, linearity_error  # noqa: E402
-from vvea_design.plots import save_figure  # noqa: E402
+from vvea_design.spring import paper  # noqa: E402
+from vvea_design.spring.gas_spring import least_squares_line, linearity_error  # noqa: E402
+from vvea_design.spring.plots import save_figure  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 

@@ -15,9 +15,9 @@ import os
 import time
 from pathlib import Path
 
-from vvea_design.actuator import PAPER_SETTINGS, from_design_json
-from vvea_design.ocp import Mesh
-from vvea_design.studies_actuator import DEFAULT_MESH, run_rest_to_rest
+from vvea_design.actuator.model import PAPER_SETTINGS, from_design_json
+from vvea_design.actuator.ocp import Mesh
+from vvea_design.actuator.studies import DEFAULT_MESH, run_rest_to_rest
 
 
 def main() -> None:

@@ -24,10 +24,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from vvea_design.diagnose import DiagnoseSettings, diagnose, write_diagnosis
-from vvea_design.identify import write_identification
+from vvea_design.identification.diagnose import DiagnoseSettings, diagnose, write_diagnosis
+from vvea_design.identification.identify import write_identification
 from vvea_design.progress import console, progress_bar
-from vvea_design.recordings import read_recordings
+from vvea_design.identification.recordings import read_recordings
 
 HERE = Path(__file__).resolve().parent
 #: What the shared README says each campaign holds beyond eq. 14.

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vvea_design.actuator import (
+from vvea_design.actuator.model import (
     PAPER_PULLEY_RADIUS_M,
     PAPER_SETTINGS,
     TABLE3_L_NS_PER_MM,
@@ -24,7 +24,7 @@ from vvea_design.actuator import (
     pulley_radius_for_stiffness_m,
     throttle_damping_Ns_per_mm,
 )
-from vvea_design.gas_spring import PAPER_FIG5, GasSpring
+from vvea_design.spring.gas_spring import PAPER_FIG5, GasSpring
 
 
 def test_table4_settings_structure():
@@ -135,7 +135,7 @@ def test_from_design_json(tmp_path, monkeypatch):
     path = tmp_path / "design.json"
     path.write_text(json.dumps({"format_version": 1, "parameters": params}))
     # the contract used: design_io.load_design(path).gas_spring (the loader itself is tested by its owner)
-    import vvea_design.design_io as dio
+    import vvea_design.spring.design_file as dio
 
     def load_design(p):
         d = json.loads(open(p).read())["parameters"]

@@ -1,4 +1,4 @@
-"""The bladder check (vvea_design.bladder, silicones, cli_bladder)."""
+"""The bladder check (vvea_design.bladder.check, silicones, cli_bladder)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from conftest import make_app
 from typer.testing import CliRunner
 
-from vvea_design.bladder import (
+from vvea_design.bladder.check import (
     PAPER_BLADDER,
     SURROGATE_FACTOR,
     BladderError,
@@ -19,10 +19,10 @@ from vvea_design.bladder import (
     strain_bound,
     write_bladder_report,
 )
-from vvea_design.cli_bladder import register
-from vvea_design.design import Design, FixedParameters
-from vvea_design.membrane import TAUT
-from vvea_design.silicones import CRITERIA, SILICONES, StrainCriterion, allowable_strain, get_silicone
+from vvea_design.cli.bladder import register
+from vvea_design.spring.design import Design, FixedParameters
+from vvea_design.bladder.membrane import TAUT
+from vvea_design.materials.silicones import CRITERIA, SILICONES, StrainCriterion, allowable_strain, get_silicone
 
 EXAMPLE = Design(35.18, 59.5, 47107.0, 99735.0)
 N = 48  # elements in the default tests (the study runs the fine meshes)
@@ -187,8 +187,8 @@ def _app():
 
 
 def _design_json(path):
-    from vvea_design.design_io import save_design
-    from vvea_design.spec import Requirements, evaluate_design
+    from vvea_design.spring.design_file import save_design
+    from vvea_design.spring.requirements import Requirements, evaluate_design
 
     req = Requirements()
     return save_design(path, evaluate_design(EXAMPLE, req), req)

@@ -33,7 +33,7 @@ from vvea_design.cad import (  # noqa: E402
 )
 from vvea_design.cad.bladder import bladder_volume_mm3  # noqa: E402
 from vvea_design.cad.parts import piston_volume_mm3  # noqa: E402
-from vvea_design.design import Design, DesignError, FixedParameters  # noqa: E402
+from vvea_design.spring.design import Design, DesignError, FixedParameters  # noqa: E402
 
 EXPORTED = ("housing", "housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap", "piston", "bladder", "support_ring", "mould_half_a", "mould_half_b", "mould_core")
 

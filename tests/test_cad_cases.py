@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
-from vvea_design.design import Design, FixedParameters
-from vvea_design.design_io import load_design
+from vvea_design.spring.design import Design, FixedParameters
+from vvea_design.spring.design_file import load_design
 
 #: The reference optimised design (cad/design.json, `vvea optimise` on the default requirements) and
 #: other designs the optimiser returned (Pareto points of studies/optimise_design.py): each feasible

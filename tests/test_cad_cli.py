@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from test_cad_cases import REFERENCE  # noqa: E402
 
-from vvea_design.cli_cad import register  # noqa: E402
+from vvea_design.cli.cad import register  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -24,8 +24,8 @@ def app():
 
 @pytest.fixture(scope="module")
 def design_json(tmp_path_factory):
-    from vvea_design.design_io import save_design
-    from vvea_design.spec import Requirements, evaluate_design
+    from vvea_design.spring.design_file import save_design
+    from vvea_design.spring.requirements import Requirements, evaluate_design
 
     req = Requirements()
     path = tmp_path_factory.mktemp("cli") / "design.json"

@@ -18,7 +18,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 from vvea_design.cad import CadParameters, build_cad  # noqa: E402
-from vvea_design.design import Design, FixedParameters  # noqa: E402
+from vvea_design.spring.design import Design, FixedParameters  # noqa: E402
 
 DATA = Path(__file__).parent / "data" / "cad_regression.json"
 REL = 1e-6  # volumes (OCCT mass properties are deterministic to ~1e-12)

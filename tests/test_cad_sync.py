@@ -26,7 +26,7 @@ def fresh(tmp_path_factory):
     if not (CAD / "design.json").exists():
         pytest.skip("cad/design.json does not exist yet (the lead generates cad/ from the reference optimised design)")
     from vvea_design.cad import write_cad
-    from vvea_design.design_io import load_design
+    from vvea_design.spring.design_file import load_design
 
     if not (CAD / "manifest.json").exists():
         pytest.fail(f"cad/design.json exists but cad/manifest.json does not; {REGEN}")

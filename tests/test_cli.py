@@ -5,10 +5,10 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from vvea_design.cli import app
-from vvea_design.design import Design
-from vvea_design.design_io import save_design
-from vvea_design.spec import Requirements, evaluate_design
+from vvea_design.cli.main import app
+from vvea_design.spring.design import Design
+from vvea_design.spring.design_file import save_design
+from vvea_design.spring.requirements import Requirements, evaluate_design
 from vvea_design.testing import LinearityRegression, assert_linearity, check_linearity
 
 runner = CliRunner()

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from vvea_design.design import Design, DesignError, FixedParameters
+from vvea_design.spring.design import Design, DesignError, FixedParameters
 
 REF = Design(35.18, 59.5, 47107.0, 99735.0)
 

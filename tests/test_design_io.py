@@ -5,16 +5,16 @@ import json
 import numpy as np
 import pytest
 
-from vvea_design.design import Design
-from vvea_design.design_io import (
+from vvea_design.spring.design import Design
+from vvea_design.spring.design_file import (
     DesignFileError,
     load_design,
     load_requirements_from_design,
     save_design,
     spring_from_json,
 )
-from vvea_design.gas_spring import force_N
-from vvea_design.spec import Requirements, evaluate_design
+from vvea_design.spring.gas_spring import force_N
+from vvea_design.spring.requirements import Requirements, evaluate_design
 
 REQUIRED = {
     "parameters": ["piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2", "p1_MPa",

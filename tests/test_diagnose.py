@@ -9,11 +9,11 @@ import pytest
 from conftest import SHARED_RECORDINGS, make_app
 from typer.testing import CliRunner
 
-from vvea_design.cli_identify import register
-from vvea_design.diagnose import DiagnoseSettings, diagnose, residual_map, write_diagnosis
-from vvea_design.effects import CATALOGUE, EFFECT_IDS
-from vvea_design.recordings import read_recordings, recordings_from_frame
-from vvea_design.testbench import BenchmarkCase, case_spec, run_case, simulate, small_spec, summarise_benchmark
+from vvea_design.cli.identify import register
+from vvea_design.identification.diagnose import DiagnoseSettings, diagnose, residual_map, write_diagnosis
+from vvea_design.identification.effects import CATALOGUE, EFFECT_IDS
+from vvea_design.identification.recordings import read_recordings, recordings_from_frame
+from vvea_design.identification.testbench import BenchmarkCase, case_spec, run_case, simulate, small_spec, summarise_benchmark
 
 SHARED = SHARED_RECORDINGS
 SPEC_IDS = {"gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction", "leakage"}

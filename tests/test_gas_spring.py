@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vvea_design.gas_spring import (
+from vvea_design.spring.gas_spring import (
     PAPER_FIG5,
     ChamberBottomedOut,
     GasSpring,

@@ -9,9 +9,9 @@ import pytest
 from conftest import SHARED_RECORDINGS, make_app
 from typer.testing import CliRunner
 
-from vvea_design.cli_identify import register
-from vvea_design.effects import FitData
-from vvea_design.identify import (
+from vvea_design.cli.identify import register
+from vvea_design.identification.effects import FitData
+from vvea_design.identification.identify import (
     PAPER_ERROR_BAND_PCT,
     PAPER_TABLE3,
     error_band_pct,
@@ -20,8 +20,8 @@ from vvea_design.identify import (
     table3,
     write_identification,
 )
-from vvea_design.recordings import read_recordings, recordings_from_frame
-from vvea_design.testbench import simulate, small_spec
+from vvea_design.identification.recordings import read_recordings, recordings_from_frame
+from vvea_design.identification.testbench import simulate, small_spec
 
 SHARED = SHARED_RECORDINGS
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from vvea_design.actuator import PAPER_SETTINGS, dynamics
-from vvea_design.ocp import (
+from vvea_design.actuator.model import PAPER_SETTINGS, dynamics
+from vvea_design.actuator.ocp import (
     Mesh,
     RestToRestSolver,
     TorqueStepSolver,

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from vvea_design.design import DECISION_VARIABLES
-from vvea_design.optimise import Infeasible, linearity_map, optimise, pareto_front
-from vvea_design.spec import Requirements
+from vvea_design.spring.design import DECISION_VARIABLES
+from vvea_design.spring.optimise import Infeasible, linearity_map, optimise, pareto_front
+from vvea_design.spring.requirements import Requirements
 
 
 @pytest.fixture(scope="module")
@@ -68,7 +68,7 @@ def test_linearity_map_marks_infeasible_regions(result):
 
 
 def test_packing_free_bound_is_below_our_design_and_close_to_it(result):
-    from vvea_design.optimise import gas_volume_bound
+    from vvea_design.spring.optimise import gas_volume_bound
 
     d = result.design
     b = gas_volume_bound(d.V1_mm3 + d.V2_mm3, maxiter=150)
@@ -80,7 +80,7 @@ def test_packing_free_bound_is_below_our_design_and_close_to_it(result):
 
 
 def test_bladder_strain_bound_as_a_constraint():
-    from vvea_design.bladder import strain_bound
+    from vvea_design.bladder.check import strain_bound
 
     req = Requirements(max_bladder_strain=0.20)
     with pytest.raises(ValueError, match="bladder_strain_fn"):

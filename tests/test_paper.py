@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vvea_design import paper
-from vvea_design.gas_spring import PAPER_FIG5
+from vvea_design.spring import paper as paper
+from vvea_design.spring.gas_spring import PAPER_FIG5
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -8,14 +8,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vvea_design.recordings import (
+from vvea_design.identification.recordings import (
     MIN_SAMPLES_PER_EXPERIMENT,
     RecordingsError,
     read_recordings,
     recordings_from_frame,
     trapezoid_profile,
 )
-from vvea_design.testbench import simulate, small_spec
+from vvea_design.identification.testbench import simulate, small_spec
 
 from conftest import SHARED_RECORDINGS  # noqa: E402
 

@@ -2,8 +2,8 @@
 
 import pytest
 
-from vvea_design.design import Design
-from vvea_design.spec import Requirements, SpecError, constraint_names, evaluate_design, load_requirements
+from vvea_design.spring.design import Design
+from vvea_design.spring.requirements import Requirements, SpecError, constraint_names, evaluate_design, load_requirements
 
 
 def write(tmp_path, text, name="spec.toml"):

@@ -10,11 +10,11 @@ import pytest
 from conftest import make_app
 from typer.testing import CliRunner
 
-import vvea_design.studies_actuator as sa
-from vvea_design.actuator import PAPER_SETTINGS
-from vvea_design.cli_study import register
-from vvea_design.ocp import Mesh
-from vvea_design.studies_actuator import (
+import vvea_design.actuator.studies as sa
+from vvea_design.actuator.model import PAPER_SETTINGS
+from vvea_design.cli.study import register
+from vvea_design.actuator.ocp import Mesh
+from vvea_design.actuator.studies import (
     GRIDS,
     RESULT_COLUMNS,
     Grid,
@@ -245,7 +245,7 @@ def test_two_level_ivvea_never_worse_than_sea_on_the_fine_mesh(two_level_run):
     assert (p["iVVEA"] <= p["SEA"] * (1 + 1e-12)).all()
     assert summary["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
     # the fine SEA objective is the direct fine-mesh QP
-    from vvea_design.ocp import RestToRestSolver
+    from vvea_design.actuator.ocp import RestToRestSolver
 
     s = RestToRestSolver(FINE)
     row = df[(df.setting == "SEA")].iloc[0]

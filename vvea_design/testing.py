@@ -15,8 +15,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .design_io import spring_from_json
-from .gas_spring import GasSpring
+from .spring.design_file import spring_from_json
+from .spring.gas_spring import GasSpring
 
 __all__ = ["LinearityRegression", "check_linearity", "assert_linearity"]
 
@@ -29,7 +29,7 @@ def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float,
     """Return the design's linearity error; raise :class:`LinearityRegression` above ``max_linearity``.
 
     ``design`` is a design JSON path, its parsed dict, or a
-    :class:`~vvea_design.gas_spring.GasSpring`.
+    :class:`~vvea_design.spring.gas_spring.GasSpring`.
     """
     gs = design if isinstance(design, GasSpring) else spring_from_json(design)
     lin = gs.linearity_error(num)

@@ -1,7 +1,7 @@
 """CAD of the spring-damper unit from the frozen design (build123d solids,
 trimesh checks, pyvista renders).
 
-Data flow: :class:`~vvea_design.design.Design` -> :class:`Layout` (derived
+Data flow: :class:`~vvea_design.spring.design.Design` -> :class:`Layout` (derived
 radii and levels, validated) -> part functions (``parts``, ``bladder``,
 ``gas``, ``mould``) -> :func:`build_cad` (every solid once) ->
 :func:`write_cad` (STEP, STL, manifest, renders).

@@ -14,8 +14,8 @@ from itertools import combinations
 
 from build123d import Color, Compound, Solid
 
-from ..design import Design
-from ..materials import get_material
+from ..spring.design import Design
+from ..materials.structural import get_material
 from ._shapes import cylinder, single_solid
 from .bladder import bladder, bladder_volume_mm3, support_ring
 from .gas import gas_chamber_1, gas_chamber_2

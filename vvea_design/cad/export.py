@@ -24,7 +24,7 @@ import numpy as np
 import trimesh
 from build123d import Shape, export_step
 
-from ..design import Design
+from ..spring.design import Design
 from .assembly import part_materials, CadModel, assembly, build_cad, interference_mm3, mould_void
 from .layout import CadParameters
 

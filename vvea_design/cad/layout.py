@@ -16,7 +16,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 from functools import cached_property
 
-from ..design import Design, DesignError
+from ..spring.design import Design, DesignError
 
 __all__ = ["CadParameters", "Layout", "CadError"]
 
@@ -104,7 +104,7 @@ class Layout:
 
     def __post_init__(self) -> None:
         if not isinstance(self.design, Design):
-            raise CadError(f"design must be a vvea_design.design.Design, got {type(self.design).__name__}")
+            raise CadError(f"design must be a vvea_design.spring.design.Design, got {type(self.design).__name__}")
         if not isinstance(self.cad, CadParameters):
             raise CadError(f"cad must be CadParameters, got {type(self.cad).__name__}")
         self.check()

@@ -39,7 +39,7 @@ from functools import cached_property
 import numpy as np
 
 from .gas_spring import GasSpring, setpoint_p1_MPa
-from .materials import (
+from ..materials.structural import (
     DENSITY_HYDRAULIC_OIL_g_per_mm3,
     DENSITY_SILICONE_g_per_mm3,
     get_material,
@@ -134,7 +134,7 @@ class Design:
         For a design that cannot be drawn at all (non-positive sizes, a rod
         thicker than the piston, no annulus left for the bladder, a chamber
         that bottoms out). Designs that can be drawn but violate a
-        requirement are reported by :func:`vvea_design.spec.constraint_margins`.
+        requirement are reported by :func:`vvea_design.spring.requirements.constraint_margins`.
     """
 
     piston_diameter_mm: float  #: working piston = inner-tube bore

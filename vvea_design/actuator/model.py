@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .gas_spring import PAPER_FIG5, GasSpring
+from ..spring.gas_spring import PAPER_FIG5, GasSpring
 
 __all__ = [
     "Actuator",
@@ -267,11 +267,11 @@ def actuator_from_spring(
 
 
 def from_design_json(path: str | Path, **kwargs) -> Actuator:
-    """Actuator from a design JSON (via :func:`vvea_design.design_io.load_design`).
+    """Actuator from a design JSON (via :func:`vvea_design.spring.design_file.load_design`).
 
     Keyword arguments go to :func:`actuator_from_spring`.
     """
-    from .design_io import load_design  # upper layer import kept local
+    from ..spring.design_file import load_design  # upper layer import kept local
 
     design = load_design(path)
     return actuator_from_spring(design.gas_spring, **kwargs)

@@ -34,8 +34,8 @@ from typing import Callable
 import numpy as np
 from scipy.signal import lfilter
 
-from . import gas_spring
-from .gas_spring import GasSpring, PAPER_FIG5
+from ..spring import gas_spring
+from ..spring.gas_spring import GasSpring, PAPER_FIG5
 from .recordings import Recordings
 
 __all__ = [
@@ -101,7 +101,7 @@ class FitData:
 
     @classmethod
     def from_recordings(cls, rec: Recordings, reference: GasSpring = PAPER_FIG5, drop_rest: bool = True) -> "FitData":
-        """Arrays of a :class:`~vvea_design.recordings.Recordings` campaign.
+        """Arrays of a :class:`~vvea_design.identification.recordings.Recordings` campaign.
 
         With ``drop_rest`` the samples at rest (start, turning point, end:
         ``at_rest``) are left out, because friction is set-valued there;

@@ -3,13 +3,13 @@
 The bladder is a silicone sleeve cast as a straight cylinder (mid radius
 ``R``, wall ``H``) and clamped at both ends, a free length ``L`` apart, in the
 annulus between the inner tube and the outer-tube bore (see
-:mod:`vvea_design.design`). The piston pushes fluid into it and draws it
+:mod:`vvea_design.spring.design`). The piston pushes fluid into it and draws it
 out again; relative to the cast shape the fluid volume changes by
 ``design.bladder_volume_change_mm3`` = {"compressed" (x = 0, < 0),
 "expanded" (x = travel, > 0)}.
 
 For each stroke end :func:`check_membrane` solves the axisymmetric
-hyperelastic membrane (:mod:`vvea_design.membrane`) at that prescribed
+hyperelastic membrane (:mod:`vvea_design.bladder.membrane`) at that prescribed
 volume change, with the tension-field relaxation where the sleeve wrinkles,
 and reports
 
@@ -57,7 +57,7 @@ from .membrane import (
     sleeve_meridian,
     solve_volume,
 )
-from .silicones import Silicone, StrainCriterion, get_criterion, get_silicone
+from ..materials.silicones import Silicone, StrainCriterion, get_criterion, get_silicone
 
 __all__ = [
     "BladderError",
@@ -309,7 +309,7 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
         ``{"expanded": dV >= 0, "compressed": dV <= 0}`` — fluid volume
         relative to the cast shape at the two stroke ends, mm³.
     material : str or Silicone
-        Key of :data:`vvea_design.silicones.SILICONES` or a :class:`Silicone`.
+        Key of :data:`vvea_design.materials.silicones.SILICONES` or a :class:`Silicone`.
     criterion : str, StrainCriterion, float or None
         Allowable-strain criterion (``None`` = ``"cyclic"``), or the allowable
         strain itself as a fraction.
@@ -327,7 +327,7 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
         Non-positive dimensions, unknown material or criterion, a volume
         change of the wrong sign or one the sleeve cannot take.
     """
-    from .silicones import allowable_strain
+    from ..materials.silicones import allowable_strain
 
     R = _positive("mid_radius_mm", mid_radius_mm)
     L = _positive("free_length_mm", free_length_mm)
@@ -385,7 +385,7 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
 
 
 def _design_sleeve(design) -> dict:
-    """Sleeve numbers of a :class:`~vvea_design.design.Design`, with checks naming the design field."""
+    """Sleeve numbers of a :class:`~vvea_design.spring.design.Design`, with checks naming the design field."""
     f = design.fixed
     L = design.bladder_free_length_mm
     if not L > 0:
@@ -412,7 +412,7 @@ def check_bladder(design, material: str | Silicone = DEFAULT_MATERIAL,
 
     Parameters
     ----------
-    design : vvea_design.design.Design
+    design : vvea_design.spring.design.Design
     material : str or Silicone
         Casting silicone (default ``"dragon-skin-20"``).
     criterion : str, StrainCriterion, float or None

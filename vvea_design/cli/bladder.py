@@ -1,4 +1,4 @@
-"""``vvea bladder design.json --out DIR``: the bladder strain check (thin layer over :mod:`vvea_design.bladder`).
+"""``vvea bladder design.json --out DIR``: the bladder strain check (thin layer over :mod:`vvea_design.bladder.check`).
 
 Wire it in with ``register(app)``; ``design_step`` is the matching step for
 ``vvea design`` (``DESIGN_STEPS.append(design_step)``).
@@ -18,7 +18,7 @@ def print_bladder(d: dict) -> None:
     """A table of the bladder.json content on the console."""
     from rich.table import Table
 
-    from .progress import console
+    from ..progress import console
 
     t = Table(title=f"bladder check — {d['material']['name']}, criterion {d['criterion']['name']} "
                     f"({d['criterion']['formula']})")
@@ -54,10 +54,10 @@ def bladder(
     elements: int = typer.Option(96, "--elements", help="finite elements along the meridian"),
 ) -> None:
     """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
-    from .bladder import BladderError, write_bladder_report
-    from .cli_common import fail, load_design_or_exit
-    from .progress import console
-    from .silicones import CRITERIA, SILICONES
+    from ..bladder.check import BladderError, write_bladder_report
+    from .common import fail, load_design_or_exit
+    from ..progress import console
+    from ..materials.silicones import CRITERIA, SILICONES
 
     if material not in SILICONES:
         fail(f"unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")

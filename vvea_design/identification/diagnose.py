@@ -6,7 +6,7 @@ Answers the four questions of ``shared/specs/diagnosis-report.md``:
    speed, direction, time since reversal, pressure, valve and campaign time,
    against the measurement-noise level (:func:`residual_map`).
 2. **What was left out** — forward selection over the catalogue of
-   :mod:`vvea_design.effects`. Samples within one run are correlated, so a
+   :mod:`vvea_design.identification.effects`. Samples within one run are correlated, so a
    sample-wise AIC/BIC would accept false terms; instead a candidate is
    accepted only if, in *grouped* cross-validation (whole experiments held
    out), it lowers the held-out error

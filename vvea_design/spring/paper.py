@@ -7,7 +7,7 @@ interpretation adopted here (``docs/paper-interpretation.md``): chamber 2
 acts through the fluid on the 30 mm working piston and chamber 1 on the bore
 of the 59.5 mm outer tube (1.2 mm wall, 57.1 mm bore) — "only the overall
 outer diameter had to be hand optimized to obtain good linearity". That is
-:data:`~vvea_design.gas_spring.PAPER_FIG5`; it gives 1.85–1.87 % (depending on
+:data:`~vvea_design.spring.gas_spring.PAPER_FIG5`; it gives 1.85–1.87 % (depending on
 how finely the stroke is sampled) and F(40 mm) = 1827 N at p2 = 2.387 MPa.
 """
 

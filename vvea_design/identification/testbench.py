@@ -9,7 +9,7 @@ the simulator also returns the truth (noise-free force, effect parameters,
 signal-to-noise ratio of each effect) so a benchmark can score it.
 
 The truth here is deliberately *not* identical to the candidate terms of
-:mod:`vvea_design.effects`: the gas spring uses random V1 *and* V2, stiction
+:mod:`vvea_design.identification.effects`: the gas spring uses random V1 *and* V2, stiction
 a random Stribeck exponent, leakage an exponential decay, the relief valve
 a hard cap on the true (not estimated) velocity, the thermal state is
 integrated from the true velocity.
@@ -28,8 +28,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
-from .gas_spring import PAPER_FIG5, GasSpring
-from .gas_spring import force_N as gas_force_N
+from ..spring.gas_spring import PAPER_FIG5, GasSpring
+from ..spring.gas_spring import force_N as gas_force_N
 from .recordings import trapezoid_profile
 
 __all__ = [

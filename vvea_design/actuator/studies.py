@@ -39,11 +39,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .actuator import PAPER_SETTINGS, Actuator
+from .model import PAPER_SETTINGS, Actuator
 from .ocp import (Mesh, OcpResult, RestToRestSolver, TorqueStepSolver, TorqueStepWeights, PAPER_TABLE6, WARM_START_IPOPT,
                   ramp_u_d_profile)
-from .parallel import parallel_map
-from .progress import console
+from ..parallel import parallel_map
+from ..progress import console
 
 __all__ = [
     "Grid",

@@ -7,8 +7,8 @@ The paper (section 4) fits ::
 by least squares (eq. 15) and lists g, C (its "B") and one L per valve in
 Table 3. The model is linear in its parameters, so here it is solved exactly
 by bounded linear least squares (g, C, L >= 0). The same engine fits the
-extended models of :mod:`vvea_design.diagnose` (eq. 14 plus effects from
-:mod:`vvea_design.effects`): amplitudes are linear, each effect's one shape
+extended models of :mod:`vvea_design.identification.diagnose` (eq. 14 plus effects from
+:mod:`vvea_design.identification.effects`): amplitudes are linear, each effect's one shape
 parameter is searched on a grid and refined.
 
 Samples within one run are not independent (correlated noise), so the
@@ -77,7 +77,7 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     ----------
     D : FitData
     effects : sequence of str
-        Effect ids from :data:`vvea_design.effects.CATALOGUE`.
+        Effect ids from :data:`vvea_design.identification.effects.CATALOGUE`.
     shapes : dict
         Shape-parameter value per effect id (ignored for effects without one).
     ctx : dict

@@ -1,8 +1,8 @@
 """The linearity optimiser: global search + gradient polish over the four decision variables.
 
-Objective: the linearity error (:func:`vvea_design.gas_spring.linearity_error`)
+Objective: the linearity error (:func:`vvea_design.spring.gas_spring.linearity_error`)
 of the design at the highest allowed charge. Constraints: every margin of
-:func:`vvea_design.spec.evaluate_design` >= 0. Search: scipy's
+:func:`vvea_design.spring.requirements.evaluate_design` >= 0. Search: scipy's
 ``differential_evolution`` with the constraints handled by its feasibility
 rules (Lampinen), seeded; then an SLSQP polish from the best point. When no
 feasible design exists the least-violating design is returned with the
@@ -23,9 +23,9 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from .design import DECISION_VARIABLES, Design, DesignError
-from .parallel import parallel_map
-from .progress import progress_bar
-from .spec import Evaluation, Requirements, constraint_names, design_from_vector, evaluate_design
+from ..parallel import parallel_map
+from ..progress import progress_bar
+from .requirements import Evaluation, Requirements, constraint_names, design_from_vector, evaluate_design
 
 __all__ = [
     "OptimisationResult",
@@ -161,7 +161,7 @@ def optimise(
         Run an SLSQP polish from the best point.
     bladder_strain_fn
         ``f(design) -> strain`` used when ``req.max_bladder_strain`` is set
-        (e.g. :func:`vvea_design.bladder.strain_bound`, the FE bound). It is
+        (e.g. :func:`vvea_design.bladder.check.strain_bound`, the FE bound). It is
         applied in the polish, which then always runs and must end feasible.
     raise_infeasible
         Raise :class:`Infeasible` (with the violated constraints) when no
@@ -169,7 +169,7 @@ def optimise(
     """
     req = req or Requirements()
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
-        raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.strain_bound)")
+        raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.check.strain_bound)")
     # The FE strain bound costs ~0.1 s a call: the global search runs on the closed-form constraints
     # and the polish adds the bladder-strain constraint (and must end feasible with it).
     prob = _Problem(replace(req, max_bladder_strain=None))

@@ -2,7 +2,7 @@
 
 Values are typical handbook minima (yield) and densities; a requirements
 file may name any key of :data:`STRUCTURAL` or give its own values.
-Silicone casting compounds for the bladder live in :mod:`vvea_design.silicones`
+Silicone casting compounds for the bladder live in :mod:`vvea_design.materials.silicones`
 (bladder check).
 """
 

@@ -17,7 +17,7 @@ def print_manifest(manifest: dict) -> None:
     """The drawn-vs-optimised table and the check results on the console."""
     from rich.table import Table
 
-    from .progress import console
+    from ..progress import console
 
     t = Table(title="CAD vs design (what is drawn is what was optimised)")
     for col in ("quantity", "CAD", "design", "rel. error"):
@@ -42,9 +42,9 @@ def cad(
     renders: bool = typer.Option(True, "--renders/--no-renders", help="write the off-screen PNG renders"),
 ) -> None:
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
-    from .cad import CadError, write_cad
-    from .cli_common import fail, load_design_or_exit
-    from .progress import console
+    from ..cad import CadError, write_cad
+    from .common import fail, load_design_or_exit
+    from ..progress import console
 
     design = load_design_or_exit(design_json)
     try:

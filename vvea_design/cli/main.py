@@ -15,9 +15,9 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from .cli_common import fail as _fail
-from .cli_common import load_design_or_exit
-from .progress import console
+from .common import fail as _fail
+from .common import load_design_or_exit
+from ..progress import console
 
 app = typer.Typer(
     add_completion=False,
@@ -54,10 +54,10 @@ def _print_evaluation(ev, title: str) -> None:
 
 
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
-    from .design_io import save_design
-    from .optimise import Infeasible, optimise
-    from .plots import plot_spring
-    from .spec import SpecError, load_requirements
+    from ..spring.design_file import save_design
+    from ..spring.optimise import Infeasible, optimise
+    from ..spring.plots import plot_spring
+    from ..spring.requirements import SpecError, load_requirements
 
     try:
         req = load_requirements(spec)
@@ -67,7 +67,7 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     if req.max_bladder_strain is not None:
         from functools import partial
 
-        from .bladder import strain_bound
+        from ..bladder.check import strain_bound
 
         strain_fn = partial(strain_bound, material=req.bladder_material)
     try:
@@ -103,9 +103,9 @@ def spring(
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
 ) -> None:
     """Force curve, stiffness and linearity of a design (from its parameters alone)."""
-    from .design_io import DesignFileError, spring_from_json
-    from .gas_spring import linearity_error, mean_stiffness_N_per_mm
-    from .plots import plot_spring
+    from ..spring.design_file import DesignFileError, spring_from_json
+    from ..spring.gas_spring import linearity_error, mean_stiffness_N_per_mm
+    from ..spring.plots import plot_spring
 
     try:
         gs = spring_from_json(design)
@@ -141,8 +141,8 @@ def check(
     max_linearity: float = typer.Option(..., "--max-linearity", help="largest acceptable linearity error (fraction, 0.015 = 1.5 %)"),
 ) -> None:
     """Fail (exit 1) when a design's linearity error exceeds the limit: a regression gate."""
-    from .design_io import DesignFileError
-    from .testing import LinearityRegression, check_linearity
+    from ..spring.design_file import DesignFileError
+    from ..testing import LinearityRegression, check_linearity
 
     if not 0 < max_linearity < 1:
         _fail(f"--max-linearity is a fraction in (0, 1), got {max_linearity}")
@@ -167,8 +167,8 @@ def pareto(
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://host:port)"),
 ) -> None:
     """Pareto front: best linearity against stiffness, outer diameter or mass (CSV + PNG)."""
-    from .optimise import PARETO_AXES, pareto_front, save_pareto
-    from .spec import SpecError, load_requirements
+    from ..spring.optimise import PARETO_AXES, pareto_front, save_pareto
+    from ..spring.requirements import SpecError, load_requirements
 
     if axis not in PARETO_AXES:
         _fail(f"--axis must be one of {sorted(PARETO_AXES)}, got {axis!r}")
@@ -202,9 +202,9 @@ def map_(
     """2-D map of linearity over any two design variables, infeasible region marked."""
     import numpy as np
 
-    from .design_io import DesignFileError, load_requirements_from_design
-    from .optimise import linearity_map
-    from .plots import plot_linearity_map
+    from ..spring.design_file import DesignFileError, load_requirements_from_design
+    from ..spring.optimise import linearity_map
+    from ..spring.plots import plot_linearity_map
 
     try:
         d = load_design_or_exit(design)
@@ -245,7 +245,10 @@ def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
     spring(design_json, out=out / "spring", p2=None)
 
 
-from . import cli_bladder, cli_cad, cli_identify, cli_study  # noqa: E402  (topic modules register their commands)
+from . import bladder as cli_bladder  # noqa: E402
+from . import cad as cli_cad  # noqa: E402
+from . import identify as cli_identify  # noqa: E402
+from . import study as cli_study  # noqa: E402  (topic modules register their commands)
 
 for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
     _module.register(app)

@@ -10,14 +10,14 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from .cli_common import fail
-from .progress import console, progress_bar
+from .common import fail
+from ..progress import console, progress_bar
 
 __all__ = ["register"]
 
 
 def _read(file: Path):
-    from .recordings import RecordingsError, read_recordings
+    from ..identification.recordings import RecordingsError, read_recordings
 
     try:
         with progress_bar(f"reading {file.name} (velocity from the motion profile)", total=None):
@@ -31,7 +31,7 @@ def identify_cmd(
     out: Path = typer.Option(Path("identification"), "--out", help="output folder"),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
-    from .identify import PAPER_ERROR_BAND_PCT, write_identification
+    from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
     rec = _read(file)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None):
@@ -63,7 +63,7 @@ def diagnose_cmd(
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
-    from .diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
+    from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
 
     rec = _read(file)
     msgs = []

@@ -18,7 +18,7 @@ on each monotone segment; the number of such experiments is reported.
 
 Example
 -------
->>> from vvea_design.recordings import read_recordings
+>>> from vvea_design.identification.recordings import read_recordings
 >>> rec = read_recordings("../shared/recordings/campaign_a.csv")  # doctest: +SKIP
 >>> rec.n_experiments, rec.data["velocity_mm_s"].abs().max()        # doctest: +SKIP
 """

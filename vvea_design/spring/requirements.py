@@ -9,7 +9,7 @@ full stroke, and a bladder that has room to move at both stroke ends.
 A requirements file holds any of the top-level keys of :class:`Requirements`,
 plus optional tables ``[bounds]`` (search range of each decision variable,
 ``name = [low, high]``) and ``[fixed]`` (any field of
-:class:`~vvea_design.design.FixedParameters`)::
+:class:`~vvea_design.spring.design.FixedParameters`)::
 
     max_outer_diameter_mm = 59.5
     max_housing_length_mm = 132.5
@@ -34,7 +34,7 @@ import numpy as np
 
 from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
 from .gas_spring import linearity_error, mean_stiffness_N_per_mm
-from .silicones import get_silicone
+from ..materials.silicones import get_silicone
 
 __all__ = [
     "Requirements",

@@ -7,7 +7,7 @@ from typing import NoReturn
 
 import typer
 
-from .progress import print_error
+from ..progress import print_error
 
 __all__ = ["fail", "load_design_or_exit"]
 
@@ -20,7 +20,7 @@ def fail(msg: str, code: int = 2) -> NoReturn:
 
 def load_design_or_exit(path: Path):
     """The frozen design of a design JSON; a bad file exits 2 with the loader's message (it names the file)."""
-    from .design_io import DesignFileError, load_design
+    from ..spring.design_file import DesignFileError, load_design
 
     try:
         return load_design(path)

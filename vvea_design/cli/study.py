@@ -1,5 +1,5 @@
 """``vvea study ...`` commands: rest-to-rest sweep and safety study (thin layer over
-:mod:`vvea_design.studies_actuator`).
+:mod:`vvea_design.actuator.studies`).
 
 Wire it in with ``register(app)``.
 """
@@ -19,7 +19,7 @@ study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (pa
 
 
 def _grid(spec: str):
-    from .studies_actuator import GRIDS, Grid
+    from ..actuator.studies import GRIDS, Grid
 
     if spec in GRIDS:
         return spec
@@ -56,10 +56,10 @@ def rest_to_rest(
 
     Resumes an interrupted sweep in the same --out folder.
     """
-    from .actuator import PAPER_SETTINGS, from_design_json
-    from .ocp import Mesh
-    from .progress import console
-    from .studies_actuator import DEFAULT_MESH, run_rest_to_rest
+    from ..actuator.model import PAPER_SETTINGS, from_design_json
+    from ..actuator.ocp import Mesh
+    from ..progress import console
+    from ..actuator.studies import DEFAULT_MESH, run_rest_to_rest
 
     settings = list(PAPER_SETTINGS.values())
     if design is not None:
@@ -123,9 +123,9 @@ def safety(
     link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
 ) -> None:
     """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
-    from .ocp import Mesh
-    from .progress import console
-    from .studies_actuator import run_safety
+    from ..actuator.ocp import Mesh
+    from ..progress import console
+    from ..actuator.studies import run_safety
 
     try:
         s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)

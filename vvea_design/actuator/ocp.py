@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from .actuator import Actuator
+from .model import Actuator
 
 __all__ = [
     "Mesh",
@@ -386,7 +386,7 @@ class RestToRestSolver:
 
     Examples
     --------
-    >>> from vvea_design.actuator import PAPER_SETTINGS
+    >>> from vvea_design.actuator.model import PAPER_SETTINGS
     >>> s = RestToRestSolver(Mesh(16, 3))
     >>> r = s.solve(PAPER_SETTINGS["SEA"], A_rad=0.5, T_s=1.0)
     >>> r.success and r.extra["rmse_rad"] < 0.5

@@ -20,7 +20,7 @@ Layout (``format_version`` 1)::
 
 The force curve is reproducible from ``parameters`` alone with paper eq. 5
 (see :func:`spring_from_json`). :func:`load_design` rebuilds the frozen
-:class:`~vvea_design.design.Design` and checks that the stored areas and
+:class:`~vvea_design.spring.design.Design` and checks that the stored areas and
 pressures agree with it, so an edited file cannot silently disagree with
 itself.
 """
@@ -34,7 +34,7 @@ from typing import Any
 
 from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
 from .gas_spring import GasSpring
-from .spec import Evaluation, Requirements, evaluate_design
+from .requirements import Evaluation, Requirements, evaluate_design
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
            "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate"]
@@ -183,7 +183,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
 
 
 def load_design(path: str | Path) -> Design:
-    """Read a design JSON file into the frozen :class:`~vvea_design.design.Design`."""
+    """Read a design JSON file into the frozen :class:`~vvea_design.spring.design.Design`."""
     return load_design_dict(read_design_json(path), str(path))
 
 
