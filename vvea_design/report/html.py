@@ -20,7 +20,7 @@ import io
 import json
 import platform
 import sys
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "Section", "HtmlReport", "ViewerPart", "table", "paragraph", "verdict", "figure_svg", "image",
     "preformatted", "viewer", "viewer_parts_from_cad", "unit_report", "folder_report", "write_folder_report",
+    "recorded_text", "pass_fail",
     "MAX_REPORT_BYTES",
 ]
 
@@ -843,6 +844,26 @@ def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
             text = text[:400_000] + "\n... (cut; the full result is in the folder's JSON)"
         sections.append(Section("Result data", preformatted(text)))
     return HtmlReport(title, tuple(sections), html.escape(str(folder)))
+
+
+def recorded_text(print_to: "Callable[[Any], None]") -> str:
+    """Plain text of what ``print_to(console)`` prints on a rich console (tables included), unwrapped.
+
+    Parameters
+    ----------
+    print_to : callable
+        Called with a recording :class:`rich.console.Console`.
+
+    Returns
+    -------
+    str
+        The text, no colour codes.
+    """
+    from rich.console import Console
+
+    rec = Console(record=True, width=200, file=io.StringIO(), color_system=None)
+    print_to(rec)
+    return rec.export_text().rstrip("\n")
 
 
 def write_folder_report(title: str, folder: str | Path, **kwargs: Any) -> Path:
