@@ -42,7 +42,8 @@ def identify_cmd(
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
     for name, p in summary["parameters"].items():
         paper = "" if p["paper"] is None else f"{p['paper']:.2f}"
-        t.add_row(name, p["unit"], f"{p['value']:.2f}", f"{p['std_error']:.2f}", paper)
+        se = "not determined" if p["std_error"] is None else f"{p['std_error']:.2f}"
+        t.add_row(name, p["unit"], f"{p['value']:.2f}", se, paper)
     typer.echo("")
     stdout.print(t)
     band = summary["error_band_pct"]["ours"]
@@ -54,6 +55,8 @@ def identify_cmd(
         f"{summary['rows_read']} rows read, {summary['rows_left_out']} left out ({summary['rows_left_out_reason']}); "
         f"{summary['velocity_fallback_experiments']} experiments used the Savitzky-Golay velocity fallback."
     )
+    for note in summary.get("notes", []):
+        typer.echo(f"note: {note}")
     typer.echo(f"wrote {', '.join(summary['files'])} to {out}")
 
 
