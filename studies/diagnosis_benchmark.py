@@ -21,8 +21,9 @@ Scores, per effect:
   be modelled by an accepted ``"catalogue": false`` effect whose id names it
   (:data:`SIGNATURE_WORDS`), and is *misnamed* when a catalogue effect is
   accepted instead.
-- **precision** (catalogue ids): of all campaigns in which the id was
-  accepted, the share in which it was really present.
+- **precision**: of all campaigns in which the id was accepted (for an
+  effect outside the catalogue: a discovered id naming it), the share in
+  which it was really present.
 - **false positives on nulls**: effects accepted on null campaigns.
 - **held-out RMS after / noise**: ``heldout_rmse_N.final`` over the bench's
   true noise RMS (target <= 2) and over the tool's own ``noise_floor_N``.
@@ -218,6 +219,10 @@ def summarise(results: list[dict]) -> dict:
             d["accepted_in_campaigns"] = len(acc)
             d["other_catalogue_ids_accepted"] = sorted({i for r in rows for i in r["false_positive_catalogue"]})
         else:
+            words = SIGNATURE_WORDS[e]
+            acc = [r for r in results if any(any(w in i.lower() for w in words) for i in r["accepted_discovered"])]
+            d["precision"] = _rate([r["effect"] == e for r in acc])
+            d["accepted_in_campaigns"] = len(acc)
             d["misnamed_as_catalogue_rate"] = _rate([r["misnamed_as_catalogue"] for r in rows])
             d["catalogue_ids_accepted"] = sorted({i for r in rows for i in r["accepted_catalogue"]})
             d["discovered_ids_accepted"] = sorted({i for r in rows for i in r["accepted_discovered"]})
@@ -257,7 +262,7 @@ def plot(summary: dict):
     mis = [pe[n].get("misnamed_as_catalogue_rate") for n in names]
     lab = lambda vals: ["" if v is None else f"{v:.2f}" for v in vals]  # noqa: E731
     c1 = ax.bar(xs - 0.25, rec, 0.25, label="recall (found / named right)", color="C0")
-    c2 = ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision (catalogue ids)", color="C2")
+    c2 = ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision", color="C2")
     c3 = ax.bar(xs + 0.25, [m if m is not None else 0 for m in mis], 0.25, label="named as a catalogue effect (wrong)",
                 color="C3")
     for c, vals in ((c1, rec), (c2, prec), (c3, mis)):
@@ -334,10 +339,11 @@ def main(argv=None) -> dict:
                   f"{summary['wall_s']:.0f} s -> {args.out}")
     for e, d in summary["per_effect"].items():
         pr = d.get("precision")
-        extra = (f"precision {'n/a' if pr is None else f'{pr:.2f}'}" if d["catalogue"]
-                 else f"named as catalogue {d['misnamed_as_catalogue_rate']:.2f}")
+        extra = f"precision {'n/a' if pr is None else f'{pr:.2f}'}"
+        if not d["catalogue"]:
+            extra += f"  named as catalogue {d['misnamed_as_catalogue_rate']:.2f}"
         r2 = d["heldout_final_over_noise_median"]
-        console.print(f"  {e:<20} recall {d['recall']:.2f}  {extra:<26} held-out/noise "
+        console.print(f"  {e:<20} recall {d['recall']:.2f}  {extra:<44} held-out/noise "
                       f"{'n/a' if r2 is None else f'{r2:6.2f}'}  errors {d['errors']}")
     if "null" in summary:
         n = summary["null"]
