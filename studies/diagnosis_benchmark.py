@@ -62,7 +62,7 @@ from vvea_design.identification import physbench as pb  # noqa: E402
 #: Words an accepted non-catalogue effect id must contain to count as naming
 #: the out-of-catalogue physics (lower case, any one suffices).
 SIGNATURE_WORDS: dict[str, tuple[str, ...]] = {
-    "force_lag": ("lag", "filter", "memory", "delay"),
+    "force_lag": ("lag", "filter", "delay"),
     "position_ripple": ("position", "spindle", "pitch", "displacement_periodic"),
     "time_ripple": ("time_ripple", "time_periodic", "frequency", "temporal"),
     "hysteresis": ("hysteresis", "presliding", "pre_sliding", "play", "backlash"),
@@ -303,6 +303,24 @@ def cases_frame(results: list[dict]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def results_from_cases(path: Path) -> list[dict]:
+    """Read back ``cases.csv`` (to re-summarise and re-plot without re-running)."""
+    f = pd.read_csv(path, keep_default_na=False)
+    out = []
+    for r in f.to_dict("records"):
+        for k in ("accepted_catalogue", "accepted_discovered", "false_positive_catalogue"):
+            r[k] = [i for i in str(r[k]).split("+") if i]
+        for k in ("found", "misnamed_as_catalogue", "unexplained_structure"):
+            r[k] = str(r[k]) == "True"
+        for k in ("heldout_baseline_N", "heldout_final_N", "noise_floor_N", "final_over_noise", "final_over_floor"):
+            r[k] = None if r[k] == "" else float(r[k])
+        r["effect"] = "" if r["kind"] == "null" else r["effect"]
+        r["error"] = str(r["error"])
+        r["effect_parameters"] = json.loads(r["effect_parameters"])
+        out.append(r)
+    return out
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=HERE / "results" / "diagnosis_benchmark")
@@ -313,6 +331,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--effects", default=None, help="comma-separated subset of effects")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--scheduler", default=None)
+    ap.add_argument("--from-cases", type=Path, default=None, help="re-summarise and re-plot an earlier cases.csv")
     args = ap.parse_args(argv)
     import matplotlib
 
@@ -326,9 +345,16 @@ def main(argv=None) -> dict:
     else:
         cases = make_cases(args.per_effect, args.null, args.seed, None, effects)
     t0 = time.perf_counter()
-    results = parallel_map(run_case, cases, workers=args.workers, scheduler=args.scheduler, description="diagnosis benchmark")
+    if args.from_cases:
+        results = results_from_cases(args.from_cases)
+        prev = args.from_cases.parent / "summary.json"
+        wall = json.loads(prev.read_text()).get("wall_s") if prev.exists() else None
+    else:
+        results = parallel_map(run_case, cases, workers=args.workers, scheduler=args.scheduler,
+                               description="diagnosis benchmark")
+        wall = time.perf_counter() - t0
     summary = summarise(results)
-    summary["wall_s"] = time.perf_counter() - t0
+    summary["wall_s"] = wall
     summary["grid"] = cases[0].grid.to_dict()
     args.out.mkdir(parents=True, exist_ok=True)
     cases_frame(results).to_csv(args.out / "cases.csv", index=False)
@@ -336,7 +362,7 @@ def main(argv=None) -> dict:
     fig = plot(summary)
     fig.savefig(args.out / "benchmark.png", dpi=110)
     console.print(f"[bold]diagnosis benchmark[/bold] (independent physics bench): {len(results)} campaigns, "
-                  f"{summary['wall_s']:.0f} s -> {args.out}")
+                  f"{summary['wall_s'] or 0:.0f} s -> {args.out}")
     for e, d in summary["per_effect"].items():
         pr = d.get("precision")
         extra = f"precision {'n/a' if pr is None else f'{pr:.2f}'}"
