@@ -263,8 +263,6 @@ NOT_YET_CONVERTED = {
     "vvea_design.identification.diagnose",
     "vvea_design.identification.effects",
     "vvea_design.identification.identify",
-    "vvea_design.identification.recordings",
-    "vvea_design.identification.physbench",
     "vvea_design.identification.testbench",
     "vvea_design.materials.silicones",
     "vvea_design.messages",
