@@ -77,7 +77,7 @@ def test_registry_drives_build_and_files(built):
     _, d, model, _, manifest = built
     assert list(model.solids) == [p.name for p in cadpkg.PARTS]
     expected = {f"{p.name}.{ext}" for p in cadpkg.PARTS for ext in p.files} | {"assembly.step"}
-    assert {f for f, i in manifest["files"].items() if i["kind"] != "render"} == expected
+    assert {f for f, i in manifest["files"].items() if i["kind"] not in ("render", "glb")} == expected
     for p in cadpkg.PARTS:
         s = model.solids[p.name]
         assert s.label == p.name
@@ -270,7 +270,7 @@ def test_mould_shrinkage_scales_the_cavity():
 def test_files_written(built):
     name, _, _, out, manifest = built
     names = {f"{p}.{ext}" for p in EXPORTED for ext in ("step", "stl")}
-    names |= {"assembly.step", "gas_chamber_1.stl", "gas_chamber_2.stl"}
+    names |= {"assembly.step", "gas_chamber_1.stl", "gas_chamber_2.stl", "assembly.glb", "mould.glb"}
     if name == "reference":
         names |= {"assembly_cutaway.png", "mould_open.png"}
     assert set(manifest["files"]) == names
@@ -278,7 +278,7 @@ def test_files_written(built):
     for fname, info in manifest["files"].items():
         data = (out / fname).read_bytes()
         assert hashlib.sha256(data).hexdigest() == info["sha256"], fname
-        if info["kind"] != "render":
+        if info["kind"] not in ("render", "glb"):
             assert {"volume_mm3", "bbox_mm", "material"} <= set(info), fname
         if fname.endswith(".stl"):
             assert len(data) < 2_000_000, fname
@@ -316,6 +316,26 @@ def test_assembly_step_has_named_parts(built):
     vols = {c.label: c.volume for c in asm.children}
     for k, v in vols.items():
         assert v == pytest.approx(model.parts[k].volume, rel=1e-6)
+
+
+def test_glb_scenes(built):
+    """The GLBs load, hold one named node per part (colour from the table), are small and in metres."""
+    _, d, model, out, manifest = built
+    for fname, names in (("assembly.glb", [p.name for p in cadpkg.parts_in("assembly", "gas")]),
+                         ("mould.glb", ["mould_half_a", "mould_half_b", "mould_core", "bladder"])):
+        assert manifest["files"][fname]["bytes"] < 2_000_000
+        scene = trimesh.load(out / fname, file_type="glb")
+        assert sorted(scene.geometry) == sorted(names), fname
+        for name, geom in scene.geometry.items():
+            rgba = np.asarray(geom.visual.material.baseColorFactor, dtype=float)
+            rgba = rgba / 255.0 if rgba.max() > 1.0 else rgba
+            assert rgba[:3] == pytest.approx(cadpkg.get_part(name).colour, abs=0.01), (fname, name)
+    scene = trimesh.load(out / "assembly.glb", file_type="glb")
+    lo, hi = scene.bounds
+    # +Y up, metres: the housing spans its length along Y; cut open: nothing at glTF z > 0 (CAD y < 0)
+    assert hi[1] == pytest.approx(d.housing_length_mm * 1e-3, abs=1e-6)
+    assert hi[2] <= 1e-9  # tessellation: the rim within the STL chord tolerance (0.05 mm)
+    assert lo[2] == pytest.approx(-d.outer_diameter_mm / 2 * 1e-3, abs=model.layout.cad.stl_tolerance_mm * 1e-3)
 
 
 def test_exports_are_byte_stable(built, tmp_path):
