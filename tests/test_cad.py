@@ -356,10 +356,29 @@ def test_renders(built):
 
     from vvea_design.cad.render import WINDOW_SIZE
 
-    for fname in ("assembly_cutaway.png", "mould_open.png"):
-        img = np.asarray(Image.open(out / fname).convert("RGB"), dtype=float)
-        assert img.shape[:2] == (WINDOW_SIZE[1], WINDOW_SIZE[0])
-        assert img.std() > 5.0, f"{fname} is blank"
+    img = np.asarray(Image.open(out / "mould_open.png").convert("RGB"), dtype=float)
+    assert img.shape[:2] == (WINDOW_SIZE[1], WINDOW_SIZE[0])
+    assert img.std() > 5.0, "mould_open.png is blank"
+    # the cut-away is cropped to the part: the drawing spans most of the frame both ways
+    img = np.asarray(Image.open(out / "assembly_cutaway.png").convert("RGB"), dtype=float)
+    ink = img.min(axis=2) < 200
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    assert (rows[-1] - rows[0]) / ink.shape[0] > 0.85 and (cols[-1] - cols[0]) / ink.shape[1] > 0.85
+    assert ink.mean() > 0.2, "assembly_cutaway.png is mostly empty"
+
+
+def test_deformed_bladder_is_volume_consistent(built):
+    """The pictures' chamber-2 gas at x holds V2 - A2 x; the bladder moves inwards at 0, outwards at travel."""
+    from vvea_design.cad.bladder import bladder_deformed, bladder_shift_at_mm
+
+    _, d, model, _, _ = built
+    lay = model.layout
+    for x in (0.0, d.fixed.travel_mm):
+        _, gas = bladder_deformed(lay, x)
+        assert gas.volume == pytest.approx(d.V2_mm3 - d.fixed.dead_volume_2_mm3 - d.A2_mm2 * x, rel=1e-9)
+    assert bladder_shift_at_mm(lay, 0.0) < 0 < bladder_shift_at_mm(lay, d.fixed.travel_mm)
+    cast = d.fixed.bladder_cast_fill * d.fixed.travel_mm
+    assert bladder_shift_at_mm(lay, cast) == pytest.approx(0.0, abs=1e-9)
 
 
 # ------------------------------------------------------------------ errors

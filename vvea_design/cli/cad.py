@@ -74,7 +74,7 @@ def cad(
 
 def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
     """Step of ``vvea design``: the CAD set into ``out/cad``."""
-    cad(design_json, out=Path(out) / "cad", renders=renders)
+    cad(design_json, out=Path(out) / "cad", renders=renders, drawings=True, silicone="dragon-skin-20")
 
 
 def register(app: typer.Typer) -> None:
