@@ -63,7 +63,7 @@ def _cases_saved(out: Path) -> int:
 
 @study_app.command("rest-to-rest")
 def rest_to_rest(
-    out: Path = typer.Option(..., "--out", help="Output folder (results.csv, summary.json, PNGs)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (results.csv, summary.json, PNGs)."),
     design: Optional[Path] = typer.Option(None, "--design", help="Design JSON: adds its actuator as setting 'design'."),
     grid: str = typer.Option("paper", "--grid", help="paper | coarse | 'A1,A2:T1,T2' (rad:s)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://host:port."),
@@ -123,9 +123,14 @@ def rest_to_rest(
                       f"{out / 'results.csv'}. Run the same command again to resume the sweep "
                       f"(add --restart to start over).", soft_wrap=True)
         raise typer.Exit(code) from None
-    _print_summary(summary, console)
+    from ..report.html import recorded_text, write_folder_report
+
+    text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
+    typer.echo(text)
+    write_folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
+                        provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n})
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
-                  f"{out / 'trajectory.png'}")
+                  f"{out / 'trajectory.png'}, {out / 'report.html'}")
 
 
 def _print_summary(summary: dict, console) -> None:
@@ -167,7 +172,7 @@ def _print_summary(summary: dict, console) -> None:
 
 @study_app.command("safety")
 def safety(
-    out: Path = typer.Option(..., "--out", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
     mesh_n: int = typer.Option(200, "--mesh-n", help="Collocation intervals over the 0.5 s horizon."),
     tau_ref_nm: float = typer.Option(50.0, "--tau-ref-nm", help="Torque step height (N m)."),
     link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
@@ -197,8 +202,14 @@ def safety(
     for name, c in s["cases"].items():
         tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
                     f"{c['t95_s'] * 1e3:.1f}", c["status"])
-    console.print(tab)
-    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}")
+    from ..report.html import recorded_text, write_folder_report
+
+    text = recorded_text(lambda c: c.print(tab))
+    typer.echo(text)
+    write_folder_report("vvea study safety", out, summary_text=text, data=s,
+                        provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n, "link_inertia_kgm2": link_inertia_kgm2})
+    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
+                  f"{out / 'report.html'}")
 
 
 def register(app: typer.Typer) -> None:
