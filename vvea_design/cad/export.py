@@ -183,8 +183,7 @@ def _export(model: CadModel, out: Path, advance) -> dict:
     void = mould_void(model.mould)
     advance()
     walls_min = d.minimum_walls_mm()
-    walls_drawn = {"outer_tube": d.fixed.outer_wall_mm, "inner_tube": d.fixed.inner_tube_wall_mm,
-                   "top_cap": d.fixed.top_cap_mm, "base": d.fixed.base_mm}
+    walls_drawn = {k: v for k, v in d.walls_mm().items() if k != "bulkhead"}
     manifest = {
         "generator": "vvea_design.cad.write_cad",
         "design": _design_dict(d),

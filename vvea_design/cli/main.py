@@ -33,12 +33,15 @@ def _print_evaluation(ev, title: str) -> None:
     t = Table(title=title, show_header=True)
     t.add_column("quantity")
     t.add_column("value", justify="right")
-    for key in ("linearity_error", "mean_stiffness_N_per_mm", "max_force_N", "mass_g", "peak_pressure_MPa",
-                "p1_MPa", "housing_length_mm"):
+    t.add_row("layout", str(perf["layout"]))
+    for key in ("linearity_error", "linearity_error_isothermal", "linearity_error_adiabatic", "mean_stiffness_N_per_mm",
+                "max_force_N", "mass_g", "peak_pressure_MPa", "p1_MPa", "housing_length_mm"):
         v = perf[key]
-        t.add_row(key, f"{100 * v:.3f} %" if key == "linearity_error" else f"{v:.4g}")
-    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2"):
+        t.add_row(key, f"{100 * v:.3f} %" if key.startswith("linearity_error") else f"{v:.4g}")
+    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "V2_top_mm3", "A1_mm2", "A2_mm2"):
         t.add_row(name, f"{getattr(ev.design, name):.5g}")
+    for wall, t_mm in ev.design.walls_mm().items():
+        t.add_row(f"wall {wall} [mm]", f"{t_mm:.3g}")
     console.print(t)
     c = Table(title="constraints (margin > 0 = satisfied)")
     c.add_column("constraint")
@@ -56,7 +59,7 @@ def _print_evaluation(ev, title: str) -> None:
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     from ..spring.design_file import save_design
     from ..spring.optimise import Infeasible, optimise
-    from ..spring.plots import plot_spring
+    from ..spring.plots import plot_spring, save_figure
     from ..spring.requirements import SpecError, load_requirements
 
     try:
@@ -77,8 +80,9 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
         _fail(str(exc), code=3)
     save_design(out, res.evaluation, req, optimiser=res.summary())
     png = out.with_name(out.stem + "_force.png")
-    plot_spring(res.design.gas_spring, png, extra_charges_MPa=(1.0, 2.0),
-                title=f"optimised design: linearity {100 * res.evaluation.linearity_error:.2f} %")
+    save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                            title=f"optimised design ({res.layout} layout): linearity {100 * res.evaluation.linearity_error:.2f} %"),
+                png)
     _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
                   f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
@@ -104,8 +108,7 @@ def spring(
 ) -> None:
     """Force curve, stiffness and linearity of a design (from its parameters alone)."""
     from ..spring.design_file import DesignFileError, spring_from_json
-    from ..spring.gas_spring import linearity_error, mean_stiffness_N_per_mm
-    from ..spring.plots import plot_spring
+    from ..spring.plots import plot_spring, save_figure
 
     try:
         gs = spring_from_json(design)
@@ -126,12 +129,13 @@ def spring(
         w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
         for row in zip(x, F, k, P1, P2):
             w.writerow([f"{v:.6g}" for v in row])
-    png = plot_spring(gs, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0))
-    xf = gs.x_mm(401)
-    Ff = gs.force_N(xf)
-    console.print(f"linearity error {100 * float(linearity_error(xf, Ff)):.3f} %, mean stiffness "
-                  f"{float(mean_stiffness_N_per_mm(xf, Ff)):.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
-                  f"F({gs.travel_mm:g}) = {float(Ff[-1]):.1f} N")
+    png = save_figure(plot_spring(gs, extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
+    lin = gs.linearity()
+    lin14 = gs.with_polytropic(1.4).linearity_error()
+    console.print(f"linearity error {100 * float(lin.linearity_error):.3f} % (n = {gs.n_polytropic:g}; "
+                  f"{100 * lin14:.3f} % at n = 1.4), mean stiffness "
+                  f"{float(lin.mean_stiffness_N_per_mm):.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
+                  f"F({gs.travel_mm:g}) = {float(gs.force_N(gs.travel_mm)):.1f} N")
     console.print(f"wrote {out / 'spring.csv'} and {png}")
 
 
@@ -204,7 +208,7 @@ def map_(
 
     from ..spring.design_file import DesignFileError, load_requirements_from_design
     from ..spring.optimise import linearity_map
-    from ..spring.plots import plot_linearity_map
+    from ..spring.plots import plot_linearity_map, save_figure
 
     try:
         d = load_design_or_exit(design)
@@ -213,7 +217,7 @@ def map_(
     except (DesignFileError, ValueError) as exc:
         _fail(str(exc))
     out.mkdir(parents=True, exist_ok=True)
-    png = plot_linearity_map(m, out / f"map_{x}_{y}.png", optimum=(getattr(d, x), getattr(d, y)))
+    png = save_figure(plot_linearity_map(m, optimum=(getattr(d, x), getattr(d, y))), out / f"map_{x}_{y}.png")
     with open(out / f"map_{x}_{y}.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow([x, y, "linearity_error", "feasible", "most_violated"])

@@ -7,11 +7,15 @@ Layout (``format_version`` 1)::
       "format_version": 1,
       "parameters": {piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3,
                      A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
-                     setpoint_x0_mm},
+                     setpoint_x0_mm, layout, V2_top_mm3},
+      (layout: a key of spring.design.LAYOUTS; V2_top_mm3: chamber-2 gas above
+       the bulkhead, 0 in the inner_tube layout; both optional when reading)
       "fixed":       {every FixedParameters field},
       "geometry":    {derived lengths/radii/volumes, for reading},
-      "performance": {linearity_error, mean_stiffness_N_per_mm, max_force_N,
-                      mass_g, peak_pressure_MPa, ...},
+      "performance": {linearity_error, linearity_error_isothermal (n = 1),
+                      linearity_error_adiabatic (n = 1.4), objective,
+                      mean_stiffness_N_per_mm, max_force_N, mass_g,
+                      peak_pressure_MPa, walls_mm, ...},
       "constraints": {name: margin (positive = satisfied)},
       "constraint_details": {name: {value, limit, unit, kind}},
       "spec":        {the requirements used},
@@ -82,12 +86,15 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
             "travel_mm": gs.travel_mm,
             "n_polytropic": gs.n_polytropic,
             "setpoint_x0_mm": d.setpoint_x0_mm,
+            "layout": d.layout,
+            "V2_top_mm3": d.V2_top_mm3,
         },
         "fixed": d.fixed.to_dict(),
         "geometry": d.geometry_summary(),
         "performance": {
             **evaluation.performance(),
             "wall_safety_factors": d.wall_safety_factors(),
+            "walls_mm": d.walls_mm(),
             "minimum_walls_mm": d.minimum_walls_mm(req.min_wall_safety_factor),
             "mass_breakdown_g": d.mass_breakdown_g(),
         },
@@ -168,6 +175,8 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             p2_MPa=p["p2_MPa"],
             setpoint_x0_mm=p.get("setpoint_x0_mm", 0.0),
             fixed=fixed,
+            layout=p.get("layout", "inner_tube"),
+            V2_top_mm3=p.get("V2_top_mm3", 0.0),
         )
     except (DesignError, TypeError) as exc:
         raise DesignFileError(f"{src}: {exc}") from None
