@@ -75,6 +75,21 @@ def _mutate(path, fn):
         (lambda d: d["parameters"].update(piston_diameter_mm=-3.0), "piston_diameter_mm must be a positive number"),
         (lambda d: d["fixed"].update(colour="red"), "unknown fixed parameter"),
         (lambda d: d.pop("parameters"), "missing object 'parameters'"),
+        # issue 11 item 3: nothing that shapes the geometry is taken from a default
+        (lambda d: d.pop("fixed"), r"missing object 'fixed'.*min_outer_wall_mm = 1.5"),
+        (lambda d: d["fixed"].pop("min_base_mm"), r"fixed.min_base_mm missing"),
+        (lambda d: [d["fixed"].pop(k) for k in ("min_outer_wall_mm", "housing_material")],
+         r"fixed.min_outer_wall_mm, fixed.housing_material missing"),
+        (lambda d: d["parameters"].pop("layout"), r"parameters.layout is missing"),
+        (lambda d: d["parameters"].update(layout="sideways"), r"parameters.layout is 'sideways'"),
+        (lambda d: d.update(fixed=[1, 2]), "'fixed' must be an object, got list"),
+        (lambda d: d["parameters"].pop("setpoint_x0_mm"), r"parameters.setpoint_x0_mm is missing"),
+        (lambda d: d["parameters"].update(setpoint_x0_mm="0"), r"parameters.setpoint_x0_mm must be a finite number"),
+        (lambda d: d["fixed"].update(travel_mm=30.0), r"fixed.travel_mm = 30 disagrees with parameters.travel_mm = 40"),
+        (lambda d: d["fixed"].update(n_polytropic=1.4), r"fixed.n_polytropic = 1.4 disagrees"),
+        # issue 11 item 11: unknown keys are errors naming them
+        (lambda d: d.update(version="99"), r"unknown top-level key\(s\) \['version'\].*format_version, parameters"),
+        (lambda d: d["parameters"].update(p3_MPa=1.0), r"unknown key\(s\) \['p3_MPa'\] in 'parameters'"),
     ],
 )
 def test_bad_design_json_gets_a_clear_error(design_file, mutation, match):
@@ -94,3 +109,44 @@ def test_foreign_and_broken_files(tmp_path):
         load_design(p)
     with pytest.raises(DesignFileError, match="does not exist"):
         load_design(tmp_path / "missing.json")
+
+
+def test_missing_spec_is_an_error_not_the_defaults(design_file):
+    path = _mutate(design_file[0], lambda d: d.pop("spec"))
+    load_design(path)  # the geometry does not need the spec
+    with pytest.raises(DesignFileError, match="missing object 'spec'"):
+        load_requirements_from_design(path)
+    path = _mutate(path, lambda d: d.update(spec={"travel_mm": "long"}))
+    with pytest.raises(DesignFileError, match=r"spec: travel_mm must be a number"):
+        load_requirements_from_design(path)
+
+
+def test_equal_fixed_copies_and_every_committed_design_load():
+    """Every design.json in the repository is complete and loads (the CAD and study inputs)."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    found = [p for p in root.rglob("*.json")
+             if ".git" not in p.parts and '"format": "vvea-design"' in p.read_text(errors="replace")]
+    assert len(found) >= 2
+    for path in found:
+        d = load_design(path)
+        assert d.fixed.travel_mm == d.gas_spring.travel_mm
+        load_requirements_from_design(path)
+
+
+@pytest.mark.parametrize("command", ["cad", "bladder", "spring", "map"])
+def test_commands_refuse_an_incomplete_design(design_file, tmp_path, command):
+    """Issue 11 item 3: `vvea cad`/`bladder` used to exit 0 with the default housing and bladder."""
+    from typer.testing import CliRunner
+
+    from vvea_design.cli.main import app
+
+    path = _mutate(design_file[0], lambda d: d["fixed"].pop("min_base_mm"))
+    if command == "spring":  # the spring is eq. 5 of `parameters` alone: the file's parameters are complete
+        path = _mutate(path, lambda d: d.update(version="99"))
+    res = CliRunner().invoke(app, [command, str(path), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 2, res.output
+    assert str(path) in res.output and ("fixed.min_base_mm missing" in res.output or "'version'" in res.output)
+    assert "Traceback" not in res.output
+    assert not (tmp_path / "out").exists()

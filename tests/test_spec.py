@@ -54,6 +54,13 @@ min_outer_wall_mm = 2.0
         ("objective_n = [0.9]", "objective_n must be"),
         ("layouts = ['sideways']", "layouts must be"),
         ("[bounds]\nV2_top_mm3 = [-1, 2]", "0 < low < high"),
+        # issue 11 item 11: [fixed] travel_mm was silently overridden by the top-level value
+        ("[fixed]\ntravel_mm = 30", r"\[fixed\] travel_mm = 30 disagrees with the top-level travel_mm = 40 \(the default\)"),
+        ("travel_mm = 35\n[fixed]\ntravel_mm = 30", r"\[fixed\] travel_mm = 30 disagrees with the top-level travel_mm = 35;"),
+        ("n_polytropic = 1.2\n[fixed]\nn_polytropic = 1.0", r"\[fixed\] n_polytropic = 1 disagrees"),
+        ("min_gas_fraction_at_full_stroke = [0.2]", "min_gas_fraction_at_full_stroke must be a number, got \\[0.2\\]"),
+        ("[bounds]\nV1_mm3 = [1, inf]", r"V1_mm3 = \[1, inf\] must satisfy"),
+        ("n_polytropic = nan", r"n_polytropic must be in \[1, 1.4\], got nan"),
     ],
 )
 def test_bad_requirement_files_name_file_key_and_problem(tmp_path, text, match):
@@ -105,3 +112,40 @@ def test_objective_layouts_and_wall_safety_reach_the_design(tmp_path):
     assert len(r.search_bounds("inner_tube")) == 4
     assert Requirements().objective_exponents == (1.0,)
     assert Requirements(n_polytropic=1.2, objective="adiabatic").objective_exponents == (1.4,)
+
+
+def test_fixed_copy_that_agrees_is_accepted(tmp_path):
+    r = load_requirements(write(tmp_path, "travel_mm = 30\n[fixed]\ntravel_mm = 30\nmin_base_mm = 12"))
+    assert r.travel_mm == 30 and r.fixed.travel_mm == 30 and r.fixed.min_base_mm == 12
+    assert Requirements.from_dict(r.to_dict()) == r  # a design file's spec holds both copies
+
+
+def test_latin1_file_names_file_line_and_byte(tmp_path):
+    """Issue 11 item 8: a Latin-1 TOML was a UnicodeDecodeError traceback."""
+    p = tmp_path / "latin1.toml"
+    p.write_bytes("# Anforderungen\n# Au\u00dfendurchmesser begrenzt\nmax_outer_diameter_mm = 55\n".encode("latin-1"))
+    with pytest.raises(SpecError, match=r"not UTF-8 text: byte 0xdf at line 2, column 5") as exc:
+        load_requirements(p)
+    assert str(p) in str(exc.value)
+
+
+def test_messages_never_show_numpy_reprs():
+    """Issue 11 item 11: values computed with numpy printed as np.float64(...)."""
+    import numpy as np
+
+    from vvea_design.spring.design import DesignError, FixedParameters
+    from vvea_design.spring.gas_spring import GasSpring
+
+    cases = [
+        (SpecError, lambda: Requirements(max_outer_diameter_mm=np.float64(-3.0))),
+        (SpecError, lambda: Requirements(n_polytropic=np.float64(2.0))),
+        (SpecError, lambda: Requirements(setpoint_x0_mm=np.float64(50.0))),
+        (SpecError, lambda: Requirements(bounds={"V1_mm3": (np.float64(5.0), np.float64(1.0))})),
+        (DesignError, lambda: Design(np.float64(-34.5), 59.5, 41500.0, 90000.0)),
+        (DesignError, lambda: FixedParameters(min_outer_wall_mm=np.float64(-1.0))),
+        (ValueError, lambda: GasSpring(np.float64(-1.0), 900.0, 4e4, 9e4, 3.0, 4.0, 40.0)),
+    ]
+    for exc_type, make in cases:
+        with pytest.raises(exc_type) as exc:
+            make()
+        assert "np." not in str(exc.value) and "float64" not in str(exc.value), str(exc.value)

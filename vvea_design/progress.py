@@ -1,7 +1,15 @@
-"""Progress display (rich) shared by every long job."""
+"""Consoles and progress display (rich) shared by every command.
+
+Two consoles, one convention: results and tables go to :data:`out`
+(stdout), progress, status and log lines to :data:`console` (stderr), so
+``vvea optimise > result.txt`` captures the result and nothing else. Off a
+terminal (a pipe, a file, CI) neither console wraps lines: "3844.0 N" is
+never split.
+"""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -16,22 +24,56 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-#: Console for progress and status messages (stderr, so stdout stays data).
-console = Console(stderr=True)
+#: Line width used when the stream is not a terminal: wide enough that nothing wraps.
+NO_WRAP_WIDTH = 10_000
+
+
+def _console(stderr: bool) -> Console:
+    stream = sys.stderr if stderr else sys.stdout
+    try:
+        tty = stream.isatty()
+    except (AttributeError, ValueError):
+        tty = False
+    if tty:
+        return Console(stderr=stderr)
+    return Console(stderr=stderr, width=NO_WRAP_WIDTH, soft_wrap=True)
+
+
+#: Console for progress, status and log messages (stderr).
+console = _console(stderr=True)
+#: Console for results and tables (stdout).
+out = _console(stderr=False)
 
 
 def print_error(message: str) -> None:
-    """Print ``error: <message>`` on stderr; the message is shown literally (no rich markup)."""
+    """Print ``error: <message>`` on stderr; the message is shown literally (no rich markup).
+
+    Parameters
+    ----------
+    message : str
+        What went wrong (names the file, field or option).
+    """
     console.print("[bold red]error:[/]", end=" ")
     console.print(str(message), markup=False, highlight=False, soft_wrap=True)
 
 
 @contextmanager
 def progress_bar(description: str, total: int | None, enabled: bool = True) -> Iterator[Callable[..., None]]:
-    """Context manager yielding ``advance(n=1)``; shows done/total and time left.
+    """Context manager yielding ``advance(n=1)``; shows done/total and time left on stderr.
 
-    With ``total=None`` a spinner is shown instead of a bar. Disabled (a no-op)
-    when ``enabled`` is false.
+    Parameters
+    ----------
+    description : str
+        What is running.
+    total : int or None
+        Number of steps; ``None`` shows a spinner instead of a bar.
+    enabled : bool
+        False makes it a no-op.
+
+    Yields
+    ------
+    callable
+        ``advance(n=1)``: mark ``n`` more steps done.
     """
     if not enabled:
         yield lambda n=1: None

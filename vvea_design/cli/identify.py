@@ -12,6 +12,7 @@ from rich.table import Table
 
 from .common import fail
 from ..progress import console, progress_bar
+from ..progress import out as stdout
 
 __all__ = ["register"]
 
@@ -28,7 +29,7 @@ def _read(file: Path):
 
 def identify_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet, shared/specs/recordings.md)"),
-    out: Path = typer.Option(Path("identification"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("identification"), "--out", "-o", help="output folder"),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
@@ -41,9 +42,10 @@ def identify_cmd(
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
     for name, p in summary["parameters"].items():
         paper = "" if p["paper"] is None else f"{p['paper']:.2f}"
-        t.add_row(name, p["unit"], f"{p['value']:.2f}", f"{p['std_error']:.2f}", paper)
+        se = "not determined" if p["std_error"] is None else f"{p['std_error']:.2f}"
+        t.add_row(name, p["unit"], f"{p['value']:.2f}", se, paper)
     typer.echo("")
-    console.print(t)
+    stdout.print(t)
     band = summary["error_band_pct"]["ours"]
     typer.echo(
         f"RMS error {summary['rmse_N']:.1f} N; error band {band[0]:+.1f} % ... {band[1]:+.1f} % of nominal force "
@@ -53,12 +55,14 @@ def identify_cmd(
         f"{summary['rows_read']} rows read, {summary['rows_left_out']} left out ({summary['rows_left_out_reason']}); "
         f"{summary['velocity_fallback_experiments']} experiments used the Savitzky-Golay velocity fallback."
     )
+    for note in summary.get("notes", []):
+        typer.echo(f"note: {note}")
     typer.echo(f"wrote {', '.join(summary['files'])} to {out}")
 
 
 def diagnose_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet)"),
-    out: Path = typer.Option(Path("diagnosis"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="output folder"),
     seed: int = typer.Option(0, help="seed of the held-out and cross-validation splits"),
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
 ) -> None:
@@ -78,8 +82,13 @@ def diagnose_cmd(
 
         diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say)
         files = write_diagnosis(diag, out)
-    typer.echo(format_summary(diag.report))
-    typer.echo(f"wrote {', '.join(files)} to {out} ({diag.report['runtime_s']:.1f} s)")
+    summary_text = format_summary(diag.report)
+    typer.echo(summary_text)
+    from ..report.html import write_folder_report
+
+    report = write_folder_report(f"vvea diagnose: {file.name}", out, summary_text=summary_text, data=diag.report,
+                                 provenance={"recordings": file, "seed": seed, "learner": learner})
+    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report['runtime_s']:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:

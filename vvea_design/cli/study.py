@@ -1,5 +1,5 @@
 """``vvea study ...`` commands: rest-to-rest sweep and safety study (thin layer over
-:mod:`vvea_design.actuator.studies`).
+:mod:`vvea_design.actuator`).
 
 Wire it in with ``register(app)``.
 """
@@ -19,7 +19,7 @@ study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (pa
 
 
 def _grid(spec: str):
-    from ..actuator.studies import GRIDS, Grid
+    from ..actuator.rest_to_rest import GRIDS, Grid
 
     if spec in GRIDS:
         return spec
@@ -35,7 +35,7 @@ def _grid(spec: str):
 
 @study_app.command("rest-to-rest")
 def rest_to_rest(
-    out: Path = typer.Option(..., "--out", help="Output folder (results.csv, summary.json, PNGs)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (results.csv, summary.json, PNGs)."),
     design: Optional[Path] = typer.Option(None, "--design", help="Design JSON: adds its actuator as setting 'design'."),
     grid: str = typer.Option("paper", "--grid", help="paper | coarse | 'A1,A2:T1,T2' (rad:s)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://host:port."),
@@ -59,7 +59,8 @@ def rest_to_rest(
     from ..actuator.model import PAPER_SETTINGS, from_design_json
     from ..actuator.ocp import Mesh
     from ..progress import console
-    from ..actuator.studies import DEFAULT_MESH, run_rest_to_rest
+    from ..actuator.multistart import DEFAULT_MESH
+    from ..actuator.rest_to_rest import run_rest_to_rest
 
     settings = list(PAPER_SETTINGS.values())
     if design is not None:
@@ -79,9 +80,14 @@ def rest_to_rest(
                                    scheduler=scheduler, restart=restart, progress=not no_progress)
     except ValueError as exc:
         raise typer.BadParameter(str(exc)) from exc
-    _print_summary(summary, console)
+    from ..report.html import recorded_text, write_folder_report
+
+    text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
+    typer.echo(text)
+    write_folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
+                        provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n})
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
-                  f"{out / 'trajectory.png'}")
+                  f"{out / 'trajectory.png'}, {out / 'report.html'}")
 
 
 def _print_summary(summary: dict, console) -> None:
@@ -117,7 +123,7 @@ def _print_summary(summary: dict, console) -> None:
 
 @study_app.command("safety")
 def safety(
-    out: Path = typer.Option(..., "--out", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
     mesh_n: int = typer.Option(200, "--mesh-n", help="Collocation intervals over the 0.5 s horizon."),
     tau_ref_nm: float = typer.Option(50.0, "--tau-ref-nm", help="Torque step height (N m)."),
     link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
@@ -125,7 +131,7 @@ def safety(
     """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
     from ..actuator.ocp import Mesh
     from ..progress import console
-    from ..actuator.studies import run_safety
+    from ..actuator.safety import run_safety
 
     try:
         s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
@@ -139,8 +145,14 @@ def safety(
     for name, c in s["cases"].items():
         tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
                     f"{c['t95_s'] * 1e3:.1f}", c["status"])
-    console.print(tab)
-    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}")
+    from ..report.html import recorded_text, write_folder_report
+
+    text = recorded_text(lambda c: c.print(tab))
+    typer.echo(text)
+    write_folder_report("vvea study safety", out, summary_text=text, data=s,
+                        provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n, "link_inertia_kgm2": link_inertia_kgm2})
+    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
+                  f"{out / 'report.html'}")
 
 
 def register(app: typer.Typer) -> None:

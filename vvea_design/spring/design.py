@@ -39,6 +39,7 @@ from functools import cached_property
 import numpy as np
 
 from .gas_spring import GasSpring, setpoint_p1_MPa
+from ..messages import show
 from ..materials.structural import (
     DENSITY_HYDRAULIC_OIL_g_per_mm3,
     DENSITY_SILICONE_g_per_mm3,
@@ -132,18 +133,18 @@ class FixedParameters:
             v = getattr(self, f.name)
             if f.type in ("float", float):
                 if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                    raise DesignError(f"fixed.{f.name} must be a finite number, got {v!r}")
+                    raise DesignError(f"fixed.{f.name} must be a finite number, got {show(v)}")
                 if f.name in _NONNEGATIVE:
                     if v < 0:
-                        raise DesignError(f"fixed.{f.name} must be >= 0, got {v!r}")
+                        raise DesignError(f"fixed.{f.name} must be >= 0, got {show(v)}")
                 elif v <= 0 and f.name != "bladder_cast_fill":
-                    raise DesignError(f"fixed.{f.name} must be > 0, got {v!r}")
+                    raise DesignError(f"fixed.{f.name} must be > 0, got {show(v)}")
         if not 0.0 <= self.bladder_cast_fill <= 1.0:
-            raise DesignError(f"fixed.bladder_cast_fill must be in [0, 1], got {self.bladder_cast_fill!r}")
+            raise DesignError(f"fixed.bladder_cast_fill must be in [0, 1], got {show(self.bladder_cast_fill)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
-            raise DesignError(f"fixed.n_polytropic must be in [1, 1.4], got {self.n_polytropic!r}")
+            raise DesignError(f"fixed.n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         if not 1.0 <= self.wall_sizing_n <= 1.67:
-            raise DesignError(f"fixed.wall_sizing_n must be in [1, 1.67], got {self.wall_sizing_n!r}")
+            raise DesignError(f"fixed.wall_sizing_n must be in [1, 1.67], got {show(self.wall_sizing_n)}")
         if self.fill_tube_bore_mm >= self.fill_tube_outer_mm:
             raise DesignError("fixed.fill_tube_bore_mm must be smaller than fixed.fill_tube_outer_mm")
         for key in ("housing_material", "rod_material", "support_ring_material"):
@@ -370,17 +371,17 @@ class Design:
         for name in DECISION_VARIABLES:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise DesignError(f"{name} must be a positive number, got {v!r}")
+                raise DesignError(f"{name} must be a positive number, got {show(v)}")
         v = self.V2_top_mm3
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-            raise DesignError(f"V2_top_mm3 must be a number >= 0, got {v!r}")
+            raise DesignError(f"V2_top_mm3 must be a number >= 0, got {show(v)}")
         if not lay.has_bulkhead and v != 0:
             raise DesignError(f"V2_top_mm3 = {v:g}: only the 'bulkhead' layout has chamber-2 gas above chamber 1 "
                               f"(this design's layout is {self.layout!r})")
         if not isinstance(self.p2_MPa, (int, float)) or not math.isfinite(self.p2_MPa) or self.p2_MPa <= 0:
-            raise DesignError(f"p2_MPa must be > 0, got {self.p2_MPa!r}")
+            raise DesignError(f"p2_MPa must be > 0, got {show(self.p2_MPa)}")
         if not isinstance(self.setpoint_x0_mm, (int, float)) or not math.isfinite(self.setpoint_x0_mm):
-            raise DesignError(f"setpoint_x0_mm must be a finite number, got {self.setpoint_x0_mm!r}")
+            raise DesignError(f"setpoint_x0_mm must be a finite number, got {show(self.setpoint_x0_mm)}")
         if self.piston_diameter_mm <= f.rod_diameter_mm:
             raise DesignError(
                 f"piston_diameter_mm ({self.piston_diameter_mm:g}) must exceed the rod diameter "

@@ -9,7 +9,7 @@ Layout (``format_version`` 1)::
                      A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
                      setpoint_x0_mm, layout, V2_top_mm3},
       (layout: a key of spring.design.LAYOUTS; V2_top_mm3: chamber-2 gas above
-       the bulkhead, 0 in the inner_tube layout; both optional when reading)
+       the bulkhead, 0 in the inner_tube layout)
       "fixed":       {every FixedParameters field},
       "geometry":    {derived lengths/radii/volumes, for reading},
       "performance": {linearity_error, linearity_error_isothermal (n = 1),
@@ -27,18 +27,27 @@ The force curve is reproducible from ``parameters`` alone with paper eq. 5
 :class:`~vvea_design.spring.design.Design` and checks that the stored areas and
 pressures agree with it, so an edited file cannot silently disagree with
 itself.
+
+A design file is self-contained: :func:`load_design` takes nothing from a
+default. ``parameters`` (with ``setpoint_x0_mm``) and every field of
+``fixed`` are required, ``fixed.travel_mm`` / ``fixed.n_polytropic`` must
+equal ``parameters.travel_mm`` / ``parameters.n_polytropic``, and an unknown
+key at the top level or in ``parameters`` is an error naming it (the known
+keys are :data:`TOP_LEVEL_KEYS` and :data:`DESIGN_PARAMETER_KEYS`). ``spec``
+is required by :func:`load_requirements_from_design`.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any
 
-from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
+from .design import DECISION_VARIABLES, LAYOUTS, Design, DesignError, FixedParameters
 from .gas_spring import GasSpring
-from .requirements import Evaluation, Requirements, evaluate_design
+from .requirements import Evaluation, Requirements, SpecError, evaluate_design
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
            "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate"]
@@ -48,6 +57,11 @@ FORMAT_VERSION = 1
 
 PARAMETER_KEYS = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2",
                   "p1_MPa", "p2_MPa", "travel_mm", "n_polytropic")
+#: Parameters that shape the geometry beyond eq. 5: required by :func:`load_design_dict`.
+DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm3")
+#: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
+TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
+                  "constraint_details", "spec", "optimiser")
 
 
 class DesignFileError(ValueError):
@@ -137,9 +151,16 @@ def _check_envelope(data: Any, src: str) -> None:
     ver = data.get("format_version")
     if ver != FORMAT_VERSION:
         raise DesignFileError(f"{src}: unsupported format_version {ver!r} (this version reads {FORMAT_VERSION})")
+    unknown = sorted(set(data) - set(TOP_LEVEL_KEYS))
+    if unknown:
+        raise DesignFileError(f"{src}: unknown top-level key(s) {unknown}; a design file holds only "
+                              f"{', '.join(TOP_LEVEL_KEYS)}")
     params = data.get("parameters")
     if not isinstance(params, dict):
         raise DesignFileError(f"{src}: missing object 'parameters'")
+    unknown = sorted(set(params) - set(DESIGN_PARAMETER_KEYS))
+    if unknown:
+        raise DesignFileError(f"{src}: unknown key(s) {unknown} in 'parameters'; known: {', '.join(DESIGN_PARAMETER_KEYS)}")
     for key in PARAMETER_KEYS:
         if key not in params:
             raise DesignFileError(f"{src}: parameters.{key} is missing")
@@ -163,20 +184,61 @@ def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
         raise DesignFileError(f"{src}: parameters: {exc}") from None
 
 
+def _check_geometry_complete(data: dict, src: str) -> None:
+    """Every parameter that shapes the geometry is in the file: nothing is silently taken from a default.
+
+    ``parameters.setpoint_x0_mm`` and the whole ``fixed`` object (every
+    :class:`~vvea_design.spring.design.FixedParameters` field) are required;
+    ``fixed.travel_mm`` / ``fixed.n_polytropic`` must equal their copies in
+    ``parameters``.
+    """
+    p = data["parameters"]
+    v = p.get("setpoint_x0_mm")
+    if "setpoint_x0_mm" not in p:
+        raise DesignFileError(f"{src}: parameters.setpoint_x0_mm is missing (the zero-force displacement, "
+                              "0 for the paper's unit); every parameter that shapes the design must be in the file")
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise DesignFileError(f"{src}: parameters.setpoint_x0_mm must be a finite number, got {v!r}")
+    lay = p.get("layout")
+    if lay not in LAYOUTS:
+        raise DesignFileError(f"{src}: parameters.layout is {'missing' if lay is None else repr(lay)}; "
+                              f"one of {', '.join(map(repr, LAYOUTS))} (docs/layout.md)")
+    vt = p.get("V2_top_mm3")
+    if isinstance(vt, bool) or not isinstance(vt, (int, float)) or not math.isfinite(vt):
+        raise DesignFileError(f"{src}: parameters.V2_top_mm3 must be a finite number (0 in the inner_tube layout), "
+                              f"got {vt!r}")
+    fixed = data.get("fixed")
+    hint = ("; a design file must hold every fixed parameter (write it with `vvea optimise`, or copy the "
+            "missing ones from the defaults: " + ", ".join(f"{k} = {v!r}" for k, v in FixedParameters().to_dict().items())
+            + ")")
+    if fixed is None:
+        raise DesignFileError(f"{src}: missing object 'fixed' (wall thicknesses, end caps, materials, ...){hint}")
+    if not isinstance(fixed, dict):
+        raise DesignFileError(f"{src}: 'fixed' must be an object, got {type(fixed).__name__}")
+    missing = [f.name for f in dataclass_fields(FixedParameters) if f.name not in fixed]
+    if missing:
+        raise DesignFileError(f"{src}: fixed.{', fixed.'.join(missing)} missing{hint}")
+    for key in ("travel_mm", "n_polytropic"):
+        a, b = fixed[key], p[key]
+        if isinstance(a, (int, float)) and not isinstance(a, bool) and not math.isclose(a, b, rel_tol=1e-12, abs_tol=0):
+            raise DesignFileError(f"{src}: fixed.{key} = {a:g} disagrees with parameters.{key} = {b:g}; "
+                                  "they are one quantity, make them equal")
+
+
 def load_design_dict(data: dict, src: str = "design") -> Design:
-    """Rebuild the frozen design from a parsed design JSON, checking its consistency."""
+    """Rebuild the frozen design from a parsed design JSON, checking that it is complete and consistent."""
     _check_envelope(data, src)
+    _check_geometry_complete(data, src)
     p = data["parameters"]
     try:
-        fixed = FixedParameters.from_dict(data.get("fixed", {}), travel_mm=p["travel_mm"],
-                                          n_polytropic=p["n_polytropic"])
+        fixed = FixedParameters.from_dict(data["fixed"])
         design = Design(
             **{k: p[k] for k in DECISION_VARIABLES},
             p2_MPa=p["p2_MPa"],
-            setpoint_x0_mm=p.get("setpoint_x0_mm", 0.0),
+            setpoint_x0_mm=p["setpoint_x0_mm"],
             fixed=fixed,
-            layout=p.get("layout", "inner_tube"),
-            V2_top_mm3=p.get("V2_top_mm3", 0.0),
+            layout=p["layout"],
+            V2_top_mm3=p["V2_top_mm3"],
         )
     except (DesignError, TypeError) as exc:
         raise DesignFileError(f"{src}: {exc}") from None
@@ -199,8 +261,14 @@ def load_design(path: str | Path) -> Design:
 def load_requirements_from_design(path: str | Path) -> Requirements:
     """The requirements stored in a design JSON (its ``spec``)."""
     data = read_design_json(path)
-    spec = dict(data.get("spec") or {})
-    return Requirements.from_dict(spec, source=f"{path}: spec") if spec else Requirements()
+    spec = data.get("spec")
+    if not isinstance(spec, dict):
+        raise DesignFileError(f"{path}: missing object 'spec' (the requirements the design was optimised for; "
+                              "`vvea optimise` writes it)")
+    try:
+        return Requirements.from_dict(spec, source=f"{path}: spec")
+    except SpecError as exc:
+        raise DesignFileError(str(exc)) from None
 
 
 def reevaluate(path: str | Path) -> Evaluation:

@@ -21,6 +21,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..messages import show
+
 __all__ = [
     "ChamberBottomedOut",
     "GasSpring",
@@ -283,13 +285,13 @@ class GasSpring:
         for name in ("A1_mm2", "A2_mm2", "V1_mm3", "V2_mm3", "travel_mm"):
             v = getattr(self, name)
             if not np.isfinite(v) or v <= 0:
-                raise ValueError(f"GasSpring.{name} must be a positive number, got {v!r}")
+                raise ValueError(f"GasSpring.{name} must be a positive number, got {show(v)}")
         for name in ("p1_MPa", "p2_MPa"):
             v = getattr(self, name)
             if not np.isfinite(v) or v < 0:
-                raise ValueError(f"GasSpring.{name} must be >= 0, got {v!r}")
+                raise ValueError(f"GasSpring.{name} must be >= 0, got {show(v)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
-            raise ValueError(f"GasSpring.n_polytropic must be in [1, 1.4], got {self.n_polytropic!r}")
+            raise ValueError(f"GasSpring.n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         _check_volumes(self.travel_mm, self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3)
 
     # -- convenience -----------------------------------------------------

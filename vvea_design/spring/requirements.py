@@ -35,6 +35,7 @@ import numpy as np
 from .design import DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive, get_layout
 from .gas_spring import linearity_exact
 from ..materials.silicones import get_silicone
+from ..messages import show
 
 __all__ = [
     "Requirements",
@@ -70,6 +71,12 @@ OBJECTIVES: dict[str, tuple[float, ...] | None] = {
 REPORTED_N = {"isothermal": 1.0, "adiabatic": 1.4}
 
 
+#: Requirements that may be absent (``None``: no limit).
+_OPTIONAL = ("max_mass_g", "max_bladder_strain")
+#: Top-level requirements that FixedParameters also carries (kept equal to the top level).
+_TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
+
+
 class SpecError(ValueError):
     """A requirements file or value that is wrong (names the file, key and problem)."""
 
@@ -88,7 +95,7 @@ class Requirements:
     min_gas_fraction_at_full_stroke: float = 0.2  #: (V2 - A2 travel) / V2
     max_mass_g: float | None = None  #: optional mass limit (Pareto fronts use it)
     max_bladder_strain: float | None = None  #: optional FE strain-bound constraint (fraction)
-    bladder_material: str = "dragon-skin-20"  #: silicone for the optional strain constraint
+    bladder_material: str = "dragon-skin-20"  #: bladder silicone: checked by `vvea design` and by the optional strain constraint
     n_polytropic: float = 1.0  #: 1 isothermal ... 1.4 adiabatic (the design's nominal law: stiffness, setpoint)
     objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
     objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
@@ -102,32 +109,33 @@ class Requirements:
         for name in positive:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise SpecError(f"{name} must be a positive number, got {v!r}")
+                raise SpecError(f"{name} must be a positive number, got {show(v)}")
         if not 0.0 <= self.min_gas_fraction_at_full_stroke < 1.0:
-            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {self.min_gas_fraction_at_full_stroke!r}")
+            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {show(self.min_gas_fraction_at_full_stroke)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
-            raise SpecError(f"n_polytropic must be in [1, 1.4], got {self.n_polytropic!r}")
+            raise SpecError(f"n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         try:
             get_silicone(self.bladder_material)
         except ValueError as exc:
             raise SpecError(f"bladder_material: {exc}") from None
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
-            raise SpecError(f"max_mass_g must be > 0, got {self.max_mass_g!r}")
+            raise SpecError(f"max_mass_g must be > 0, got {show(self.max_mass_g)}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):
-            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {self.max_bladder_strain!r}")
+            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}")
         if not (abs(self.setpoint_x0_mm) < self.travel_mm):
-            raise SpecError(f"setpoint_x0_mm ({self.setpoint_x0_mm}) must lie inside the travel (|x0| < {self.travel_mm})")
+            raise SpecError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
+                            f"(|x0| < {show(self.travel_mm)})")
         if self.objective not in OBJECTIVES:
-            raise SpecError(f"objective must be one of {list(OBJECTIVES)}, got {self.objective!r}")
+            raise SpecError(f"objective must be one of {list(OBJECTIVES)}, got {show(self.objective)}")
         if self.objective_n is not None:
             ns = tuple(self.objective_n) if isinstance(self.objective_n, (list, tuple)) else None
             if (not ns or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 1.0 <= v <= 1.4
                                   for v in ns)):
-                raise SpecError(f"objective_n must be a non-empty list of exponents in [1, 1.4], got {self.objective_n!r}")
+                raise SpecError(f"objective_n must be a non-empty list of exponents in [1, 1.4], got {show(self.objective_n)}")
             object.__setattr__(self, "objective_n", tuple(float(v) for v in ns))
         lays = tuple(self.layouts) if isinstance(self.layouts, (list, tuple)) else ()
         if not lays or any(not isinstance(v, str) or v not in LAYOUTS for v in lays):
-            raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {self.layouts!r}")
+            raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {show(self.layouts)}")
         object.__setattr__(self, "layouts", lays)
         known_vars = set(DEFAULT_BOUNDS)
         unknown = set(self.bounds) - known_vars
@@ -136,13 +144,13 @@ class Requirements:
         for name, (lo, hi) in self.bounds.items():
             low_ok = lo >= 0 if name == "V2_top_mm3" else lo > 0
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
-                raise SpecError(f"[bounds] {name} = [{lo}, {hi}] must satisfy 0 < low < high"
+                raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
                                 + (" (low may be 0)" if name == "V2_top_mm3" else ""))
         lo_D = self.bounds.get("outer_diameter_mm", DEFAULT_BOUNDS["outer_diameter_mm"])[0]
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
-                f"contradictory envelope: max_outer_diameter_mm ({self.max_outer_diameter_mm}) is not above the "
-                f"lower search bound of outer_diameter_mm ({lo_D})"
+                f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
+                f"lower search bound of outer_diameter_mm ({show(lo_D)})"
             )
         if (self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic
                 or self.fixed.wall_safety_factor != self.min_wall_safety_factor):
@@ -152,7 +160,7 @@ class Requirements:
                    + self.fixed.fluid_clearance_mm)
         if self.max_housing_length_mm <= min_len:
             raise SpecError(
-                f"max_housing_length_mm ({self.max_housing_length_mm}) leaves no room for chamber 1: end caps + piston "
+                f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
                 f"+ travel + fluid clearance already take {min_len:.1f} mm"
             )
 
@@ -200,7 +208,7 @@ class Requirements:
                 for name, pair in value.items():
                     if (not isinstance(pair, (list, tuple)) or len(pair) != 2
                             or not all(isinstance(p, (int, float)) and not isinstance(p, bool) for p in pair)):
-                        raise SpecError(f"{source}: [bounds] {name} must be [low, high] numbers, got {pair!r}")
+                        raise SpecError(f"{source}: [bounds] {name} must be [low, high] numbers, got {show(pair)}")
                     b[name] = (float(pair[0]), float(pair[1]))
                 kwargs["bounds"] = b
             elif key == "fixed":
@@ -208,17 +216,34 @@ class Requirements:
                     kwargs["fixed"] = FixedParameters.from_dict(value)
                 except DesignError as exc:
                     raise SpecError(f"{source}: [fixed] {exc}") from None
+                # travel and polytropic index are one quantity each: set at the top level; a copy in
+                # [fixed] (as a design file's spec holds) must agree with it, never silently lose
+                for dup in _TOP_LEVEL_IN_FIXED:
+                    if dup in value:
+                        top = data.get(dup, getattr(cls, dup))
+                        if not isinstance(top, (int, float)) or isinstance(top, bool) or value[dup] != top:
+                            raise SpecError(
+                                f"{source}: [fixed] {dup} = {show(value[dup])} disagrees with the top-level {dup} = "
+                                f"{show(top)}{'' if dup in data else ' (the default)'}; set {dup} once, at the top "
+                                "level (above any [table])")
+                wsf = value.get("wall_safety_factor")
+                top_sf = data.get("min_wall_safety_factor", getattr(cls, "min_wall_safety_factor"))
+                if wsf is not None and wsf != top_sf:
+                    raise SpecError(f"{source}: [fixed] wall_safety_factor = {show(wsf)} disagrees with the top-level "
+                                    f"min_wall_safety_factor = {show(top_sf)}; set it once, at the top level")
             elif key in ("bladder_material", "objective"):
                 if not isinstance(value, str):
-                    raise SpecError(f"{source}: {key} must be a string, got {value!r}")
+                    raise SpecError(f"{source}: {key} must be a string, got {show(value)}")
                 kwargs[key] = value
             elif key in ("layouts", "objective_n"):
                 if value is not None and not isinstance(value, (list, tuple)):
-                    raise SpecError(f"{source}: {key} must be a list, got {value!r}")
+                    raise SpecError(f"{source}: {key} must be a list, got {show(value)}")
                 kwargs[key] = value
             else:
-                if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
-                    raise SpecError(f"{source}: {key} must be a number, got {value!r}")
+                if value is None and key in _OPTIONAL:
+                    pass
+                elif isinstance(value, bool) or not isinstance(value, (int, float)):
+                    raise SpecError(f"{source}: {key} must be a number, got {show(value)}")
                 kwargs[key] = value
         try:
             return cls(**kwargs)
@@ -234,7 +259,20 @@ def load_requirements(path: str | Path | None) -> Requirements:
     if not path.is_file():
         raise SpecError(f"requirements file {str(path)!r} does not exist")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise SpecError(f"{path}: cannot be read ({exc.strerror})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        col = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise SpecError(
+            f"{path}: not UTF-8 text: byte 0x{raw[exc.start]:02x} at line {line}, column {col} (byte offset "
+            f"{exc.start}) cannot be decoded; TOML files are UTF-8 — save it as UTF-8 (e.g. `iconv -f latin1 -t utf-8`)"
+        ) from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     return Requirements.from_dict(data, source=str(path))

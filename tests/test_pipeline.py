@@ -1,0 +1,198 @@
+"""The main job end to end: `vvea design` = pipeline.design_unit, with the requirements' silicone."""
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from vvea_design.cli.main import app
+from vvea_design.pipeline import STEPS, spring_curve
+from vvea_design.spring.gas_spring import GasSpring
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def ecoflex_run(tmp_path_factory):
+    """`vvea design --spec F` with bladder_material = "ecoflex-00-30", no renders (the whole chain, ~20 s)."""
+    tmp = tmp_path_factory.mktemp("design")
+    spec = tmp / "req.toml"
+    spec.write_text('bladder_material = "ecoflex-00-30"\n')
+    out = tmp / "out"
+    res = runner.invoke(app, ["design", "--spec", str(spec), "-o", str(out), "--no-renders"])
+    return res, out, spec
+
+
+@pytest.mark.xdist_group("design_run")
+def test_design_checks_the_requirements_silicone(ecoflex_run):
+    res, out, _ = ecoflex_run
+    assert res.exit_code == 0, res.output
+    bl = json.loads((out / "bladder" / "bladder.json").read_text())
+    assert bl["material"]["key"] == "ecoflex-00-30"
+    assert bl["material"]["name"] == "Ecoflex 00-30"
+    unit = json.loads((out / "unit.json").read_text())
+    assert unit["bladder"]["material"]["key"] == "ecoflex-00-30"
+    assert unit["requirements"]["bladder_material"] == "ecoflex-00-30"
+    assert "Ecoflex 00-30" in res.stdout  # the verdict line names the silicone
+
+
+@pytest.mark.xdist_group("design_run")
+def test_design_writes_the_whole_folder(ecoflex_run):
+    res, out, spec = ecoflex_run
+    assert res.exit_code == 0, res.output
+    for rel in ("design.json", "design_force.png", "spring/spring.csv", "spring/spring.png", "cad/manifest.json",
+                "cad/housing.step", "cad/assembly.step", "bladder/bladder.json", "bladder/bladder.png",
+                "actuator/actuator.json", "unit.json", "report.html"):
+        assert (out / rel).is_file(), rel
+    unit = json.loads((out / "unit.json").read_text())
+    assert unit["spec"] == str(spec) and unit["seed"] == 0 and unit["version"]
+    assert set(unit["seconds"]) == set(STEPS)
+    assert unit["passes"] == (all(m >= -1e-9 for m in unit["constraint_margins"].values())
+                              and unit["bladder"]["passes"])
+    design = json.loads((out / "design.json").read_text())
+    assert design["performance"]["linearity_error"] <= 0.0186  # better than the paper's hand-tuned 1.86 %
+    assert all(m >= -1e-9 for m in design["constraints"].values())
+    assert unit["performance"]["linearity_error"] == pytest.approx(design["performance"]["linearity_error"])
+    # actuator parameters from the design: K = 2 r^2 k (SI), k from the design's own spring
+    from vvea_design.actuator.model import PAPER_PULLEY_RADIUS_M
+
+    k = design["performance"]["mean_stiffness_N_per_mm"]
+    assert unit["actuator"]["K_Nm_per_rad"] == pytest.approx(2 * PAPER_PULLEY_RADIUS_M**2 * k * 1e3, rel=1e-6)
+    size = (out / "report.html").stat().st_size
+    assert 100_000 < size < 5_000_000
+
+
+@pytest.mark.xdist_group("design_run")
+def test_design_streams_results_to_stdout_and_progress_to_stderr(ecoflex_run):
+    res, out, _ = ecoflex_run
+    assert "constraints (margin > 0 = satisfied)" in res.stdout
+    assert "[1/7] optimise" in res.stderr and "done" in res.stderr
+    assert "[1/7]" not in res.stdout
+
+
+def test_spring_curve_matches_the_gas_law_by_hand():
+    """Independent check of the isothermal and adiabatic curves: p V^n = const in each chamber."""
+    gs = GasSpring(A1_mm2=900.0, A2_mm2=700.0, V1_mm3=40000.0, V2_mm3=90000.0, p1_MPa=3.0, p2_MPa=3.857142857)
+    c = spring_curve(gs, num=41)
+    x = c.x_mm
+    for n, P1, P2, F in ((1.0, c.P1_isothermal_MPa, c.P2_isothermal_MPa, c.force_isothermal_N),
+                         (1.4, c.P1_adiabatic_MPa, c.P2_adiabatic_MPa, c.force_adiabatic_N)):
+        p1 = 3.0 * (40000.0 / (40000.0 + 900.0 * x)) ** n  # chamber 1 expands with x
+        p2 = 3.857142857 * (90000.0 / (90000.0 - 700.0 * x)) ** n  # chamber 2 is compressed
+        np.testing.assert_allclose(P1, p1, rtol=1e-12)
+        np.testing.assert_allclose(P2, p2, rtol=1e-12)
+        # tension > 0 as x grows: the force rises from 0 at x = 0 (charged for F(0) = 0)
+        assert abs(F[0]) < 1e-6 * abs(F).max() and F[-1] > 0
+        line = np.polyval(np.polyfit(x, F, 1), x)
+        dev = F - line
+        assert float(np.abs(dev).max() / (F.max() - F.min())) == pytest.approx(
+            c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-9)
+    assert c.stiffness_adiabatic_N_per_mm > c.stiffness_isothermal_N_per_mm  # gas stiffens when it cannot cool
+    assert replace(gs, n_polytropic=1.4).force_N(x[-1]) == pytest.approx(c.force_adiabatic_N[-1])
+
+
+def test_design_infeasible_spec_exits_3(tmp_path):
+    spec = tmp_path / "r.toml"
+    spec.write_text("max_outer_diameter_mm = 36.0\nmin_mean_stiffness_N_per_mm = 150.0\n")
+    res = runner.invoke(app, ["design", "--spec", str(spec), "-o", str(tmp_path / "o")])
+    assert res.exit_code == 3, res.output
+    assert "no design meets the requirements" in res.output
+    assert not (tmp_path / "o" / "report.html").exists()
+
+
+# ---------------------------------------------------------------- report.html in headless Chromium
+CHROMIUM_ARGS = [
+    # this machine's closed network: no background connections, no DNS (every host resolves to nothing)
+    "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--host-resolver-rules=MAP * ~NOTFOUND",
+    # WebGL on the CPU (SwiftShader), for the 3-D view
+    "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+]
+
+
+def _chromium() -> str:
+    import os
+    import shutil
+
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if exe is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is not installed: `bash scripts/install.sh test` installs it (Debian package)")
+        pytest.skip("chromium is not installed (bash scripts/install.sh test)")
+    return exe
+
+
+def _non_background_fraction(png: bytes, background=(0xF4, 0xF6, 0xF8)) -> float:
+    import io
+
+    from PIL import Image
+
+    im = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=int)
+    diff = np.abs(im - np.asarray(background)).sum(axis=2)
+    return float((diff > 30).mean())
+
+
+@pytest.fixture(scope="module")
+def browser_page(ecoflex_run):
+    """The design's report.html opened in headless Chromium: console messages and requests recorded."""
+    from playwright.sync_api import sync_playwright
+
+    res, out, _ = ecoflex_run
+    assert res.exit_code == 0, res.output
+    exe = _chromium()
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1280, "height": 900})
+        log = {"console": [], "requests": [], "errors": []}
+        page.on("console", lambda m: log["console"].append((m.type, m.text)))
+        page.on("pageerror", lambda e: log["errors"].append(str(e)))
+        page.on("request", lambda r: log["requests"].append(r.url))
+        # anything that is not the file itself is refused (and was recorded above)
+        page.route("**/*", lambda route: route.continue_() if route.request.url.startswith("file:")
+                   else route.abort())
+        page.goto((out / "report.html").resolve().as_uri(), wait_until="load")
+        page.wait_for_function("window.vveaViewer !== undefined", timeout=30_000)
+        yield page, log, out
+        browser.close()
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_renders_offline_with_no_console_error(browser_page):
+    page, log, out = browser_page
+    errors = [t for kind, t in log["console"] if kind == "error"] + log["errors"]
+    assert errors == []
+    external = [u for u in log["requests"] if not u.startswith(("file:", "data:", "blob:"))]
+    assert external == [], f"the report asked the network for {external}"
+    assert [u for u in log["requests"] if u.startswith("file:")] == [(out / "report.html").resolve().as_uri()]
+    assert page.evaluate("window.vveaViewer.ready") is True
+    titles = page.locator("h2").all_inner_texts()
+    for t in ("Design and constraint margins", "Requirements", "Force curve", "3-D model", "Bladder", "Actuator",
+              "Bill of materials", "Provenance"):
+        assert t in titles
+    body = page.inner_text("body")
+    assert "Ecoflex 00-30" in body and "adiabatic" in body and "PASS" in body
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_screenshot_and_3d_view_not_blank(browser_page, tmp_path):
+    from PIL import Image
+
+    page, _, _ = browser_page
+    shot = tmp_path / "report.png"
+    page.screenshot(path=str(shot), full_page=True)
+    w, h = Image.open(shot).size
+    assert 1000 <= w <= 1600 and 3000 <= h <= 30_000, (w, h)  # the page fits the window's width, all sections
+    canvas = page.locator("#viewer")
+    box = canvas.bounding_box()
+    assert box["width"] > 600 and box["height"] > 400
+    first = canvas.screenshot()
+    assert _non_background_fraction(first) > 0.02  # the assembly is drawn
+    page.evaluate("window.vveaViewer.rotate(1.2)")  # it turns
+    turned = canvas.screenshot()
+    assert turned != first and _non_background_fraction(turned) > 0.02
+    page.click("button[data-group=mould]")  # and shows the mould
+    mould = canvas.screenshot()
+    assert mould != turned and _non_background_fraction(mould) > 0.02
+    page.click("button[data-group=assembly]")
