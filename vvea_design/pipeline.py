@@ -26,7 +26,7 @@ from . import __version__
 from .actuator.model import Actuator, actuator_from_spring
 from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
 from .spring.design_file import save_design
-from .spring.gas_spring import GasSpring, least_squares_line, linearity_error
+from .spring.gas_spring import GasSpring
 from .spring.optimise import Infeasible, OptimisationResult, optimise
 from .spring.requirements import N_SAMPLES, Requirements
 
@@ -94,12 +94,13 @@ def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
     out: dict[str, Any] = {"x_mm": x}
     for tag, gs in (("isothermal", iso), ("adiabatic", adi)):
         F = gs.force_N(x)
-        k, b = least_squares_line(x, F)
+        lin = gs.linearity()  # the exact (continuous) metric and its least-squares line
+        k, b = float(lin.mean_stiffness_N_per_mm), float(lin.intercept_N)
         P1, P2 = gs.pressures_MPa(x)
         out[f"force_{tag}_N"] = F
         out[f"deviation_{tag}_N"] = F - (k * x + b)
         out[f"stiffness_{tag}_N_per_mm"] = float(k)
-        out[f"linearity_{tag}"] = float(linearity_error(x, F))
+        out[f"linearity_{tag}"] = float(lin.linearity_error)
         out[f"P1_{tag}_MPa"] = np.asarray(P1, float)
         out[f"P2_{tag}_MPa"] = np.asarray(P2, float)
     return SpringCurve(**out)
