@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
+from .actuator.design_study import DesignStudy, run_design_study
 from .actuator.model import Actuator, actuator_from_spring
 from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
 from .spring.design_file import save_design
@@ -160,7 +161,7 @@ class UnitDesign:
     bladder: BladderResult  #: the bladder check with the requirements' silicone
     actuator: Actuator  #: joint-level K, D range of the unit (section 3.4 mapping, SI)
     cad_manifest: dict | None  #: the CAD set's manifest (None when CAD was skipped)
-    actuator_study: Any | None  #: the design's actuator study (None when skipped or unavailable)
+    actuator_study: DesignStudy | None  #: the design's rest-to-rest and torque-step study (None when skipped)
     out_dir: Path  #: the folder written
     files: dict[str, Path]  #: what was written, by role
     seconds: dict[str, float]  #: wall time of each step (s)
@@ -196,7 +197,13 @@ class UnitDesign:
             "spring": {k: v for k, v in self.spring.to_dict().items() if not isinstance(v, list)},
             "bladder": self.bladder.to_dict(),
             "actuator": _actuator_dict(self.actuator),
-            "actuator_study": (study.to_dict() if hasattr(study, "to_dict") else study),
+            "actuator_study": None if study is None else {
+                "comparisons": [c.to_dict() for c in study.comparisons],
+                "settings": [s.to_dict() for s in study.settings],
+                "n_left_out_unverified": study.n_left_out,
+                "safety_design": study.safety_design.to_dict(),
+                "timing": study.timing.to_dict(),
+                "files": study.files.to_dict()},
             "files": {k: str(v) for k, v in self.files.items()},
             "seconds": dict(self.seconds),
         }
@@ -215,6 +222,7 @@ def design_unit(
     actuator_study: bool = True,
     report: bool = True,
     bladder_elements: int = DEFAULT_ELEMENTS,
+    study_options: dict[str, Any] | None = None,
     spec_path: str | Path | None = None,
     progress: ProgressFn | None = None,
 ) -> UnitDesign:
@@ -234,11 +242,14 @@ def design_unit(
     cad : bool
         Build and export the CAD set (False skips it and the 3-D view of the report).
     actuator_study : bool
-        Run the design's own actuator study when the library provides it.
+        Run the design's own actuator study (rest-to-rest against VVEA, SEA, LWR and the torque step,
+        :func:`vvea_design.actuator.design_study.run_design_study`) into ``actuator/``.
     report : bool
         Write ``report.html``.
     bladder_elements : int
         Finite elements along the bladder meridian.
+    study_options : dict, optional
+        Keyword arguments of ``run_design_study`` (``grid``, ``mesh``, ``workers``, ...).
     spec_path : path-like, optional
         Where ``requirements`` came from (recorded as provenance only).
     progress : callable, optional
@@ -324,7 +335,10 @@ def design_unit(
 
     # 6. the design's actuator study -------------------------------------------
     t = step("actuator_study")
-    study = _run_actuator_study(act, act_dir) if actuator_study else None
+    study = None
+    if actuator_study:
+        study = run_design_study(res.design, out_dir=act_dir, **(study_options or {}))
+        files["actuator_study_json"] = Path(study.files.summary_json)
     seconds["actuator_study"] = time.perf_counter() - t
 
     unit = UnitDesign(requirements=requirements, optimisation=res, spring=curve, bladder=bl, actuator=act,
@@ -360,12 +374,3 @@ def _json_default(v: Any) -> Any:
     if isinstance(v, Path):
         return str(v)
     raise TypeError(f"not JSON-serialisable: {type(v).__name__}")
-
-
-def _run_actuator_study(act: Actuator, out_dir: Path):
-    """The design's own actuator study, when the actuator wing provides one (``run_design_study``)."""
-    try:
-        from .actuator import run_design_study  # type: ignore[attr-defined]
-    except ImportError:
-        return None
-    return run_design_study(act, out_dir)

@@ -33,6 +33,7 @@ from .. import __version__
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from ..actuator.design_study import DesignStudy
     from ..pipeline import UnitDesign
 
 __all__ = [
@@ -671,29 +672,47 @@ def _actuator_section(unit: "UnitDesign") -> Section:
     study = unit.actuator_study
     if study is None:
         body += paragraph("The design's own rest-to-rest and safety study was not run in this job "
-                          "(skipped, or not provided by this version of the actuator package); run "
-                          "`vvea study rest-to-rest --design design.json` for it.", "note")
+                          "(--no-actuator-study); `vvea study rest-to-rest --design design.json` runs it.", "note")
     else:
-        body += _study_blocks(study, unit.out_dir / "actuator")
+        body += _design_study_blocks(study)
     return Section("Actuator", body)
 
 
-def _study_blocks(study: Any, folder: Path) -> str:
-    """Blocks of an actuator-study result: its tables (``report_tables()``) and its figures (PNG files)."""
-    out = ""
-    tables = getattr(study, "report_tables", None)
-    if callable(tables):
-        for title, header, rows in tables():
-            out += f"<h3>{html.escape(title)}</h3>" + table(header, rows)
-    files = getattr(study, "files", None) or {}
-    pngs = [Path(p) for p in (files.values() if isinstance(files, dict) else files) if str(p).endswith(".png")]
-    if not pngs and folder.exists():
-        pngs = sorted(folder.rglob("*.png"))
-    for p in pngs:
-        if p.exists():
-            out += image(p, p.stem.replace("_", " "))
-    if not out and hasattr(study, "to_dict"):
-        out = preformatted(json.dumps(study.to_dict(), indent=2, default=str)[:20000])
+def _design_study_blocks(study: "DesignStudy") -> str:
+    """The design's actuator study (:class:`vvea_design.actuator.design_study.DesignStudy`): Table 5, map, safety."""
+    grid = study.grid
+    out = paragraph(f"Rest-to-rest optimal control (paper section 5) on {len(grid.A_rad)} × {len(grid.T_s)} cases "
+                    f"(A = {', '.join(f'{v:g}' for v in grid.A_rad)} rad; T = {', '.join(f'{v:g}' for v in grid.T_s)} s), "
+                    f"{study.mesh.n_intervals} collocation intervals (Radau degree {study.mesh.degree}); "
+                    "only trajectories that are valid (95 % of A reached) and verified by re-simulation count.")
+    rows = []
+    for c in study.comparisons:
+        rows.append((f"design vs {c.other}", c.n_cases, c.n_excluded,
+                     None if c.fraction_design_beats is None else 100 * c.fraction_design_beats,
+                     c.meanrmse_other_over_design,
+                     None if c.paper_vvea_beats is None else 100 * c.paper_vvea_beats,
+                     c.paper_meanrmse_other_over_vvea))
+    out += "<h3>Table 5 for the design</h3>" + table(
+        ("comparison", "cases compared", "cases left out", "design beats (%)", "mean rmse other / design",
+         "paper: VVEA beats (%)", "paper: rmse other / VVEA"), rows)
+    srows = [(s.name, s.K_Nm_per_rad, s.D_min_Nms_per_rad, s.D_max_Nms_per_rad, s.n_cases, s.n_solved, s.n_valid,
+              s.n_unverified, s.mean_rmse_rad) for s in study.settings]
+    out += table(("setting", "K (N m/rad)", "D_min (N m s/rad)", "D_max (N m s/rad)", "cases", "solved", "valid",
+                  "unverified (left out)", "mean rmse (rad)"), srows)
+    f = study.files
+    if getattr(f, "map_png", None) and Path(f.map_png).exists():
+        out += image(f.map_png, "Actuator comparison map: which setting tracks best in each (A, T) case.")
+    if getattr(f, "trajectory_png", None) and Path(f.trajectory_png).exists():
+        out += image(f.trajectory_png, "Optimal trajectories of one case.")
+    cases = list(study.safety_design.cases) + [study.safety_reference.variable]
+    out += "<h3>Safety: 50 N m torque step (paper section 6)</h3>" + table(
+        ("case", "mean D (N m s/rad)", "max D (N m s/rad)", "t95 (ms)", "status"),
+        [(c.name, c.mean_D_Nms_per_rad, c.max_D_Nms_per_rad, 1e3 * c.t95_s, c.status) for c in cases])
+    if getattr(f, "safety_png", None) and Path(f.safety_png).exists():
+        out += image(f.safety_png, "Torque step of the design and of the paper's VVEA.")
+    t = study.timing
+    out += paragraph(f"study time {t.total_s:.1f} s on {t.workers} worker(s); {study.n_left_out} result(s) left out "
+                     "because their trajectory did not verify.", "note")
     return out
 
 
