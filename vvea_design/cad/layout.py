@@ -216,7 +216,7 @@ class Layout:
 
     @cached_property
     def throttle_d(self) -> float:
-        return min(self.cad.throttle_bore_mm, self.design.fixed.base_mm - 8.0)
+        return min(self.cad.throttle_bore_mm, self.design.base_mm - 8.0)
 
     @cached_property
     def relief_d(self) -> float:
@@ -230,12 +230,12 @@ class Layout:
     # ----------------------------------------------------------- levels
     @property
     def z_base_top(self) -> float:
-        return self.design.fixed.base_mm
+        return self.design.base_mm
 
     @property
     def z_cap(self) -> float:
         """Underside of the top cap (top of both tubes)."""
-        return self.design.fixed.base_mm + self.design.inner_length_mm
+        return self.design.base_mm + self.design.inner_length_mm
 
     @property
     def z_top(self) -> float:
@@ -282,16 +282,18 @@ class Layout:
     @property
     def z_valve(self) -> float:
         """Axis height of the radial throttle and relief bores in the base."""
-        return self.design.fixed.base_mm - 2.0 - self.throttle_d / 2
+        return self.design.base_mm - 2.0 - self.throttle_d / 2
 
     # ----------------------------------------------------------- checks
     def check(self) -> None:
         """Raise :class:`CadError` if a feature does not fit."""
         f, c = self.design.fixed, self.cad
-        if f.base_mm < 11.0:
-            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm is too thin for the valve bores and rod seal; needs >= 11 mm")
-        if f.top_cap_mm <= c.fill_port_counterbore_depth_mm:
-            raise CadError(f"fixed.top_cap_mm = {f.top_cap_mm:g} mm must exceed cad.fill_port_counterbore_depth_mm")
+        if self.design.base_mm < 11.0:
+            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) is too thin "
+                           f"for the valve bores and rod seal; needs >= 11 mm")
+        if self.design.top_cap_mm <= c.fill_port_counterbore_depth_mm:
+            raise CadError(f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g}) "
+                           f"must exceed cad.fill_port_counterbore_depth_mm")
         ps, rs = self.piston_seal, self.rod_seal
         if f.piston_height_mm < 2.5 * ps.width_mm:
             raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
@@ -300,8 +302,9 @@ class Layout:
         if ps.depth_mm >= 0.5 * (self.r_piston - self.r_rod):
             raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
                            f"than half the piston's radial land")
-        if self.z_rod_seal[1] > f.base_mm - 4.0 - self.throttle_d:
-            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm has no room for the rod seal groove below the valve bores")
+        if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
+            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) has no room "
+                           f"for the rod seal groove below the valve bores")
         if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
             raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
                            f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")

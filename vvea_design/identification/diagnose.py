@@ -635,7 +635,7 @@ class _Trial:
 
 
 def _has_mask(eff: Effect) -> bool:
-    return eff.replaces_damping
+    return not eff.nested
 
 
 def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
@@ -659,6 +659,9 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
             sl = groups[cand]
         else:
             Xn = eff.columns(D, float(gval), ctx)
+            for o in cur.effects:  # sensor dynamics already in the model act on the new columns too
+                if REGISTRY[o].transforms_design:
+                    Xn = REGISTRY[o].transform(D, Xn, cur.shapes.get(o, np.nan), ctx)
             Bk = extend_blocks(base_blk, X0, Xn, D.y, D.bounds, eff.params(D))
             sl = slice(X0.shape[1], X0.shape[1] + Xn.shape[1])
         blks.append((Bk, sl))
@@ -691,17 +694,20 @@ def _round_context(D, cur: ModelFit, plan: Plan) -> dict:
     pred = cur.predict(D)
     ctx["model_force_N"] = pred
     mtrain = np.isin(D.exp, plan.train)
-    ctx["residual_N"] = np.where(mtrain, D.y - pred, 0.0)
+    ctx["residual_N"] = np.where(mtrain, D.y - pred, 0.0)  # for grids: training experiments only
+    ctx.setdefault("residual_all_N", D.y - pred)  # for per-experiment nuisance parameters (kept once a nuisance term is in)
     return ctx
 
 
 def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
     eff = REGISTRY[cand]
-    ctx_c = relief_context(D, cur.effects + (cand,), plan.train, cur.shapes, start=ctx) if _has_mask(eff) else ctx
+    ctx_c = relief_context(D, cur.effects + (cand,), plan.train, cur.shapes, start=ctx) if eff.replaces_damping else ctx
     new_sse, shape = _cv_sse(D, cur, base_blk, X0, ctx_c, cand, plan, base_sse)
     if new_sse is None:
         return _Trial(cand, None, np.nan, None, None)
     tr = plan.train
+    if eff.nuisance_per_experiment:  # parameters fitted on the held-out experiment itself: charge their expected gain on noise
+        new_sse = new_sse + eff.nuisance_per_experiment * noise**2
     d = base_sse[tr] - new_sse[tr]
     gain = float(d.sum() / max(base_sse[tr].sum(), 1e-300))
     sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0

@@ -357,6 +357,9 @@ class Effect:
     catalogue: bool = True
     needs: tuple = ()
     log_shape: bool = True
+    shape_xtol: float = 1e-3  #: tolerance of the shape refinement (log units when log_shape)
+    #: parameters fitted per experiment on that experiment's own data (held-out error is charged for them)
+    nuisance_per_experiment: int = 0
 
     # -- fitting ---------------------------------------------------------
     def params(self, D: FitData) -> tuple:
@@ -375,10 +378,24 @@ class Effect:
         """Samples whose linear damping column this effect replaces (None: none)."""
         return None
 
+    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict) -> np.ndarray:
+        """The whole design matrix as the effect changes it (sensor dynamics); identity by default."""
+        return X
+
     @property
     def replaces_damping(self) -> bool:
         """True when the effect replaces linear damping columns (not nested in eq. 14)."""
         return type(self).damping_mask is not Effect.damping_mask
+
+    @property
+    def transforms_design(self) -> bool:
+        """True when the effect acts on the whole design (e.g. a lag of the force reading)."""
+        return type(self).transform is not Effect.transform
+
+    @property
+    def nested(self) -> bool:
+        """True when the effect only adds columns (eq. 14 + others is the effect at zero amplitude)."""
+        return not (self.replaces_damping or self.transforms_design)
 
     # -- meaning -----------------------------------------------------------
     def signature(self, D: FitData, values: dict, shape: float, contribution: np.ndarray) -> list[Check]:
@@ -815,14 +832,49 @@ class ForceLag(Effect):
         return np.geomspace(0.003, 3.0, 13)
 
     def columns(self, D, tau, ctx):
-        f = ctx.get("model_force_N")
-        if f is None:  # evaluating the rest of the model first (see ModelFit.context)
-            return np.zeros((D.n, 1))
-        return (lowpass(D, f, tau) - f)[:, None]
+        return np.zeros((D.n, 0))
+
+    def transform(self, D, X, tau, ctx):
+        # the reading is the unit's force through a first-order lag: every column of the model is lagged
+        # (exact and still linear in the amplitudes)
+        out = np.empty_like(X)
+        dt = D.per_exp_dt()
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            q = np.exp(-dt[e] / tau)
+            seg = X[a:b]
+            # the sensor starts from the unit at rest before the motion (zero force state): every
+            # column of the model vanishes at rest at x = 0
+            out[a:b] = lfilter([1.0 - q], [1.0, -q], seg, axis=0)
+        return out
 
     def describe(self, values, errors, tau, se):
         return (
-            f"The force reading lags the motion by tau = {_fmt(tau, se, 's')} (gain {values['a']:.2f} of a pure first-order lag): "
+            f"The force reading lags the motion by tau = {_fmt(tau, se, 's')} (first-order lag of the whole force): "
+            "sensor or amplifier dynamics, not the spring or damper."
+        )
+
+
+@dataclass(frozen=True)
+class ForceFilter(ForceLag):
+    """Second-order (Butterworth, zeta = 1/sqrt 2) low-pass of the force reading; shape = its lag 2 zeta / omega_n."""
+
+    def transform(self, D, X, lag, ctx):
+        from scipy.signal import bilinear
+
+        wn = 2 * 0.7071 / lag
+        out = np.empty_like(X)
+        dt = D.per_exp_dt()
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            bz, az = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt[e])
+            out[a:b] = lfilter(bz, az, X[a:b], axis=0)  # from rest (see ForceLag)
+        return out
+
+    def describe(self, values, errors, lag, se):
+        fn = 2 * 0.7071 / lag / (2 * np.pi)
+        return (
+            f"The force reading passes a second-order filter (natural frequency {fn:.3g} Hz, lag {_fmt(lag, se, 's')}): "
             "sensor or amplifier dynamics, not the spring or damper."
         )
 
@@ -896,21 +948,73 @@ class PositionRipple(Effect):
 
 @dataclass(frozen=True)
 class TimeRipple(Effect):
+    """A force periodic in time whose phase is not tied to the motion: the phase is fitted per experiment.
+
+    The period and the amplitude are shared by all experiments; each
+    experiment's phase is a nuisance parameter set from its own residual
+    (``residual_all_N``), so the term cannot be predicted for a new motion
+    without measuring it (:meth:`columns` gives zeros without a residual).
+    """
+
+    nuisance_per_experiment: int = 2
+    shape_xtol: float = 1e-7
+
+    def _fast_rows(self, D):
+        dts = D.per_exp_dt()
+        keep = dts <= np.median(dts) + 1e-12
+        return np.repeat(keep, D.n_per_exp), float(np.max(dts[keep])) if keep.any() else 1.0
+
+    def _power(self, D, r, periods, rows):
+        """Per-experiment-phase periodogram: sum over experiments of the power at each period."""
+        pw = np.zeros(len(periods))
+        w = 2 * np.pi / periods
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            if not rows[a]:
+                continue
+            ph = np.outer(D.t[a:b], w)
+            re = r[a:b] - r[a:b].mean()
+            pw += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
+        return pw
+
     def grid(self, D, ctx):
-        dt = float(np.median(D.per_exp_dt())) if D.n_exp else 1.0
+        rows, dt = self._fast_rows(D)
+        r = ctx["residual_N"]
+        periods = np.geomspace(3 * dt, 20.0, 300)
+        pw = self._power(D, r, periods, rows & (r != 0))
+        if not np.any(pw):
+            return np.array([])
+        k = int(np.argmax(pw))
+        if pw[k] < 5.0 * np.median(pw):  # no line stands out of the noise: nothing periodic to test
+            return np.array([])
+        fine = periods[k] * np.linspace(0.97, 1.03, 301)
+        best = float(fine[int(np.argmax(self._power(D, r, fine, rows & (r != 0))))])
+        # and the longest experiments resolve it further
         tmax = float(np.max(D.t)) if D.n else 1.0
-        periods = np.geomspace(max(3 * dt, 1e-3), max(min(tmax, 60.0) / 3, 6 * dt), 400)
-        return _periodogram_peaks(D.t, ctx["residual_N"], periods)
+        step = 0.25 * best / max(tmax, best)
+        finer = best + step * np.linspace(-2, 2, 41) * best / best
+        best = float(finer[int(np.argmax(self._power(D, r, finer, np.ones(D.n, bool) & (r != 0))))])
+        return np.array([best * (1 - step / best), best, best * (1 + step / best)])
 
     def columns(self, D, period, ctx):
-        w = 2 * np.pi * D.t / period
-        return np.column_stack([np.sin(w), np.cos(w)])
+        r = ctx.get("residual_all_N")
+        if r is None:
+            return np.zeros((D.n, 1))
+        col = np.zeros(D.n)
+        w = 2 * np.pi / period
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            c, s_ = np.cos(w * D.t[a:b]), np.sin(w * D.t[a:b])
+            re = r[a:b] - r[a:b].mean()
+            phi = np.arctan2(re @ c, re @ s_)
+            col[a:b] = np.sin(w * D.t[a:b] + phi)
+        return col[:, None]
 
     def describe(self, values, errors, period, se):
-        A = float(np.hypot(values["a_s"], values["a_c"]))
         return (
-            f"A {A:.3g} N periodic force at {1 / period:.4g} Hz (period {_fmt(period, se, 's')}), locked to the start of each "
-            "experiment and independent of position: vibration of the machine or a periodic disturbance in the force chain."
+            f"A {_fmt(values['A'], errors.get('A'), 'N')} periodic force at {1 / period:.4g} Hz (period {_fmt(period, se, 's')}), "
+            "independent of position and speed, its phase not tied to the start of the motion: vibration of the "
+            "test machine or a periodic disturbance in the force chain (phase fitted per experiment)."
         )
 
 
@@ -978,8 +1082,11 @@ class CampaignTrend(Effect):
 
 _FREE = (-np.inf, np.inf)
 register(ForceLag("force_lag", "force-reading lag", "The measured force is a lagged copy of the force the unit makes.",
-                  "f_meas = f + a (lowpass_tau(f) - f)", (Param("a", "1", 0.0, 1.5, "share of a first-order lag (1 = pure lag)"),),
-                  Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False, needs=("model_force_N",)))
+                  "f_meas = lowpass_tau(f),  tau df_meas/dt = f - f_meas   (the whole model lagged)", (),
+                  Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False))
+register(ForceFilter("force_filter_lag", "second-order force-reading filter", "The measured force is the unit's force through a second-order filter.",
+                     "f_meas = H(s) f,  H = wn^2/(s^2 + sqrt(2) wn s + wn^2),  lag = sqrt(2)/wn", (),
+                     Param("lag", "s", 0.0, np.inf, "filter lag sqrt(2)/omega_n"), catalogue=False))
 register(DampingLag("damping_lag", "lagging throttle force", "The throttle force builds up with a time constant.",
                     "f += a (lowpass_tau(L xdot) - L xdot)", (Param("a", "1", 0.0, 1.5, "share of a first-order lag of the damping force"),),
                     Param("tau", "s", 0.0, np.inf, "time constant"), catalogue=False, needs=("damping_force_N",)))
@@ -995,8 +1102,8 @@ register(PositionRipple("position_ripple", "periodic force in displacement", "A 
                         (Param("a_s", "N", *_FREE, "sine amplitude"), Param("a_c", "N", *_FREE, "cosine amplitude")),
                         Param("P", "mm", 0.0, np.inf, "pitch"), catalogue=False, needs=("residual_N",)))
 register(TimeRipple("time_ripple", "periodic force in time", "A force periodic in time.",
-                    "f += a_s sin(2 pi t/T) + a_c cos(2 pi t/T)   (t since the experiment's start)",
-                    (Param("a_s", "N", *_FREE, "sine amplitude"), Param("a_c", "N", *_FREE, "cosine amplitude")),
+                    "f += A sin(2 pi t/T + phi_e)   (phi_e fitted per experiment from its residual)",
+                    (Param("A", "N", 0.0, np.inf, "amplitude"),),
                     Param("T", "s", 0.0, np.inf, "period"), catalogue=False, needs=("residual_N",)))
 register(DirectionStiffness("direction_stiffness", "direction-dependent stiffness", "The stiffness differs between the two directions.",
                             "f += (dk + dk_p p2) x sign(xdot)",
