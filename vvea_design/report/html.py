@@ -144,8 +144,9 @@ main{padding:8px 28px 40px 28px;max-width:1250px}
 section{margin-top:22px;border-top:1px solid #dde3ea;padding-top:6px}
 h2{font-size:1.2em;color:#1f3a5f}
 table{border-collapse:collapse;margin:6px 0 12px 0;font-size:.9em}
-th,td{border:1px solid #d5dbe3;padding:3px 8px;text-align:left;white-space:nowrap}
-td.num{text-align:right;font-variant-numeric:tabular-nums}
+th,td{border:1px solid #d5dbe3;padding:3px 8px;text-align:left}
+td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
+.tw{max-width:100%;overflow-x:auto}
 th{background:#eef2f7;white-space:normal;vertical-align:bottom}
 .pass{color:#106b21;font-weight:600} .fail{color:#b00020;font-weight:600} .warn{color:#8a5a00;font-weight:600}
 .verdict{font-size:1.1em;padding:8px 12px;border-radius:4px;display:inline-block;margin:6px 0}
@@ -204,7 +205,7 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
             text = str(v) if i in raw_columns else html.escape(_fmt(v))
             cells.append(f'<td class="num">{text}</td>' if num else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+    return f'<div class="tw"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
 
 
 def paragraph(text: str, cls: str = "") -> str:
@@ -733,23 +734,50 @@ def _cad_section(unit: "UnitDesign") -> tuple[Section, tuple[str, ...]] | None:
 
 
 def _bom_section(unit: "UnitDesign") -> Section | None:
-    m = unit.cad_manifest
-    if m is None:
+    bom = unit.bom
+    if bom is None:
         return None
-    from ..materials.structural import DENSITY_SILICONE_g_per_mm3, STRUCTURAL
+    rows = [(ln.item, ln.part, ln.description, ln.category, ln.material, ln.standard, ln.size, ln.quantity,
+             ln.unit_volume_mm3, ln.unit_mass_g, ln.total_mass_g, ln.in_unit) for ln in bom.lines]
+    body = (table(("item", "part", "description", "category", "material", "standard", "size", "qty",
+                   "volume each (mm³)", "mass each (g)", "mass (g)", "in the unit"), rows) +
+            table(("total", "value"), [("unit mass (g)", bom.unit_mass_g), ("bladder silicone", bom.silicone),
+                                       ("cured bladder volume (mm³)", bom.bladder_volume_mm3),
+                                       ("mould void incl. sprue, runner, vents (mm³)", bom.mould_void_mm3),
+                                       ("silicone to mix (mm³)", bom.silicone_to_mix_mm3),
+                                       ("silicone to mix (g)", bom.silicone_to_mix_g)]) +
+            paragraph("Also in cad/bom.csv. Made parts: CAD volume × density; bought parts as listed.", "note"))
+    return Section("Bill of materials", body)
 
-    density = {mat.name: mat.density_g_per_mm3 for mat in STRUCTURAL.values()}
-    rows = []
-    for fname, f in m["files"].items():
-        if f.get("kind") != "step" or f.get("part") in ("assembly", "housing"):
+
+#: Largest total size of drawing SVGs inlined in the report (bytes); beyond it only links are given.
+MAX_INLINE_DRAWINGS_BYTES = 1_500_000
+
+
+def _drawings_section(unit: "UnitDesign") -> Section | None:
+    ds = unit.drawings
+    if ds is None:
+        return None
+    body = paragraph("Dimensioned drawings made from the CAD solids (SVG per sheet and one PDF in cad/): "
+                     + ", ".join(ds.sheets) + ".")
+    used = 0
+    for name, svg_path, scale in zip(ds.sheets, ds.svg, ds.scales):
+        p = Path(svg_path)
+        if not p.exists():
             continue
-        mat = f.get("material", "")
-        rho = DENSITY_SILICONE_g_per_mm3 if mat.startswith("silicone") else density.get(mat)
-        mass = f["volume_mm3"] * rho if rho is not None else None
-        rows.append((f["part"], f.get("material", ""), f["volume_mm3"], mass, fname))
-    return Section("Bill of materials", table(("part", "material", "volume (mm³)", "mass (g)", "file"), rows) +
-                   paragraph("From the CAD set's manifest (solid volumes). Bought parts (O-rings, valves, fittings) "
-                             "are not listed yet.", "note"))
+        size = p.stat().st_size
+        if used + size > MAX_INLINE_DRAWINGS_BYTES:
+            body += paragraph(f"sheet {name}: cad/{p.name} (not inlined: the report stays small)", "note")
+            continue
+        used += size
+        svg = p.read_text(encoding="utf-8")
+        svg = svg[svg.index("<svg"):]
+        body += f"<figure>{svg}<figcaption>{html.escape(f'sheet {name}, scale {_scale(scale)}')}</figcaption></figure>"
+    return Section("Drawings", body)
+
+
+def _scale(s: float) -> str:
+    return f"{s:g}:1" if s >= 1 else f"1:{1 / s:g}"
 
 
 def _files_section(unit: "UnitDesign") -> Section:
@@ -809,9 +837,9 @@ def unit_report(unit: "UnitDesign") -> HtmlReport:
         sections.append(sec)
     sections.append(_bladder_section(unit))
     sections.append(_actuator_section(unit))
-    bom = _bom_section(unit)
-    if bom is not None:
-        sections.append(bom)
+    for extra in (_drawings_section(unit), _bom_section(unit)):
+        if extra is not None:
+            sections.append(extra)
     sections += [_files_section(unit), _provenance_section(unit)]
     ok = unit.passes
     sub = (f'linearity error {100 * ev.linearity_error:.2f} %, stiffness {ev.mean_stiffness_N_per_mm:.1f} N/mm, '
