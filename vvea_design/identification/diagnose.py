@@ -461,7 +461,8 @@ _MEDIAN_GAIN = 0.80
 def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins: int = 9) -> float:
     """Measurement noise (N RMS) from what no smooth model of the cycle explains.
 
-    Per ramp (monotone half of an experiment) the residual's Hann-windowed
+    Per ramp (monotone half of an experiment, without its first sixth where
+    transients after start and reversal live) the residual's Hann-windowed
     periodogram is taken; a running median over ``med_bins`` frequency bins
     removes spectral lines (periodic structure in time or position), the
     lowest ``min_bin`` bins (slow structure, model misfit) are left out. An
@@ -480,6 +481,7 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
         s = D.s[a:b]
         cuts = np.flatnonzero(np.diff(s) != 0) + 1
         for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
+            lo = lo + (hi - lo) // 6  # transients after start and reversal are misfit, not noise: skip a sixth of the ramp
             r = residual_N[a + lo : a + hi]
             n = len(r)
             if n < 4 * min_bin + 8:
@@ -512,7 +514,7 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
 
 
 NOISE_METHOD = (
-    "per ramp: Hann periodogram of the residual, spectral lines removed by a 9-bin running median, the 4 lowest bins "
+    "per ramp (first sixth after start/reversal skipped): Hann periodogram of the residual, spectral lines removed by a 9-bin running median, the 4 lowest bins "
     "(slow misfit) left out, AR(1) spectrum shape fitted per sample-spacing group, its level per ramp; noise floor = sample-weighted RMS of those AR(1) processes"
 )
 
