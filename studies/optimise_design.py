@@ -21,7 +21,7 @@ import numpy as np
 
 from vvea_design.spring.design_file import save_design
 from vvea_design.spring.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
-from vvea_design.spring.plots import plot_linearity_map, plot_spring
+from vvea_design.spring.plots import plot_linearity_map, plot_spring, save_figure
 from vvea_design.spring.requirements import Requirements
 
 HERE = Path(__file__).resolve().parent
@@ -80,8 +80,9 @@ def main(out: Path, quick: bool = False) -> dict:
     req = Requirements()
     res = optimise(req, seed=0)
     save_design(out / "design.json", res.evaluation, req, optimiser=res.summary())
-    plot_spring(res.design.gas_spring, out / "design_force.png", extra_charges_MPa=(1.0, 2.0),
-                title=f"optimum on the default requirements: {100 * res.evaluation.linearity_error:.2f} %")
+    save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                            title=f"optimum on the default requirements ({res.layout} layout): "
+                                  f"{100 * res.evaluation.linearity_error:.2f} %"), out / "design_force.png")
     summary = {"optimum": {**res.evaluation.performance(), "binding": res.evaluation.binding(),
                            "seconds": res.seconds, "evaluations": res.evaluations}}
     for axis, values in SWEEPS.items():
@@ -93,7 +94,8 @@ def main(out: Path, quick: bool = False) -> dict:
                                       "feasible": r["feasible"], "binding": r.get("binding", "")} for r in rows]
     for vx, vy in MAPS:
         m = linearity_map(res.design, req, vx, vy, n=31 if quick else 61)
-        plot_linearity_map(m, out / f"map_{vx}_{vy}.png", optimum=(getattr(res.design, vx), getattr(res.design, vy)))
+        save_figure(plot_linearity_map(m, optimum=(getattr(res.design, vx), getattr(res.design, vy))),
+                    out / f"map_{vx}_{vy}.png")
         np.savez_compressed(out / f"map_{vx}_{vy}.npz", x=m["x"], y=m["y"], linearity=m["linearity"], feasible=m["feasible"])
     summary["cast_fill"] = cast_fill_tradeoff(out)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True, default=float) + "\n")

@@ -134,7 +134,7 @@ def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path
         w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
         for row in zip(x, F, k, P1, P2):
             w.writerow([f"{v:.6g}" for v in row])
-    png = _save(plot_spring(spring, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
+    png = _save(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
     return {"csv": csv_path, "png": png}
 
 
@@ -279,8 +279,8 @@ def design_unit(
     files["design"] = save_design(out / "design.json", res.evaluation, requirements, optimiser=res.summary())
     lin = res.evaluation.linearity_error
     files["design_force_png"] = _save(
-        plot_spring(res.design.gas_spring, out / "design_force.png", extra_charges_MPa=(1.0, 2.0),
-                    title=f"optimised design: linearity {100 * lin:.2f} %"), out / "design_force.png")
+        plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                    title=f"optimised design ({res.layout} layout): linearity {100 * lin:.2f} %"), out / "design_force.png")
     seconds["optimise"] = time.perf_counter() - t
 
     # 2. spring curve --------------------------------------------------------

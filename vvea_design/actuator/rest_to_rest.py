@@ -21,8 +21,9 @@ from ..parallel import parallel_map
 from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
-from .multistart import DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_STARTS, RESULT_COLUMNS, RestToRestCase, solve_case, solve_case_results
-from .ocp import Mesh, WARM_START_IPOPT
+from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
+                         RestToRestCase, solve_case, solve_case_results)
+from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import table5_statistics
 
 __all__ = ["Grid", "GRIDS", "run_rest_to_rest", "mesh_convergence"]
@@ -45,6 +46,28 @@ class Grid:
         """All (A, T) pairs, A-major."""
         return [(A, T) for A in self.A_rad for T in self.T_s]
 
+    def repeated(self) -> dict[str, list[float]]:
+        """Values that occur more than once (equal to the 6 significant digits of a case id), per axis."""
+        out = {}
+        for name in ("A_rad", "T_s"):
+            seen: dict[str, int] = {}
+            for x in getattr(self, name):
+                seen[f"{x:.6g}"] = seen.get(f"{x:.6g}", 0) + 1
+            rep = [float(k) for k, n in seen.items() if n > 1]
+            if rep:
+                out[name] = rep
+        return out
+
+    def unique(self) -> "Grid":
+        """The grid with every repeated value kept once (first occurrence, order kept)."""
+        def once(v):
+            keep: dict[str, float] = {}
+            for x in v:
+                keep.setdefault(f"{x:.6g}", x)
+            return tuple(keep.values())
+
+        return Grid(once(self.A_rad), once(self.T_s))
+
 
 #: Named grids: the paper's (10 A x 15 T) and a coarse 3 x 3 one.
 GRIDS: dict[str, Grid] = {
@@ -56,8 +79,9 @@ GRIDS: dict[str, Grid] = {
 
 # -- results file: case-by-case, resumable -----------------------------------------------------------
 def _meta(grid: Grid, settings: Sequence[Actuator], mesh: Mesh, starts: Sequence[str], ipopt_options,
-          fine_mesh: Mesh | None = None) -> dict:
+          fine_mesh: Mesh | None = None, regularisation: Regularisation = DEFAULT_REGULARISATION) -> dict:
     m = {
+        "regularisation": asdict(regularisation),
         "grid": {"A_rad": list(grid.A_rad), "T_s": list(grid.T_s)},
         "settings": [asdict(a) for a in settings],
         "mesh": asdict(mesh),
@@ -75,17 +99,16 @@ def _read_done(path: Path, settings: Sequence[Actuator]) -> list[dict]:
     if not path.exists():
         return []
     names = {a.name for a in settings}
-    by_case: dict[str, list[dict]] = {}
+    by_case: dict[str, dict[str, dict]] = {}
     with path.open(newline="") as fh:
         for row in csv.DictReader(fh):
             if None in row or any(row.get(c) is None for c in RESULT_COLUMNS):
                 continue  # torn / malformed line
-            by_case.setdefault(row["case_id"], []).append(row)
+            by_case.setdefault(row["case_id"], {})[row["setting"]] = row  # a repeated row: the last one counts
     keep = []
     for cid, rs in by_case.items():
-        got = {r["setting"] for r in rs}
-        if got == names and len(rs) == len(names):
-            keep.extend(rs)
+        if set(rs) == names:
+            keep.extend(rs.values())
     return keep
 
 
@@ -104,6 +127,7 @@ def run_rest_to_rest(
     progress: bool = True,
     figures: bool = True,
     outperform_rtol: float = 1e-3,
+    regularisation: Regularisation = DEFAULT_REGULARISATION,
 ) -> dict:
     """Run (or resume) the rest-to-rest sweep and write its files.
 
@@ -133,6 +157,9 @@ def run_rest_to_rest(
         Show the progress bar; write the PNGs.
     outperform_rtol
         Relative margin for "X outperforms Y": ``rmse_X < (1 - rtol) rmse_Y``.
+    regularisation
+        Penalties that smooth the optimal inputs (:class:`~vvea_design.actuator.ocp.Regularisation`);
+        the reported rmse is always the pure tracking cost.
 
     Returns
     -------
@@ -151,10 +178,24 @@ def run_rest_to_rest(
         grid_name, grid = grid, GRIDS[grid]
     else:
         grid_name = "custom"
+    rep = grid.repeated()
+    if rep:
+        grid = grid.unique()
+        console.print(f"[bold yellow]note[/]: the grid repeats {rep}; each case is solved once "
+                      f"({len(grid.A_rad)} amplitudes x {len(grid.T_s)} periods)", soft_wrap=True)
     settings = tuple(PAPER_SETTINGS.values()) if settings is None else tuple(settings)
     names = [a.name for a in settings]
     if len(set(names)) != len(names):
         raise ValueError(f"setting names must be unique, got {names}")
+    # every option is checked here, before any file is touched or any case is solved
+    if mesh.n_intervals % 4:
+        raise ValueError(f"the mesh must have a multiple of 4 intervals (the reference switches at T/2, T, 3T/2), "
+                         f"got {mesh.n_intervals}")
+    unknown = set(starts) - set(DEFAULT_STARTS)
+    if unknown or not starts:
+        raise ValueError(f"starts must be a non-empty selection of {list(DEFAULT_STARTS)}, got {list(starts)}")
+    if workers is not None and (int(workers) != workers or workers < 1):
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     ipo = tuple(sorted((ipopt_options or {}).items()))
     if isinstance(fine_mesh, str):
         if fine_mesh != "auto":
@@ -163,18 +204,18 @@ def run_rest_to_rest(
     if fine_mesh is not None and fine_mesh == mesh:
         fine_mesh = None
     if fine_mesh is not None and fine_mesh.n_intervals % 4:
-        raise ValueError(f"fine_mesh.n_intervals must be a multiple of 4, got {fine_mesh.n_intervals}")
+        raise ValueError(f"the fine mesh must have a multiple of 4 intervals, got {fine_mesh.n_intervals}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     res_path, meta_path = out / "results.csv", out / "meta.json"
-    meta = _meta(grid, settings, mesh, starts, ipo, fine_mesh)
+    meta = _meta(grid, settings, mesh, starts, ipo, fine_mesh, regularisation)
     meta_json = json.loads(json.dumps(meta))
     if res_path.exists() and not restart:
         old = json.loads(meta_path.read_text()) if meta_path.exists() else None
         if old != meta_json:
             raise ValueError(
-                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts differ from "
-                f"{meta_path}); use another --out folder or restart=True"
+                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts/regularisation differ from "
+                f"{meta_path}); use another output folder, or discard it with --restart (restart=True in Python)"
             )
     if restart and res_path.exists():
         res_path.unlink()
@@ -186,10 +227,10 @@ def run_rest_to_rest(
         wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
         wr.writeheader()
         wr.writerows(done_rows)
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh) for A, T in grid.cases()]
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation) for A, T in grid.cases()]
     todo = [c for c in cases if c.case_id not in done]
     if done:
-        console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}")
+        console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}", soft_wrap=True)
 
     fh = res_path.open("a", newline="")
     wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
@@ -214,18 +255,20 @@ def run_rest_to_rest(
         "grid": grid_name, "cases": len(cases), "cases_solved_this_run": len(todo), "ocps": len(cases) * len(settings),
         "wall_seconds_this_run": round(wall, 2), "mesh": asdict(mesh),
         "fine_mesh": asdict(fine_mesh) if fine_mesh is not None else None, "starts": list(starts),
+        "regularisation": asdict(regularisation),
         "solver_seconds_total": round(float(df["seconds"].sum()), 2),
         "solver_cpu_seconds_total": round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None,
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
     if figures:
-        plot_best_map(df, out / "best_map.png")
+        plot_best_map(df).savefig(out / "best_map.png", dpi=130)
         names_set = set(df["setting"])
         ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping), settings[0].name)
         Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
         Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
-        _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh))
-        plot_trajectory(best, Aex, Tex, out / "trajectory.png", highlight=ex)
+        _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh,
+                                                    regularisation))
+        plot_trajectory(best, Aex, Tex, highlight=ex).savefig(out / "trajectory.png", dpi=130)
     return summary
 
 

@@ -150,8 +150,7 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[s
     void = mould_void(model.mould)
     advance()
     walls_min = d.minimum_walls_mm()
-    walls_drawn = {"outer_tube": d.fixed.outer_wall_mm, "inner_tube": d.fixed.inner_tube_wall_mm,
-                   "top_cap": d.fixed.top_cap_mm, "base": d.fixed.base_mm}
+    walls_drawn = {k: v for k, v in d.walls_mm().items() if k != "bulkhead"}
     manifest = {
         "generator": "vvea_design.cad.write_cad",
         "design": _design_dict(d),

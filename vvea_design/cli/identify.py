@@ -12,6 +12,7 @@ from rich.table import Table
 
 from .common import fail
 from ..progress import console, progress_bar
+from ..progress import out as stdout
 
 __all__ = ["register"]
 
@@ -33,7 +34,7 @@ def _reference(design: Path | None):
     from ..spring.paper import PAPER_FIG5
 
     if design is None:
-        typer.echo(f"note: {REFERENCE_NOTE}")
+        typer.echo(f"note: {REFERENCE_NOTE}", err=True)
         return PAPER_FIG5
     try:
         ref = spring_from_json(design)
@@ -41,7 +42,8 @@ def _reference(design: Path | None):
         fail(str(exc))
     typer.echo(
         f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, "
-        f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm"
+        f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm",
+        err=True,
     )
     return ref
 
@@ -51,7 +53,7 @@ _DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 
 
 def identify_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet, shared/specs/recordings.md)"),
-    out: Path = typer.Option(Path("identification"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("identification"), "--out", "-o", help="output folder"),
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
@@ -66,9 +68,10 @@ def identify_cmd(
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
     for name, p in summary["parameters"].items():
         paper = "" if p["paper"] is None else f"{p['paper']:.2f}"
-        t.add_row(name, p["unit"], f"{p['value']:.2f}", f"{p['std_error']:.2f}", paper)
+        se = "not determined" if p["std_error"] is None else f"{p['std_error']:.2f}"
+        t.add_row(name, p["unit"], f"{p['value']:.2f}", se, paper)
     typer.echo("")
-    console.print(t)
+    stdout.print(t)
     band = summary["error_band_pct"]["ours"]
     typer.echo(
         f"RMS error {summary['rmse_N']:.1f} N; error band {band[0]:+.1f} % ... {band[1]:+.1f} % of nominal force "
@@ -78,12 +81,14 @@ def identify_cmd(
         f"{summary['rows_read']} rows read, {summary['rows_left_out']} left out ({summary['rows_left_out_reason']}); "
         f"{summary['velocity_fallback_experiments']} experiments used the Savitzky-Golay velocity fallback."
     )
+    for note in summary.get("notes", []):
+        typer.echo(f"note: {note}")
     typer.echo(f"wrote {', '.join(summary['files'])} to {out}")
 
 
 def diagnose_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet)"),
-    out: Path = typer.Option(Path("diagnosis"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="output folder"),
     seed: int = typer.Option(0, help="seed of the held-out and cross-validation splits"),
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
@@ -108,8 +113,14 @@ def diagnose_cmd(
 
         diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
         files = write_diagnosis(diag, out)
-    typer.echo(format_summary(diag.report))
-    typer.echo(f"wrote {', '.join(files)} to {out} ({diag.report.runtime_s:.1f} s)")
+    summary_text = format_summary(diag.report)
+    typer.echo(summary_text)
+    from ..report.html import write_folder_report
+
+    report = write_folder_report(f"vvea diagnose: {file.name}", out, summary_text=summary_text,
+                                 data=diag.report.to_dict(),
+                                 provenance={"recordings": file, "design": design, "seed": seed, "learner": learner})
+    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report.runtime_s:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:
