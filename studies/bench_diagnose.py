@@ -89,7 +89,9 @@ def main(argv=None) -> dict:
     res = {"cpu_count": os.cpu_count(), "load_avg_1min_before": os.getloadavg()[0]}
     for n in (1, args.copies):
         cmd = [sys.executable, __file__, "--child", str(n), "--recordings", str(args.recordings)] + (["--no-learner"] if args.no_learner else [])
-        out = subprocess.run(cmd, capture_output=True, text=True, check=True)
+        out = subprocess.run(cmd, capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"the {n}-campaign run failed:\n{out.stderr}")
         res[f"x{n}"] = json.loads(out.stdout.strip().splitlines()[-1])
     res["load_avg_1min_after"] = os.getloadavg()[0]
     one, ten = res["x1"], res[f"x{args.copies}"]
