@@ -31,7 +31,7 @@ from .report.drawing import DrawingSet
 from .spring.design_file import save_design
 from .spring.gas_spring import GasSpring
 from .spring.optimise import Infeasible, OptimisationResult, optimise
-from .spring.requirements import N_SAMPLES, Requirements
+from .spring.requirements import Requirements
 
 __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
            "Infeasible"]
@@ -76,7 +76,7 @@ class SpringCurve:
         return {k: (v.tolist() if isinstance(v, np.ndarray) else float(v)) for k, v in self.__dict__.items()}
 
 
-def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
+def spring_curve(spring: GasSpring, num: int = 401) -> SpringCurve:
     """The isothermal and adiabatic force curves of ``spring`` with deviations and pressures.
 
     Parameters
