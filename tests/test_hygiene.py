@@ -244,12 +244,6 @@ def docstring_problems(fn) -> list[str]:
 #: Modules whose public functions are not yet documented in numpydoc style with units (issue 9 item 6):
 #: converted by their owners / the coordinator after the merge. Remove a module once it passes.
 NOT_YET_CONVERTED = {
-    "vvea_design.actuator.model",
-    "vvea_design.actuator.ocp",
-    "vvea_design.actuator.multistart",
-    "vvea_design.actuator.rest_to_rest",
-    "vvea_design.actuator.safety",
-    "vvea_design.actuator.statistics",
     "vvea_design.bladder.check",
     "vvea_design.bladder.membrane",
     "vvea_design.cad.assembly",
