@@ -44,11 +44,14 @@ def cad(
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
     from ..cad import CadError, write_cad
     from .common import fail, load_design_or_exit
+    from .outputs import check_out, out_dir
     from ..progress import console
 
+    check_out(out)
     design = load_design_or_exit(design_json)
     try:
-        manifest = write_cad(design, out, renders=renders)
+        with out_dir(out, "cad") as tmp:  # the CAD set lands whole, or the old one stays
+            manifest = write_cad(design, tmp, renders=renders)
     except CadError as exc:
         fail(f"{design_json}: {exc}")
     print_manifest(manifest)

@@ -11,6 +11,7 @@ import typer
 from rich.table import Table
 
 from .common import fail
+from .outputs import check_out, out_dir
 from ..progress import console, progress_bar
 
 __all__ = ["register"]
@@ -33,9 +34,10 @@ def identify_cmd(
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
+    check_out(out)
     rec = _read(file)
-    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None):
-        summary = write_identification(rec, out)
+    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
+        summary = write_identification(rec, tmp)
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
     for c in ("Parameter", "Unit", "Value", "± s.e.", "Paper"):
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
@@ -65,6 +67,7 @@ def diagnose_cmd(
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
     from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
 
+    check_out(out)
     rec = _read(file)
     msgs = []
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -77,7 +80,8 @@ def diagnose_cmd(
             prog.update(task, description=f"diagnosing: {msg}")
 
         diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say)
-        files = write_diagnosis(diag, out)
+        with out_dir(out, "diagnose") as tmp:
+            files = write_diagnosis(diag, tmp)
     typer.echo(format_summary(diag.report))
     typer.echo(f"wrote {', '.join(files)} to {out} ({diag.report['runtime_s']:.1f} s)")
 

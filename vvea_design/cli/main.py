@@ -17,6 +17,7 @@ from rich.table import Table
 
 from .common import fail as _fail
 from .common import load_design_or_exit
+from .outputs import check_out, out_dir, out_files
 from ..progress import console
 
 app = typer.Typer(
@@ -55,10 +56,13 @@ def _print_evaluation(ev, title: str) -> None:
 
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     from ..spring.design_file import save_design
-    from ..spring.optimise import Infeasible, optimise
+    from ..spring.optimise import Infeasible, NoBuildableDesign, optimise
     from ..spring.plots import plot_spring
     from ..spring.requirements import SpecError, load_requirements
 
+    png = out.with_name(out.stem + "_force.png")
+    check_out(out, "file")
+    check_out(png, "file")
     try:
         req = load_requirements(spec)
     except SpecError as exc:
@@ -75,10 +79,12 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
-    save_design(out, res.evaluation, req, optimiser=res.summary())
-    png = out.with_name(out.stem + "_force.png")
-    plot_spring(res.design.gas_spring, png, extra_charges_MPa=(1.0, 2.0),
-                title=f"optimised design: linearity {100 * res.evaluation.linearity_error:.2f} %")
+    except NoBuildableDesign as exc:
+        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
+    with out_files(out, png) as (tmp_json, tmp_png):  # both files whole, or neither
+        save_design(tmp_json, res.evaluation, req, optimiser=res.summary())
+        plot_spring(res.design.gas_spring, tmp_png, extra_charges_MPa=(1.0, 2.0),
+                    title=f"optimised design: linearity {100 * res.evaluation.linearity_error:.2f} %")
     _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
                   f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
@@ -96,6 +102,22 @@ def optimise(
     _optimise_to(spec, seed, out)
 
 
+def _write_spring(gs, folder: Path) -> Path:
+    """spring.csv and spring.png of ``gs`` into ``folder``; return the PNG path."""
+    from ..spring.plots import plot_spring
+
+    x = gs.x_mm(81)
+    F = gs.force_N(x)
+    k = gs.stiffness_N_per_mm(x)
+    P1, P2 = gs.pressures_MPa(x)
+    with open(folder / "spring.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
+        for row in zip(x, F, k, P1, P2):
+            w.writerow([f"{v:.6g}" for v in row])
+    return plot_spring(gs, folder / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0))
+
+
 @app.command()
 def spring(
     design: Path = typer.Argument(..., help="design JSON"),
@@ -105,8 +127,8 @@ def spring(
     """Force curve, stiffness and linearity of a design (from its parameters alone)."""
     from ..spring.design_file import DesignFileError, spring_from_json
     from ..spring.gas_spring import linearity_error, mean_stiffness_N_per_mm
-    from ..spring.plots import plot_spring
 
+    check_out(out or design.parent)
     try:
         gs = spring_from_json(design)
     except DesignFileError as exc:
@@ -116,17 +138,9 @@ def spring(
             _fail(f"--p2 must be > 0 MPa, got {p2}")
         gs = gs.with_pressures(p2)
     out = out or design.parent
-    out.mkdir(parents=True, exist_ok=True)
-    x = gs.x_mm(81)
-    F = gs.force_N(x)
-    k = gs.stiffness_N_per_mm(x)
-    P1, P2 = gs.pressures_MPa(x)
-    with open(out / "spring.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
-        for row in zip(x, F, k, P1, P2):
-            w.writerow([f"{v:.6g}" for v in row])
-    png = plot_spring(gs, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0))
+    with out_dir(out, "spring") as tmp:
+        png = _write_spring(gs, tmp)
+    png = out / png.name
     xf = gs.x_mm(401)
     Ff = gs.force_N(xf)
     console.print(f"linearity error {100 * float(linearity_error(xf, Ff)):.3f} %, mean stiffness "
@@ -178,12 +192,14 @@ def pareto(
         _fail(f"--values must be comma-separated numbers, got {values!r}")
     if not vals:
         _fail("--values is empty")
+    check_out(out)
     try:
         req = load_requirements(spec)
     except SpecError as exc:
         _fail(str(exc))
     rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
-    csv_path, png = save_pareto(rows, axis, out)
+    with out_dir(out, "pareto") as tmp:
+        csv_path, png = (out / Path(f).name for f in save_pareto(rows, axis, tmp))
     field = PARETO_AXES[axis][0]
     for r in rows:
         lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
@@ -206,23 +222,24 @@ def map_(
     from ..spring.optimise import linearity_map
     from ..spring.plots import plot_linearity_map
 
+    check_out(out)
     try:
         d = load_design_or_exit(design)
         req = load_requirements_from_design(design)
         m = linearity_map(d, req, x, y, n=n)
     except (DesignFileError, ValueError) as exc:
         _fail(str(exc))
-    out.mkdir(parents=True, exist_ok=True)
-    png = plot_linearity_map(m, out / f"map_{x}_{y}.png", optimum=(getattr(d, x), getattr(d, y)))
-    with open(out / f"map_{x}_{y}.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
-        for iy, yv in enumerate(m["y"]):
-            for ix, xv in enumerate(m["x"]):
-                lin = m["linearity"][iy, ix]
-                w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
-                            int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
-    console.print(f"wrote {png}")
+    with out_dir(out, "map") as tmp:
+        plot_linearity_map(m, tmp / f"map_{x}_{y}.png", optimum=(getattr(d, x), getattr(d, y)))
+        with open(tmp / f"map_{x}_{y}.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
+            for iy, yv in enumerate(m["y"]):
+                for ix, xv in enumerate(m["x"]):
+                    lin = m["linearity"][iy, ix]
+                    w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
+                                int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
+    console.print(f"wrote {out / f'map_{x}_{y}.png'} and .csv")
 
 
 @app.command()
@@ -233,11 +250,11 @@ def design(
     renders: bool = typer.Option(True, "--renders/--no-renders", help="make the CAD PNG renders"),
 ) -> None:
     """The main job: optimise, then spring curve, CAD and bladder check, all into one folder."""
-    out.mkdir(parents=True, exist_ok=True)
-    design_json = out / "design.json"
-    _optimise_to(spec, seed, design_json)
-    for step in DESIGN_STEPS:
-        step(design_json, out, renders)
+    with out_dir(out, "design") as tmp:  # the whole job lands in `out` only when every step succeeded
+        design_json = tmp / "design.json"
+        _optimise_to(spec, seed, design_json)
+        for step in DESIGN_STEPS:
+            step(design_json, tmp, renders)
     console.print(f"[bold green]done[/]: everything is in {out}/")
 
 

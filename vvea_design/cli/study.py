@@ -60,7 +60,9 @@ def rest_to_rest(
     from ..actuator.ocp import Mesh
     from ..progress import console
     from ..actuator.studies import DEFAULT_MESH, run_rest_to_rest
+    from .outputs import check_out
 
+    check_out(out)  # resumable: results.csv grows case by case in --out itself, so only validated up front
     settings = list(PAPER_SETTINGS.values())
     if design is not None:
         if not design.exists():
@@ -126,9 +128,12 @@ def safety(
     from ..actuator.ocp import Mesh
     from ..progress import console
     from ..actuator.studies import run_safety
+    from .outputs import check_out, out_dir
 
+    check_out(out)
     try:
-        s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
+        with out_dir(out, "safety") as tmp:
+            s = run_safety(tmp, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
     except ValueError as exc:
         raise typer.BadParameter(str(exc)) from exc
     from rich.table import Table

@@ -30,6 +30,7 @@ from .requirements import Evaluation, Requirements, constraint_names, design_fro
 __all__ = [
     "OptimisationResult",
     "Infeasible",
+    "NoBuildableDesign",
     "optimise",
     "pareto_front",
     "linearity_map",
@@ -45,6 +46,23 @@ class Infeasible(RuntimeError):
     def __init__(self, result: "OptimisationResult"):
         self.result = result
         super().__init__(result.infeasibility_message())
+
+
+class NoBuildableDesign(ValueError):
+    """No point inside the search bounds can even be drawn; the message names why and the bounds."""
+
+
+def _unbuildable_message(req: Requirements, x, bounds) -> str:
+    try:
+        design_from_vector(x, req)
+        reason = "it violates every constraint by construction"
+    except DesignError as exc:
+        reason = str(exc)
+    point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(DECISION_VARIABLES, x))
+    box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(DECISION_VARIABLES, bounds))
+    return (f"no buildable design inside the search bounds ({box}; outer_diameter_mm is capped at "
+            f"max_outer_diameter_mm = {req.max_outer_diameter_mm:.4g}): the best point found ({point}) cannot be "
+            f"drawn: {reason}; widen [bounds] or the envelope in the requirements file")
 
 
 @dataclass(frozen=True)
@@ -206,8 +224,8 @@ def optimise(
         best_x, polished = _polish(full, best_x, bounds)
     seconds = time.perf_counter() - t0
     ev = full._evaluate_design(best_x)
-    if ev is None:  # pragma: no cover - DE always returns a buildable point when one exists
-        raise RuntimeError("the optimiser found no buildable design inside the search bounds; widen [bounds]")
+    if ev is None:  # every point DE tried is unbuildable: name why and the bounds (issue 11 item 8)
+        raise NoBuildableDesign(_unbuildable_message(req, best_x, bounds))
     result = OptimisationResult(ev, seed, prob.count + (full.count if full is not prob else 0), seconds, gens,
                                 str(de.message), polished)
     if raise_infeasible and not ev.feasible:
