@@ -18,7 +18,7 @@ import time
 
 t0 = time.perf_counter()
 from vvea_design.cad import build_cad, write_cad  # noqa: E402
-from vvea_design.cad.export import _export  # noqa: E402
+from vvea_design.cad.export import export_files  # noqa: E402
 from vvea_design.cad.render import render_assembly_cutaway, render_mould_open  # noqa: E402
 from vvea_design.spring.design import Design  # noqa: E402
 
@@ -47,12 +47,12 @@ def main() -> None:
             model = build_cad(design)
             t_build = time.perf_counter() - t
             t = time.perf_counter()
-            manifest = _export(model, Path(tmp), lambda n=1: None)
+            _, meshes = export_files(model, Path(tmp))
             t_export = time.perf_counter() - t
             t = time.perf_counter()
             if not args.no_renders:
-                render_assembly_cutaway(model, manifest["_meshes"])
-                render_mould_open(model, manifest["_meshes"])
+                render_assembly_cutaway(model, meshes)
+                render_mould_open(model, meshes)
             t_render = time.perf_counter() - t
             t, c = time.perf_counter(), time.process_time()
             write_cad(design, tmp, renders=not args.no_renders, show_progress=False)

@@ -17,7 +17,8 @@ import numpy as np
 
 from vvea_design.actuator.model import PAPER_SETTINGS
 from vvea_design.actuator.ocp import RestToRestSolver
-from vvea_design.actuator.studies import DEFAULT_FINE_MESH, DEFAULT_MESH, GRIDS, RestToRestCase, run_rest_to_rest, solve_case
+from vvea_design.actuator.multistart import DEFAULT_FINE_MESH, DEFAULT_MESH, RestToRestCase, solve_case
+from vvea_design.actuator.rest_to_rest import GRIDS, run_rest_to_rest
 
 
 def main() -> None:

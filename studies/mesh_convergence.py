@@ -28,7 +28,8 @@ import pandas as pd  # noqa: E402
 from vvea_design.actuator.model import PAPER_SETTINGS  # noqa: E402
 from vvea_design.actuator.ocp import Mesh  # noqa: E402
 from vvea_design.parallel import parallel_map  # noqa: E402
-from vvea_design.actuator.studies import GRIDS, Grid, mesh_convergence, solve_single  # noqa: E402
+from vvea_design.actuator.multistart import solve_single  # noqa: E402
+from vvea_design.actuator.rest_to_rest import GRIDS, Grid, mesh_convergence  # noqa: E402
 
 SUBGRID = Grid((0.3, 0.6, 0.9), (0.3, 0.7, 1.1, 1.5))
 

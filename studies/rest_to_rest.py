@@ -17,7 +17,8 @@ from pathlib import Path
 
 from vvea_design.actuator.model import PAPER_SETTINGS, from_design_json
 from vvea_design.actuator.ocp import Mesh
-from vvea_design.actuator.studies import DEFAULT_MESH, run_rest_to_rest
+from vvea_design.actuator.multistart import DEFAULT_MESH
+from vvea_design.actuator.rest_to_rest import run_rest_to_rest
 
 
 def main() -> None:

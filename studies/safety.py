@@ -9,7 +9,7 @@ import argparse
 import json
 from pathlib import Path
 
-from vvea_design.actuator.studies import run_safety
+from vvea_design.actuator.safety import run_safety
 
 
 def main() -> None:

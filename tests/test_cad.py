@@ -36,6 +36,7 @@ from vvea_design.cad.parts import piston_volume_mm3  # noqa: E402
 from vvea_design.spring.design import Design, DesignError, FixedParameters  # noqa: E402
 
 EXPORTED = ("housing", "housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap", "piston", "bladder", "support_ring", "mould_half_a", "mould_half_b", "mould_core")
+STEP_FILES = tuple(f"{p.name}.step" for p in cadpkg.PARTS if "step" in p.files)
 
 
 @pytest.fixture(scope="module", params=list(DESIGNS), ids=list(DESIGNS))
@@ -58,11 +59,83 @@ def test_every_part_is_one_valid_solid(built):
 
 
 def test_closed_form_volumes(built):
-    _, d, model, _, _ = built
+    _, d, model, _, manifest = built
     lay = model.layout
     assert model.parts["piston"].volume == pytest.approx(piston_volume_mm3(lay), rel=1e-9)
     assert model.piston_at_travel.volume == pytest.approx(piston_volume_mm3(lay), rel=1e-9)
     assert model.parts["bladder"].volume == pytest.approx(bladder_volume_mm3(lay), rel=1e-9)
+    with_formula = [p for p in cadpkg.PARTS if p.volume_mm3 is not None]
+    assert len(with_formula) >= 8  # tubes, piston, bladder, support ring, core, gas
+    for part in with_formula:
+        assert model.solids[part.name].volume == pytest.approx(part.volume_mm3(lay), rel=1e-9), part.name
+        entry = manifest["parts"][part.name]
+        assert entry["closed_form_volume_mm3"] == pytest.approx(entry["volume_mm3"], abs=2e-3), part.name
+
+
+def test_registry_drives_build_and_files(built):
+    """Every table entry is built once, named and coloured, and gets exactly the files it lists."""
+    _, d, model, _, manifest = built
+    assert list(model.solids) == [p.name for p in cadpkg.PARTS]
+    expected = {f"{p.name}.{ext}" for p in cadpkg.PARTS for ext in p.files} | {"assembly.step"}
+    assert {f for f, i in manifest["files"].items() if i["kind"] != "render"} == expected
+    for p in cadpkg.PARTS:
+        s = model.solids[p.name]
+        assert s.label == p.name
+        assert tuple(round(c, 6) for c in tuple(s.color)[:3]) == pytest.approx(p.colour, abs=1e-6)
+        assert manifest["parts"][p.name]["material"] == p.material(d).name
+    assert set(model.parts) == {p.name for p in cadpkg.parts_in("assembly")}
+
+
+def test_every_step_file_carries_its_part_name(built):
+    """Read each STEP back (OCP/XCAF via build123d) and check its product name is the part's name."""
+    from build123d import import_step
+
+    _, _, _, out, manifest = built
+    steps = [f for f, i in manifest["files"].items() if i["kind"] == "step"]
+    assert set(steps) == set(STEP_FILES) | {"assembly.step"}
+    for fname in steps:
+        shape = import_step(out / fname)
+        stem = fname[: -len(".step")]
+        if stem == "assembly":
+            assert shape.label == "vvea_unit"
+            assert all(c.label for c in shape.children)
+        else:
+            names = {shape.label} | {c.label for c in getattr(shape, "children", ())}
+            assert stem in names, (fname, names)
+        assert b"PRODUCT('SOLID'" not in (out / fname).read_bytes(), fname
+
+
+def test_registry_errors():
+    with pytest.raises(KeyError, match="unknown CAD part 'nope'.*housing"):
+        cadpkg.get_part("nope")
+    with pytest.raises(ValueError, match="unknown part group"):
+        cadpkg.parts_in("tooling")
+
+
+def test_no_import_cycle_in_cad():
+    """The cad modules' relative imports (lazy ones included) form no cycle; write is the top."""
+    import ast
+
+    pkg = Path(cadpkg.__file__).parent
+    graph = {}
+    for f in pkg.glob("*.py"):
+        tree = ast.parse(f.read_text())
+        mods = set()
+        for n in ast.walk(tree):
+            if isinstance(n, ast.ImportFrom) and n.level == 1:
+                mods |= {n.module} if n.module else {a.name for a in n.names}
+        graph[f.stem] = mods
+    assert "export" not in graph["render"] and "render" not in graph["export"]
+    assert all("write" not in deps for name, deps in graph.items() if name != "__init__")
+
+    def visit(node, path):
+        assert node not in path, " -> ".join([*path, node])
+        for nxt in graph.get(node, ()):
+            visit(nxt, (*path, node))
+
+    for name in graph:
+        if name != "__init__":
+            visit(name, ())
 
 
 def test_housing_pieces_make_the_housing(built):

@@ -80,20 +80,6 @@ def test_map_command(design_json, tmp_path):
     assert len((tmp_path / "m" / "map_piston_diameter_mm_V1_mm3.csv").read_text().splitlines()) == 82
 
 
-def test_design_main_job_writes_everything(tmp_path):
-    out = tmp_path / "job"
-    res = runner.invoke(app, ["design", "--out", str(out), "--no-renders"])
-    assert res.exit_code == 0, res.output
-    data = json.loads((out / "design.json").read_text())
-    assert data["performance"]["linearity_error"] <= 0.0186
-    assert all(m >= -1e-9 for m in data["constraints"].values())
-    assert (out / "design_force.png").exists() and (out / "spring" / "spring.csv").exists()
-    manifest = json.loads((out / "cad" / "manifest.json").read_text())
-    assert (out / "cad" / "housing.step").exists() and manifest
-    bladder = json.loads((out / "bladder" / "bladder.json").read_text())
-    assert bladder["passes"] is True
-
-
 def test_pareto_command(tmp_path):
     res = runner.invoke(app, ["pareto", "--axis", "outer_diameter", "--values", "55", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output

@@ -124,7 +124,8 @@ def test_equal_fixed_copies_and_every_committed_design_load():
     from pathlib import Path
 
     root = Path(__file__).resolve().parents[1]
-    found = [p for p in root.rglob("*.json") if ".git" not in p.parts and '"vvea-design"' in p.read_text(errors="replace")]
+    found = [p for p in root.rglob("*.json")
+             if ".git" not in p.parts and '"format": "vvea-design"' in p.read_text(errors="replace")]
     assert len(found) >= 2
     for path in found:
         d = load_design(path)

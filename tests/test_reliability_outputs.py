@@ -18,6 +18,8 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+import vvea_design.cli.main  # noqa: F401 - imported before any test patches the functions they bind
+import vvea_design.pipeline  # noqa: F401
 from vvea_design import outputs
 from vvea_design.outputs import (
     OutputError,
@@ -314,8 +316,8 @@ HEAVY = [
     ("vvea_design.cad", "write_cad"),
     ("vvea_design.bladder.check", "write_bladder_report"),
     ("vvea_design.identification.recordings", "read_recordings"),
-    ("vvea_design.actuator.studies", "run_rest_to_rest"),
-    ("vvea_design.actuator.studies", "run_safety"),
+    ("vvea_design.actuator.rest_to_rest", "run_rest_to_rest"),
+    ("vvea_design.actuator.safety", "run_safety"),
 ]
 
 
@@ -438,31 +440,32 @@ def test_failed_cad_keeps_the_previous_set(tmp_path, monkeypatch):
 
 
 def test_design_job_lands_whole_or_not_at_all(tmp_path, monkeypatch):
-    """`vvea design` runs optimise + spring + cad + bladder; a failing last step leaves no partial folder."""
-    import vvea_design.cli.main as cli_main
+    """`vvea design` (optimise, spring, CAD, bladder, actuator, report): whole folder, or the old one untouched."""
+    import vvea_design.pipeline as pipeline
     import vvea_design.spring.optimise as opt
+    from vvea_design.cli.main import app
     from vvea_design.spring.design import Design
     from vvea_design.spring.requirements import Requirements, evaluate_design
 
     ev = evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), Requirements())
-    monkeypatch.setattr(opt, "optimise", lambda req, **kw: opt.OptimisationResult(ev, 0, 1, 0.1, 1, "stub", False))
-
-    def cad_step(design_json, out, renders):
-        (Path(out) / "cad").mkdir()
-        (Path(out) / "cad" / "housing.step").write_text("x")
-
-    def failing_bladder_step(design_json, out, renders):
-        raise KeyboardInterrupt
-
+    monkeypatch.setattr(pipeline, "optimise", lambda req, **kw: opt.OptimisationResult(ev, 0, 1, 0.1, 1, "stub", False))
     out = tmp_path / "job"
-    monkeypatch.setattr(cli_main, "DESIGN_STEPS", [cli_main._step_spring, cad_step])
-    res = runner.invoke(cli_main.app, ["design", "--out", str(out)])
+    argv = ["design", "--out", str(out), "--no-renders", "--no-actuator-study"]
+    res = runner.invoke(app, argv)
     assert res.exit_code == 0, res.output
     first = tree(out)
-    assert {"design.json", "design_force.png", "spring/spring.csv", "cad/housing.step"} <= set(first)
-    assert "vvea-tmp" not in (out / "spring" / ".vvea-spring.json").read_text()
-    monkeypatch.setattr(cli_main, "DESIGN_STEPS", [cli_main._step_spring, cad_step, failing_bladder_step])
-    res = runner.invoke(cli_main.app, ["design", "--out", str(out)])
+    assert {"design.json", "spring/spring.csv", "cad/manifest.json", "bladder/bladder.json", "unit.json"} <= set(first)
+    for name, data in first.items():  # nothing written names the temporary folder it was made in
+        assert b"vvea-tmp" not in data, name
+    assert visible(tmp_path) == ["job"]
+
+    def spring_then_ctrl_c(gs, folder):
+        Path(folder).mkdir(parents=True, exist_ok=True)
+        (Path(folder) / "spring.csv").write_text("half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pipeline, "write_spring_files", spring_then_ctrl_c)
+    res = runner.invoke(app, argv)
     assert interrupted(res)
     assert tree(out) == first and visible(tmp_path) == ["job"]
 

@@ -10,20 +10,15 @@ import pytest
 from conftest import make_app
 from typer.testing import CliRunner
 
-import vvea_design.actuator.studies as sa
+import vvea_design.actuator.multistart as ms
+import vvea_design.actuator.rest_to_rest as sa
 from vvea_design.actuator.model import PAPER_SETTINGS
 from vvea_design.cli.study import register
 from vvea_design.actuator.ocp import Mesh
-from vvea_design.actuator.studies import (
-    GRIDS,
-    RESULT_COLUMNS,
-    Grid,
-    RestToRestCase,
-    run_rest_to_rest,
-    run_safety,
-    solve_case,
-    table5_statistics,
-)
+from vvea_design.actuator.multistart import RESULT_COLUMNS, RestToRestCase, solve_case
+from vvea_design.actuator.rest_to_rest import GRIDS, Grid, run_rest_to_rest
+from vvea_design.actuator.safety import run_safety
+from vvea_design.actuator.statistics import table5_statistics
 
 SMALL_MESH = Mesh(16, 3)
 TINY = Grid((0.3, 0.9), (0.4, 1.2))
@@ -273,7 +268,7 @@ def test_default_fine_mesh_only_with_the_default_mesh(tmp_path):
     grid = Grid((0.4,), (0.8,))
     s = run_rest_to_rest(tmp_path, grid=grid, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
     assert s["run"]["fine_mesh"] is None
-    assert sa.DEFAULT_FINE_MESH.n_intervals == 192 and sa.DEFAULT_MESH.n_intervals == 64
+    assert ms.DEFAULT_FINE_MESH.n_intervals == 192 and ms.DEFAULT_MESH.n_intervals == 64
     with pytest.raises(ValueError, match="multiple of 4"):
         run_rest_to_rest(tmp_path / "x", grid=grid, mesh=SMALL_MESH, fine_mesh=Mesh(30, 3), workers=1,
                          progress=False, figures=False)

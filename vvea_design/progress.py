@@ -1,7 +1,15 @@
-"""Progress display (rich) shared by every long job."""
+"""Consoles and progress display (rich) shared by every command.
+
+Two consoles, one convention: results and tables go to :data:`out`
+(stdout), progress, status and log lines to :data:`console` (stderr), so
+``vvea optimise > result.txt`` captures the result and nothing else. Off a
+terminal (a pipe, a file, CI) neither console wraps lines: "3844.0 N" is
+never split.
+"""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -16,8 +24,25 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-#: Console for progress and status messages (stderr, so stdout stays data).
-console = Console(stderr=True)
+#: Line width used when the stream is not a terminal: wide enough that nothing wraps.
+NO_WRAP_WIDTH = 10_000
+
+
+def _console(stderr: bool) -> Console:
+    stream = sys.stderr if stderr else sys.stdout
+    try:
+        tty = stream.isatty()
+    except (AttributeError, ValueError):
+        tty = False
+    if tty:
+        return Console(stderr=stderr)
+    return Console(stderr=stderr, width=NO_WRAP_WIDTH, soft_wrap=True)
+
+
+#: Console for progress, status and log messages (stderr).
+console = _console(stderr=True)
+#: Console for results and tables (stdout).
+out = _console(stderr=False)
 
 
 def print_error(message: str) -> None:

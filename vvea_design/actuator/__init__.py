@@ -1,4 +1,5 @@
 """The actuator wing: ``model`` (paper eqs 8-13, design -> actuator mapping),
-``ocp`` (CasADi collocation transcription) and ``studies`` (rest-to-rest
-sweeps, Table 5 statistics, safety).
+``ocp`` (CasADi collocation transcription), ``multistart`` (one rest-to-rest
+case, every setting), ``rest_to_rest`` (grids, the resumable sweep),
+``statistics`` (Table 5), ``safety`` (the torque step) and ``figures``.
 """

@@ -2,24 +2,30 @@
 trimesh checks, pyvista renders).
 
 Data flow: :class:`~vvea_design.spring.design.Design` -> :class:`Layout` (derived
-radii and levels, validated) -> part functions (``parts``, ``bladder``,
-``gas``, ``mould``) -> :func:`build_cad` (every solid once) ->
-:func:`write_cad` (STEP, STL, manifest, renders).
+radii and levels, validated) -> the part table :data:`PARTS` (one entry per
+part: builder, material, colour, closed-form volume, files) -> :func:`build_cad`
+(every solid once, named and coloured) -> :func:`write_cad` (STEP, STL,
+manifest, renders).
 
 One module per concept: ``layout`` (dimensions and CAD parameters),
 ``parts`` (housing, piston with rod), ``bladder`` (bladder, support ring),
-``gas`` (gas domains), ``mould`` (bladder mould), ``assembly`` (the set,
-named assembly, checks), ``export`` (deterministic files, manifest),
-``render`` (off-screen pictures).
+``gas`` (gas domains), ``mould`` (bladder mould), ``registry`` (the part
+table), ``assembly`` (the set, named assembly, checks), ``mesh``
+(tessellation), ``export`` (deterministic files, manifest), ``render``
+(off-screen pictures), ``write`` (``write_cad``, the top of the package).
+Adding a part touches ``registry`` only (plus its builder).
 """
 
 from .assembly import CadModel, assembly, build_cad, interference_mm3, mould_void
 from .bladder import bladder, bladder_volume_mm3, support_ring
-from .export import STEP_TIMESTAMP, step_bytes, stl_bytes, to_mesh, write_cad
+from .export import STEP_TIMESTAMP, step_bytes, stl_bytes
+from .mesh import to_mesh
 from .gas import gas_chamber_1, gas_chamber_2
 from .layout import CadError, CadParameters, Layout
 from .mould import Mould, mould
 from .parts import housing, housing_pieces, piston, piston_faces_mm2, piston_volume_mm3
+from .registry import PARTS, Part, PartMaterial, get_part, parts_in
+from .write import write_cad
 
 __all__ = [
     "CadError", "CadParameters", "Layout", "CadModel", "Mould",
@@ -27,4 +33,5 @@ __all__ = [
     "housing", "housing_pieces", "piston", "piston_volume_mm3", "piston_faces_mm2",
     "bladder", "bladder_volume_mm3", "support_ring", "gas_chamber_1", "gas_chamber_2", "mould",
     "STEP_TIMESTAMP", "step_bytes", "stl_bytes", "to_mesh",
+    "PARTS", "Part", "PartMaterial", "get_part", "parts_in",
 ]

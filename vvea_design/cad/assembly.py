@@ -15,98 +15,105 @@ from itertools import combinations
 from build123d import Color, Compound, Solid
 
 from ..spring.design import Design
-from ..materials.structural import get_material
 from ._shapes import cylinder, single_solid
-from .bladder import bladder, bladder_volume_mm3, support_ring
-from .gas import gas_chamber_1, gas_chamber_2
+from .bladder import bladder_volume_mm3
 from .layout import CadParameters, Layout
-from .mould import Mould, box, mould
-from .parts import housing, housing_pieces, piston, piston_faces_mm2, piston_volume_mm3
+from .mould import Mould, box
+from .parts import piston_faces_mm2
+from .registry import MOULD_MATERIAL, PARTS, SILICONE, PartContext, get_part, parts_in
 
 __all__ = ["CadModel", "build_cad", "assembly", "interference_mm3", "mould_void", "part_materials",
-           "SILICONE", "MOULD_MATERIAL"]
+           "SILICONE", "MOULD_MATERIAL", "COLOURS"]
 
-#: Material of the cast bladder (not a structural material).
-SILICONE = "silicone (platinum-cure casting compound)"
-#: Material of the printed mould.
-MOULD_MATERIAL = "pla"
-
-#: Part colours (RGB 0..1) in the assembly and renders.
-COLOURS = {
-    "housing": (0.72, 0.74, 0.78),
-    "piston": (0.45, 0.47, 0.52),
-    "bladder": (0.95, 0.75, 0.20),
-    "support_ring": (0.15, 0.15, 0.15),
-    "gas_chamber_1": (0.20, 0.40, 0.95),  # negative chamber: blue (paper Fig. 2)
-    "gas_chamber_2": (0.95, 0.25, 0.20),  # positive chamber: red
-}
+#: Part colours (RGB 0..1) by part name, from the part table.
+COLOURS = {p.name: p.colour for p in PARTS}
 
 
 def part_materials(design: Design) -> dict[str, str]:
-    """Material name of every exported part (design's fixed materials)."""
-    f = design.fixed
-    mould_name = get_material(MOULD_MATERIAL).name
-    return {
-        "housing": get_material(f.housing_material).name,
-        **{f"housing_{k}": get_material(f.housing_material).name for k in ("base", "outer_tube", "inner_tube", "top_cap")},
-        "piston": get_material(f.rod_material).name,
-        "bladder": SILICONE,
-        "support_ring": get_material(f.support_ring_material).name,
-        "mould_half_a": mould_name,
-        "mould_half_b": mould_name,
-        "mould_core": mould_name,
-        "gas_chamber_1": "gas (nitrogen), chamber 1",
-        "gas_chamber_2": "gas (nitrogen), chamber 2",
-    }
+    """Material name of every part in the table (design's fixed materials)."""
+    return {p.name: p.material(design).name for p in PARTS}
 
 
 @dataclass
 class CadModel:
-    """Every solid of one design (assembly frame unless noted), mm.
+    """Every solid of one design, by part name (assembly frame; mould parts in the mould frame), mm.
 
-    ``parts`` holds housing, piston (x = 0), bladder, support_ring;
-    ``housing_pieces`` the housing's machined parts (base, tubes, top cap);
-    ``piston_at_travel`` the piston at x = travel; ``gas`` the two gas
-    domains at x = 0; ``mould`` the mould (mould frame).
+    ``solids`` holds every entry of :data:`~vvea_design.cad.registry.PARTS` at
+    x = 0; ``at_travel`` the moving ones at x = travel; ``mould`` the mould
+    with its cavity and openings; ``closed_form_mm3`` the closed-form volume
+    of every part that has one (plus ``mould_cavity``).
     """
 
     design: Design
     layout: Layout
-    parts: dict[str, Solid]
-    piston_at_travel: Solid
-    gas: dict[str, Solid]
+    solids: dict[str, Solid]
+    at_travel: dict[str, Solid]
     mould: Mould
-    housing_pieces: dict[str, Solid] = field(default_factory=dict)
     closed_form_mm3: dict[str, float] = field(default_factory=dict)
 
-    def parts_at(self, x_mm: float) -> dict[str, Solid]:
-        """The four assembly parts with the piston at ``x_mm`` (0 or travel, else rebuilt)."""
-        out = dict(self.parts)
+    def group(self, *groups: str) -> dict[str, Solid]:
+        """The solids of the given part groups (x = 0), in table order."""
+        return {p.name: self.solids[p.name] for p in parts_in(*groups)}
+
+    @property
+    def parts(self) -> dict[str, Solid]:
+        """The assembled unit at x = 0 (group ``assembly``)."""
+        return self.group("assembly")
+
+    @property
+    def housing_pieces(self) -> dict[str, Solid]:
+        """The housing's machined pieces (group ``machined``)."""
+        return self.group("machined")
+
+    @property
+    def gas(self) -> dict[str, Solid]:
+        """The gas domains at x = 0 (group ``gas``)."""
+        return self.group("gas")
+
+    @property
+    def piston_at_travel(self) -> Solid:
+        return self.at_travel["piston"]
+
+    def solids_at(self, x_mm: float, *groups: str) -> dict[str, Solid]:
+        """The solids of ``groups`` with the piston at ``x_mm`` (moving parts rebuilt unless x = 0 or travel)."""
+        out = self.group(*groups)
         if x_mm == 0:
             return out
-        if math.isclose(x_mm, self.design.fixed.travel_mm):
-            out["piston"] = self.piston_at_travel
-        else:
-            out["piston"] = piston(self.layout, x_mm)
+        travel = math.isclose(x_mm, self.design.fixed.travel_mm)
+        ctx = None if travel else PartContext(self.layout, x_mm)
+        for name in out:
+            part = get_part(name)
+            if part.moves:
+                out[name] = self.at_travel[name] if travel else _named(part, part.build(ctx))
         return out
 
+    def parts_at(self, x_mm: float) -> dict[str, Solid]:
+        """The assembly parts with the piston at ``x_mm``."""
+        return self.solids_at(x_mm, "assembly")
+
     def export_solids(self) -> dict[str, Solid]:
-        """Every solid written as its own STEP + STL, by file stem."""
-        return {**self.parts, **self.housing_pieces, **self.mould.parts()}
+        """Every solid written as its own STEP, by file stem."""
+        return {p.name: self.solids[p.name] for p in PARTS if "step" in p.files}
 
     def measured(self) -> dict[str, float]:
         """CAD-measured chamber volumes (mm³) and piston areas (mm²)."""
-        areas = piston_faces_mm2(self.parts["piston"], self.layout, 0.0)
+        areas = piston_faces_mm2(self.solids["piston"], self.layout, 0.0)
         return {
-            "chamber_1_volume_mm3": self.gas["gas_chamber_1"].volume,
-            "chamber_2_volume_mm3": self.gas["gas_chamber_2"].volume,
+            "chamber_1_volume_mm3": self.solids["gas_chamber_1"].volume,
+            "chamber_2_volume_mm3": self.solids["gas_chamber_2"].volume,
             "piston_area_A1_mm2": areas["A1_mm2"],
             "piston_area_A2_mm2": areas["A2_mm2"],
         }
 
 
+def _named(part, solid: Solid) -> Solid:
+    solid.label = part.name
+    solid.color = Color(*part.colour)
+    return solid
+
+
 def build_cad(design: Design, cad: CadParameters | None = None, progress=None) -> CadModel:
-    """Validate, then draw every part of ``design``.
+    """Validate, then draw every part of the table for ``design``.
 
     Parameters
     ----------
@@ -115,7 +122,13 @@ def build_cad(design: Design, cad: CadParameters | None = None, progress=None) -
     cad : CadParameters, optional
         Feature sizes; defaults to ``CadParameters()``.
     progress : callable, optional
-        ``advance()`` called once per part built (7 calls).
+        ``advance()`` called once per part built and once at the end
+        (``len(PARTS) + 1`` calls).
+
+    Returns
+    -------
+    CadModel
+        Every part, named (``label``) and coloured from the table.
 
     Raises
     ------
@@ -124,26 +137,20 @@ def build_cad(design: Design, cad: CadParameters | None = None, progress=None) -
     """
     lay = Layout(design, cad or CadParameters())
     step = progress or (lambda n=1: None)
-    parts: dict[str, Solid] = {}
-    parts["housing"] = housing(lay); step()
-    parts["piston"] = piston(lay, 0.0)
-    at_travel = piston(lay, design.fixed.travel_mm); step()
-    parts["bladder"] = bladder(lay); step()
-    parts["support_ring"] = support_ring(lay); step()
-    gas = {"gas_chamber_1": gas_chamber_1(lay), "gas_chamber_2": gas_chamber_2(lay)}; step()
-    m = mould(lay); step()
-    for name, s in parts.items():
-        s.label = name
-        s.color = Color(*COLOURS[name])
-    closed = {
-        "piston": piston_volume_mm3(lay),
-        "bladder": bladder_volume_mm3(lay),
-        "gas_chamber_1": design.V1_mm3 - design.fixed.dead_volume_1_mm3,
-        "gas_chamber_2": design.V2_mm3 - design.fixed.dead_volume_2_mm3,
-        "mould_cavity": bladder_volume_mm3(lay) * (1 + lay.cad.mould_shrinkage) ** 3,
-    }
-    pieces = housing_pieces(lay, parts["housing"])
-    model = CadModel(design, lay, parts, at_travel, gas, m, housing_pieces=pieces, closed_form_mm3=closed)
+    ctx = PartContext(lay, 0.0)
+    ctx_travel = PartContext(lay, design.fixed.travel_mm)
+    solids: dict[str, Solid] = {}
+    at_travel: dict[str, Solid] = {}
+    closed: dict[str, float] = {}
+    for part in PARTS:
+        solids[part.name] = _named(part, part.build(ctx))
+        if part.moves:
+            at_travel[part.name] = _named(part, part.build(ctx_travel))
+        if part.volume_mm3 is not None:
+            closed[part.name] = float(part.volume_mm3(lay))
+        step()
+    closed["mould_cavity"] = bladder_volume_mm3(lay) * (1 + lay.cad.mould_shrinkage) ** 3
+    model = CadModel(design, lay, solids, at_travel, ctx.mould, closed_form_mm3=closed)
     step()
     return model
 

@@ -1,15 +1,20 @@
 """Deterministic STEP / STL export of the CAD set and its manifest.
 
 * STEP: OCCT's writer with a fixed header timestamp (:data:`STEP_TIMESTAMP`);
-  the assembly's ``NEXT_ASSEMBLY_USAGE_OCCURRENCE`` ids (a process-global
+  every file's product carries the part's name from the part table; the
+  assembly's ``NEXT_ASSEMBLY_USAGE_OCCURRENCE`` ids (a process-global
   counter in OCCT) are renumbered 1, 2, ... so the bytes depend on the
   design only.
 * STL: binary, from one tessellation (``cad.stl_tolerance_mm``,
   ``cad.stl_angular_tolerance_rad``) merged into a watertight
-  :class:`trimesh.Trimesh`; the same mesh is checked and rendered.
+  :class:`trimesh.Trimesh`; the same mesh is checked, rendered and put in the GLB.
 * ``manifest.json``: every file with its size, sha256, volume, bounding box
-  and material, plus the CAD-measured chamber volumes and piston areas
-  next to the design's, the interference and mould checks.
+  and material, every part's closed-form volume next to the drawn one, the
+  CAD-measured chamber volumes and piston areas next to the design's, the
+  interference and mould checks.
+
+The files each part gets come from :data:`~vvea_design.cad.registry.PARTS`;
+:func:`~vvea_design.cad.write.write_cad` drives this module and the renders.
 """
 
 from __future__ import annotations
@@ -20,15 +25,16 @@ import json
 import re
 from pathlib import Path
 
-import numpy as np
 import trimesh
 from build123d import Shape, export_step
 
 from ..spring.design import Design
-from .assembly import part_materials, CadModel, assembly, build_cad, interference_mm3, mould_void
-from .layout import CadParameters
+from .assembly import CadModel, assembly, interference_mm3, mould_void
+from .mesh import to_mesh
+from .registry import PARTS
 
-__all__ = ["STEP_TIMESTAMP", "step_bytes", "to_mesh", "stl_bytes", "write_cad", "bbox_mm"]
+__all__ = ["STEP_TIMESTAMP", "step_bytes", "to_mesh", "stl_bytes", "bbox_mm", "export_files", "export_steps",
+           "write_file"]
 
 #: Fixed STEP header timestamp (byte-stable exports).
 STEP_TIMESTAMP = "2000-01-01T00:00:00"
@@ -37,7 +43,10 @@ _NAUO = re.compile(rb"NEXT_ASSEMBLY_USAGE_OCCURRENCE\('\d+'")
 
 
 def step_bytes(shape: Shape) -> bytes:
-    """STEP (AP214, mm) of ``shape`` or a labelled assembly, byte-stable."""
+    """STEP (AP214, mm) of ``shape`` or a labelled assembly, byte-stable.
+
+    The product name is ``shape.label`` (every part of the table is labelled
+    by :func:`~vvea_design.cad.assembly.build_cad`)."""
     buf = io.BytesIO()
     export_step(shape, buf, timestamp=STEP_TIMESTAMP)
     data = buf.getvalue()
@@ -45,20 +54,10 @@ def step_bytes(shape: Shape) -> bytes:
     return _NAUO.sub(lambda m: b"NEXT_ASSEMBLY_USAGE_OCCURRENCE('%d'" % next(counter), data)
 
 
-def to_mesh(shape: Shape, tolerance_mm: float = 0.05, angular_tolerance_rad: float = 0.25) -> trimesh.Trimesh:
-    """Tessellate ``shape`` into a merged triangle mesh (mm)."""
-    verts, tris = shape.tessellate(tolerance_mm, angular_tolerance_rad)
-    v = np.array([(p.X, p.Y, p.Z) for p in verts], dtype=np.float64)
-    f = np.array(tris, dtype=np.int64).reshape(-1, 3)
-    mesh = trimesh.Trimesh(v, f, process=False)
-    mesh.merge_vertices(digits_vertex=6)
-    mesh.update_faces(mesh.nondegenerate_faces())
-    mesh.remove_unreferenced_vertices()
-    return mesh
-
-
 def stl_bytes(mesh: trimesh.Trimesh) -> bytes:
     """Binary STL of ``mesh`` (float32, fixed header)."""
+    import numpy as np
+
     tri = np.asarray(mesh.triangles, dtype=np.float64)
     normals = np.asarray(mesh.face_normals, dtype=np.float32)
     rec = np.zeros(len(tri), dtype=[("n", "<f4", (3,)), ("v", "<f4", (3, 3)), ("a", "<u2")])
@@ -79,96 +78,64 @@ def _r(v: float, nd: int = 3) -> float:
     return float(round(v, nd)) + 0.0
 
 
-def _write(path: Path, data: bytes) -> dict:
+def write_file(path: Path, data: bytes) -> dict:
+    """Write ``data`` to ``path``; return its size and sha256 for the manifest."""
     path.write_bytes(data)
     return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
 
 
-def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters | None = None,
-              show_progress: bool = True) -> dict:
-    """Build every part of ``design`` and write the CAD set into ``out_dir``.
+def export_steps() -> int:
+    """Number of progress steps :func:`export_files` takes (one per part, assembly, checks, mould)."""
+    return len(PARTS) + 3
 
-    Files: ``<part>.step`` and ``<part>.stl`` for housing (united),
-    housing_base, housing_outer_tube, housing_inner_tube, housing_top_cap
-    (its machined parts), piston, bladder, support_ring, mould_half_a,
-    mould_half_b, mould_core;
-    ``assembly.step`` (named parts, x = 0); ``gas_chamber_1.stl``,
-    ``gas_chamber_2.stl`` (x = 0); ``assembly_cutaway.png`` and
-    ``mould_open.png`` (if ``renders``); ``manifest.json``.
+
+def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[str, trimesh.Trimesh]]:
+    """Write every part's files (from the table), ``assembly.step`` and run the checks.
 
     Parameters
     ----------
-    design : Design
-        The frozen design (mm, mm³).
-    out_dir : path-like
-        Output folder (created).
-    renders : bool
-        Also write the PNG renders (off-screen pyvista).
-    cad : CadParameters, optional
-        Feature sizes (default ``CadParameters()``).
-    show_progress : bool
-        Show the rich progress bar.
+    model : CadModel
+        The built CAD set.
+    out : Path
+        Existing output folder.
+    advance : callable, optional
+        Progress callback, :func:`export_steps` calls.
 
     Returns
     -------
-    dict
-        The manifest (also written as ``manifest.json``).
-
-    Raises
-    ------
-    CadError
-        For a design or parameter that cannot be drawn, before any geometry.
+    (dict, dict)
+        The manifest (without the renders) and the tessellated meshes by part
+        name (plus ``piston_at_travel``), mm.
     """
-    from ..progress import progress_bar
-    from .layout import Layout
-
-    cad = cad or CadParameters()
-    Layout(design, cad)  # validate first: a clear error before any file or solid
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    n_steps = 7 + 15 + (2 if renders else 0)  # build 7, export 15, renders 2
-    with progress_bar("CAD: build, check, export", n_steps, enabled=show_progress) as advance:
-        model = build_cad(design, cad, progress=advance)
-        manifest = _export(model, out, advance)
-        if renders:
-            from .render import render_assembly_cutaway, render_mould_open
-
-            for name, fn in (("assembly_cutaway.png", render_assembly_cutaway), ("mould_open.png", render_mould_open)):
-                data = fn(model, manifest["_meshes"])
-                manifest["files"][name] = {**_write(out / name, data), "kind": "render"}
-                advance()
-    manifest.pop("_meshes")
-    manifest["files"] = dict(sorted(manifest["files"].items()))
-    (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=False) + "\n")
-    return manifest
-
-
-def _export(model: CadModel, out: Path, advance) -> dict:
+    advance = advance or (lambda n=1: None)
     d, cad = model.design, model.layout.cad
-    mats = part_materials(d)
     files: dict[str, dict] = {}
     meshes: dict[str, trimesh.Trimesh] = {}
-    for name, solid in model.export_solids().items():
+    parts: dict[str, dict] = {}
+    for part in PARTS:
+        solid = model.solids[part.name]
         mesh = to_mesh(solid, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
-        meshes[name] = mesh
-        info = {"part": name, "material": mats[name], "volume_mm3": _r(solid.volume), "bbox_mm": bbox_mm(solid)}
-        files[f"{name}.step"] = {**_write(out / f"{name}.step", step_bytes(solid)), **info, "kind": "step"}
-        files[f"{name}.stl"] = {**_write(out / f"{name}.stl", stl_bytes(mesh)), **info,
-                                "kind": "stl", "triangles": int(len(mesh.faces)),
-                                "mesh_volume_mm3": _r(mesh.volume), "watertight": bool(mesh.is_watertight)}
+        meshes[part.name] = mesh
+        mat = part.material(d)
+        info = {"part": part.name, "material": mat.name, "volume_mm3": _r(solid.volume), "bbox_mm": bbox_mm(solid)}
+        closed = model.closed_form_mm3.get(part.name)
+        parts[part.name] = {"title": part.title, "group": part.group, "material": mat.name,
+                            "colour_rgb": [round(c, 3) for c in part.colour],
+                            "volume_mm3": _r(solid.volume),
+                            "closed_form_volume_mm3": None if closed is None else _r(closed),
+                            "files": [f"{part.name}.{ext}" for ext in part.files]}
+        if "step" in part.files:
+            files[f"{part.name}.step"] = {**write_file(out / f"{part.name}.step", step_bytes(solid)), **info,
+                                          "kind": "step"}
+        if "stl" in part.files:
+            files[f"{part.name}.stl"] = {**write_file(out / f"{part.name}.stl", stl_bytes(mesh)), **info,
+                                         "kind": "stl", "triangles": int(len(mesh.faces)),
+                                         "mesh_volume_mm3": _r(mesh.volume), "watertight": bool(mesh.is_watertight)}
         advance()
     asm = assembly(model, 0.0)
-    files["assembly.step"] = {**_write(out / "assembly.step", step_bytes(asm)), "kind": "step",
+    files["assembly.step"] = {**write_file(out / "assembly.step", step_bytes(asm)), "kind": "step",
                               "part": "assembly", "parts": [c.label for c in asm.children],
                               "material": "see parts", "volume_mm3": _r(asm.volume), "bbox_mm": bbox_mm(asm)}
-    advance()
-    for name, solid in model.gas.items():
-        mesh = to_mesh(solid, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
-        meshes[name] = mesh
-        files[f"{name}.stl"] = {**_write(out / f"{name}.stl", stl_bytes(mesh)), "kind": "stl", "part": name,
-                                "material": mats[name], "volume_mm3": _r(solid.volume), "bbox_mm": bbox_mm(solid),
-                                "triangles": int(len(mesh.faces)), "mesh_volume_mm3": _r(mesh.volume),
-                                "watertight": bool(mesh.is_watertight)}
     advance()
     meshes["piston_at_travel"] = to_mesh(model.piston_at_travel, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
     meas = model.measured()
@@ -201,10 +168,10 @@ def _export(model: CadModel, out: Path, advance) -> dict:
                   "bladder_volume_mm3": _r(model.parts["bladder"].volume),
                   "expected_cavity_volume_mm3": _r(model.closed_form_mm3["mould_cavity"]),
                   "sprue_open": void["sprue_open"], "vents_open": void["vents_open"]},
+        "parts": parts,
         "files": files,
-        "_meshes": meshes,
     }
-    return manifest
+    return manifest, meshes
 
 
 def _design_dict(d: Design) -> dict:

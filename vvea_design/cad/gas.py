@@ -23,11 +23,12 @@ from .layout import Layout
 __all__ = ["gas_chamber_1", "gas_chamber_2"]
 
 
-def gas_chamber_1(lay: Layout) -> Solid:
-    """Chamber-1 gas at x = 0, mm."""
-    return cylinder(lay.r_piston, lay.z_piston_top(0.0), lay.z_cap)
+def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
+    """Chamber-1 gas at displacement ``x_mm`` (the bore above the piston), mm."""
+    return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
 
 
-def gas_chamber_2(lay: Layout) -> Solid:
-    """Chamber-2 gas at x = 0 (equal-volume straight sleeve), mm."""
-    return ring(lay.r_gas2_inner, lay.r_bore, lay.z_free0, lay.z_free1)
+def gas_chamber_2(lay: Layout, x_mm: float = 0.0) -> Solid:
+    """Chamber-2 gas at displacement ``x_mm`` (outside the equal-volume straight sleeve), mm."""
+    r_in = lay.r_gas2_inner if x_mm == 0 else lay.design.bladder_equivalent_outer_radius_mm(x_mm)
+    return ring(r_in, lay.r_bore, lay.z_free0, lay.z_free1)

@@ -33,7 +33,7 @@ from ._shapes import bar, cone, cut, cylinder, fuse, revolved, ring, single_soli
 from .bladder import bladder_profile
 from .layout import Layout
 
-__all__ = ["Mould", "mould", "box"]
+__all__ = ["Mould", "mould", "box", "mould_core_volume_mm3"]
 
 
 def box(x0: float, x1: float, y0: float, y1: float, z0: float, z1: float) -> Solid:
@@ -60,22 +60,45 @@ class Mould:
         return {"mould_half_a": self.half_a, "mould_half_b": self.half_b, "mould_core": self.core}
 
 
-def mould(lay: Layout) -> Mould:
-    """Build the bladder mould of one layout."""
+def _cavity_profile(lay: Layout) -> list[tuple[float, float]]:
+    """The bladder outline scaled by ``1 + shrinkage`` about its centre (mould frame), mm."""
+    s = 1.0 + lay.cad.mould_shrinkage
+    zmid = 0.5 * (lay.z_bladder0 + lay.z_bladder1)
+    return [(r * s, (z - zmid) * s) for r, z in bladder_profile(lay)]
+
+
+def _core_dims(lay: Layout) -> tuple[float, ...]:
+    """Core radii and levels: r_in_min (at the beads), r_in, r_max, zc0, zc1, bead length,
+    block z0, z1 and the core's bore radius (mould frame), mm."""
     c = lay.cad
     s = 1.0 + c.mould_shrinkage
-    zmid = 0.5 * (lay.z_bladder0 + lay.z_bladder1)
-    prof = [(r * s, (z - zmid) * s) for r, z in bladder_profile(lay)]
-    cavity = revolved(prof)
+    prof = _cavity_profile(lay)
     r_in_min = (lay.r_bladder_in - lay.bead_mm) * s  # core at the beads
     r_in = lay.r_bladder_in * s
     r_max = (lay.r_bladder_out + lay.bead_mm) * s
     zc0, zc1 = prof[0][1], prof[6][1]
     lb = lay.bead_length * s
-    x_half = r_max + c.mould_side_mm
-    y_half = r_max + c.mould_wall_mm
     z0, z1 = zc0 - c.mould_wall_mm, zc1 + c.mould_wall_mm
     r_bore = max(r_in_min - c.mould_core_wall_mm, 0.0)
+    return r_in_min, r_in, r_max, zc0, zc1, lb, z0, z1, r_bore
+
+
+def mould_core_volume_mm3(lay: Layout) -> float:
+    """Closed-form volume of the mould core (tube with spigots + the land between the beads), mm³."""
+    r_in_min, r_in, _, zc0, zc1, lb, z0, z1, r_bore = _core_dims(lay)
+    sp = lay.cad.mould_core_spigot_mm
+    return (math.pi * (r_in_min**2 - r_bore**2) * (z1 - z0 + 2 * sp)
+            + math.pi * (r_in**2 - r_in_min**2) * (zc1 - zc0 - 2 * lb))
+
+
+def mould(lay: Layout) -> Mould:
+    """Build the bladder mould of one layout."""
+    c = lay.cad
+    prof = _cavity_profile(lay)
+    cavity = revolved(prof)
+    r_in_min, r_in, r_max, zc0, zc1, lb, z0, z1, r_bore = _core_dims(lay)
+    x_half = r_max + c.mould_side_mm
+    y_half = r_max + c.mould_wall_mm
     core = fuse(ring(r_bore, r_in_min, z0 - c.mould_core_spigot_mm, z1 + c.mould_core_spigot_mm),
                 ring(r_bore, r_in, zc0 + lb, zc1 - lb))
     core_envelope = fuse(cylinder(r_in_min, z0 - 1.0, z1 + 1.0), ring(0.5 * r_in_min, r_in, zc0 + lb, zc1 - lb))

@@ -60,14 +60,13 @@ def _png(plotter) -> bytes:
 
 
 def _gas_meshes(model, x_mm: float):
-    from ._shapes import cylinder, ring
-    from .export import to_mesh
+    from ._shapes import ring
+    from .mesh import to_mesh
 
-    lay, d = model.layout, model.design
-    g1 = cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
-    g2 = ring(d.bladder_equivalent_outer_radius_mm(x_mm), lay.r_bore, lay.z_free0, lay.z_free1)
+    lay = model.layout
+    gas = model.solids_at(x_mm, "gas")
     fluid = ring(lay.r_rod, lay.r_piston, lay.z_base_top, lay.z_piston_bottom(x_mm))
-    return to_mesh(g1, 0.1, 0.2), to_mesh(g2, 0.1, 0.2), to_mesh(fluid, 0.1, 0.2)
+    return {name: to_mesh(s, 0.1, 0.2) for name, s in gas.items()}, to_mesh(fluid, 0.1, 0.2)
 
 
 def render_assembly_cutaway(model, meshes: dict) -> bytes:
@@ -80,7 +79,7 @@ def render_assembly_cutaway(model, meshes: dict) -> bytes:
     meshes : dict
         Tessellated parts by name (``piston_at_travel`` included).
     """
-    from .assembly import COLOURS
+    from .registry import FLUID_COLOUR, get_part, parts_in
 
     pv = _pv()
     d = model.design
@@ -92,13 +91,13 @@ def render_assembly_cutaway(model, meshes: dict) -> bytes:
     for col, x in enumerate((0.0, travel)):
         pl.subplot(0, col)
         pl.set_background("white")
-        for name in ("housing", "piston", "bladder", "support_ring"):
-            key = "piston_at_travel" if (name == "piston" and x) else name
-            pl.add_mesh(_cut(_poly(meshes[key])), color=COLOURS[name], smooth_shading=False)
-        g1, g2, fluid = _gas_meshes(model, x)
-        pl.add_mesh(_cut(_poly(g1)), color=COLOURS["gas_chamber_1"], opacity=0.55)
-        pl.add_mesh(_cut(_poly(g2)), color=COLOURS["gas_chamber_2"], opacity=0.55)
-        pl.add_mesh(_cut(_poly(fluid)), color=(0.25, 0.75, 0.35), opacity=0.55)
+        for part in parts_in("assembly"):
+            key = "piston_at_travel" if (part.name == "piston" and x) else part.name
+            pl.add_mesh(_cut(_poly(meshes[key])), color=part.colour, smooth_shading=False)
+        gas, fluid = _gas_meshes(model, x)
+        for name, mesh in gas.items():
+            pl.add_mesh(_cut(_poly(mesh)), color=get_part(name).colour, opacity=0.55)
+        pl.add_mesh(_cut(_poly(fluid)), color=FLUID_COLOUR, opacity=0.55)
         pl.add_text(f"x = {x:g} mm  (blue: chamber 1, red: chamber 2, green: fluid column)",
                     font_size=10, color="black")
         pl.camera.parallel_projection = True
@@ -118,7 +117,7 @@ def render_mould_open(model, meshes: dict) -> bytes:
     hb = _poly(meshes["mould_half_b"]).translate((-gap, 0, 0), inplace=False)
     ha = _poly(meshes["mould_half_a"]).rotate_z(180.0, inplace=False).translate((gap, 0, 0), inplace=False)
     core = _poly(meshes["mould_core"])
-    from .export import to_mesh
+    from .mesh import to_mesh
 
     cav = _poly(to_mesh(m.cavity, 0.1, 0.2))
     pl.add_mesh(hb, color=(0.55, 0.75, 0.95))

@@ -1,8 +1,9 @@
 """The `vvea` command line: a thin layer over the library.
 
 Spring side (this module): ``optimise``, ``spring``, ``check``, ``pareto``,
-``map`` and ``design`` (the main job: everything into one folder). Other
-topics register their commands from their own modules (``cli_*.py``).
+``map`` and ``design`` (the main job, :func:`vvea_design.pipeline.design_unit`).
+Other topics register their commands from their own modules (``cli/*.py``).
+Results and tables go to stdout, progress and logs to stderr.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from .common import fail as _fail
 from .common import load_design_or_exit
 from .outputs import check_out, out_dir, out_files
 from ..progress import console
+from ..progress import out as stdout
 
 app = typer.Typer(
     add_completion=False,
@@ -26,7 +28,23 @@ app = typer.Typer(
     help="vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.",
 )
 
-out_console = console  # status and tables on stderr; data files on disk
+out_console = stdout  # results and tables on stdout; progress and logs on stderr (``console``)
+
+
+def _version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        stdout.print(f"vvea-design {__version__}", highlight=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
+                                 help="print the version and exit"),
+) -> None:
+    """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator."""
 
 
 def _print_evaluation(ev, title: str) -> None:
@@ -40,7 +58,7 @@ def _print_evaluation(ev, title: str) -> None:
         t.add_row(key, f"{100 * v:.3f} %" if key == "linearity_error" else f"{v:.4g}")
     for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2"):
         t.add_row(name, f"{getattr(ev.design, name):.5g}")
-    console.print(t)
+    stdout.print(t)
     c = Table(title="constraints (margin > 0 = satisfied)")
     c.add_column("constraint")
     c.add_column("value", justify="right")
@@ -51,7 +69,7 @@ def _print_evaluation(ev, title: str) -> None:
         style = "red" if m < -1e-9 else ("yellow" if m < 1e-3 else "green")
         rel = "<=" if d["kind"] == "max" else ">="
         c.add_row(name, f"{float(d['value']):.4g} {d['unit']}", f"{rel} {float(d['limit']):.4g}", f"[{style}]{m:+.4f}[/]")
-    console.print(c)
+    stdout.print(c)
 
 
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
@@ -102,22 +120,6 @@ def optimise(
     _optimise_to(spec, seed, out)
 
 
-def _write_spring(gs, folder: Path) -> Path:
-    """spring.csv and spring.png of ``gs`` into ``folder``; return the PNG path."""
-    from ..spring.plots import plot_spring
-
-    x = gs.x_mm(81)
-    F = gs.force_N(x)
-    k = gs.stiffness_N_per_mm(x)
-    P1, P2 = gs.pressures_MPa(x)
-    with open(folder / "spring.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
-        for row in zip(x, F, k, P1, P2):
-            w.writerow([f"{v:.6g}" for v in row])
-    return plot_spring(gs, folder / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0))
-
-
 @app.command()
 def spring(
     design: Path = typer.Argument(..., help="design JSON"),
@@ -125,8 +127,8 @@ def spring(
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
 ) -> None:
     """Force curve, stiffness and linearity of a design (from its parameters alone)."""
+    from ..pipeline import write_spring_files
     from ..spring.design_file import DesignFileError, spring_from_json
-    from ..spring.gas_spring import linearity_error, mean_stiffness_N_per_mm
 
     check_out(out or design.parent)
     try:
@@ -139,14 +141,11 @@ def spring(
         gs = gs.with_pressures(p2)
     out = out or design.parent
     with out_dir(out, "spring") as tmp:
-        png = _write_spring(gs, tmp)
-    png = out / png.name
-    xf = gs.x_mm(401)
-    Ff = gs.force_N(xf)
-    console.print(f"linearity error {100 * float(linearity_error(xf, Ff)):.3f} %, mean stiffness "
-                  f"{float(mean_stiffness_N_per_mm(xf, Ff)):.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
-                  f"F({gs.travel_mm:g}) = {float(Ff[-1]):.1f} N")
-    console.print(f"wrote {out / 'spring.csv'} and {png}")
+        files = {k: out / Path(v).name for k, v in write_spring_files(gs, tmp).items()}
+    stdout.print(f"linearity error {100 * gs.linearity_error():.3f} %, mean stiffness "
+                 f"{gs.mean_stiffness_N_per_mm():.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
+                 f"F({gs.travel_mm:g}) = {float(gs.force_N(gs.travel_mm)):.1f} N")
+    console.print(f"wrote {files['csv']} and {files['png']}")
 
 
 @app.command()
@@ -165,10 +164,10 @@ def check(
     except DesignFileError as exc:
         _fail(str(exc))
     except LinearityRegression as exc:
-        console.print("[bold red]FAIL[/]", end=" ")
-        console.print(str(exc), markup=False, highlight=False, soft_wrap=True)
+        stdout.print("[bold red]FAIL[/]", end=" ")
+        stdout.print(str(exc), markup=False, highlight=False, soft_wrap=True)
         raise typer.Exit(1)
-    console.print(f"[green]OK[/] {design}: linearity error {100 * lin:.3f} % <= {100 * max_linearity:.3f} %")
+    stdout.print(f"[green]OK[/] {design}: linearity error {100 * lin:.3f} % <= {100 * max_linearity:.3f} %")
 
 
 @app.command()
@@ -203,7 +202,7 @@ def pareto(
     field = PARETO_AXES[axis][0]
     for r in rows:
         lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
-        console.print(f"{field} = {r[field]:g}: {lin}")
+        stdout.print(f"{field} = {r[field]:g}: {lin}")
     console.print(f"wrote {csv_path} and {png}")
 
 
@@ -246,20 +245,44 @@ def map_(
 def design(
     out: Path = typer.Option(Path("vvea_out"), "--out", "-o", help="folder for everything"),
     spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML (default: the paper's unit)"),
-    seed: int = typer.Option(0, "--seed"),
+    seed: int = typer.Option(0, "--seed", help="seed of the global search (same seed, same design)"),
     renders: bool = typer.Option(True, "--renders/--no-renders", help="make the CAD PNG renders"),
+    actuator_study: bool = typer.Option(True, "--actuator-study/--no-actuator-study",
+                                        help="run the design's own actuator study"),
 ) -> None:
-    """The main job: optimise, then spring curve, CAD and bladder check, all into one folder."""
-    with out_dir(out, "design") as tmp:  # the whole job lands in `out` only when every step succeeded
-        design_json = tmp / "design.json"
-        _optimise_to(spec, seed, design_json)
-        for step in DESIGN_STEPS:
-            step(design_json, tmp, renders)
-    console.print(f"[bold green]done[/]: everything is in {out}/")
+    """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
+    from ..pipeline import STEPS, design_unit
+    from ..spring.optimise import Infeasible, NoBuildableDesign
+    from ..spring.requirements import SpecError, load_requirements
 
+    check_out(out)
+    try:
+        req = load_requirements(spec)
+    except SpecError as exc:
+        _fail(str(exc))
 
-def _step_spring(design_json: Path, out: Path, renders: bool) -> None:
-    spring(design_json, out=out / "spring", p2=None)
+    def say(step: str, i: int, n: int) -> None:
+        console.print(f"[{i + 1}/{n}] {step}")
+
+    try:
+        with out_dir(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
+            unit = design_unit(req, tmp, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
+                               progress=say)
+    except Infeasible as exc:
+        _print_evaluation(exc.result.evaluation, "least-violating design")
+        _fail(str(exc), code=3)
+    except NoBuildableDesign as exc:
+        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
+    _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})")
+    bl = unit.bladder
+    stdout.print(f"bladder ({bl.silicone.name}): strain bound {100 * bl.strain_bound:.2f} % vs allowable "
+                 f"{100 * bl.allowable_strain:.2f} %, radial room {'ok' if bl.passes_room else 'touches'} -> "
+                 f"{'PASSES' if bl.passes else 'FAILS'}")
+    a = unit.actuator
+    stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
+                 f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
+    console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
+    console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 
 
 from . import bladder as cli_bladder  # noqa: E402
@@ -270,9 +293,6 @@ from . import study as cli_study  # noqa: E402  (topic modules register their co
 for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
     _module.register(app)
 
-#: Steps of ``vvea design`` after the optimisation: f(design_json, out_dir, renders).
-DESIGN_STEPS = [_step_spring, cli_cad.design_step, cli_bladder.design_step]
-
 
 def main() -> None:  # console-script entry point
     try:
@@ -282,4 +302,4 @@ def main() -> None:  # console-script entry point
         sys.exit(130)
 
 
-__all__ = ["app", "main", "DESIGN_STEPS"]
+__all__ = ["app", "main"]

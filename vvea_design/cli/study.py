@@ -1,5 +1,5 @@
 """``vvea study ...`` commands: rest-to-rest sweep and safety study (thin layer over
-:mod:`vvea_design.actuator.studies`).
+:mod:`vvea_design.actuator`).
 
 Wire it in with ``register(app)``.
 """
@@ -19,7 +19,7 @@ study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (pa
 
 
 def _grid(spec: str):
-    from ..actuator.studies import GRIDS, Grid
+    from ..actuator.rest_to_rest import GRIDS, Grid
 
     if spec in GRIDS:
         return spec
@@ -59,7 +59,8 @@ def rest_to_rest(
     from ..actuator.model import PAPER_SETTINGS, from_design_json
     from ..actuator.ocp import Mesh
     from ..progress import console
-    from ..actuator.studies import DEFAULT_MESH, run_rest_to_rest
+    from ..actuator.multistart import DEFAULT_MESH
+    from ..actuator.rest_to_rest import run_rest_to_rest
     from .outputs import check_out
 
     check_out(out)  # resumable: results.csv grows case by case in --out itself, so only validated up front
@@ -127,7 +128,7 @@ def safety(
     """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
     from ..actuator.ocp import Mesh
     from ..progress import console
-    from ..actuator.studies import run_safety
+    from ..actuator.safety import run_safety
     from .outputs import check_out, out_dir
 
     check_out(out)

@@ -80,7 +80,7 @@ class Requirements:
     min_gas_fraction_at_full_stroke: float = 0.2  #: (V2 - A2 travel) / V2
     max_mass_g: float | None = None  #: optional mass limit (Pareto fronts use it)
     max_bladder_strain: float | None = None  #: optional FE strain-bound constraint (fraction)
-    bladder_material: str = "dragon-skin-20"  #: silicone for the optional strain constraint
+    bladder_material: str = "dragon-skin-20"  #: bladder silicone: checked by `vvea design` and by the optional strain constraint
     n_polytropic: float = 1.0  #: 1 isothermal ... 1.4 adiabatic
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
     fixed: FixedParameters = field(default_factory=FixedParameters)

@@ -1,0 +1,354 @@
+"""Multi-start solve of one rest-to-rest case (paper section 5).
+
+One *case* is an amplitude ``A`` and a period ``T``; for it every actuator
+setting is solved on one mesh (:func:`solve_case`). Constant-damping settings
+are convex QPs and are solved once. Variable-damping settings are non-convex
+and are solved from several starts; the best objective wins:
+
+* ``const-Dmin`` - the solution with D held at D_min (for iVVEA this is the
+  SEA solution). It is feasible, so it is also *adopted* as a candidate
+  itself: a variable-damping result is never worse than the constant
+  setting at its D_min on the same mesh (iVVEA <= SEA, exactly);
+* ``ramp`` - the QP solution with D ramped to D_max as fast as eq. 12 allows
+  (feasible, adopted too);
+* ``cold`` - at rest with D = D_min;
+* ``cross`` - the best solution of the other variable-damping settings of the
+  same case, clipped into this setting's damping range.
+
+With a fine mesh the multi-start runs on the coarse mesh and every setting is
+solved once more on the fine one (:func:`_polish_on_fine_mesh`).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import Actuator
+from .ocp import Mesh, OcpResult, RestToRestSolver, WARM_START_IPOPT, ramp_u_d_profile
+
+__all__ = [
+    "RestToRestCase",
+    "DEFAULT_MESH",
+    "DEFAULT_FINE_MESH",
+    "DEFAULT_STARTS",
+    "RESULT_COLUMNS",
+    "TIE_RTOL",
+    "solve_case",
+    "solve_case_results",
+    "solve_single",
+]
+
+#: Collocation mesh used by the studies (chosen by ``studies/mesh_convergence.py``).
+DEFAULT_MESH = Mesh(n_intervals=64, degree=3)
+#: Mesh on which the reported results are solved (two-level scheme): the multi-start runs on
+#: :data:`DEFAULT_MESH`, then every setting is solved once more here (QPs directly, variable
+#: damping by one warm-started polish of the coarse optimum). SEA's rmse changes < 0.5 % case by
+#: case from N = 192 on (``studies/mesh_convergence.py``).
+DEFAULT_FINE_MESH = Mesh(n_intervals=192, degree=3)
+#: Starts tried for variable-damping settings.
+DEFAULT_STARTS = ("const-Dmin", "ramp", "cold", "cross")
+_ALL_STARTS = set(DEFAULT_STARTS)
+
+
+@dataclass(frozen=True)
+class RestToRestCase:
+    """One work item of the sweep: every setting at one (A, T)."""
+
+    A_rad: float
+    T_s: float
+    settings: tuple[Actuator, ...]
+    mesh: Mesh = DEFAULT_MESH
+    starts: tuple[str, ...] = DEFAULT_STARTS
+    ipopt_options: tuple[tuple[str, object], ...] = ()  #: extra IPOPT options (hashable)
+    fine_mesh: Mesh | None = None  #: if set, report results polished on this mesh (two-level)
+
+    @property
+    def case_id(self) -> str:
+        return f"A{self.A_rad:.6g}_T{self.T_s:.6g}"
+
+
+#: Columns of results.csv, in order.
+RESULT_COLUMNS = [
+    "case_id", "setting", "A_rad", "T_s", "rmse", "valid", "status", "seconds", "cpu_seconds", "success", "objective",
+    "iterations", "start", "n_starts", "start_objectives", "peak_q_up1_rad", "peak_q_up2_rad",
+    "mean_D_Nms_per_rad", "max_D_Nms_per_rad", "K_Nm_per_rad", "D_min_Nms_per_rad", "D_max_Nms_per_rad",
+    "mesh_N", "mesh_degree", "coarse_mesh_N", "coarse_rmse",
+]
+
+# -- per-process solver cache (one parametric solver per mesh and options) ------------------------
+_SOLVERS: dict[tuple, RestToRestSolver] = {}
+
+
+def _solver(mesh: Mesh, ipopt_options: tuple) -> RestToRestSolver:
+    key = (mesh, ipopt_options)
+    if key not in _SOLVERS:
+        _SOLVERS[key] = RestToRestSolver(mesh, dict(ipopt_options))
+    return _SOLVERS[key]
+
+
+def _mean_D(r: OcpResult, solver: RestToRestSolver) -> float:
+    col = solver.cols[True]
+    D = r.Z[:, 1:, 4]
+    return float(np.sum(D * col.Bq[1:] * col.h[:, None]) / col.S)
+
+
+def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n_starts: int,
+         secs: float, iters: int, start_obj: dict, solver: RestToRestSolver | None, status: str | None = None,
+         cpu: float = float("nan")) -> dict:
+    ok = r is not None and r.success and np.isfinite(r.objective)
+    return {
+        "case_id": case.case_id,
+        "setting": act.name,
+        "A_rad": case.A_rad,
+        "T_s": case.T_s,
+        "rmse": r.extra["rmse_rad"] if ok else float("nan"),
+        "valid": bool(r.extra["valid"]) if ok else False,
+        "status": status if status is not None else (r.status if r is not None else "not solved"),
+        "seconds": round(secs, 4),
+        "cpu_seconds": round(cpu, 4),
+        "success": bool(ok),
+        "objective": r.objective if ok else float("nan"),
+        "iterations": iters,
+        "start": start if ok else "",
+        "n_starts": n_starts,
+        "start_objectives": json.dumps({k: (None if not np.isfinite(v) else float(f"{v:.10g}"))
+                                        for k, v in start_obj.items()}),
+        "peak_q_up1_rad": r.extra["peak_q_up_rad"][0] if ok else float("nan"),
+        "peak_q_up2_rad": r.extra["peak_q_up_rad"][1] if ok else float("nan"),
+        "mean_D_Nms_per_rad": _mean_D(r, solver) if ok else float("nan"),
+        "max_D_Nms_per_rad": float(np.max(r.Z[..., 4])) if ok else float("nan"),
+        "K_Nm_per_rad": act.K_Nm_per_rad,
+        "D_min_Nms_per_rad": act.D_min_Nms_per_rad,
+        "D_max_Nms_per_rad": act.D_max_Nms_per_rad,
+        "mesh_N": case.mesh.n_intervals,
+        "mesh_degree": case.mesh.degree,
+        "coarse_mesh_N": case.mesh.n_intervals,
+        "coarse_rmse": r.extra["rmse_rad"] if ok else float("nan"),
+    }
+
+
+def _better(a: OcpResult | None, b: OcpResult | None) -> bool:
+    """True when ``b`` is a successful result strictly better than ``a``."""
+    if b is None or not b.success or not np.isfinite(b.objective):
+        return False
+    return a is None or b.objective < a.objective
+
+
+def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpResult]]:
+    """Solve every setting of one case; return (rows, best results by setting name).
+
+    With ``case.fine_mesh`` the multi-start runs on ``case.mesh`` and the rows
+    and results come from the fine mesh (:func:`_polish_on_fine_mesh`).
+    """
+    rows, best = _solve_case_one_mesh(case)
+    if case.fine_mesh is None or case.fine_mesh == case.mesh:
+        return rows, best
+    return _polish_on_fine_mesh(case, rows, best)
+
+
+def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
+                         coarse_best: dict[str, OcpResult]) -> tuple[list[dict], dict[str, OcpResult]]:
+    """Second level: solve every setting of the case on ``case.fine_mesh``.
+
+    Constant damping: the convex QP, directly. Variable damping: candidates are
+    (1) the fine-mesh QP at D_min adopted as is (feasible; for iVVEA it *is*
+    the fine SEA solution, so iVVEA <= SEA holds exactly on the fine mesh) and
+    (2) one warm-started polish of the coarse multi-start optimum interpolated
+    onto the fine mesh (a cold-option retry only if that fails). Best wins.
+    """
+    fm = case.fine_mesh
+    fs = _solver(fm, case.ipopt_options)
+    fw = _solver(fm, tuple(sorted({**dict(case.ipopt_options), **WARM_START_IPOPT}.items())))
+    A, T = case.A_rad, case.T_s
+    fcase = RestToRestCase(A, T, case.settings, fm, case.starts, case.ipopt_options)
+    crow = {r["setting"]: r for r in coarse_rows}
+    qp_cache: dict[tuple, OcpResult] = {}
+
+    def const_solve(act: Actuator) -> OcpResult:
+        key = (act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
+        if key not in qp_cache:
+            qp_cache[key] = fs.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T)
+        return qp_cache[key]
+
+    rows, best = [], {}
+    cN = case.mesh.n_intervals
+    for act in case.settings:
+        cr = crow[act.name]
+        secs, cpu, iters = float(cr["seconds"]), float(cr["cpu_seconds"]), int(cr["iterations"])
+        obj = {f"N{cN} {k}": v for k, v in json.loads(cr["start_objectives"]).items()}
+        obj = {k: (float("nan") if v is None else v) for k, v in obj.items()}
+        cand: dict[str, OcpResult] = {}
+        qp = const_solve(act)
+        secs += qp.seconds
+        cpu += qp.extra.get("cpu_seconds", 0.0)
+        iters += max(qp.iterations, 0)
+        if not act.variable_damping:
+            cand["qp"] = qp
+        else:
+            cand["const-Dmin (adopted)"] = fs.evaluate_as(qp, act, A, T, status=qp.status)
+            cb = coarse_best.get(act.name)
+            if cb is not None and cb.success:
+                lab = f"polish:{cr['start']}"
+                r = fw.solve(act, A, T, w0=fw.guess_from_other_mesh(cb, act, A, T))
+                if not r.success:  # retry with the default options from the same start
+                    secs, cpu, iters = secs + r.seconds, cpu + r.extra.get("cpu_seconds", 0.0), iters + max(r.iterations, 0)
+                    obj[lab + " (warm)"] = float("nan")
+                    r = fs.solve(act, A, T, w0=fs.guess_from_other_mesh(cb, act, A, T))
+                secs += r.seconds
+                cpu += r.extra.get("cpu_seconds", 0.0)
+                iters += max(r.iterations, 0)
+                cand[lab] = r
+        for k, r in cand.items():
+            obj[k] = r.objective if r.success else float("nan")
+        label = _pick_label(cand)
+        b = cand[label] if label else None
+        best[act.name] = b
+        status = None
+        if label is None:
+            first = next(iter(cand.values()), None)
+            status = first.status if first is not None else "no start tried"
+        row = _row(fcase, act, b, label or "", len(cand), secs, iters, obj, fs, status=status, cpu=cpu)
+        row["coarse_mesh_N"] = cN
+        row["coarse_rmse"] = cr["rmse"]
+        rows.append(row)
+    return rows, best
+
+
+def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpResult]]:
+    """Multi-start on ``case.mesh`` only."""
+    s = _solver(case.mesh, case.ipopt_options)
+    A, T = case.A_rad, case.T_s
+    dt = s.interval_seconds(T)
+    unknown = set(case.starts) - _ALL_STARTS
+    if unknown:
+        raise ValueError(f"unknown start(s) {sorted(unknown)}; choose from {sorted(_ALL_STARTS)}")
+    rows: dict[str, dict] = {}
+    best: dict[str, OcpResult] = {}
+    info: dict[str, dict] = {}
+    qp_cache: dict[tuple, OcpResult] = {}
+    cpu = {a.name: 0.0 for a in case.settings}  # CPU seconds of each setting's solves
+
+    def const_solve(act: Actuator) -> OcpResult:
+        key = ("const", act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
+        if key not in qp_cache:
+            qp_cache[key] = s.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T)
+        return qp_cache[key]
+
+    # constant-damping settings: one convex QP each
+    for act in case.settings:
+        if not act.variable_damping:
+            r = const_solve(act)
+            cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
+            best[act.name] = r
+            info[act.name] = dict(start="qp", n=1, secs=r.seconds, iters=r.iterations, obj={"qp": r.objective})
+    variable = [a for a in case.settings if a.variable_damping]
+    # variable damping: starts from feasible QP solutions, cold, then cross starts
+    for act in variable:
+        cand: dict[str, OcpResult] = {}
+        secs, iters = 0.0, 0
+        inf = dict(obj={})
+
+        def attempt(label: str, r: OcpResult) -> None:
+            nonlocal secs, iters
+            secs += r.seconds
+            cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
+            iters += max(r.iterations, 0)
+            inf["obj"][label] = r.objective if r.success else float("nan")
+            cand[label] = r
+
+        if "const-Dmin" in case.starts:
+            qp = const_solve(act)
+            secs += qp.seconds
+            cpu[act.name] += qp.extra.get("cpu_seconds", 0.0)
+            attempt("const-Dmin (adopted)", s.evaluate_as(qp, act, A, T, status=qp.status))
+            attempt("const-Dmin", s.solve(act, A, T, w0=s.guess_from(qp, act, A, T)))
+        if "ramp" in case.starts:
+            prof = ramp_u_d_profile(act, dt, act.D_max_Nms_per_rad)
+            rq = s.solve(act, A, T, u_d_fixed=prof)
+            attempt("ramp (adopted)", rq)
+            if rq.success:
+                attempt("ramp", s.solve(act, A, T, w0=s.guess_from(rq, act, A, T)))
+        if "cold" in case.starts:
+            attempt("cold", s.solve(act, A, T))
+        info[act.name] = dict(cand=cand, secs=secs, iters=iters, obj=inf["obj"])
+    if "cross" in case.starts and len(variable) > 1:
+        for act in variable:
+            for other in variable:
+                if other is act:
+                    continue
+                ob = _pick(info[other.name]["cand"])
+                if ob is None:
+                    continue
+                r = s.solve(act, A, T, w0=s.guess_from(ob, act, A, T))
+                inf = info[act.name]
+                inf["secs"] += r.seconds
+                cpu[act.name] += r.extra.get("cpu_seconds", 0.0)
+                inf["iters"] += max(r.iterations, 0)
+                label = f"cross:{other.name}"
+                inf["obj"][label] = r.objective if r.success else float("nan")
+                inf["cand"][label] = r
+    for act in variable:
+        inf = info[act.name]
+        label = _pick_label(inf["cand"])
+        best[act.name] = inf["cand"][label] if label else None
+        inf["start"] = label or ""
+        inf["n"] = len(inf["cand"])
+        if label is None:  # every start failed: record the first failure's status
+            first = next(iter(inf["cand"].values()), None)
+            inf["status"] = first.status if first is not None else "no start tried"
+    for act in case.settings:
+        inf = info[act.name]
+        rows[act.name] = _row(case, act, best.get(act.name), inf["start"], inf["n"], inf["secs"], inf["iters"],
+                              inf["obj"], s, status=inf.get("status"), cpu=cpu[act.name])
+    return [rows[a.name] for a in case.settings], best
+
+
+#: Starts whose objectives agree to this relative tolerance count as a tie;
+#: a tie goes to the earlier start (so "won" means "first to reach the best").
+TIE_RTOL = 1e-6
+
+
+def _pick_label(cand: dict[str, OcpResult]) -> str | None:
+    ok = {k: r.objective for k, r in cand.items() if r.success and np.isfinite(r.objective)}
+    if not ok:
+        return None
+    fbest = min(ok.values())
+    for k, f in ok.items():  # insertion order
+        if f <= fbest + TIE_RTOL * abs(fbest) + 1e-15:
+            return k
+    return None  # pragma: no cover
+
+
+def _pick(cand: dict[str, OcpResult]) -> OcpResult | None:
+    lab = _pick_label(cand)
+    return cand[lab] if lab else None
+
+
+def solve_case(case: RestToRestCase) -> list[dict]:
+    """Work function of the sweep: rows for one (A, T) case; never raises.
+
+    Any exception becomes rows with ``status = "error: ..."`` and no result.
+    """
+    t0 = time.perf_counter()
+    try:
+        rows, _ = solve_case_results(case)
+        return rows
+    except Exception as exc:  # noqa: BLE001 - a sweep must never stop on one case
+        msg = f"error: {type(exc).__name__}: {exc}".splitlines()[0][:200]
+        out = []
+        for act in case.settings:
+            out.append(_row(case, act, None, "", 0, time.perf_counter() - t0, 0, {}, None, status=msg))
+        return out
+
+
+
+def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
+    """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks)."""
+    mesh, act, A, T = item
+    r = _solver(mesh, ()).solve(act, A, T)
+    return {"mesh_N": mesh.n_intervals, "mesh_degree": mesh.degree, "setting": act.name, "A_rad": A, "T_s": T,
+            "rmse": r.extra["rmse_rad"] if r.success else float("nan"), "status": r.status, "seconds": r.seconds}

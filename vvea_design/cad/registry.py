@@ -1,0 +1,193 @@
+"""The CAD part table: one entry per part drives build, export, labels,
+colours, closed-form checks, renders, the 3-D view and the bill of materials.
+
+Adding a part = one :class:`Part` entry in :data:`PARTS` (its builder may be
+written here or in a part module). :func:`~vvea_design.cad.assembly.build_cad`
+builds every entry once, names and colours it; ``write_cad`` writes the files
+each entry lists (the file count follows from the table); the renders and
+the GLB take the parts of their group; the tests check every closed-form
+volume and that every STEP file carries the part's name.
+
+Groups:
+
+* ``assembly`` -- the unit as it is assembled (``assembly.step``, the
+  interference check, the cut-away, ``assembly.glb``);
+* ``machined`` -- the housing's machined pieces (slices of the united
+  housing; drawings and bill of materials);
+* ``mould`` -- the bladder mould (mould frame; ``mould.glb``, mould render);
+* ``gas`` -- the gas domains (STL only; cut-away, 3-D view).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+
+from build123d import Solid
+
+from ..materials.structural import DENSITY_SILICONE_g_per_mm3, get_material
+from ..spring.design import Design
+from .bladder import bladder, bladder_volume_mm3, support_ring, support_ring_volume_mm3
+from .gas import gas_chamber_1, gas_chamber_2
+from .layout import Layout
+from .mould import Mould, mould, mould_core_volume_mm3
+from .parts import housing, housing_pieces, piston, piston_volume_mm3
+
+__all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "get_part", "parts_in", "SILICONE",
+           "MOULD_MATERIAL", "FLUID_COLOUR"]
+
+#: Material of the cast bladder when no silicone is named (the BOM names the chosen one).
+SILICONE = "silicone (platinum-cure casting compound)"
+#: Structural-material key of the printed mould.
+MOULD_MATERIAL = "pla"
+#: Colour of the fluid column in the renders (RGB 0..1).
+FLUID_COLOUR = (0.25, 0.75, 0.35)
+#: The part groups, in drawing order.
+GROUPS = ("assembly", "machined", "mould", "gas")
+
+
+@dataclass(frozen=True)
+class PartMaterial:
+    """What a part is made of: display name, density (g/mm³; None for gas) and how it is made."""
+
+    name: str
+    density_g_per_mm3: float | None
+    process: str  #: "machined", "turned", "printed", "cast", "gas"
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "density_g_per_mm3": self.density_g_per_mm3, "process": self.process}
+
+
+class PartContext:
+    """One layout at one piston displacement, with the shared solids built lazily
+    (the united housing, its slices, the mould) so each builder is a one-liner and
+    each expensive solid is built once."""
+
+    def __init__(self, lay: Layout, x_mm: float = 0.0) -> None:
+        self.lay = lay
+        self.x_mm = float(x_mm)
+
+    @cached_property
+    def housing(self) -> Solid:
+        return housing(self.lay)
+
+    @cached_property
+    def housing_pieces(self) -> dict[str, Solid]:
+        return housing_pieces(self.lay, self.housing)
+
+    @cached_property
+    def mould(self) -> Mould:
+        return mould(self.lay)
+
+
+@dataclass(frozen=True)
+class Part:
+    """One CAD part: how it is built, what it is made of and where it goes."""
+
+    name: str  #: file stem, STEP product name, label
+    title: str  #: human name (drawings, BOM, legends)
+    group: str  #: one of :data:`GROUPS`
+    build: Callable[[PartContext], Solid]  #: the solid (assembly or mould frame), mm
+    material: Callable[[Design], PartMaterial]  #: resolved from the design's fixed materials
+    colour: tuple[float, float, float]  #: RGB 0..1 (STEP colour, renders, GLB)
+    volume_mm3: Callable[[Layout], float] | None = None  #: closed-form volume, mm³ (None: measured only)
+    files: tuple[str, ...] = ("step", "stl")  #: exported formats
+    moves: bool = False  #: depends on the piston displacement x
+    bom: bool = True  #: a physical item in the bill of materials
+    drawing: bool = False  #: gets a dimensioned drawing sheet
+
+    def __post_init__(self) -> None:
+        if self.group not in GROUPS:
+            raise ValueError(f"part {self.name!r}: group must be one of {GROUPS}, got {self.group!r}")
+        bad = set(self.files) - {"step", "stl"}
+        if bad:
+            raise ValueError(f"part {self.name!r}: unknown file formats {sorted(bad)}")
+
+
+def _structural(field: str, process: str) -> Callable[[Design], PartMaterial]:
+    def resolve(d: Design) -> PartMaterial:
+        m = get_material(getattr(d.fixed, field))
+        return PartMaterial(m.name, m.density_g_per_mm3, process)
+
+    return resolve
+
+
+def _fixed(key: str, process: str) -> Callable[[Design], PartMaterial]:
+    def resolve(d: Design) -> PartMaterial:
+        m = get_material(key)
+        return PartMaterial(m.name, m.density_g_per_mm3, process)
+
+    return resolve
+
+
+def _const(name: str, density: float | None, process: str) -> Callable[[Design], PartMaterial]:
+    return lambda d: PartMaterial(name, density, process)
+
+
+def _outer_tube_mm3(lay: Layout) -> float:
+    return math.pi * (lay.r_outer**2 - lay.r_bore**2) * (lay.z_cap - lay.z_base_top)
+
+
+def _inner_tube_mm3(lay: Layout) -> float:
+    return math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * (lay.z_cap - lay.z_base_top)
+
+
+_HOUSING = _structural("housing_material", "machined")
+_GREY = (0.72, 0.74, 0.78)
+_MOULD = (0.55, 0.75, 0.95)
+
+#: The part table (order = build, file and legend order).
+PARTS: tuple[Part, ...] = (
+    Part("housing", "housing (united)", "assembly", lambda c: c.housing, _HOUSING, _GREY, bom=False),
+    Part("housing_base", "base (valves, channels, rod seal)", "machined", lambda c: c.housing_pieces["housing_base"],
+         _HOUSING, (0.66, 0.68, 0.72), drawing=True),
+    Part("housing_outer_tube", "outer tube", "machined", lambda c: c.housing_pieces["housing_outer_tube"], _HOUSING,
+         (0.78, 0.80, 0.84), volume_mm3=_outer_tube_mm3, drawing=True),
+    Part("housing_inner_tube", "inner tube (piston bore)", "machined",
+         lambda c: c.housing_pieces["housing_inner_tube"], _HOUSING, (0.60, 0.62, 0.66),
+         volume_mm3=_inner_tube_mm3, drawing=True),
+    Part("housing_top_cap", "top cap (fill ports, bladder clamp)", "machined",
+         lambda c: c.housing_pieces["housing_top_cap"], _HOUSING, (0.70, 0.72, 0.76), drawing=True),
+    Part("piston", "piston with rod", "assembly", lambda c: piston(c.lay, c.x_mm),
+         _structural("rod_material", "turned"), (0.45, 0.47, 0.52), volume_mm3=piston_volume_mm3, moves=True,
+         drawing=True),
+    Part("bladder", "bladder (cast silicone sleeve)", "assembly", lambda c: bladder(c.lay),
+         _const(SILICONE, DENSITY_SILICONE_g_per_mm3, "cast"), (0.95, 0.75, 0.20), volume_mm3=bladder_volume_mm3),
+    Part("support_ring", "support ring", "assembly", lambda c: support_ring(c.lay),
+         _structural("support_ring_material", "printed"), (0.15, 0.15, 0.15), volume_mm3=support_ring_volume_mm3),
+    Part("mould_half_a", "mould half A (pins)", "mould", lambda c: c.mould.half_a,
+         _fixed(MOULD_MATERIAL, "printed"), _MOULD),
+    Part("mould_half_b", "mould half B (pin holes)", "mould", lambda c: c.mould.half_b,
+         _fixed(MOULD_MATERIAL, "printed"), _MOULD),
+    Part("mould_core", "mould core", "mould", lambda c: c.mould.core, _fixed(MOULD_MATERIAL, "printed"),
+         (0.85, 0.85, 0.85), volume_mm3=mould_core_volume_mm3),
+    # negative chamber blue, positive chamber red (paper Fig. 2)
+    Part("gas_chamber_1", "gas, chamber 1", "gas", lambda c: gas_chamber_1(c.lay, c.x_mm), _const("gas (nitrogen), chamber 1", None, "gas"),
+         (0.20, 0.40, 0.95), volume_mm3=lambda lay: lay.design.V1_mm3 - lay.design.fixed.dead_volume_1_mm3,
+         files=("stl",), moves=True, bom=False),
+    Part("gas_chamber_2", "gas, chamber 2", "gas", lambda c: gas_chamber_2(c.lay, c.x_mm), _const("gas (nitrogen), chamber 2", None, "gas"),
+         (0.95, 0.25, 0.20), volume_mm3=lambda lay: lay.design.V2_mm3 - lay.design.fixed.dead_volume_2_mm3,
+         files=("stl",), moves=True, bom=False),
+)
+
+_BY_NAME = {p.name: p for p in PARTS}
+if len(_BY_NAME) != len(PARTS):  # pragma: no cover - table integrity
+    raise RuntimeError("duplicate part names in vvea_design.cad.registry.PARTS")
+
+
+def get_part(name: str) -> Part:
+    """The table entry of part ``name``; a clear error naming the known parts otherwise."""
+    try:
+        return _BY_NAME[name]
+    except KeyError:
+        raise KeyError(f"unknown CAD part {name!r}; known: {', '.join(_BY_NAME)}") from None
+
+
+def parts_in(*groups: str) -> tuple[Part, ...]:
+    """The table entries of the given groups, in table order."""
+    for g in groups:
+        if g not in GROUPS:
+            raise ValueError(f"unknown part group {g!r}; known: {GROUPS}")
+    return tuple(p for p in PARTS if p.group in groups)

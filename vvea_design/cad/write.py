@@ -1,0 +1,84 @@
+"""``write_cad``: build the CAD set of one design and write it into a folder.
+
+The top of the ``cad`` package: it drives :mod:`~vvea_design.cad.assembly`
+(build), :mod:`~vvea_design.cad.export` (STEP, STL, manifest) and
+:mod:`~vvea_design.cad.render` (PNG); none of those imports this module or
+each other upwards, so there is no import cycle.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..spring.design import Design
+from .assembly import CadModel, build_cad
+from .export import export_files, export_steps, write_file
+from .layout import CadParameters, Layout
+from .registry import PARTS
+
+__all__ = ["write_cad", "RENDERS"]
+
+#: The PNG renders ``write_cad`` writes (file name -> render function name in :mod:`.render`).
+RENDERS = {"assembly_cutaway.png": "render_assembly_cutaway", "mould_open.png": "render_mould_open"}
+
+
+def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters | None = None,
+              show_progress: bool = True, model: CadModel | None = None) -> dict:
+    """Build every part of ``design`` and write the CAD set into ``out_dir``.
+
+    Files (one entry of :data:`~vvea_design.cad.registry.PARTS` each):
+    ``<part>.step`` and ``<part>.stl`` for housing (united), housing_base,
+    housing_outer_tube, housing_inner_tube, housing_top_cap (its machined
+    pieces), piston, bladder, support_ring, mould_half_a, mould_half_b,
+    mould_core; ``gas_chamber_1.stl``, ``gas_chamber_2.stl`` (x = 0);
+    ``assembly.step`` (named parts, x = 0); ``assembly_cutaway.png`` and
+    ``mould_open.png`` (if ``renders``); ``manifest.json``.
+
+    Parameters
+    ----------
+    design : Design
+        The frozen design (mm, mm³).
+    out_dir : path-like
+        Output folder (created).
+    renders : bool
+        Also write the PNG renders (off-screen pyvista).
+    cad : CadParameters, optional
+        Feature sizes (default ``CadParameters()``).
+    show_progress : bool
+        Show the rich progress bar.
+    model : CadModel, optional
+        An already built model of ``design`` (skips the build).
+
+    Returns
+    -------
+    dict
+        The manifest (also written as ``manifest.json``).
+
+    Raises
+    ------
+    CadError
+        For a design or parameter that cannot be drawn, before any geometry.
+    """
+    from ..progress import progress_bar
+
+    cad = cad or CadParameters()
+    Layout(design, cad)  # validate first: a clear error before any file or solid
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    n_build = 0 if model is not None else len(PARTS) + 1
+    n_steps = n_build + export_steps() + (len(RENDERS) if renders else 0)
+    with progress_bar("CAD: build, check, export", n_steps, enabled=show_progress) as advance:
+        if model is None:
+            model = build_cad(design, cad, progress=advance)
+        manifest, meshes = export_files(model, out, advance)
+        if renders:
+            from . import render
+
+            for name, fn_name in RENDERS.items():
+                data = getattr(render, fn_name)(model, meshes)
+                manifest["files"][name] = {**write_file(out / name, data), "kind": "render"}
+                advance()
+    manifest["files"] = dict(sorted(manifest["files"].items()))
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=False) + "\n")
+    return manifest

@@ -1,0 +1,379 @@
+"""The main job as one function: requirements in, a checked unit and its folder out.
+
+:func:`design_unit` runs the chain of the toolkit in order::
+
+    requirements -> optimise -> spring curve -> CAD -> bladder check (the
+    requirements' silicone) -> actuator parameters -> the design's actuator
+    study -> report.html
+
+and returns a :class:`UnitDesign` (frozen, ``to_dict()`` for JSON). The
+``vvea design`` command only calls it and prints the result.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .actuator.model import Actuator, actuator_from_spring
+from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
+from .spring.design_file import save_design
+from .spring.gas_spring import GasSpring, least_squares_line, linearity_error
+from .spring.optimise import Infeasible, OptimisationResult, optimise
+from .spring.requirements import N_SAMPLES, Requirements
+
+__all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
+           "Infeasible"]
+
+#: The steps of :func:`design_unit` in order (the names its ``progress`` callback receives).
+STEPS = ("optimise", "spring", "cad", "bladder", "actuator", "actuator_study", "report")
+
+#: Polytropic exponent of the adiabatic curve shown beside the isothermal one.
+ADIABATIC_N = 1.4
+
+
+@dataclass(frozen=True)
+class SpringCurve:
+    """Force, deviation from the least-squares line and chamber pressures over the stroke.
+
+    Arrays are sampled on ``x_mm``; the isothermal (n = 1) and adiabatic
+    (n = 1.4) curves start from the same charge at x = 0.
+    """
+
+    x_mm: np.ndarray  #: displacement over the travel (mm), x > 0 extends the pull spring
+    force_isothermal_N: np.ndarray  #: force at n = 1 (N), tension > 0
+    force_adiabatic_N: np.ndarray  #: force at n = 1.4 (N), tension > 0
+    deviation_isothermal_N: np.ndarray  #: force minus its least-squares line, n = 1 (N)
+    deviation_adiabatic_N: np.ndarray  #: force minus its least-squares line, n = 1.4 (N)
+    stiffness_isothermal_N_per_mm: float  #: least-squares slope at n = 1 (N/mm)
+    stiffness_adiabatic_N_per_mm: float  #: least-squares slope at n = 1.4 (N/mm)
+    linearity_isothermal: float  #: max |deviation| / force span at n = 1 (fraction)
+    linearity_adiabatic: float  #: max |deviation| / force span at n = 1.4 (fraction)
+    P1_isothermal_MPa: np.ndarray  #: chamber-1 pressure at n = 1 (MPa)
+    P2_isothermal_MPa: np.ndarray  #: chamber-2 pressure at n = 1 (MPa)
+    P1_adiabatic_MPa: np.ndarray  #: chamber-1 pressure at n = 1.4 (MPa)
+    P2_adiabatic_MPa: np.ndarray  #: chamber-2 pressure at n = 1.4 (MPa)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready content (lists of floats).
+
+        Returns
+        -------
+        dict
+            Every field; arrays as lists, units in the keys.
+        """
+        return {k: (v.tolist() if isinstance(v, np.ndarray) else float(v)) for k, v in self.__dict__.items()}
+
+
+def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
+    """The isothermal and adiabatic force curves of ``spring`` with deviations and pressures.
+
+    Parameters
+    ----------
+    spring : GasSpring
+        The unit's gas spring (mm, mm², mm³, MPa) as charged at x = 0.
+    num : int
+        Samples over the travel (default: the 401 every linearity figure uses).
+
+    Returns
+    -------
+    SpringCurve
+        Forces in N, pressures in MPa, stiffness in N/mm, linearity as a fraction.
+    """
+    x = spring.x_mm(num)
+    iso = replace(spring, n_polytropic=1.0)
+    adi = replace(spring, n_polytropic=ADIABATIC_N)
+    out: dict[str, Any] = {"x_mm": x}
+    for tag, gs in (("isothermal", iso), ("adiabatic", adi)):
+        F = gs.force_N(x)
+        k, b = least_squares_line(x, F)
+        P1, P2 = gs.pressures_MPa(x)
+        out[f"force_{tag}_N"] = F
+        out[f"deviation_{tag}_N"] = F - (k * x + b)
+        out[f"stiffness_{tag}_N_per_mm"] = float(k)
+        out[f"linearity_{tag}"] = float(linearity_error(x, F))
+        out[f"P1_{tag}_MPa"] = np.asarray(P1, float)
+        out[f"P2_{tag}_MPa"] = np.asarray(P2, float)
+    return SpringCurve(**out)
+
+
+def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path]:
+    """Write ``spring.csv`` (x, force, stiffness, pressures) and ``spring.png`` into ``out_dir``.
+
+    Parameters
+    ----------
+    spring : GasSpring
+        The gas spring (mm, mm², mm³, MPa).
+    out_dir : path-like
+        Folder (created).
+
+    Returns
+    -------
+    dict of str to Path
+        ``{"csv": ..., "png": ...}``.
+    """
+    from .spring.plots import plot_spring
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    x = spring.x_mm(81)
+    F = spring.force_N(x)
+    k = spring.stiffness_N_per_mm(x)
+    P1, P2 = spring.pressures_MPa(x)
+    csv_path = out / "spring.csv"
+    with open(csv_path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
+        for row in zip(x, F, k, P1, P2):
+            w.writerow([f"{v:.6g}" for v in row])
+    png = _save(plot_spring(spring, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
+    return {"csv": csv_path, "png": png}
+
+
+def _save(fig_or_path, path: Path) -> Path:
+    """Accept a plot function that returns a Figure (new style) or the path it saved (old style)."""
+    if isinstance(fig_or_path, (str, Path)):
+        return Path(fig_or_path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig_or_path.savefig(path, dpi=120, metadata={"Software": "vvea-design"})
+    return path
+
+
+@dataclass(frozen=True)
+class UnitDesign:
+    """Everything :func:`design_unit` made: the design, its checks, its files.
+
+    ``to_dict()`` is what ``unit.json`` holds.
+    """
+
+    requirements: Requirements  #: what was asked for
+    optimisation: OptimisationResult  #: the optimised design, evaluated (margins, performance)
+    spring: SpringCurve  #: isothermal and adiabatic force curves, deviations, pressures
+    bladder: BladderResult  #: the bladder check with the requirements' silicone
+    actuator: Actuator  #: joint-level K, D range of the unit (section 3.4 mapping, SI)
+    cad_manifest: dict | None  #: the CAD set's manifest (None when CAD was skipped)
+    actuator_study: Any | None  #: the design's actuator study (None when skipped or unavailable)
+    out_dir: Path  #: the folder written
+    files: dict[str, Path]  #: what was written, by role
+    seconds: dict[str, float]  #: wall time of each step (s)
+    seed: int  #: seed of the optimiser
+    version: str  #: vvea-design version that made it
+    spec_path: str | None = None  #: requirements file (None: the built-in defaults)
+
+    @property
+    def passes(self) -> bool:
+        """Every constraint met and the bladder check passed."""
+        return bool(self.optimisation.evaluation.feasible and self.bladder.passes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (no arrays of the CAD meshes).
+
+        Returns
+        -------
+        dict
+            Requirements, performance, margins, bladder, actuator, files, timings (s), provenance.
+        """
+        ev = self.optimisation.evaluation
+        study = self.actuator_study
+        return {
+            "generator": "vvea_design.pipeline.design_unit",
+            "version": self.version,
+            "seed": self.seed,
+            "spec": self.spec_path,
+            "passes": self.passes,
+            "requirements": self.requirements.to_dict(),
+            "performance": ev.performance(),
+            "constraint_margins": dict(ev.margins),
+            "optimiser": self.optimisation.summary(),
+            "spring": {k: v for k, v in self.spring.to_dict().items() if not isinstance(v, list)},
+            "bladder": self.bladder.to_dict(),
+            "actuator": _actuator_dict(self.actuator),
+            "actuator_study": (study.to_dict() if hasattr(study, "to_dict") else study),
+            "files": {k: _relative(v, self.out_dir) for k, v in self.files.items()},  # the folder may move
+            "seconds": dict(self.seconds),
+        }
+
+
+ProgressFn = Callable[[str, int, int], None]
+
+
+def design_unit(
+    requirements: Requirements,
+    out_dir: str | Path,
+    *,
+    seed: int = 0,
+    renders: bool = True,
+    cad: bool = True,
+    actuator_study: bool = True,
+    report: bool = True,
+    bladder_elements: int = DEFAULT_ELEMENTS,
+    spec_path: str | Path | None = None,
+    progress: ProgressFn | None = None,
+) -> UnitDesign:
+    """Run the main job: optimise the spring, then spring curve, CAD, bladder check, actuator, report.
+
+    Parameters
+    ----------
+    requirements : Requirements
+        What the unit must meet (mm, MPa, N/mm; ``bladder_material`` names the silicone checked).
+    out_dir : path-like
+        Folder for everything (created): ``design.json``, ``design_force.png``,
+        ``spring/``, ``cad/``, ``bladder/``, ``actuator/``, ``unit.json``, ``report.html``.
+    seed : int
+        Seed of the optimiser's global search (same seed, same design).
+    renders : bool
+        Make the CAD PNG renders (off-screen pyvista).
+    cad : bool
+        Build and export the CAD set (False skips it and the 3-D view of the report).
+    actuator_study : bool
+        Run the design's own actuator study when the library provides it.
+    report : bool
+        Write ``report.html``.
+    bladder_elements : int
+        Finite elements along the bladder meridian.
+    spec_path : path-like, optional
+        Where ``requirements`` came from (recorded as provenance only).
+    progress : callable, optional
+        ``progress(step, index, total)`` before each step of :data:`STEPS`.
+
+    Returns
+    -------
+    UnitDesign
+        The typed result; ``unit.json`` in ``out_dir`` holds its ``to_dict()``.
+
+    Raises
+    ------
+    Infeasible
+        No design meets the requirements (``exc.result`` is the least-violating one).
+    """
+    from .spring.plots import plot_spring
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    seconds: dict[str, float] = {}
+    files: dict[str, Path] = {}
+
+    def step(name: str) -> float:
+        if progress is not None:
+            progress(name, STEPS.index(name), len(STEPS))
+        return time.perf_counter()
+
+    # 1. optimise ------------------------------------------------------------
+    t = step("optimise")
+    strain_fn = None
+    if requirements.max_bladder_strain is not None:
+        from functools import partial
+
+        from .bladder.check import strain_bound
+
+        strain_fn = partial(strain_bound, material=requirements.bladder_material)
+    res = optimise(requirements, seed=seed, bladder_strain_fn=strain_fn)  # raises Infeasible
+    files["design"] = save_design(out / "design.json", res.evaluation, requirements, optimiser=res.summary())
+    lin = res.evaluation.linearity_error
+    files["design_force_png"] = _save(
+        plot_spring(res.design.gas_spring, out / "design_force.png", extra_charges_MPa=(1.0, 2.0),
+                    title=f"optimised design: linearity {100 * lin:.2f} %"), out / "design_force.png")
+    seconds["optimise"] = time.perf_counter() - t
+
+    # 2. spring curve --------------------------------------------------------
+    t = step("spring")
+    gs = res.design.gas_spring
+    curve = spring_curve(gs)
+    sp = write_spring_files(gs, out / "spring")
+    files["spring_csv"], files["spring_png"] = sp["csv"], sp["png"]
+    seconds["spring"] = time.perf_counter() - t
+
+    # 3. CAD -----------------------------------------------------------------
+    t = step("cad")
+    manifest = None
+    if cad:
+        from .cad import write_cad
+
+        manifest = write_cad(res.design, out / "cad", renders=renders, show_progress=False)
+        files["cad"] = out / "cad"
+    seconds["cad"] = time.perf_counter() - t
+
+    # 4. bladder, with the requirements' silicone ------------------------------
+    t = step("bladder")
+    bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
+    bfiles = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
+                                  n_elements=bladder_elements)["files"]
+    files["bladder_json"] = out / "bladder" / bfiles["json"]  # bladder.json lists names in its folder
+    files["bladder_png"] = out / "bladder" / bfiles["png"]
+    seconds["bladder"] = time.perf_counter() - t
+
+    # 5. actuator parameters ---------------------------------------------------
+    t = step("actuator")
+    act = actuator_from_spring(gs, name="design")
+    act_dir = out / "actuator"
+    act_dir.mkdir(exist_ok=True)
+    files["actuator_json"] = act_dir / "actuator.json"
+    files["actuator_json"].write_text(json.dumps(
+        {**_actuator_dict(act),
+         "mapping": "K = 2 r^2 k, D = 2 r^2 L(gamma), paper section 3.4 (vvea_design.actuator.model)"},
+        indent=2) + "\n")
+    seconds["actuator"] = time.perf_counter() - t
+
+    # 6. the design's actuator study -------------------------------------------
+    t = step("actuator_study")
+    study = _run_actuator_study(act, act_dir) if actuator_study else None
+    seconds["actuator_study"] = time.perf_counter() - t
+
+    unit = UnitDesign(requirements=requirements, optimisation=res, spring=curve, bladder=bl, actuator=act,
+                      cad_manifest=manifest, actuator_study=study, out_dir=out, files=dict(files),
+                      seconds=dict(seconds), seed=seed, version=__version__,
+                      spec_path=None if spec_path is None else str(spec_path))
+
+    # 7. report ----------------------------------------------------------------
+    t = step("report")
+    if report:
+        from .report.html import unit_report
+
+        files["report"] = unit_report(unit).write(out / "report.html")
+    seconds["report"] = time.perf_counter() - t
+    unit = replace(unit, files=dict(files), seconds=dict(seconds))
+    files["unit_json"] = out / "unit.json"
+    unit = replace(unit, files=dict(files))
+    files["unit_json"].write_text(json.dumps(unit.to_dict(), indent=2, default=_json_default) + "\n")
+    return unit
+
+
+def _relative(path: Path | str, folder: Path) -> str:
+    """``path`` relative to the unit's folder when inside it (the folder is moved into place at the end)."""
+    try:
+        return str(Path(path).relative_to(folder))
+    except ValueError:
+        return str(path)
+
+
+def _actuator_dict(act: Actuator) -> dict[str, Any]:
+    from dataclasses import asdict
+
+    return asdict(act)
+
+
+def _json_default(v: Any) -> Any:
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, Path):
+        return str(v)
+    raise TypeError(f"not JSON-serialisable: {type(v).__name__}")
+
+
+def _run_actuator_study(act: Actuator, out_dir: Path):
+    """The design's own actuator study, when the actuator wing provides one (``run_design_study``)."""
+    try:
+        from .actuator import run_design_study  # type: ignore[attr-defined]
+    except ImportError:
+        return None
+    return run_design_study(act, out_dir)

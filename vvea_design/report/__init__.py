@@ -1,0 +1,1 @@
+"""Reports: HTML report, drawings, bill of materials."""
