@@ -130,7 +130,7 @@ def tiny_budget():
     mp.undo()
 
 
-@settings(FUZZ, max_examples=30)
+@settings(FUZZ, max_examples=60)
 @given(content=st.one_of(files, plausible.map(str.encode)))
 def test_optimise_command_never_shows_a_traceback(tmp_path_factory, tiny_budget, content):
     from vvea_design.cli.main import app

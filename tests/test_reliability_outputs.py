@@ -487,3 +487,22 @@ def test_optimise_writes_design_and_plot_together(tmp_path, monkeypatch):
     res = runner.invoke(app, ["optimise", "--out", str(target)])
     assert interrupted(res)
     assert tree(tmp_path / "d") == before
+
+
+def test_study_summary_and_figures_are_replaced_whole_results_kept(tmp_path, monkeypatch):
+    """`vvea study rest-to-rest` stays resumable (results.csv in place); its summary and figures land whole."""
+    import vvea_design.actuator.rest_to_rest as rr
+    from vvea_design.actuator.ocp import Mesh
+
+    grid, mesh = rr.Grid((0.4,), (0.8,)), Mesh(16, 3)
+    rr.run_rest_to_rest(tmp_path, grid=grid, mesh=mesh, fine_mesh=None, workers=1, progress=False)
+    before = tree(tmp_path)
+    assert {"results.csv", "summary.json", "best_map.png", "trajectory.png"} <= set(before)
+
+    def trajectory_then_ctrl_c(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rr, "plot_trajectory", trajectory_then_ctrl_c)
+    with pytest.raises(KeyboardInterrupt):  # resume: nothing to solve, then the figures are interrupted
+        rr.run_rest_to_rest(tmp_path, grid=grid, mesh=mesh, fine_mesh=None, workers=1, progress=False)
+    assert tree(tmp_path) == before  # summary.json and best_map.png not replaced alone

@@ -136,14 +136,14 @@ def design_schema() -> dict[str, Any]:
     return {
         "$schema": _DIALECT, "$id": "vvea-design/design.schema.json", "title": "vvea-design design file",
         "type": "object",
-        "required": ["format", "format_version", "parameters"],
+        "required": ["format", "format_version", "parameters", "fixed"],  # self-contained: nothing from defaults
         "properties": {
             "format": {"const": FORMAT},
             "format_version": {"const": FORMAT_VERSION},
-            "parameters": {"type": "object", "properties": params, "required": list(PARAMETER_KEYS),
+            "parameters": {"type": "object", "properties": params, "required": [*PARAMETER_KEYS, "setpoint_x0_mm"],
                            "additionalProperties": False,
                            "description": "the spring's physics (mm, mm², mm³, MPa): eq. 5 needs nothing else"},
-            "fixed": fixed_schema(),
+            "fixed": {**fixed_schema(), "required": list(fixed_schema()["properties"])},
             "geometry": {"type": "object", "description": "derived lengths, radii, volumes (for reading)"},
             "performance": {"type": "object", "description": "linearity (fraction), stiffness (N/mm), force (N), "
                                                              "mass (g), pressures (MPa), ..."},
