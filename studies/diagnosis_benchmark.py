@@ -255,11 +255,15 @@ def plot(summary: dict):
     rec = [pe[n]["recall"] or 0.0 for n in names]
     prec = [pe[n].get("precision") for n in names]
     mis = [pe[n].get("misnamed_as_catalogue_rate") for n in names]
-    ax.bar(xs - 0.25, rec, 0.25, label="recall (found / named right)", color="C0")
-    ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision (catalogue ids)", color="C2")
-    ax.bar(xs + 0.25, [m if m is not None else 0 for m in mis], 0.25, label="named as a catalogue effect (wrong)", color="C3")
+    lab = lambda vals: ["" if v is None else f"{v:.2f}" for v in vals]  # noqa: E731
+    c1 = ax.bar(xs - 0.25, rec, 0.25, label="recall (found / named right)", color="C0")
+    c2 = ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision (catalogue ids)", color="C2")
+    c3 = ax.bar(xs + 0.25, [m if m is not None else 0 for m in mis], 0.25, label="named as a catalogue effect (wrong)",
+                color="C3")
+    for c, vals in ((c1, rec), (c2, prec), (c3, mis)):
+        ax.bar_label(c, labels=lab(vals), fontsize=6.5, padding=1, rotation=90)
     ax.axhline(0.95, color="k", ls="--", lw=0.8, label="target 0.95")
-    ax.set_ylim(0, 1.15)
+    ax.set_ylim(0, 1.32)
     ax.set_ylabel("share of campaigns [-]")
     nul = summary.get("null", {})
     ax.set_title(
@@ -268,12 +272,14 @@ def plot(summary: dict):
     )
     ax.legend(fontsize=8, loc="upper right", ncol=2)
     ratio = [pe[n]["heldout_final_over_noise_median"] for n in names]
-    ax2.bar(xs, [r if r is not None else 0 for r in ratio], 0.5, color=["C0" if pe[n]["catalogue"] else "C1" for n in names])
+    c4 = ax2.bar(xs, [r if r is not None else 0 for r in ratio], 0.5,
+                 color=["C0" if pe[n]["catalogue"] else "C1" for n in names])
+    ax2.bar_label(c4, labels=lab(ratio), fontsize=7, padding=1)
     ax2.axhline(2.0, color="k", ls="--", lw=0.8, label="target: 2 x noise")
     ax2.set_yscale("log")
     ax2.set_ylabel("held-out RMS after fit / true noise RMS [-]\n(median over campaigns)")
     ax2.set_xticks(xs)
-    ax2.set_xticklabels(names, rotation=30, ha="right")
+    ax2.set_xticklabels([f"{n}\n(n={pe[n]['n']})" for n in names], rotation=30, ha="right")
     ax2.legend(handles=[plt.Rectangle((0, 0), 1, 1, color="C0", label="catalogue effect"),
                         plt.Rectangle((0, 0), 1, 1, color="C1", label="outside the catalogue"),
                         plt.Line2D([], [], color="k", ls="--", lw=0.8, label="target: 2 x noise")], fontsize=8)

@@ -114,7 +114,9 @@ def test_cli_identify(tmp_path, sim):
     res = CliRunner().invoke(_app(), ["identify", str(f), "--out", str(tmp_path / "out")])
     assert res.exit_code == 0, res.output
     assert "Table 3" in res.output and "paper" in res.output.lower()
-    assert (tmp_path / "out" / "fig10_model_vs_measurement.png").exists()
+    for p2 in ("1", "4"):
+        assert (tmp_path / "out" / f"fig10_model_vs_measurement_p2_{p2}MPa.png").exists()
+    assert (tmp_path / "out" / "fig11_force_displacement.png").exists()
 
 
 def test_cli_identify_bad_file(tmp_path):
@@ -123,3 +125,62 @@ def test_cli_identify_bad_file(tmp_path):
     res = CliRunner().invoke(_app(), ["identify", str(f), "--out", str(tmp_path / "out")])
     assert res.exit_code == 2
     assert "missing required column" in res.output
+
+
+# ---------------------------------------------------------------- issue 11 items 1, 10, 12 and issue 13 (fig. 10)
+def _repeat(rec, copies=2):
+    import pandas as pd
+
+    cols = ["experiment", "time_s", "displacement_mm", "force_N", "p2_MPa", "valve_deg", "speed_mm_s"]
+    f = rec.data[cols]
+    return recordings_from_frame(pd.concat([f.assign(experiment=f["experiment"] + f"_r{k}") for k in range(copies)]), "rep")
+
+
+def test_repeated_test_conditions_with_figures(tmp_path, sim):
+    _, rec = sim
+    rep = _repeat(rec)
+    (tmp_path / "fig10_model_vs_measurement.png").write_bytes(b"stale")  # from an older version
+    s = write_identification(rep, tmp_path, figures=True)
+    assert not (tmp_path / "fig10_model_vs_measurement.png").exists()
+    figs = sorted(p.name for p in tmp_path.glob("fig10_*.png"))
+    assert figs == ["fig10_model_vs_measurement_p2_1MPa.png", "fig10_model_vs_measurement_p2_4MPa.png"]
+    assert s["fig11"]["experiment"].endswith("_r0")
+    assert s["identifiability"]["inseparable"] == [] and s["notes"] == []
+    from PIL import Image
+
+    w, h = Image.open(tmp_path / figs[0]).size
+    assert w >= 280 * 3 and h >= 170 * 5  # legible: ~290 x 175 px per panel (3 speeds x 5 valves) at 100 dpi
+
+
+def test_one_experiment_says_what_cannot_be_separated(tmp_path, sim):
+    _, rec = sim
+    ex = rec.experiments
+    one = ex[(ex["speed_mm_s"] == 4.0) & (ex["valve_deg"] == 100.0) & (ex["p2_MPa"] == 4.0)]["experiment"]
+    sub = rec.subset(one)
+    s = write_identification(sub, tmp_path, figures=False)
+    groups = s["identifiability"]["inseparable"]
+    assert any({"C", "L(100)"} <= set(g) for g in groups)
+    assert not s["identifiability"]["errors_reliable"]
+    assert all(p["std_error"] is None for p in s["parameters"].values())
+    assert any("cannot separate C and L(100)" in n for n in s["notes"])
+    assert any("only 1 experiment" in n for n in s["notes"])
+    # two experiments, one valve, one pressure, two speeds: C and L separable, but too few experiments for errors
+    two = ex[(ex["valve_deg"] == 100.0) & (ex["p2_MPa"] == 4.0)]["experiment"].iloc[:2]
+    s2 = write_identification(rec.subset(two), tmp_path / "two", figures=False)
+    assert s2["identifiability"]["inseparable"] == []
+    assert s2["parameters"]["g"]["std_error"] is None
+
+
+def test_cli_identify_prints_notes(tmp_path, sim):
+    _, rec = sim
+    ex = rec.experiments
+    one = ex[(ex["speed_mm_s"] == 4.0) & (ex["valve_deg"] == 100.0) & (ex["p2_MPa"] == 4.0)]["experiment"]
+    f = tmp_path / "one.csv"
+    cols = ["experiment", "time_s", "displacement_mm", "force_N", "p2_MPa", "valve_deg", "speed_mm_s"]
+    rec.subset(one).data[cols].to_csv(f, index=False, sep=";", decimal=",")
+    res = CliRunner().invoke(_app(), ["identify", str(f), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    assert "not determined" in res.output
+    assert "cannot separate C and L(100)" in res.output.replace("\n", " ")
+    assert "semicolon" in res.output
+    json.loads((tmp_path / "out" / "identification.json").read_text())  # strict JSON (no NaN)

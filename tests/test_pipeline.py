@@ -25,6 +25,7 @@ def ecoflex_run(tmp_path_factory):
     return res, out, spec
 
 
+@pytest.mark.xdist_group("design_run")
 def test_design_checks_the_requirements_silicone(ecoflex_run):
     res, out, _ = ecoflex_run
     assert res.exit_code == 0, res.output
@@ -37,6 +38,7 @@ def test_design_checks_the_requirements_silicone(ecoflex_run):
     assert "Ecoflex 00-30" in res.stdout  # the verdict line names the silicone
 
 
+@pytest.mark.xdist_group("design_run")
 def test_design_writes_the_whole_folder(ecoflex_run):
     res, out, spec = ecoflex_run
     assert res.exit_code == 0, res.output
@@ -62,6 +64,7 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     assert 100_000 < size < 5_000_000
 
 
+@pytest.mark.xdist_group("design_run")
 def test_design_streams_results_to_stdout_and_progress_to_stderr(ecoflex_run):
     res, out, _ = ecoflex_run
     assert "constraints (margin > 0 = satisfied)" in res.stdout
@@ -97,3 +100,99 @@ def test_design_infeasible_spec_exits_3(tmp_path):
     assert res.exit_code == 3, res.output
     assert "no design meets the requirements" in res.output
     assert not (tmp_path / "o" / "report.html").exists()
+
+
+# ---------------------------------------------------------------- report.html in headless Chromium
+CHROMIUM_ARGS = [
+    # this machine's closed network: no background connections, no DNS (every host resolves to nothing)
+    "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--host-resolver-rules=MAP * ~NOTFOUND",
+    # WebGL on the CPU (SwiftShader), for the 3-D view
+    "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+]
+
+
+def _chromium() -> str:
+    import os
+    import shutil
+
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if exe is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is not installed: `bash scripts/install.sh test` installs it (Debian package)")
+        pytest.skip("chromium is not installed (bash scripts/install.sh test)")
+    return exe
+
+
+def _non_background_fraction(png: bytes, background=(0xF4, 0xF6, 0xF8)) -> float:
+    import io
+
+    from PIL import Image
+
+    im = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=int)
+    diff = np.abs(im - np.asarray(background)).sum(axis=2)
+    return float((diff > 30).mean())
+
+
+@pytest.fixture(scope="module")
+def browser_page(ecoflex_run):
+    """The design's report.html opened in headless Chromium: console messages and requests recorded."""
+    from playwright.sync_api import sync_playwright
+
+    res, out, _ = ecoflex_run
+    assert res.exit_code == 0, res.output
+    exe = _chromium()
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1280, "height": 900})
+        log = {"console": [], "requests": [], "errors": []}
+        page.on("console", lambda m: log["console"].append((m.type, m.text)))
+        page.on("pageerror", lambda e: log["errors"].append(str(e)))
+        page.on("request", lambda r: log["requests"].append(r.url))
+        # anything that is not the file itself is refused (and was recorded above)
+        page.route("**/*", lambda route: route.continue_() if route.request.url.startswith("file:")
+                   else route.abort())
+        page.goto((out / "report.html").resolve().as_uri(), wait_until="load")
+        page.wait_for_function("window.vveaViewer !== undefined", timeout=30_000)
+        yield page, log, out
+        browser.close()
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_renders_offline_with_no_console_error(browser_page):
+    page, log, out = browser_page
+    errors = [t for kind, t in log["console"] if kind == "error"] + log["errors"]
+    assert errors == []
+    external = [u for u in log["requests"] if not u.startswith(("file:", "data:", "blob:"))]
+    assert external == [], f"the report asked the network for {external}"
+    assert [u for u in log["requests"] if u.startswith("file:")] == [(out / "report.html").resolve().as_uri()]
+    assert page.evaluate("window.vveaViewer.ready") is True
+    titles = page.locator("h2").all_inner_texts()
+    for t in ("Design and constraint margins", "Requirements", "Force curve", "3-D model", "Bladder", "Actuator",
+              "Bill of materials", "Provenance"):
+        assert t in titles
+    body = page.inner_text("body")
+    assert "Ecoflex 00-30" in body and "adiabatic" in body and "PASS" in body
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_screenshot_and_3d_view_not_blank(browser_page, tmp_path):
+    from PIL import Image
+
+    page, _, _ = browser_page
+    shot = tmp_path / "report.png"
+    page.screenshot(path=str(shot), full_page=True)
+    w, h = Image.open(shot).size
+    assert 1000 <= w <= 1600 and 3000 <= h <= 30_000, (w, h)  # the page fits the window's width, all sections
+    canvas = page.locator("#viewer")
+    box = canvas.bounding_box()
+    assert box["width"] > 600 and box["height"] > 400
+    first = canvas.screenshot()
+    assert _non_background_fraction(first) > 0.02  # the assembly is drawn
+    page.evaluate("window.vveaViewer.rotate(1.2)")  # it turns
+    turned = canvas.screenshot()
+    assert turned != first and _non_background_fraction(turned) > 0.02
+    page.click("button[data-group=mould]")  # and shows the mould
+    mould = canvas.screenshot()
+    assert mould != turned and _non_background_fraction(mould) > 0.02
+    page.click("button[data-group=assembly]")

@@ -141,3 +141,91 @@ def test_bad_files_get_clear_errors(tmp_path, small_frame, kind, needle):
 def test_missing_file(tmp_path):
     with pytest.raises(RecordingsError, match="not found"):
         read_recordings(tmp_path / "nope.csv")
+
+
+# ---------------------------------------------------------------- issue 11: reader robustness
+def _tiny_frame(n_exp: int = 3, samples: int = 41) -> pd.DataFrame:
+    from vvea_design.identification import physbench as pb
+
+    grid = pb.CampaignGrid(pressures_MPa=(2.0,), valves_deg=(100.0,), speeds_mm_s=(1.0, 4.0, 12.0)[:n_exp], samples=samples)
+    return pb.simulate_campaign(pb.random_parameters((), seed=5, grid=grid)).frame
+
+
+def test_experiment_without_motion_is_named(tmp_path):
+    f = _tiny_frame()
+    second = f["experiment"] == f["experiment"].unique()[1]
+    f.loc[second, "displacement_mm"] = 0.0
+    p = tmp_path / "static.csv"
+    f.to_csv(p, index=False)
+    first_line = int(np.flatnonzero(second.to_numpy())[0]) + 2
+    with pytest.raises(RecordingsError, match=rf"{p}: line {first_line}: experiment 'E001' does not move"):
+        read_recordings(p)
+
+
+def test_semicolon_and_decimal_comma_are_read_and_said(tmp_path):
+    f = _tiny_frame()
+    p = tmp_path / "excel.csv"
+    f.to_csv(p, index=False, sep=";", decimal=",")
+    assert "," in p.read_text().splitlines()[1]
+    rec = read_recordings(p)
+    ref = recordings_from_frame(f, "ref")
+    np.testing.assert_allclose(rec.data["force_N"], ref.data["force_N"])
+    np.testing.assert_allclose(rec.data["velocity_mm_s"], ref.data["velocity_mm_s"])
+    assert any("semicolon" in n and "decimal comma" in n for n in rec.notes)
+    assert read_recordings(_write(tmp_path / "plain.csv", f)).notes == ()
+
+
+def _write(p, f):
+    f.to_csv(p, index=False)
+    return p
+
+
+def test_line_numbers_count_blank_lines(tmp_path):
+    f = _tiny_frame().astype({"force_N": object})
+    f.loc[50, "force_N"] = "oops"
+    lines = f.to_csv(index=False).splitlines()
+    lines.insert(3, "")  # blank lines after the header and inside the data
+    lines.insert(10, "")
+    lines.insert(11, "")
+    p = tmp_path / "blank.csv"
+    p.write_text("\n".join(lines) + "\n")
+    want = [i + 1 for i, ln in enumerate(lines) if "oops" in ln][0]
+    with pytest.raises(RecordingsError, match=rf"line {want}: column force_N holds a non-numeric value 'oops'"):
+        read_recordings(p)
+
+
+def test_wrong_field_count_names_the_file_line(tmp_path):
+    f = _tiny_frame()
+    lines = f.to_csv(index=False).splitlines()
+    lines.insert(2, "")
+    lines[20] = lines[20] + ",7,8"
+    p = tmp_path / "fields.csv"
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(RecordingsError, match=r"line 21: 9 fields where the header has 7"):
+        read_recordings(p)
+
+
+@pytest.mark.parametrize(
+    "content, needle",
+    [
+        (b"", "empty"),
+        (b"\n\n  \n", "empty"),
+        ("experiment,time_s\nä".encode("latin-1"), "not UTF-8"),
+        (b"\x00\x01\x02PK", "not a text file"),
+        (b"experiment;time_s;displacement_mm;force_N;p2_MPa;valve_deg\n", "no data rows"),
+    ],
+)
+def test_unreadable_files(tmp_path, content, needle):
+    p = tmp_path / "bad.csv"
+    p.write_bytes(content)
+    with pytest.raises(RecordingsError, match=needle):
+        read_recordings(p)
+
+
+def test_folder_and_bad_parquet(tmp_path):
+    with pytest.raises(RecordingsError, match="is a folder"):
+        read_recordings(tmp_path)
+    q = tmp_path / "x.parquet"
+    q.write_bytes(b"not parquet at all")
+    with pytest.raises(RecordingsError, match="cannot be read as Parquet"):
+        read_recordings(q)

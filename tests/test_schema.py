@@ -57,3 +57,7 @@ def test_every_requirements_field_is_in_the_schema():
 
     assert set(requirements_schema()["properties"]) == {f.name for f in fields(Requirements)}
     assert set(design_schema()["properties"]["spec"]["properties"]) == {f.name for f in fields(Requirements)}
+    from vvea_design.spring.design_file import DESIGN_PARAMETER_KEYS, TOP_LEVEL_KEYS
+
+    assert set(design_schema()["properties"]) == set(TOP_LEVEL_KEYS)
+    assert set(design_schema()["properties"]["parameters"]["required"]) == set(DESIGN_PARAMETER_KEYS)

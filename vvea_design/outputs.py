@@ -100,11 +100,27 @@ def _fail_unwritable(folder: Path, path: Path, option: str, exc: OSError) -> Non
 
 
 def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
-    """Raise :class:`OutputError` unless a result folder can be written at ``path``; return it (absolute, real).
+    """Raise :class:`OutputError` unless a result folder can be written at ``path``.
 
     Call it before the computation. An existing folder must be writable
     itself; a new one needs its nearest existing ancestor writable.
-    ``option`` names the command-line option in the message (``""`` for none).
+
+    Parameters
+    ----------
+    path : path-like
+        The result folder (need not exist).
+    option : str
+        The command-line option named in the message (``""`` for none).
+
+    Returns
+    -------
+    Path
+        ``path`` made absolute, symbolic links resolved.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is an existing file, lies under a file, or cannot be written.
     """
     p = Path(os.path.realpath(path))
     if p.exists() and not p.is_dir():
@@ -117,7 +133,25 @@ def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
 
 
 def check_output_file(path: str | os.PathLike, option: str = "--out") -> Path:
-    """Raise :class:`OutputError` unless a file can be written at ``path``; return it (absolute, real)."""
+    """Raise :class:`OutputError` unless a file can be written at ``path``.
+
+    Parameters
+    ----------
+    path : path-like
+        The result file (need not exist).
+    option : str
+        The command-line option named in the message (``""`` for none).
+
+    Returns
+    -------
+    Path
+        ``path`` made absolute, symbolic links resolved.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is an existing folder, lies under a file, or its folder cannot be written.
+    """
     p = Path(os.path.realpath(path))
     if p.is_dir():
         raise OutputError(f"{_label(p, option)}: is an existing folder; give a file path (e.g. {p / 'design.json'})")
@@ -324,11 +358,30 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
     """Yield a temporary folder; when the block ends without an exception it becomes ``path`` (see the module doc).
 
     Validates the location first (:func:`check_output_dir`): enter the block
-    before the computation. ``command`` names the marker file
-    (``.vvea-<command>.json``) that tells a later run which entries are its
-    own. The temporary is beside ``path`` (whole-folder replacement) or,
-    when ``path`` already holds entries of others or its parent is not
-    writable, inside it (entry-by-entry replacement).
+    before the computation. The temporary is beside ``path`` (whole-folder
+    replacement) or, when ``path`` already holds entries of others or its
+    parent is not writable, inside it (entry-by-entry replacement).
+
+    Parameters
+    ----------
+    path : path-like
+        The result folder.
+    command : str
+        Plain name of the writer; names the marker file ``.vvea-<command>.json``
+        that tells a later run which entries are its own.
+    option : str
+        The command-line option named in messages (``""`` for none).
+
+    Returns
+    -------
+    Iterator[Path]
+        (a context manager) the temporary folder to write into.
+
+    Raises
+    ------
+    OutputError
+        The location cannot be written (before the block), a write into the
+        temporary failed, or the results could not be moved into place.
     """
     if not re.fullmatch(r"[A-Za-z0-9_-]+", command):
         raise ValueError(f"command must be a plain name, got {command!r}")
@@ -363,9 +416,24 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
 def output_files(*paths: str | os.PathLike, option: str = "--out") -> Iterator[list[Path]]:
     """Yield one temporary path beside each of ``paths``; on success each replaces its target.
 
-    The temporaries keep the suffix of their target (``.json``, ``.png``), so
-    writers that pick the format from the name work. Every temporary must be
-    written inside the block.
+    Parameters
+    ----------
+    *paths : path-like
+        The result files; every temporary must be written inside the block.
+    option : str
+        The command-line option named in messages (``""`` for none).
+
+    Returns
+    -------
+    Iterator[list[Path]]
+        (a context manager) the temporary paths, in order; each keeps the
+        suffix of its target (``.json``, ``.png``), so writers that pick the
+        format from the name work.
+
+    Raises
+    ------
+    OutputError
+        A location cannot be written, or the files could not be moved into place.
     """
     targets = [check_output_file(p, option) for p in paths]
     created: list[Path] = []
@@ -398,7 +466,22 @@ def output_files(*paths: str | os.PathLike, option: str = "--out") -> Iterator[l
 
 
 def write_text_atomic(path: str | os.PathLike, text: str, encoding: str = "utf-8") -> Path:
-    """Write a text file whole or not at all (temporary beside it, then ``os.replace``)."""
+    """Write a text file whole or not at all (temporary beside it, then ``os.replace``).
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    text : str
+        Its content.
+    encoding : str
+        Text encoding.
+
+    Returns
+    -------
+    Path
+        ``path``, absolute.
+    """
     with output_files(path, option="") as (tmp,):
         tmp.write_text(text, encoding=encoding)
     return Path(os.path.abspath(path))

@@ -46,17 +46,34 @@ out = _console(stderr=False)
 
 
 def print_error(message: str) -> None:
-    """Print ``error: <message>`` on stderr; the message is shown literally (no rich markup)."""
+    """Print ``error: <message>`` on stderr; the message is shown literally (no rich markup).
+
+    Parameters
+    ----------
+    message : str
+        What went wrong (names the file, field or option).
+    """
     console.print("[bold red]error:[/]", end=" ")
     console.print(str(message), markup=False, highlight=False, soft_wrap=True)
 
 
 @contextmanager
 def progress_bar(description: str, total: int | None, enabled: bool = True) -> Iterator[Callable[..., None]]:
-    """Context manager yielding ``advance(n=1)``; shows done/total and time left.
+    """Context manager yielding ``advance(n=1)``; shows done/total and time left on stderr.
 
-    With ``total=None`` a spinner is shown instead of a bar. Disabled (a no-op)
-    when ``enabled`` is false.
+    Parameters
+    ----------
+    description : str
+        What is running.
+    total : int or None
+        Number of steps; ``None`` shows a spinner instead of a bar.
+    enabled : bool
+        False makes it a no-op.
+
+    Yields
+    ------
+    callable
+        ``advance(n=1)``: mark ``n`` more steps done.
     """
     if not enabled:
         yield lambda n=1: None

@@ -27,7 +27,7 @@ from typing import Any
 from .materials.silicones import SILICONES
 from .materials.structural import STRUCTURAL
 from .spring.design import DECISION_VARIABLES, FixedParameters
-from .spring.design_file import FORMAT, FORMAT_VERSION, PARAMETER_KEYS
+from .spring.design_file import DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION
 from .spring.gas_spring import GasSpring
 from .spring.requirements import DEFAULT_BOUNDS, Requirements
 
@@ -81,19 +81,27 @@ def _dataclass_properties(cls: type, skip: set[str] = frozenset()) -> dict[str, 
     return props
 
 
-def fixed_schema() -> dict[str, Any]:
+def fixed_schema(all_required: bool = False) -> dict[str, Any]:
     """Schema of the ``[fixed]`` table / the design file's ``fixed`` object.
+
+    Parameters
+    ----------
+    all_required : bool
+        Every field required (a design file is self-contained) or every field optional (requirements).
 
     Returns
     -------
     dict
-        JSON Schema (object, every :class:`FixedParameters` field, no other key).
+        JSON Schema (object, the :class:`FixedParameters` fields, no other key).
     """
     props = _dataclass_properties(FixedParameters)
     for name in _MATERIAL_FIELDS:
         props[name]["enum"] = sorted(STRUCTURAL)
-    return {"type": "object", "description": FixedParameters.__doc__.strip(), "properties": props,
-            "additionalProperties": False}
+    out = {"type": "object", "description": FixedParameters.__doc__.strip(), "properties": props,
+           "additionalProperties": False}
+    if all_required:
+        out["required"] = [f.name for f in fields(FixedParameters)]
+    return out
 
 
 def requirements_schema() -> dict[str, Any]:
@@ -129,21 +137,21 @@ def design_schema() -> dict[str, Any]:
     """
     gs_notes = _comments(GasSpring)
     params = {k: {"type": "number", **({"description": gs_notes[k]} if k in gs_notes else {})}
-              for k in (*PARAMETER_KEYS, "setpoint_x0_mm")}
+              for k in DESIGN_PARAMETER_KEYS}
     spec = requirements_schema()
     spec = {k: v for k, v in spec.items() if k not in ("$schema", "$id", "title")}
     number_map = {"type": "object", "additionalProperties": {"type": ["number", "null"]}}
     return {
         "$schema": _DIALECT, "$id": "vvea-design/design.schema.json", "title": "vvea-design design file",
         "type": "object",
-        "required": ["format", "format_version", "parameters", "fixed"],  # self-contained: nothing from defaults
+        "required": ["format", "format_version", "parameters", "fixed"],
         "properties": {
             "format": {"const": FORMAT},
             "format_version": {"const": FORMAT_VERSION},
-            "parameters": {"type": "object", "properties": params, "required": [*PARAMETER_KEYS, "setpoint_x0_mm"],
+            "parameters": {"type": "object", "properties": params, "required": list(DESIGN_PARAMETER_KEYS),
                            "additionalProperties": False,
                            "description": "the spring's physics (mm, mm², mm³, MPa): eq. 5 needs nothing else"},
-            "fixed": {**fixed_schema(), "required": list(fixed_schema()["properties"])},
+            "fixed": fixed_schema(all_required=True),
             "geometry": {"type": "object", "description": "derived lengths, radii, volumes (for reading)"},
             "performance": {"type": "object", "description": "linearity (fraction), stiffness (N/mm), force (N), "
                                                              "mass (g), pressures (MPa), ..."},

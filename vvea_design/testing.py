@@ -28,8 +28,26 @@ class LinearityRegression(AssertionError):
 def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float, num: int = 401) -> float:
     """Return the design's linearity error; raise :class:`LinearityRegression` above ``max_linearity``.
 
-    ``design`` is a design JSON path, its parsed dict, or a
-    :class:`~vvea_design.spring.gas_spring.GasSpring`.
+    Parameters
+    ----------
+    design : str, Path, dict or GasSpring
+        A design JSON path, its parsed content, or a
+        :class:`~vvea_design.spring.gas_spring.GasSpring` (evaluated from its
+        ``parameters`` alone, paper eq. 5).
+    max_linearity : float
+        Largest acceptable linearity error, a fraction (0.015 = 1.5 %).
+    num : int
+        Samples over the travel.
+
+    Returns
+    -------
+    float
+        The linearity error, a fraction of the force span.
+
+    Raises
+    ------
+    LinearityRegression
+        The error exceeds ``max_linearity``.
     """
     gs = design if isinstance(design, GasSpring) else spring_from_json(design)
     lin = gs.linearity_error(num)
@@ -45,5 +63,13 @@ def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float,
 
 
 def assert_linearity(design: str | Path | dict | GasSpring, max_linearity: float) -> None:
-    """pytest-friendly assertion: fails with a readable message when the design regresses."""
+    """pytest-friendly assertion: fails with a readable message when the design regresses.
+
+    Parameters
+    ----------
+    design : str, Path, dict or GasSpring
+        As for :func:`check_linearity`.
+    max_linearity : float
+        Largest acceptable linearity error, a fraction (0.015 = 1.5 %).
+    """
     check_linearity(design, max_linearity)

@@ -1,45 +1,82 @@
-"""Figures of the actuator studies: Fig. 13 (best setting map), Fig. 12-like trajectory, Fig. 14 (safety)."""
+"""Figures of the actuator studies: Fig. 13 (best setting map), Fig. 12-like trajectory,
+Fig. 14 (safety) and the design comparison map.
+
+Every function builds a :class:`matplotlib.figure.Figure` without pyplot (so
+nothing here touches the user's backend), draws into ``ax=``/``fig=`` when
+given, and returns the Figure; the caller saves it (``fig.savefig(path)``).
+"""
 
 from __future__ import annotations
 
-from pathlib import Path
+from collections.abc import Sequence
 
 import numpy as np
+from matplotlib import colormaps
+from matplotlib.colors import TwoSlopeNorm, to_rgb
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
 
-from .ocp import OcpResult
+from .ocp import OcpResult, rest_to_rest_reference
 
-__all__ = ["plot_best_map", "plot_trajectory", "plot_safety"]
+__all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map"]
 
-_COLOURS = {"SEA": "tab:blue", "LWR": "tab:cyan", "VVEA": "tab:purple", "iVVEA": "tab:purple"}
+#: Colour of each named setting in every actuator figure.
+SETTING_COLOURS = {"SEA": "tab:blue", "LWR": "tab:gray", "VVEA": "tab:purple", "iVVEA": "tab:orange",
+                   "design": "tab:red"}
+_PALETTE = ["tab:green", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 
 
-def plot_best_map(df, path: str | Path) -> Path:
-    """Fig. 13: best valid setting per (T, A); colour depth = gain over the next best; white = none valid."""
-    import matplotlib
+def _colour(name: str, i: int = 0) -> str:
+    return SETTING_COLOURS.get(name, _PALETTE[i % len(_PALETTE)])
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import to_rgb
-    from matplotlib.patches import Patch
 
+def _bool(series):
+    return series.astype(str).str.lower().isin(["true", "1"])
+
+
+def _usable(df):
+    """Rows whose trajectory counts: solved, valid (95 % rule) and verified by re-simulation."""
+    ok = _bool(df["valid"]) & _bool(df["success"])
+    if "verified" in df:
+        ok &= _bool(df["verified"])
+    return ok
+
+
+def plot_best_map(df, fig: Figure | None = None) -> Figure:
+    """Fig. 13: best valid setting per (T, A); colour depth = gain over the next best; white = none valid.
+
+    One panel per variable-damping setting, each against the constant-damping
+    settings. A result counts when it is solved, valid (link reaches 95 % of A
+    in both up-phases) and verified by re-simulation.
+
+    Parameters
+    ----------
+    df
+        ``results.csv`` as a pandas DataFrame.
+    fig
+        Figure to draw into (default: a new one sized to the panels).
+
+    Returns
+    -------
+    Figure
+    """
     df = df.copy()
-    df["valid"] = df["valid"].astype(str).str.lower().isin(["true", "1"])
+    df["usable"] = _usable(df)
     settings = list(dict.fromkeys(df["setting"]))
     varset = [s for s in settings if (df.loc[df.setting == s, "D_max_Nms_per_rad"]
                                       > df.loc[df.setting == s, "D_min_Nms_per_rad"]).any()]
     consts = [s for s in settings if s not in varset]
     panels = varset or [None]
-    fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 3.2 * len(panels)), squeeze=False)
+    if fig is None:
+        fig = Figure(figsize=(8.0, 3.4 * len(panels)))
+    axes = np.atleast_1d(fig.subplots(len(panels), 1, squeeze=False)[:, 0])
     A_vals = sorted(df["A_rad"].unique())
     T_vals = sorted(df["T_s"].unique())
-    palette = ["tab:purple", "tab:green", "tab:red", "tab:orange", "tab:olive"]
-    for ax, v in zip(axes[:, 0], panels):
+    for ax, v in zip(axes, panels):
         group = consts + ([v] if v else [])
-        cols = {s: _COLOURS.get(s, palette[i % len(palette)]) for i, s in enumerate(group)}
-        if v:
-            cols[v] = palette[varset.index(v) % len(palette)] if v not in ("VVEA", "iVVEA") else "tab:purple"
+        cols = {s: _colour(s, i) for i, s in enumerate(group)}
         for (A, T), sub in df[df.setting.isin(group)].groupby(["A_rad", "T_s"]):
-            sub = sub[sub["valid"]].sort_values("rmse")
+            sub = sub[sub["usable"]].sort_values("rmse")
             if sub.empty:
                 ax.scatter(T, A, s=110, facecolor="white", edgecolor="0.6", linewidth=0.6)
                 continue
@@ -53,68 +90,91 @@ def plot_best_map(df, path: str | Path) -> Path:
         ax.set_xticks(T_vals)
         ax.set_xticklabels([f"{t:g}" for t in T_vals], fontsize=7)
         ax.set_yticks(A_vals)
+        ax.set_xlim(min(T_vals) - 0.06, max(T_vals) + 0.06)
+        ax.set_ylim(min(A_vals) - 0.06, max(A_vals) + 0.06)
         title = " vs ".join(group)
-        D = df.loc[df.setting == v, ["D_min_Nms_per_rad", "D_max_Nms_per_rad"]].iloc[0] if v else None
         if v is not None:
-            title += f"  ({D.iloc[0]:.3g} <= D <= {D.iloc[1]:.3g} N m s/rad)"
+            D = df.loc[df.setting == v, ["D_min_Nms_per_rad", "D_max_Nms_per_rad"]].iloc[0]
+            title += f"  ({D.iloc[0]:.3g} ≤ D ≤ {D.iloc[1]:.3g} N m s/rad)"
         ax.set_title(title, fontsize=9)
         handles = [Patch(color=cols[s], label=s) for s in group] + [Patch(facecolor="white", edgecolor="0.6",
                                                                           label="no valid setting")]
         ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("Best valid setting per case (deeper colour = bigger gain over the next best)", fontsize=9)
     fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return fig
 
 
-def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, path: str | Path,
-                    highlight: str | None = None) -> Path:
-    """Fig. 12-like plot: link angle vs reference, motor torque and damping of every setting."""
-    import matplotlib
+def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highlight: str | None = None,
+                    fig: Figure | None = None) -> Figure:
+    """Fig. 12-like plot: link angle vs reference, motor torque and damping of every setting.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Parameters
+    ----------
+    best
+        Optimal result per setting name (``None`` entries are skipped).
+    A_rad, T_s
+        Amplitude (rad) and period (s) of the case.
+    highlight
+        Setting drawn with a thicker line.
+    fig
+        Figure to draw into (3 rows).
 
-    from .ocp import rest_to_rest_reference
-
-    fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
+    Returns
+    -------
+    Figure
+    """
+    if fig is None:
+        fig = Figure(figsize=(7.5, 7.5))
+    axes = fig.subplots(3, 1, sharex=True)
     tt = np.linspace(0, 2 * T_s, 801)
     axes[0].plot(tt, rest_to_rest_reference(tt, A_rad, T_s), "k--", lw=1, label="q_des")
-    for name, r in best.items():
+    for i, (name, r) in enumerate(best.items()):
         if r is None or not np.all(np.isfinite(r.q_rad)):
             continue
-        lw = 2.0 if name == highlight else 1.0
-        axes[0].plot(r.t_s, r.q_rad, lw=lw, label=f"{name} (rmse {r.extra['rmse_rad']:.4f} rad)")
-        axes[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", lw=lw, label=name)
-        axes[2].plot(r.t_s, r.D_Nms_per_rad, lw=lw, label=name)
+        lw = 2.0 if name == highlight else 1.1
+        c = _colour(name, i)
+        axes[0].plot(r.t_s, r.q_rad, lw=lw, color=c, label=f"{name} (rmse {r.extra['rmse_rad']:.4f} rad)")
+        axes[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", lw=lw, color=c, label=name)
+        axes[2].plot(r.t_s, r.D_Nms_per_rad, lw=lw, color=c, label=name)
     axes[0].set_ylabel("link angle q (rad)")
     axes[1].set_ylabel("motor torque τ_m (N m)")
     axes[2].set_ylabel("damping D (N m s/rad)")
     axes[2].set_yscale("symlog", linthresh=10)
     axes[2].set_xlabel("time t (s)")
+    axes[0].legend(fontsize=7, loc="lower right")
+    axes[1].legend(fontsize=7, loc="upper right", ncol=len(best))
     for ax in axes:
-        ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
+    axes[1].set_ylim(-125, 140)
     axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9)
     fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return fig
 
 
+def plot_safety(results: dict[str, OcpResult], tau_ref: float, zoom_s: float = 0.03,
+                fig: Figure | None = None) -> Figure:
+    """Fig. 14: τ, τ_m and D over the horizon (left) and over the first ``zoom_s`` seconds (right).
 
-def plot_safety(results: dict[str, OcpResult], tau_ref: float, path: Path, zoom_s: float = 0.03) -> Path:
-    """Fig. 14: τ, τ_m and D over the horizon (left) and over the first ``zoom_s`` seconds (right)."""
-    import matplotlib
+    Parameters
+    ----------
+    results
+        Torque-step result per case name.
+    tau_ref
+        Step height (N m).
+    zoom_s
+        Width of the zoomed column (s).
+    fig
+        Figure to draw into (3 x 2 panels).
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    colours = ["tab:green", "tab:red", "tab:blue", "tab:orange"]
-    fig, axes = plt.subplots(3, 2, figsize=(11, 7), sharex="col", gridspec_kw={"width_ratios": [1.4, 1]})
+    Returns
+    -------
+    Figure
+    """
+    colours = ["tab:green", "tab:red", "tab:blue", "tab:orange", "tab:purple"]
+    if fig is None:
+        fig = Figure(figsize=(11, 7))
+    axes = fig.subplots(3, 2, sharex="col", gridspec_kw={"width_ratios": [1.4, 1]})
     for col, xmax in ((0, None), (1, zoom_s)):
         ax = axes[:, col]
         for c, (name, r) in zip(colours, results.items()):
@@ -137,8 +197,92 @@ def plot_safety(results: dict[str, OcpResult], tau_ref: float, path: Path, zoom_
     axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
     axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return fig
 
 
+def plot_design_map(df, design: str = "design", references: Sequence[str] | None = None,
+                    fig: Figure | None = None) -> Figure:
+    """The design against the other settings, case by case, and on average.
+
+    Left: one cell per (T, A); colour = the design's rmse relative to the best
+    valid other setting (green: the design tracks better), the number in %,
+    and the name of that best other setting; grey cells = the design's
+    trajectory is not valid or not verified (left out of every statistic).
+    Right: each setting's mean rmse over the cases where every setting is valid.
+
+    Parameters
+    ----------
+    df
+        Results table (``results.csv`` columns) holding ``design`` and the references.
+    design
+        Name of the design's setting.
+    references
+        Settings to compare with (default: every other setting in ``df``).
+    fig
+        Figure to draw into (two panels).
+
+    Returns
+    -------
+    Figure
+    """
+    df = df.copy()
+    df["usable"] = _usable(df)
+    refs = [s for s in dict.fromkeys(df["setting"]) if s != design] if references is None else list(references)
+    A_vals = sorted(df["A_rad"].unique())
+    T_vals = sorted(df["T_s"].unique())
+    ok = df.pivot_table(index=["A_rad", "T_s"], columns="setting", values="usable", aggfunc="first").fillna(False)
+    rmse = df.pivot_table(index=["A_rad", "T_s"], columns="setting", values="rmse", aggfunc="first")
+    rel = np.full((len(A_vals), len(T_vals)), np.nan)
+    who = np.full(rel.shape, "", dtype=object)
+    for i, A in enumerate(A_vals):
+        for j, T in enumerate(T_vals):
+            if (A, T) not in ok.index or not bool(ok.loc[(A, T), design]):
+                continue
+            others = {s: rmse.loc[(A, T), s] for s in refs if bool(ok.loc[(A, T), s])}
+            if not others:
+                who[i, j] = "only valid"
+                continue
+            b = min(others, key=others.get)
+            rel[i, j] = 100.0 * (rmse.loc[(A, T), design] / others[b] - 1.0)
+            who[i, j] = b
+    if fig is None:
+        fig = Figure(figsize=(11, 4.6))
+    ax, bx = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.7, 1]})
+    lim = max(5.0, float(np.nanmax(np.abs(rel)))) if np.isfinite(rel).any() else 5.0
+    cmap = colormaps["RdYlGn_r"].with_extremes(bad="0.85")
+    im = ax.imshow(np.ma.masked_invalid(rel), origin="lower", cmap=cmap, aspect="auto",
+                   norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim))
+    for i in range(len(A_vals)):
+        for j in range(len(T_vals)):
+            if np.isfinite(rel[i, j]):
+                ax.text(j, i, f"{rel[i, j]:+.1f} %\nvs {who[i, j]}", ha="center", va="center", fontsize=7)
+            else:
+                ax.text(j, i, "design\nnot valid" if who[i, j] == "" else who[i, j], ha="center", va="center",
+                        fontsize=7, color="0.3")
+    ax.set_xticks(range(len(T_vals)))
+    ax.set_xticklabels([f"{t:g}" for t in T_vals])
+    ax.set_yticks(range(len(A_vals)))
+    ax.set_yticklabels([f"{a:g}" for a in A_vals])
+    ax.set_xlabel("period T (s)")
+    ax.set_ylabel("amplitude A (rad)")
+    ax.set_title(f"{design} rmse vs the best valid of {', '.join(refs)}\n(negative = {design} tracks better)",
+                 fontsize=9)
+    cb = fig.colorbar(im, ax=ax, shrink=0.9)
+    cb.set_label(f"rmse_{design} / rmse_best other − 1 (%)")
+    names = [design] + refs
+    all_ok = ok[names].all(axis=1) if set(names) <= set(ok.columns) else ok.iloc[:, 0] & False
+    means = [float(rmse.loc[all_ok, s].mean()) if all_ok.any() else np.nan for s in names]
+    y = np.arange(len(names))
+    bx.barh(y, means, color=[_colour(s, i) for i, s in enumerate(names)])
+    for k, m in enumerate(means):
+        if np.isfinite(m):
+            bx.text(m, k, f" {m:.4f}", va="center", fontsize=8)
+    bx.set_yticks(y)
+    bx.set_yticklabels(names)
+    bx.invert_yaxis()
+    bx.set_xlabel("mean rmse (rad)")
+    bx.set_xlim(0, (np.nanmax(means) if np.isfinite(means).any() else 1.0) * 1.35)
+    bx.set_title(f"mean over the {int(all_ok.sum())} of {len(ok)} cases\nwhere every setting is valid", fontsize=9)
+    bx.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    return fig

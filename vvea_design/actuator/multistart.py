@@ -28,13 +28,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import Actuator
-from .ocp import Mesh, OcpResult, RestToRestSolver, WARM_START_IPOPT, ramp_u_d_profile
+from .verify import Verification, verify_rest_to_rest
+from .ocp import Mesh, OcpResult, Regularisation, RestToRestSolver, WARM_START_IPOPT, ramp_u_d_profile
 
 __all__ = [
     "RestToRestCase",
     "DEFAULT_MESH",
     "DEFAULT_FINE_MESH",
     "DEFAULT_STARTS",
+    "DEFAULT_REGULARISATION",
     "RESULT_COLUMNS",
     "TIE_RTOL",
     "solve_case",
@@ -49,6 +51,9 @@ DEFAULT_MESH = Mesh(n_intervals=64, degree=3)
 #: damping by one warm-started polish of the coarse optimum). SEA's rmse changes < 0.5 % case by
 #: case from N = 192 on (``studies/mesh_convergence.py``).
 DEFAULT_FINE_MESH = Mesh(n_intervals=192, degree=3)
+#: Regularisation of the studies: removes the chatter of τ_m (±τ_max) and of D (D_min <-> D_max) while
+#: the link rests, at a cost of < 0.2 % in rmse (measured, docs/actuator.md).
+DEFAULT_REGULARISATION = Regularisation(u_d=1e-3, tau_rate=1e-6)
 #: Starts tried for variable-damping settings.
 DEFAULT_STARTS = ("const-Dmin", "ramp", "cold", "cross")
 _ALL_STARTS = set(DEFAULT_STARTS)
@@ -65,6 +70,8 @@ class RestToRestCase:
     starts: tuple[str, ...] = DEFAULT_STARTS
     ipopt_options: tuple[tuple[str, object], ...] = ()  #: extra IPOPT options (hashable)
     fine_mesh: Mesh | None = None  #: if set, report results polished on this mesh (two-level)
+    #: penalties that smooth the optimal inputs (objectives and rmse stay the pure tracking cost)
+    regularisation: Regularisation = DEFAULT_REGULARISATION
 
     @property
     def case_id(self) -> str:
@@ -76,7 +83,8 @@ RESULT_COLUMNS = [
     "case_id", "setting", "A_rad", "T_s", "rmse", "valid", "status", "seconds", "cpu_seconds", "success", "objective",
     "iterations", "start", "n_starts", "start_objectives", "peak_q_up1_rad", "peak_q_up2_rad",
     "mean_D_Nms_per_rad", "max_D_Nms_per_rad", "K_Nm_per_rad", "D_min_Nms_per_rad", "D_max_Nms_per_rad",
-    "mesh_N", "mesh_degree", "coarse_mesh_N", "coarse_rmse",
+    "mesh_N", "mesh_degree", "coarse_mesh_N", "coarse_rmse", "verified", "verify_reason", "resim_rmse",
+    "resim_rel_error",
 ]
 
 # -- per-process solver cache (one parametric solver per mesh and options) ------------------------
@@ -128,6 +136,10 @@ def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n
         "mesh_degree": case.mesh.degree,
         "coarse_mesh_N": case.mesh.n_intervals,
         "coarse_rmse": r.extra["rmse_rad"] if ok else float("nan"),
+        "verified": False,
+        "verify_reason": "not checked",
+        "resim_rmse": float("nan"),
+        "resim_rel_error": float("nan"),
     }
 
 
@@ -145,9 +157,19 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     and results come from the fine mesh (:func:`_polish_on_fine_mesh`).
     """
     rows, best = _solve_case_one_mesh(case)
-    if case.fine_mesh is None or case.fine_mesh == case.mesh:
-        return rows, best
-    return _polish_on_fine_mesh(case, rows, best)
+    if case.fine_mesh is not None and case.fine_mesh != case.mesh:
+        rows, best = _polish_on_fine_mesh(case, rows, best)
+    acts = {a.name: a for a in case.settings}
+    for row in rows:
+        r = best.get(row["setting"])
+        if r is None:
+            v = Verification(False, f"solver: {row['status']}", *(4 * [float("nan")]))
+        else:
+            v = verify_rest_to_rest(r, acts[row["setting"]], case.A_rad, case.T_s)
+            r.extra["verification"] = v
+        row.update(verified=v.verified, verify_reason=v.reason or "ok", resim_rmse=v.resim_rmse_rad,
+                   resim_rel_error=v.rmse_rel_error)
+    return rows, best
 
 
 def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
@@ -164,14 +186,16 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
     fs = _solver(fm, case.ipopt_options)
     fw = _solver(fm, tuple(sorted({**dict(case.ipopt_options), **WARM_START_IPOPT}.items())))
     A, T = case.A_rad, case.T_s
-    fcase = RestToRestCase(A, T, case.settings, fm, case.starts, case.ipopt_options)
+    fcase = RestToRestCase(A, T, case.settings, fm, case.starts, case.ipopt_options,
+                           regularisation=case.regularisation)
     crow = {r["setting"]: r for r in coarse_rows}
     qp_cache: dict[tuple, OcpResult] = {}
 
     def const_solve(act: Actuator) -> OcpResult:
         key = (act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
         if key not in qp_cache:
-            qp_cache[key] = fs.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T)
+            qp_cache[key] = fs.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T,
+                                     regularisation=case.regularisation)
         return qp_cache[key]
 
     rows, best = [], {}
@@ -193,11 +217,11 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
             cb = coarse_best.get(act.name)
             if cb is not None and cb.success:
                 lab = f"polish:{cr['start']}"
-                r = fw.solve(act, A, T, w0=fw.guess_from_other_mesh(cb, act, A, T))
+                r = fw.solve(act, A, T, w0=fw.guess_from_other_mesh(cb, act, A, T), regularisation=case.regularisation)
                 if not r.success:  # retry with the default options from the same start
                     secs, cpu, iters = secs + r.seconds, cpu + r.extra.get("cpu_seconds", 0.0), iters + max(r.iterations, 0)
                     obj[lab + " (warm)"] = float("nan")
-                    r = fs.solve(act, A, T, w0=fs.guess_from_other_mesh(cb, act, A, T))
+                    r = fs.solve(act, A, T, w0=fs.guess_from_other_mesh(cb, act, A, T), regularisation=case.regularisation)
                 secs += r.seconds
                 cpu += r.extra.get("cpu_seconds", 0.0)
                 iters += max(r.iterations, 0)
@@ -235,7 +259,8 @@ def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, Oc
     def const_solve(act: Actuator) -> OcpResult:
         key = ("const", act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
         if key not in qp_cache:
-            qp_cache[key] = s.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T)
+            qp_cache[key] = s.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T,
+                                    regularisation=case.regularisation)
         return qp_cache[key]
 
     # constant-damping settings: one convex QP each
@@ -265,15 +290,15 @@ def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, Oc
             secs += qp.seconds
             cpu[act.name] += qp.extra.get("cpu_seconds", 0.0)
             attempt("const-Dmin (adopted)", s.evaluate_as(qp, act, A, T, status=qp.status))
-            attempt("const-Dmin", s.solve(act, A, T, w0=s.guess_from(qp, act, A, T)))
+            attempt("const-Dmin", s.solve(act, A, T, w0=s.guess_from(qp, act, A, T), regularisation=case.regularisation))
         if "ramp" in case.starts:
             prof = ramp_u_d_profile(act, dt, act.D_max_Nms_per_rad)
-            rq = s.solve(act, A, T, u_d_fixed=prof)
+            rq = s.solve(act, A, T, u_d_fixed=prof, regularisation=case.regularisation)
             attempt("ramp (adopted)", rq)
             if rq.success:
-                attempt("ramp", s.solve(act, A, T, w0=s.guess_from(rq, act, A, T)))
+                attempt("ramp", s.solve(act, A, T, w0=s.guess_from(rq, act, A, T), regularisation=case.regularisation))
         if "cold" in case.starts:
-            attempt("cold", s.solve(act, A, T))
+            attempt("cold", s.solve(act, A, T, regularisation=case.regularisation))
         info[act.name] = dict(cand=cand, secs=secs, iters=iters, obj=inf["obj"])
     if "cross" in case.starts and len(variable) > 1:
         for act in variable:
@@ -283,7 +308,7 @@ def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, Oc
                 ob = _pick(info[other.name]["cand"])
                 if ob is None:
                     continue
-                r = s.solve(act, A, T, w0=s.guess_from(ob, act, A, T))
+                r = s.solve(act, A, T, w0=s.guess_from(ob, act, A, T), regularisation=case.regularisation)
                 inf = info[act.name]
                 inf["secs"] += r.seconds
                 cpu[act.name] += r.extra.get("cpu_seconds", 0.0)

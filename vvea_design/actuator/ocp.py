@@ -38,6 +38,8 @@ from .model import Actuator
 __all__ = [
     "Mesh",
     "OcpResult",
+    "Regularisation",
+    "NO_REGULARISATION",
     "RestToRestSolver",
     "TorqueStepSolver",
     "TorqueStepWeights",
@@ -344,6 +346,40 @@ WARM_START_IPOPT = {
 }
 
 
+@dataclass(frozen=True)
+class Regularisation:
+    """Small penalties that pick, among (nearly) equally good rest-to-rest optima, a smooth one.
+
+    The tracking cost of eq. 16 is flat in many directions: while the link
+    rests, the motor can chatter at ±τ_max and D switch between its bounds at
+    almost no cost. The penalties are added to the normalised cost
+    ``mean(((q - q_des)/A)²)`` (typically 1e-3 ... 1e-1):
+
+    * ``u_d``: weight of ``mean((u_d/u_d_max)²)`` over the horizon;
+    * ``tau_rate``: weight of ``Σ_k ((τ_m[k+1] - τ_m[k])/τ_max)²`` over the
+      interval steps (a bang-bang switch costs ``4 tau_rate``).
+
+    Reported objectives and rmse stay the pure tracking cost.
+    """
+
+    u_d: float = 0.0  #: weight of the mean squared normalised damping rate
+    tau_rate: float = 0.0  #: weight of the summed squared normalised motor-torque steps
+
+    def __post_init__(self) -> None:
+        for f in ("u_d", "tau_rate"):
+            v = getattr(self, f)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ValueError(f"Regularisation.{f} must be a finite number >= 0, got {v!r}")
+
+    def weights(self) -> np.ndarray:
+        """The NLP parameter values ``[u_d, tau_rate]``."""
+        return np.array([self.u_d, self.tau_rate], dtype=float)
+
+
+#: No regularisation: the pure tracking cost of eq. 16.
+NO_REGULARISATION = Regularisation()
+
+
 def rest_to_rest_reference(t_s, A_rad: float, T_s: float) -> np.ndarray:
     """Square-wave reference of section 5.0.1: 0 in the first half period, A in the second."""
     t = np.asarray(t_s, dtype=float)
@@ -393,12 +429,7 @@ class RestToRestSolver:
     True
     """
 
-    #: weight of ∫ (u_d/u_d_max)² dt / t_e added to the variable-damping objective (0 = none)
-    u_d_regularisation: float = 0.0
-
-    def __init__(self, mesh: Mesh = Mesh(), ipopt_options: dict | None = None,
-                 u_d_regularisation: float = 0.0) -> None:
-        self.u_d_regularisation = float(u_d_regularisation)
+    def __init__(self, mesh: Mesh = Mesh(), ipopt_options: dict | None = None) -> None:
         if mesh.n_intervals % 4:
             raise ValueError(
                 f"Mesh.n_intervals must be a multiple of 4 for rest-to-rest (the reference switches at "
@@ -421,14 +452,19 @@ class RestToRestSolver:
                 e = ca.vertcat(*[col.w[int(col.iz[k, j, 1])] - self.qdes[k] for j in range(col.d + 1)])
                 J += col.h[k] * ca.mtimes([e.T, ca.DM(col.Mass), e])
             J = J / col.S
-            # optional regularisation of the damping rate (weight = extra parameter, 0 by default);
-            # candidates are always compared on the pure tracking integral J
-            reg = ca.SX.sym("reg")
-            R = 0
+            # optional regularisation (weights = NLP parameters, 0 = none, see Regularisation):
+            # the damping rate, mean of (u_d/u_d_max)^2, and the motor-torque steps,
+            # sum_k ((tau_m[k+1] - tau_m[k])/tau_max)^2. Candidates are always compared on J alone.
+            reg = ca.SX.sym("reg", 2)
+            R_ud = 0
             if variable:
                 for k in range(N):
-                    R += col.h[k] * col.w[int(col.iu[k, 1])] ** 2
-            nlp = {"x": col.w, "p": ca.vertcat(col.p, reg), "f": J + reg * R / col.S, "g": col.g}
+                    R_ud += col.h[k] * col.w[int(col.iu[k, 1])] ** 2
+            R_tau = 0
+            for k in range(N - 1):
+                R_tau += (col.w[int(col.iu[k + 1, 0])] - col.w[int(col.iu[k, 0])]) ** 2
+            f = J + reg[0] * R_ud / col.S + reg[1] * R_tau
+            nlp = {"x": col.w, "p": ca.vertcat(col.p, reg), "f": f, "g": col.g}
             name = "rest_to_rest_" + ("variable" if variable else "constant")
             self.cols[variable] = col
             self.solvers[variable] = ca.nlpsol(name, "ipopt", nlp, opts)
@@ -491,6 +527,7 @@ class RestToRestSolver:
         T_s: float,
         w0: np.ndarray | None = None,
         u_d_fixed: np.ndarray | None = None,
+        regularisation: "Regularisation | None" = None,
     ) -> OcpResult:
         """Solve eq. 16 for one actuator setting, amplitude and period.
 
@@ -507,6 +544,10 @@ class RestToRestSolver:
             Fix the damping input to this per-interval profile
             (N m s rad⁻¹ s⁻², length N; variable-damping settings only); the
             problem is then a convex QP in the motor torque.
+        regularisation
+            Small penalties added to the tracking cost (:class:`Regularisation`);
+            ``None`` = none (pure eq. 16). ``objective`` and ``rmse_rad`` are
+            always the pure tracking integral.
 
         Returns
         -------
@@ -529,7 +570,8 @@ class RestToRestSolver:
             if col.variable:
                 w0[col.iz[:, :, 4].ravel()] = actuator.D_min_Nms_per_rad / pv[2]
         w, f, status, success, iters, secs = col.solve(self.solvers[col.variable], w0,
-                                                       np.append(pv, self.u_d_regularisation), lbx, ubx)
+                                                       np.append(pv, (regularisation or NO_REGULARISATION).weights()),
+                                                       lbx, ubx)
         if np.all(np.isfinite(w)):
             f = float(self.Jfuns[col.variable](w))
         return self._result(col, w, f, status, success, iters, secs, pv, actuator, A_rad, T_s)

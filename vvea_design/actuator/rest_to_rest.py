@@ -22,8 +22,9 @@ from ..parallel import parallel_map
 from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
-from .multistart import DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_STARTS, RESULT_COLUMNS, RestToRestCase, solve_case, solve_case_results
-from .ocp import Mesh, WARM_START_IPOPT
+from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
+                         RestToRestCase, solve_case, solve_case_results)
+from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import table5_statistics
 
 __all__ = ["Grid", "GRIDS", "run_rest_to_rest", "mesh_convergence"]
@@ -57,8 +58,9 @@ GRIDS: dict[str, Grid] = {
 
 # -- results file: case-by-case, resumable -----------------------------------------------------------
 def _meta(grid: Grid, settings: Sequence[Actuator], mesh: Mesh, starts: Sequence[str], ipopt_options,
-          fine_mesh: Mesh | None = None) -> dict:
+          fine_mesh: Mesh | None = None, regularisation: Regularisation = DEFAULT_REGULARISATION) -> dict:
     m = {
+        "regularisation": asdict(regularisation),
         "grid": {"A_rad": list(grid.A_rad), "T_s": list(grid.T_s)},
         "settings": [asdict(a) for a in settings],
         "mesh": asdict(mesh),
@@ -105,6 +107,7 @@ def run_rest_to_rest(
     progress: bool = True,
     figures: bool = True,
     outperform_rtol: float = 1e-3,
+    regularisation: Regularisation = DEFAULT_REGULARISATION,
 ) -> dict:
     """Run (or resume) the rest-to-rest sweep and write its files.
 
@@ -134,6 +137,9 @@ def run_rest_to_rest(
         Show the progress bar; write the PNGs.
     outperform_rtol
         Relative margin for "X outperforms Y": ``rmse_X < (1 - rtol) rmse_Y``.
+    regularisation
+        Penalties that smooth the optimal inputs (:class:`~vvea_design.actuator.ocp.Regularisation`);
+        the reported rmse is always the pure tracking cost.
 
     Returns
     -------
@@ -168,7 +174,7 @@ def run_rest_to_rest(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     res_path, meta_path = out / "results.csv", out / "meta.json"
-    meta = _meta(grid, settings, mesh, starts, ipo, fine_mesh)
+    meta = _meta(grid, settings, mesh, starts, ipo, fine_mesh, regularisation)
     meta_json = json.loads(json.dumps(meta))
     if res_path.exists() and not restart:
         old = json.loads(meta_path.read_text()) if meta_path.exists() else None
@@ -187,7 +193,7 @@ def run_rest_to_rest(
         wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
         wr.writeheader()
         wr.writerows(done_rows)
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh) for A, T in grid.cases()]
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation) for A, T in grid.cases()]
     todo = [c for c in cases if c.case_id not in done]
     if done:
         console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}")
@@ -215,6 +221,7 @@ def run_rest_to_rest(
         "grid": grid_name, "cases": len(cases), "cases_solved_this_run": len(todo), "ocps": len(cases) * len(settings),
         "wall_seconds_this_run": round(wall, 2), "mesh": asdict(mesh),
         "fine_mesh": asdict(fine_mesh) if fine_mesh is not None else None, "starts": list(starts),
+        "regularisation": asdict(regularisation),
         "solver_seconds_total": round(float(df["seconds"].sum()), 2),
         "solver_cpu_seconds_total": round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None,
     }
@@ -223,14 +230,15 @@ def run_rest_to_rest(
     with output_files(*finals, option="") as tmps:
         tmps[0].write_text(json.dumps(summary, indent=2))
         if figures:
-            plot_best_map(df, tmps[1])
+            plot_best_map(df).savefig(tmps[1], dpi=130)
             names_set = set(df["setting"])
             ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping),
                                                         settings[0].name)
             Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
             Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
-            _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh))
-            plot_trajectory(best, Aex, Tex, tmps[2], highlight=ex)
+            _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh,
+                                                        regularisation))
+            plot_trajectory(best, Aex, Tex, highlight=ex).savefig(tmps[2], dpi=130)
     return summary
 
 

@@ -25,16 +25,28 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
 
     For every pair (X, Y) of settings with X variable-damping: the fraction of
     cases where ``rmse_X < (1 - rtol) rmse_Y`` and ``mean(rmse_Y)/mean(rmse_X)``,
-    over (a) all cases both solved and (b) the cases where at least one
-    setting is valid (Fig. 13's coloured points). Also: iVVEA-worse-than-SEA
-    count, the winning starts, solver failures, and the paper's numbers.
+    over (a) ``all``: the cases both solved, and (b) ``valid``: the cases where
+    both trajectories are valid (the link reaches 95 % of A in both
+    up-phases). A result whose trajectory did not pass the re-simulation
+    check (column ``verified``, :mod:`vvea_design.actuator.verify`) counts as
+    not solved; ``unverified`` and each pair's ``n_excluded`` say how many
+    were left out. Also: iVVEA-worse-than-SEA count, the winning starts,
+    solver failures, and the paper's numbers.
     """
     df = df.copy()
-    df["success"] = df["success"].astype(str).str.lower().isin(["true", "1"])
-    df["valid"] = df["valid"].astype(str).str.lower().isin(["true", "1"])
+
+    def _bool(col: str) -> pd.Series:
+        return df[col].astype(str).str.lower().isin(["true", "1"])
+
+    df["success"] = _bool("success")
+    df["valid"] = _bool("valid")
+    df["verified"] = _bool("verified") if "verified" in df else df["success"]
+    unverified = df[df.success & ~df.verified]
+    df.loc[~df.verified, "rmse"] = float("nan")  # an unverified trajectory is no result
+    df["usable"] = df.valid & df.verified & df.success
     one = df.drop_duplicates(["case_id", "setting"], keep="last")
     piv = one.pivot(index="case_id", columns="setting", values="rmse").astype(float)
-    valid = one.pivot(index="case_id", columns="setting", values="valid").fillna(False).astype(bool)
+    valid = one.pivot(index="case_id", columns="setting", values="usable").fillna(False).astype(bool)
     any_valid = valid.any(axis=1)
     settings = list(dict.fromkeys(df["setting"]))
     varset = sorted({s for s in settings if (df.loc[df.setting == s, "D_max_Nms_per_rad"]
@@ -45,7 +57,8 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
         for Y in settings:
             if Y == X:
                 continue
-            for scope, mask in (("all", pd.Series(True, index=piv.index)), ("valid", any_valid)):
+            both_valid = valid[X] & valid[Y]
+            for scope, mask in (("all", pd.Series(True, index=piv.index)), ("valid", both_valid)):
                 sub = piv.loc[mask.reindex(piv.index, fill_value=False), [X, Y]].dropna()
                 n = len(sub)
                 beats = int((sub[X] < (1 - outperform_rtol) * sub[Y]).sum()) if n else 0
@@ -56,6 +69,7 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
                     "fraction_X_beats_Y": beats / n if n else None,
                     "X_worse_than_Y": worse,
                     "meanrmse_Y_over_X": float(sub[Y].mean() / sub[X].mean()) if n else None,
+                    "n_excluded": int(piv.shape[0] - n),
                 }
     guarantee = {}
     if "iVVEA" in settings and "SEA" in settings:
@@ -88,6 +102,9 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
         "ivvea_vs_sea_guarantee": guarantee,
         "winning_starts": wins,
         "best_valid_setting_counts": best_counts,
+        "unverified": {"count": int(len(unverified)),
+                       "by_setting": {str(k): int(v) for k, v in unverified["setting"].value_counts().items()},
+                       "cases": [f"{r.case_id} {r.setting}" for r in unverified.itertuples()]},
         "solver_failures": {"count": int(len(failures)),
                             "by_status": {str(k): int(v) for k, v in failures["status"].value_counts().items()}},
         "paper_table5": PAPER_TABLE5,

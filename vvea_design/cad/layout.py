@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, fields
 from functools import cached_property
 
 from ..spring.design import Design, DesignError
+from .seals import Gland, SealError, piston_gland, rod_gland
 
 __all__ = ["CadParameters", "Layout", "CadError"]
 
@@ -33,8 +34,7 @@ class CadParameters:
     :class:`CadError` naming the field before any geometry is built.
     """
 
-    seal_groove_depth_mm: float = 1.5  #: radial depth of the piston and rod seal grooves
-    seal_groove_width_mm: float = 2.4  #: axial width of a piston seal groove
+    oring_cross_section_mm: float = 1.78  #: O-ring series of the piston and rod seals (ISO 3601-1: 1.78 or 2.62)
     rod_thread_core_mm: float = 4.2  #: tapped hole (M5 core) in the rod end for the bottom eye
     rod_thread_depth_mm: float = 10.0  #: depth of that tapped hole
     fill_port_mm: float = 2.0  #: gas fill-port drilling through the top cap
@@ -85,6 +85,11 @@ class CadParameters:
             raise CadError(f"cad.clamp_groove_fraction must be in [0.2, 0.8], got {self.clamp_groove_fraction!r}")
         if self.sprue_funnel_mm < self.sprue_mm:
             raise CadError("cad.sprue_funnel_mm must be >= cad.sprue_mm")
+        from .seals import DYNAMIC_GLANDS
+
+        if self.oring_cross_section_mm not in DYNAMIC_GLANDS:
+            raise CadError(f"cad.oring_cross_section_mm must be one of "
+                           f"{', '.join(f'{w:g}' for w in DYNAMIC_GLANDS)} mm, got {self.oring_cross_section_mm!r}")
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -142,6 +147,27 @@ class Layout:
     def r_bladder_out(self) -> float:
         """Cast bladder sleeve, outer radius."""
         return self.design.bladder_outer_radius_mm
+
+    @cached_property
+    def piston_seal(self) -> Gland:
+        """Piston seal groove and its ISO 3601-1 O-ring (two per piston)."""
+        try:
+            return piston_gland(self.design.piston_diameter_mm, self.cad.oring_cross_section_mm)
+        except SealError as exc:
+            raise CadError(f"piston_diameter_mm: {exc}") from None
+
+    @cached_property
+    def rod_seal(self) -> Gland:
+        """Rod seal groove in the base and its ISO 3601-1 O-ring."""
+        try:
+            return rod_gland(self.design.fixed.rod_diameter_mm, self.cad.oring_cross_section_mm)
+        except SealError as exc:
+            raise CadError(f"fixed.rod_diameter_mm: {exc}") from None
+
+    @property
+    def z_rod_seal(self) -> tuple[float, float]:
+        """Axial extent of the rod seal groove in the base (from the underside), mm."""
+        return 1.5, 1.5 + self.rod_seal.width_mm
 
     @cached_property
     def bead_mm(self) -> float:
@@ -266,11 +292,16 @@ class Layout:
             raise CadError(f"fixed.base_mm = {f.base_mm:g} mm is too thin for the valve bores and rod seal; needs >= 11 mm")
         if f.top_cap_mm <= c.fill_port_counterbore_depth_mm:
             raise CadError(f"fixed.top_cap_mm = {f.top_cap_mm:g} mm must exceed cad.fill_port_counterbore_depth_mm")
-        if f.piston_height_mm < 2.5 * c.seal_groove_width_mm:
+        ps, rs = self.piston_seal, self.rod_seal
+        if f.piston_height_mm < 2.5 * ps.width_mm:
             raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
-                           f"cad.seal_groove_width_mm = {c.seal_groove_width_mm:g} mm")
-        if c.seal_groove_depth_mm >= 0.5 * (self.r_piston - self.r_rod):
-            raise CadError("cad.seal_groove_depth_mm is deeper than half the piston's radial land")
+                           f"{ps.width_mm:g} mm ({ps.oring.name}); use >= {2.5 * ps.width_mm:g} mm or a smaller "
+                           f"cad.oring_cross_section_mm")
+        if ps.depth_mm >= 0.5 * (self.r_piston - self.r_rod):
+            raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
+                           f"than half the piston's radial land")
+        if self.z_rod_seal[1] > f.base_mm - 4.0 - self.throttle_d:
+            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm has no room for the rod seal groove below the valve bores")
         if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
             raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
                            f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")

@@ -57,7 +57,7 @@ def housing(lay: Layout) -> Solid:
             tools.append(cylinder(cb, zt - c.fill_port_counterbore_depth_mm, zt + 1, y=r_port))
     # rod bore and rod seal groove
     tools.append(cylinder(lay.r_rod, -1.0, z0 + 0.01))
-    tools.append(ring(0.0, lay.r_rod + c.seal_groove_depth_mm, 1.5, 1.5 + c.seal_groove_width_mm))
+    tools.append(ring(0.0, lay.rod_seal.groove_diameter_mm / 2, *lay.z_rod_seal))
     zv = lay.z_valve
     # rotary throttle: radial bore along +x, channels up from it
     tools.append(bar(lay.throttle_d / 2, (lay.x_valve_inner, 0, zv), (1, 0, 0), lay.r_outer + 1 - lay.x_valve_inner))
@@ -104,7 +104,7 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
 
 def _groove_levels(lay: Layout, x_mm: float) -> list[tuple[float, float]]:
     hp = lay.design.fixed.piston_height_mm
-    w = lay.cad.seal_groove_width_mm
+    w = lay.piston_seal.width_mm
     zb = lay.z_piston_bottom(x_mm)
     return [(zb + hp * q - w / 2, zb + hp * q + w / 2) for q in (0.27, 0.73)]
 
@@ -119,7 +119,8 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
     zb, ztp = lay.z_piston_bottom(x_mm), lay.z_piston_top(x_mm)
     z_end = zb - d.rod_length_mm
     body = fuse(cylinder(lay.r_piston, zb, ztp), cylinder(lay.r_rod, z_end, zb + 0.5 * d.fixed.piston_height_mm))
-    tools = [ring(lay.r_piston - c.seal_groove_depth_mm, lay.r_piston + 1, g0, g1) for g0, g1 in _groove_levels(lay, x_mm)]
+    r_root = lay.piston_seal.groove_diameter_mm / 2
+    tools = [ring(r_root, lay.r_piston + 1, g0, g1) for g0, g1 in _groove_levels(lay, x_mm)]
     tools.append(cylinder(c.rod_thread_core_mm / 2, z_end - 1, z_end + c.rod_thread_depth_mm))
     return cut(body, *tools)
 
@@ -129,7 +130,8 @@ def piston_volume_mm3(lay: Layout) -> float:
     d, c = lay.design, lay.cad
     rp, rr = lay.r_piston, lay.r_rod
     v = math.pi * rp**2 * d.fixed.piston_height_mm + math.pi * rr**2 * d.rod_length_mm
-    v -= 2 * math.pi * (rp**2 - (rp - c.seal_groove_depth_mm) ** 2) * c.seal_groove_width_mm
+    g = lay.piston_seal
+    v -= 2 * math.pi * (rp**2 - (g.groove_diameter_mm / 2) ** 2) * g.width_mm
     v -= math.pi * (c.rod_thread_core_mm / 2) ** 2 * c.rod_thread_depth_mm
     return v
 

@@ -18,7 +18,7 @@ def print_bladder(d: dict) -> None:
     """A table of the bladder.json content on the console."""
     from rich.table import Table
 
-    from ..progress import console
+    from ..progress import out as console  # results to stdout
 
     t = Table(title=f"bladder check — {d['material']['name']}, criterion {d['criterion']['name']} "
                     f"({d['criterion']['formula']})")

@@ -17,7 +17,7 @@ def print_manifest(manifest: dict) -> None:
     """The drawn-vs-optimised table and the check results on the console."""
     from rich.table import Table
 
-    from ..progress import console
+    from ..progress import out as console  # results to stdout
 
     t = Table(title="CAD vs design (what is drawn is what was optimised)")
     for col in ("quantity", "CAD", "design", "rel. error"):

@@ -13,6 +13,7 @@ from rich.table import Table
 from .common import fail
 from .outputs import check_out, out_dir
 from ..progress import console, progress_bar
+from ..progress import out as stdout
 
 __all__ = ["register"]
 
@@ -27,14 +28,40 @@ def _read(file: Path):
         fail(str(exc))
 
 
+def _reference(design: Path | None):
+    """The unit's gas spring from ``--design``, or the paper's Fig. 5 unit (said on stdout)."""
+    from ..identification.effects import REFERENCE_NOTE
+    from ..spring.design_file import DesignFileError, spring_from_json
+    from ..spring.paper import PAPER_FIG5
+
+    if design is None:
+        typer.echo(f"note: {REFERENCE_NOTE}", err=True)
+        return PAPER_FIG5
+    try:
+        ref = spring_from_json(design)
+    except DesignFileError as exc:
+        fail(str(exc))
+    typer.echo(
+        f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, "
+        f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm",
+        err=True,
+    )
+    return ref
+
+
+_DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 and travel shape the gas terms); default: the paper's Fig. 5 unit"
+
+
 def identify_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet, shared/specs/recordings.md)"),
-    out: Path = typer.Option(Path("identification"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("identification"), "--out", "-o", help="output folder"),
+    design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
     check_out(out)
+    _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
     rec = _read(file)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
         summary = write_identification(rec, tmp)
@@ -43,9 +70,10 @@ def identify_cmd(
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
     for name, p in summary["parameters"].items():
         paper = "" if p["paper"] is None else f"{p['paper']:.2f}"
-        t.add_row(name, p["unit"], f"{p['value']:.2f}", f"{p['std_error']:.2f}", paper)
+        se = "not determined" if p["std_error"] is None else f"{p['std_error']:.2f}"
+        t.add_row(name, p["unit"], f"{p['value']:.2f}", se, paper)
     typer.echo("")
-    console.print(t)
+    stdout.print(t)
     band = summary["error_band_pct"]["ours"]
     typer.echo(
         f"RMS error {summary['rmse_N']:.1f} N; error band {band[0]:+.1f} % ... {band[1]:+.1f} % of nominal force "
@@ -55,19 +83,26 @@ def identify_cmd(
         f"{summary['rows_read']} rows read, {summary['rows_left_out']} left out ({summary['rows_left_out_reason']}); "
         f"{summary['velocity_fallback_experiments']} experiments used the Savitzky-Golay velocity fallback."
     )
+    for note in summary.get("notes", []):
+        typer.echo(f"note: {note}")
     typer.echo(f"wrote {', '.join(summary['files'])} to {out}")
 
 
 def diagnose_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet)"),
-    out: Path = typer.Option(Path("diagnosis"), "--out", help="output folder"),
+    out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="output folder"),
     seed: int = typer.Option(0, help="seed of the held-out and cross-validation splits"),
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
+    design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
     from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
 
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command draws into files
     check_out(out)
+    reference = _reference(design)
     rec = _read(file)
     msgs = []
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -79,11 +114,18 @@ def diagnose_cmd(
             msgs.append(msg)
             prog.update(task, description=f"diagnosing: {msg}")
 
-        diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say)
-        with out_dir(out, "diagnose") as tmp:
-            files = write_diagnosis(diag, tmp)
-    typer.echo(format_summary(diag.report))
-    typer.echo(f"wrote {', '.join(files)} to {out} ({diag.report['runtime_s']:.1f} s)")
+        diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
+    summary_text = format_summary(diag.report)
+    from ..report.html import write_folder_report
+
+    with out_dir(out, "diagnose") as tmp:  # the report and its figures land together
+        files = write_diagnosis(diag, tmp)
+        report = write_folder_report(f"vvea diagnose: {file.name}", tmp, summary_text=summary_text,
+                                     data=diag.report.to_dict(), label=str(out),
+                                     provenance={"recordings": file, "design": design, "seed": seed,
+                                                 "learner": learner})
+    typer.echo(summary_text)
+    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report.runtime_s:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:

@@ -45,6 +45,9 @@ def _root(
                                  help="print the version and exit"),
 ) -> None:
     """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command line draws off-screen; the library never selects a backend
 
 
 def _print_evaluation(ev, title: str) -> None:
@@ -294,7 +297,8 @@ for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
     _module.register(app)
 
 
-def main() -> None:  # console-script entry point
+def main() -> None:
+    """Run the ``vvea`` command (the console-script entry point); Ctrl-C exits 130 with a message."""
     try:
         app()
     except KeyboardInterrupt:  # pragma: no cover

@@ -18,7 +18,17 @@ __all__ = ["check_out", "out_dir", "out_files"]
 
 
 def check_out(path: Path, kind: str = "dir", option: str = "--out") -> None:
-    """Exit 2 (message names the path) unless ``path`` can take a result folder (``kind="dir"``) or file."""
+    """Exit 2 (the message names the path) unless ``path`` can take a result folder or file.
+
+    Parameters
+    ----------
+    path : Path
+        The ``--out`` value.
+    kind : str
+        ``"dir"`` for a result folder, ``"file"`` for a single file.
+    option : str
+        The option named in the message.
+    """
     try:
         (check_output_dir if kind == "dir" else check_output_file)(path, option)
     except OutputError as exc:
@@ -27,7 +37,22 @@ def check_out(path: Path, kind: str = "dir", option: str = "--out") -> None:
 
 @contextlib.contextmanager
 def out_dir(path: Path, command: str, option: str = "--out") -> Iterator[Path]:
-    """:func:`vvea_design.outputs.output_dir` that exits 2 on a location it cannot write."""
+    """:func:`vvea_design.outputs.output_dir` that exits 2 on a location it cannot write.
+
+    Parameters
+    ----------
+    path : Path
+        The result folder.
+    command : str
+        The command's name (marker file ``.vvea-<command>.json``).
+    option : str
+        The option named in messages.
+
+    Returns
+    -------
+    Iterator[Path]
+        (a context manager) the temporary folder to write into.
+    """
     try:
         with output_dir(path, command, option) as tmp:
             yield tmp
@@ -37,7 +62,20 @@ def out_dir(path: Path, command: str, option: str = "--out") -> Iterator[Path]:
 
 @contextlib.contextmanager
 def out_files(*paths: Path, option: str = "--out") -> Iterator[list[Path]]:
-    """:func:`vvea_design.outputs.output_files` that exits 2 on a location it cannot write."""
+    """:func:`vvea_design.outputs.output_files` that exits 2 on a location it cannot write.
+
+    Parameters
+    ----------
+    *paths : Path
+        The result files.
+    option : str
+        The option named in messages.
+
+    Returns
+    -------
+    Iterator[list[Path]]
+        (a context manager) the temporary paths, in order.
+    """
     try:
         with output_files(*paths, option=option) as tmps:
             yield tmps

@@ -35,7 +35,7 @@ def _grid(spec: str):
 
 @study_app.command("rest-to-rest")
 def rest_to_rest(
-    out: Path = typer.Option(..., "--out", help="Output folder (results.csv, summary.json, PNGs)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (results.csv, summary.json, PNGs)."),
     design: Optional[Path] = typer.Option(None, "--design", help="Design JSON: adds its actuator as setting 'design'."),
     grid: str = typer.Option("paper", "--grid", help="paper | coarse | 'A1,A2:T1,T2' (rad:s)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://host:port."),
@@ -82,9 +82,17 @@ def rest_to_rest(
                                    scheduler=scheduler, restart=restart, progress=not no_progress)
     except ValueError as exc:
         raise typer.BadParameter(str(exc)) from exc
-    _print_summary(summary, console)
+    from ..outputs import output_files
+    from ..report.html import folder_report, recorded_text
+
+    text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
+    typer.echo(text)
+    with output_files(out / "report.html", option="") as (tmp_report,):  # whole or not at all
+        folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
+                      provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n}
+                      ).write(tmp_report)
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
-                  f"{out / 'trajectory.png'}")
+                  f"{out / 'trajectory.png'}, {out / 'report.html'}")
 
 
 def _print_summary(summary: dict, console) -> None:
@@ -120,7 +128,7 @@ def _print_summary(summary: dict, console) -> None:
 
 @study_app.command("safety")
 def safety(
-    out: Path = typer.Option(..., "--out", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
     mesh_n: int = typer.Option(200, "--mesh-n", help="Collocation intervals over the 0.5 s horizon."),
     tau_ref_nm: float = typer.Option(50.0, "--tau-ref-nm", help="Torque step height (N m)."),
     link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
@@ -132,21 +140,28 @@ def safety(
     from .outputs import check_out, out_dir
 
     check_out(out)
-    try:
-        with out_dir(out, "safety") as tmp:
-            s = run_safety(tmp, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
-    except ValueError as exc:
-        raise typer.BadParameter(str(exc)) from exc
     from rich.table import Table
 
-    tab = Table(title=f"{tau_ref_nm:g} N m torque step")
-    for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
-        tab.add_column(c)
-    for name, c in s["cases"].items():
-        tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
-                    f"{c['t95_s'] * 1e3:.1f}", c["status"])
-    console.print(tab)
-    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}")
+    from ..report.html import recorded_text, write_folder_report
+
+    with out_dir(out, "safety") as tmp:  # results, figure and report land together
+        try:
+            s = run_safety(tmp, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
+        except ValueError as exc:
+            raise typer.BadParameter(str(exc)) from exc
+        tab = Table(title=f"{tau_ref_nm:g} N m torque step")
+        for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
+            tab.add_column(c)
+        for name, c in s["cases"].items():
+            tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
+                        f"{c['t95_s'] * 1e3:.1f}", c["status"])
+        text = recorded_text(lambda c: c.print(tab))
+        write_folder_report("vvea study safety", tmp, summary_text=text, data=s, label=str(out),
+                            provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n,
+                                        "link_inertia_kgm2": link_inertia_kgm2})
+    typer.echo(text)
+    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
+                  f"{out / 'report.html'}")
 
 
 def register(app: typer.Typer) -> None:

@@ -23,7 +23,7 @@ Everything is computed from per-experiment normal-equation blocks
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +31,7 @@ import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from .effects import CATALOGUE, FitData, baseline_columns, effect_params
+from .effects import REGISTRY, FitData, baseline_columns
 from .recordings import Recordings
 
 __all__ = [
@@ -41,7 +41,9 @@ __all__ = [
     "ModelFit",
     "assemble",
     "blocks",
+    "extend_blocks",
     "solve_bounded",
+    "auto_context",
     "fit_model",
     "relief_context",
     "fit_eq14",
@@ -49,6 +51,10 @@ __all__ = [
     "error_band_pct",
     "format_table3",
     "write_identification",
+    "Identifiability",
+    "identifiability",
+    "plot_fig10",
+    "plot_fig11",
 ]
 
 #: Table 3 of the paper (value per parameter name).
@@ -77,12 +83,12 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     ----------
     D : FitData
     effects : sequence of str
-        Effect ids from :data:`vvea_design.identification.effects.CATALOGUE`.
+        Effect ids from :data:`vvea_design.identification.effects.REGISTRY`.
     shapes : dict
         Shape-parameter value per effect id (ignored for effects without one).
     ctx : dict
-        Context for effects that need the current model (relief valve:
-        ``damping_force_N``).
+        Context for effects that need the current model (``damping_force_N``,
+        ``model_force_N``, ``residual_N``; see :class:`~vvea_design.identification.effects.Effect`).
 
     Returns
     -------
@@ -94,18 +100,19 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     shapes = shapes or {}
     ctx = ctx or {}
     X0, params = baseline_columns(D)
+    X0 = X0.copy()
     cols = [X0]
     groups = {"eq14": slice(0, X0.shape[1])}
     p = X0.shape[1]
     for eid in effects:
-        eff = CATALOGUE[eid]
+        eff = REGISTRY[eid]
         sv = shapes.get(eid, np.nan)
-        if eff.damping_mask is not None:
-            m = eff.damping_mask(D, sv, ctx)
+        m = eff.damping_mask(D, sv, ctx)
+        if m is not None:
             X0[m, 2:] = 0.0
         c = eff.columns(D, sv, ctx)
         cols.append(c)
-        params = params + list(effect_params(eff, D))
+        params = params + list(eff.params(D))
         groups[eid] = slice(p, p + c.shape[1])
         p += c.shape[1]
     return np.column_stack(cols), params, groups
@@ -146,6 +153,26 @@ def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
     return Blocks(G, b, yy, np.diff(bounds), lo, hi)
 
 
+def extend_blocks(base: Blocks, X0: np.ndarray, Xn: np.ndarray, y: np.ndarray, bounds: np.ndarray, params_new) -> Blocks:
+    """Blocks of ``[X0, Xn]`` from the blocks of ``X0``: only the new columns' products are computed."""
+    ne, p0, k = len(bounds) - 1, X0.shape[1], Xn.shape[1]
+    G = np.empty((ne, p0 + k, p0 + k))
+    G[:, :p0, :p0] = base.G
+    b = np.empty((ne, p0 + k))
+    b[:, :p0] = base.b
+    for e in range(ne):
+        sl = slice(bounds[e], bounds[e + 1])
+        Xe = Xn[sl]
+        c = X0[sl].T @ Xe
+        G[e, :p0, p0:] = c
+        G[e, p0:, :p0] = c.T
+        G[e, p0:, p0:] = Xe.T @ Xe
+        b[e, p0:] = Xe.T @ y[sl]
+    lo = np.r_[base.lower, [q.lower for q in params_new]]
+    hi = np.r_[base.upper, [q.upper for q in params_new]]
+    return Blocks(G, b, base.yy, base.n, lo, hi)
+
+
 def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     """Minimise ``θᵀGθ - 2bᵀθ`` subject to ``lower <= θ <= upper``.
 
@@ -173,7 +200,7 @@ class ModelFit:
     Attributes
     ----------
     effects : tuple[str]
-        Effect ids included.
+        Effect ids included (keys of :data:`~vvea_design.identification.effects.REGISTRY`).
     shapes : dict
         Fitted shape parameter per effect id (NaN when the effect has none).
     params : list[Param]
@@ -189,7 +216,7 @@ class ModelFit:
     groups : dict
         Column slice per effect (``"eq14"`` for the baseline).
     ctx : dict
-        Context used (relief valve).
+        Context the model was fitted with.
     """
 
     effects: tuple
@@ -213,12 +240,29 @@ class ModelFit:
         """Parameter name -> standard error."""
         return {q.name: float(v) for q, v in zip(self.params, self.se)}
 
+    def effect_values(self, effect_id: str) -> dict[str, float]:
+        """Amplitude name -> value of one effect (``"eq14"`` for the baseline)."""
+        sl = self.groups[effect_id]
+        return {q.name: float(v) for q, v in zip(self.params[sl], self.theta[sl])}
+
+    def effect_errors(self, effect_id: str) -> dict[str, float]:
+        """Amplitude name -> cluster-robust standard error of one effect."""
+        sl = self.groups[effect_id]
+        return {q.name: float(v) for q, v in zip(self.params[sl], self.se[sl])}
+
     def _ctx_for(self, D: FitData) -> dict:
         """The context the model was fitted with, when it belongs to ``D``; else rebuilt from this fit."""
-        damp = self.ctx.get("damping_force_N")
-        if damp is not None and len(damp) == D.n:
+        if self.ctx and all(len(v) == D.n for v in self.ctx.values() if isinstance(v, np.ndarray)):
             return self.ctx
-        return _relief_ctx(self, D) if "relief_valve" in self.effects else {}
+        return self.context(D)
+
+    def context(self, D: FitData) -> dict:
+        """Context rebuilt from this fit on ``D``: its damping force and its force without model-force terms."""
+        ctx = {"damping_force_N": self.damping_force(D)}
+        if any("model_force_N" in REGISTRY[e].needs for e in self.effects):
+            X = assemble(D, self.effects, self.shapes, ctx)[0]  # model-force terms give zero columns here
+            ctx["model_force_N"] = X @ self.theta
+        return ctx
 
     def design(self, D: FitData) -> np.ndarray:
         """Design matrix of this model on ``D``."""
@@ -230,23 +274,19 @@ class ModelFit:
 
     def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
         """Force (N) the effect adds relative to the same model without it."""
-        X = self.design(D)
+        ctx = self._ctx_for(D)
+        X = assemble(D, self.effects, self.shapes, ctx)[0]
         sl = self.groups[effect_id]
         f = X[:, sl] @ self.theta[sl]
-        if effect_id == "relief_valve":
-            m = CATALOGUE["relief_valve"].damping_mask(D, self.shapes["relief_valve"], self._ctx_for(D))
-            X0, _ = baseline_columns(D)
-            f = f - np.where(m, X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop], 0.0)
+        m = REGISTRY[effect_id].damping_mask(D, self.shapes.get(effect_id, np.nan), ctx)
+        if m is not None:
+            f = f - np.where(m, self.damping_force(D), 0.0)
         return f
 
     def damping_force(self, D: FitData) -> np.ndarray:
         """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
         X0, _ = baseline_columns(D)
         return X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop]
-
-
-def _relief_ctx(fit: ModelFit, D: FitData) -> dict:
-    return {"damping_force_N": fit.damping_force(D)}
 
 
 def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -258,6 +298,10 @@ def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
     Gi = np.linalg.pinv(G / np.outer(d, d)) / np.outer(d, d)
     cov = Gi @ meat @ Gi * (ne / max(ne - 1, 1))
     return np.sqrt(np.clip(np.diag(cov), 0, None))
+
+
+def _needs(effects, key: str) -> bool:
+    return any(key in REGISTRY[e].needs for e in effects)
 
 
 def fit_model(
@@ -273,7 +317,7 @@ def fit_model(
 
     Shape parameters not given in ``shapes`` are searched on the effect's
     grid one effect at a time (two sweeps), then refined by a bounded scalar
-    search in log space when ``refine``.
+    search (in log space for ``log_shape`` effects) when ``refine``.
 
     Parameters
     ----------
@@ -284,8 +328,8 @@ def fit_model(
     shapes : dict, optional
         Fixed shape values per effect id.
     ctx : dict, optional
-        Context (relief valve ``damping_force_N``); computed from the eq.-14
-        fit when needed and not given.
+        Context (damping force, model force, residual); built from simpler
+        fits when needed and not given.
     refine : bool
         Refine grid-searched shape parameters.
 
@@ -296,13 +340,12 @@ def fit_model(
     effects = tuple(effects)
     rows = np.arange(D.n_exp) if experiments is None else np.asarray(experiments, int)
     shapes = dict(shapes or {})
-    if ctx is None and "relief_valve" in effects:
-        ctx = relief_context(D, effects, rows, shapes)
-    ctx = ctx or {}
-    free = [e for e in effects if CATALOGUE[e].shape is not None and e not in shapes]
-    # start values: the middle of each grid
-    for e in free:
-        g = CATALOGUE[e].grid(D, ctx)
+    if ctx is None:
+        ctx = auto_context(D, effects, rows, shapes)
+    free = [e for e in effects if REGISTRY[e].shape is not None and e not in shapes]
+    grids = {e: np.asarray(REGISTRY[e].grid(D, ctx), float) for e in free}
+    for e in free:  # start values: the middle of each grid
+        g = grids[e]
         shapes[e] = float(g[len(g) // 2]) if len(g) else np.nan
 
     def train_sse(sh):
@@ -311,54 +354,93 @@ def fit_model(
         th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
         return float(Bk.sse(th, rows).sum()), th, Bk, params
 
-    for _sweep in range(2 if len(free) > 1 else 1):
+    def cost_fn(e):
+        """SSE as a function of effect e's shape, others fixed (blocks of the rest computed once)."""
+        eff = REGISTRY[e]
+        if any(REGISTRY[o].replaces_damping for o in effects):
+            return lambda val: train_sse(dict(shapes, **{e: float(val)}))[0]
+        rest = tuple(o for o in effects if o != e)
+        X0, p0, _ = assemble(D, rest, shapes, ctx)
+        B0 = blocks(X0, D.y, D.bounds, p0)
+        pe = eff.params(D)
+
+        def cost(val):
+            Bk = extend_blocks(B0, X0, eff.columns(D, float(val), ctx), D.y, D.bounds, pe)
+            th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
+            return float(Bk.sse(th, rows).sum())
+
+        return cost
+
+    n_sweeps = 2 if len(free) > 1 else 1
+    for sweep in range(n_sweeps):
         for e in free:
-            g = CATALOGUE[e].grid(D, ctx)
+            g = grids[e]
             if len(g) == 0:
                 continue
-            costs = []
-            for val in g:
-                sh = dict(shapes)
-                sh[e] = float(val)
-                costs.append(train_sse(sh)[0])
+            cost = cost_fn(e)
+            costs = [cost(val) for val in g]
             k = int(np.argmin(costs))
             shapes[e] = float(g[k])
-            if refine and len(g) > 1 and _sweep == (1 if len(free) > 1 else 0):
+            if refine and len(g) > 1 and sweep == n_sweeps - 1:
                 lo, hi = g[max(k - 1, 0)], g[min(k + 1, len(g) - 1)]
                 if hi > lo:
-
-                    def f(z, e=e):
-                        sh = dict(shapes)
-                        sh[e] = float(np.exp(z))
-                        return train_sse(sh)[0]
-
-                    r = minimize_scalar(f, bounds=(np.log(lo), np.log(hi)), method="bounded", options={"xatol": 1e-3})
+                    lg = REGISTRY[e].log_shape
+                    fwd, back = (np.log, np.exp) if lg else (float, float)
+                    r = minimize_scalar(lambda z, back=back, cost=cost: cost(back(z)), bounds=(fwd(lo), fwd(hi)), method="bounded", options={"xatol": 1e-3})
                     if r.fun <= costs[k]:
-                        shapes[e] = float(np.exp(r.x))
+                        shapes[e] = float(back(r.x))
     sse, th, Bk, params = train_sse(shapes)
     X, params, groups = assemble(D, effects, shapes, ctx)
     se = _cluster_se(Bk, th, rows)
     n_rows = int(Bk.n[rows].sum())
-    return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / n_rows)), n_rows, groups, ctx)
+    return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / max(n_rows, 1))), n_rows, groups, ctx)
+
+
+def auto_context(D: FitData, effects, experiments, shapes: dict | None = None, iters: int = 2) -> dict:
+    """Context for ``effects`` built from simpler fits on ``experiments``.
+
+    ``damping_force_N``: the linear damping of eq. 14 with the other effects
+    (refitted ``iters`` times with the effects that replace damping columns,
+    whose eq.-14 estimate is biased low where the relief valve caps the
+    force); ``model_force_N``: the force of the model without the terms
+    that need it (refitted ``iters`` times); ``residual_N``: measurement −
+    that model.
+    """
+    effects = tuple(effects)
+    rows = np.asarray(experiments, int)
+    if not effects or not any(REGISTRY[e].needs for e in effects):
+        return {}
+    shapes = dict(shapes or {})
+    plain = tuple(e for e in effects if not REGISTRY[e].needs)
+    fit = fit_model(D, plain, experiments=rows, shapes={k: v for k, v in shapes.items() if k in plain}, ctx={})
+    ctx = fit.context(D)
+    ctx["model_force_N"] = fit.predict(D)
+    ctx["residual_N"] = D.y - ctx["model_force_N"]
+    needy = tuple(e for e in effects if REGISTRY[e].needs)
+    if _needs(needy, "damping_force_N") or _needs(needy, "model_force_N"):
+        for _ in range(iters):
+            sh = {k: v for k, v in shapes.items()}
+            f = fit_model(D, effects, experiments=rows, shapes=sh, ctx=ctx, refine=False)
+            new = f.context(D)
+            ctx = dict(ctx, damping_force_N=new["damping_force_N"])
+            if "model_force_N" in new:
+                ctx["model_force_N"] = new["model_force_N"]
+    return ctx
 
 
 def relief_context(D: FitData, effects, experiments, shapes: dict | None = None, start: dict | None = None, iters: int = 3) -> dict:
-    """Context of the relief valve: the linear damping force L(γ)ẋ to compare with the opening force.
+    """Context of effects that replace damping columns (the relief valve): the unbiased damping force.
 
-    Starting from eq. 14 (whose L is biased low where the valve caps the
-    force), the model with the relief valve is refitted ``iters`` times,
-    each time with the damping force of the previous fit, so that the
-    samples deemed capped follow from an unbiased L.
+    Starting from ``start`` (or eq. 14 with the other effects, whose L is
+    biased low where the valve caps the force), the model is refitted
+    ``iters`` times, each time with the damping force of the previous fit,
+    so that the samples deemed capped follow from an unbiased L.
     """
     rows = np.asarray(experiments, int)
-    others = tuple(e for e in effects if e != "relief_valve")
-    if start is None:
-        start = _relief_ctx(fit_model(D, others, experiments=rows, shapes=shapes), D)
-    ctx = start
+    ctx = dict(start) if start is not None else auto_context(D, effects, rows, shapes, iters=0)
     for _ in range(iters):
-        sh = {k: v for k, v in (shapes or {}).items() if k != "relief_valve"}
-        f = fit_model(D, others + ("relief_valve",), experiments=rows, shapes=sh, ctx=ctx, refine=False)
-        ctx = _relief_ctx(f, D)
+        f = fit_model(D, effects, experiments=rows, shapes=dict(shapes or {}), ctx=ctx, refine=False)
+        ctx = dict(ctx, damping_force_N=f.damping_force(D))
     return ctx
 
 
@@ -419,81 +501,200 @@ def error_band_pct(D: FitData, force_model_N: np.ndarray) -> tuple[float, float]
     return float(err.min()), float(err.max())
 
 
+# ------------------------------------------------------------------ identifiability
+@dataclass(frozen=True)
+class Identifiability:
+    """Whether the recordings can separate the fitted parameters.
+
+    Attributes
+    ----------
+    n_parameters, n_experiments : int
+    condition_number : float
+        Of the column-scaled design matrix (ratio of its extreme singular values).
+    inseparable : list[list[str]]
+        Groups of parameters the data cannot tell apart: a combination of
+        their columns has less than ``tolerance`` of a column's norm.
+    no_data : list[str]
+        Parameters whose column is zero (e.g. a valve with no moving samples).
+    errors_reliable : bool
+        Cluster-robust standard errors need more experiments than parameters.
+    messages : list[str]
+        What to tell the user.
+    """
+
+    n_parameters: int
+    n_experiments: int
+    condition_number: float
+    inseparable: list
+    no_data: list
+    errors_reliable: bool
+    messages: list
+
+    @property
+    def unreliable_parameters(self) -> set:
+        """Parameters whose value or uncertainty the data do not determine."""
+        if not self.errors_reliable:
+            return set()  # every error is unreliable; the values may still be fine
+        return {n for grp in self.inseparable for n in grp} | set(self.no_data)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def identifiability(fit: ModelFit, D: FitData, tolerance: float = 0.1) -> Identifiability:
+    """Check rank and conditioning of the fit's design on ``D`` (issue 11 item 10).
+
+    The design's columns are scaled to unit norm; an eigenvector of the
+    scaled normal matrix with eigenvalue below ``tolerance²`` is a
+    combination of parameters the data cannot determine (its columns
+    combine to less than ``tolerance`` = 10 % of a column's norm: the
+    variance of that combination is inflated more than 100-fold against
+    independent columns, the usual "severe collinearity" mark), and the
+    parameters with a large share in it (|component| > 0.3) are reported
+    together. With no more experiments than parameters the
+    cluster-robust (experiments as clusters) standard errors are not
+    available.
+    """
+    X = fit.design(D)
+    names = [q.name for q in fit.params]
+    G = X.T @ X
+    d = np.sqrt(np.clip(np.diag(G), 0, None))
+    no_data = [names[j] for j in np.flatnonzero(d <= 1e-12 * max(d.max(), 1e-300))]
+    keep = np.flatnonzero(d > 1e-12 * max(d.max(), 1e-300))
+    Gs = G[np.ix_(keep, keep)] / np.outer(d[keep], d[keep])
+    lam, V = np.linalg.eigh(Gs)
+    lam = np.clip(lam, 0, None)
+    cond = float(np.sqrt(lam.max() / lam.min())) if lam.min() > 0 else float("inf")
+    groups = []
+    for i in np.flatnonzero(lam < tolerance**2):
+        grp = [names[keep[j]] for j in np.flatnonzero(np.abs(V[:, i]) > 0.3)]
+        if grp and grp not in groups:
+            groups.append(grp)
+    ne = int(D.n_exp)
+    reliable = ne > len(names)
+    msgs = []
+    for grp in groups:
+        msgs.append(
+            f"the recordings cannot separate {' and '.join(grp)}: a combination of them hardly changes the force "
+            "(e.g. one speed per valve makes C sign(ẋ) and L ẋ alike; one pressure leaves g p2 x alone); "
+            "their values are not determined and no uncertainty is given for them -- record more speeds, valves or pressures"
+        )
+    for n in no_data:
+        msgs.append(f"no moving samples inform {n}: it is not identified")
+    if not reliable:
+        msgs.append(
+            f"only {ne} experiment(s) for {len(names)} parameters: cluster-robust standard errors (experiments as "
+            "clusters) need more experiments than parameters, so no uncertainties are given"
+        )
+    return Identifiability(len(names), ne, cond, groups, no_data, reliable, msgs)
+
+
 # ------------------------------------------------------------------ figures & files
-def _fig10(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> None:
-    import matplotlib
+def plot_fig10(rec: Recordings, D: FitData, fmod: np.ndarray, p2_MPa: float, fig=None):
+    """Fig. 10 for one charge pressure: measurement, model and error per valve (rows) and speed (columns).
 
-    matplotlib.use("Agg")
+    Error is measurement − model. Repeated test conditions are drawn in the
+    same panel. Returns the Figure.
+    """
     import matplotlib.pyplot as plt
 
-    ex = rec.experiments
+    ex = rec.experiments.reset_index(drop=True)
     speeds = sorted(ex["speed_mm_s"].unique())
-    valves = list(D.valves)
-    pressures = sorted(ex["p2_MPa"].unique())
-    colors = dict(zip(pressures, plt.cm.viridis(np.linspace(0.1, 0.85, len(pressures)))))
-    fig, axes = plt.subplots(
-        2 * len(valves), len(speeds), figsize=(2.2 * len(speeds), 1.35 * 2 * len(valves)), sharex=True, squeeze=False
-    )
-    for _, r in ex.iterrows():
-        i = valves.index(r["valve_deg"])
-        j = speeds.index(r["speed_mm_s"])
-        k = int(np.flatnonzero(ex["experiment"].to_numpy() == r["experiment"])[0])
+    valves = sorted(ex["valve_deg"].unique())
+    sel = ex.index[ex["p2_MPa"] == p2_MPa]
+    nr, nc = len(valves), len(speeds)
+    if fig is None:
+        fig = plt.figure(figsize=(2.9 * nc + 1.2, 1.75 * nr + 1.3))
+    axes = fig.subplots(nr, nc, sharex=True, squeeze=False)
+    twins = {}
+    err_lim = 1.0
+    for k in sel:
         a, b = D.bounds[k], D.bounds[k + 1]
-        ax, axe = axes[2 * i, j], axes[2 * i + 1, j]
-        c = colors[r["p2_MPa"]]
-        ax.plot(D.x[a:b], D.y[a:b], ",", color=c)
-        ax.plot(D.x[a:b], fmod[a:b], "-", lw=0.7, color="k")
-        axe.plot(D.x[a:b], fmod[a:b] - D.y[a:b], "-", lw=0.6, color=c)
+        err_lim = max(err_lim, float(np.max(np.abs(D.y[a:b] - fmod[a:b]))) if b > a else 0.0)
+    for k in sel:
+        r = ex.loc[k]
+        i, j = valves.index(r["valve_deg"]), speeds.index(r["speed_mm_s"])
+        a, b = D.bounds[k], D.bounds[k + 1]
+        ax = axes[i, j]
+        ax.plot(D.x[a:b], D.y[a:b], ".", ms=1.5, color="C0")
+        ax.plot(D.x[a:b], fmod[a:b], "-", lw=0.9, color="k")
+        tw = twins.get((i, j))
+        if tw is None:
+            tw = twins[(i, j)] = ax.twinx()
+        tw.plot(D.x[a:b], D.y[a:b] - fmod[a:b], "-", lw=0.7, color="C3")
+    for (i, j), tw in twins.items():
+        tw.set_ylim(-1.1 * err_lim, 1.1 * err_lim)
+        tw.tick_params(labelsize=7, colors="C3")
+        if j != nc - 1:
+            tw.set_yticklabels([])
+        else:
+            tw.set_ylabel("meas. − model [N]", fontsize=7, color="C3")
     for i, v in enumerate(valves):
-        axes[2 * i, 0].set_ylabel(f"γ={v:g}°\nF [N]", fontsize=6)
-        axes[2 * i + 1, 0].set_ylabel("err [N]", fontsize=6)
-    for j, s in enumerate(speeds):
-        axes[0, j].set_title(f"ẋ = {s:g} mm/s", fontsize=7)
-        axes[-1, j].set_xlabel("x [mm]", fontsize=6)
+        axes[i, 0].set_ylabel(f"γ = {v:g}°\nforce [N]", fontsize=8)
+    for j, sp in enumerate(speeds):
+        axes[0, j].set_title(f"ẋ = {sp:g} mm/s", fontsize=9)
+        axes[-1, j].set_xlabel("displacement x [mm]", fontsize=8)
     for ax in axes.flat:
-        ax.tick_params(labelsize=5)
-    handles = [plt.Line2D([], [], color=colors[p], marker=".", ls="", label=f"meas. p2={p:g} MPa") for p in pressures]
-    handles.append(plt.Line2D([], [], color="k", label="model eq. 14"))
-    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7)
-    fig.subplots_adjust(left=0.07, right=0.99, bottom=0.03, top=0.96, wspace=0.3, hspace=0.25)
-    fig.savefig(path, dpi=55)
-    plt.close(fig)
+        ax.tick_params(labelsize=7)
+        if not ax.lines:
+            ax.text(0.5, 0.5, "not recorded", ha="center", va="center", transform=ax.transAxes, fontsize=7, color="0.5")
+    handles = [
+        plt.Line2D([], [], color="C0", marker=".", ls="", label="measurement"),
+        plt.Line2D([], [], color="k", label="model eq. 14"),
+        plt.Line2D([], [], color="C3", label="error = measurement − model (right axis)"),
+    ]
+    top = 1.0 - 0.75 / fig.get_figheight()  # title and legend take ~0.75 in
+    fig.suptitle(f"Fig. 10 — eq. 14 against the recordings at p2 = {p2_MPa:g} MPa ({len(sel)} experiments)",
+                 fontsize=11, y=1.0 - 0.08 / fig.get_figheight(), va="top")
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 1.0 - 0.35 / fig.get_figheight()), ncol=3,
+               fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, top), h_pad=0.4, w_pad=0.6)
+    return fig
 
 
-def _fig11(rec: Recordings, D: FitData, fmod: np.ndarray, path: Path) -> dict:
-    import matplotlib
+def _fig10_name(p2: float) -> str:
+    """File name of Fig. 10 for one pressure (``2.5`` -> ``..._p2_2p5MPa.png``)."""
+    return f"fig10_model_vs_measurement_p2_{float(p2):g}MPa.png".replace(".", "p", 1) if "." in f"{float(p2):g}" else \
+        f"fig10_model_vs_measurement_p2_{float(p2):g}MPa.png"
 
-    matplotlib.use("Agg")
+
+def plot_fig11(rec: Recordings, D: FitData, fmod: np.ndarray, fig=None):
+    """Fig. 11: force over displacement of one slow experiment (lowest speed, middle pressure and valve).
+
+    Repeated test conditions are fine (the first in run order is drawn).
+    Returns ``(Figure, info)``.
+    """
     import matplotlib.pyplot as plt
 
-    ex = rec.experiments
-    sel = ex[(ex["speed_mm_s"] == ex["speed_mm_s"].min())]
-    p_med = sorted(sel["p2_MPa"].unique())[len(sel["p2_MPa"].unique()) // 2]
-    sel = sel[sel["p2_MPa"] == p_med]
-    v_med = sorted(sel["valve_deg"].unique())[len(sel) // 2]
-    r = sel[sel["valve_deg"] == v_med].iloc[0]
-    k = int(np.flatnonzero(ex["experiment"].to_numpy() == r["experiment"])[0])
+    ex = rec.experiments.reset_index(drop=True)
+    sel = ex[ex["speed_mm_s"] == ex["speed_mm_s"].min()]
+    ps = sorted(sel["p2_MPa"].unique())
+    sel = sel[sel["p2_MPa"] == ps[len(ps) // 2]]
+    vs = sorted(sel["valve_deg"].unique())
+    k = int(sel.index[sel["valve_deg"] == vs[len(vs) // 2]][0])
+    r = ex.loc[k]
     a, b = D.bounds[k], D.bounds[k + 1]
-    err = fmod[a:b] - D.y[a:b]
-    fig, (ax, axe) = plt.subplots(2, 1, figsize=(6, 5.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    err = D.y[a:b] - fmod[a:b]
+    if fig is None:
+        fig = plt.figure(figsize=(6.5, 5.5))
+    ax, axe = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})
     ax.plot(D.x[a:b], D.y[a:b], ".", ms=3, label="measurement")
     ax.plot(D.x[a:b], fmod[a:b], "-", color="k", label="model eq. 14")
-    ax.set_ylabel("force [N]")
-    ax.set_title(
-        f"{r['experiment']}: ẋ = {r['speed_mm_s']:g} mm/s, p2 = {r['p2_MPa']:g} MPa, γ = {r['valve_deg']:g}°"
-    )
+    ax.set_ylabel("force [N] (+ = tension)")
+    ax.set_title(f"{r['experiment']}: ẋ = {r['speed_mm_s']:g} mm/s, p2 = {r['p2_MPa']:g} MPa, γ = {r['valve_deg']:g}°",
+                 fontsize=10)
     ax.legend()
     axe.plot(D.x[a:b], err, "-", color="C3")
-    axe.set_ylabel("model − meas. [N]")
+    axe.axhline(0, color="0.6", lw=0.6)
+    axe.set_ylabel("meas. − model [N]")
     axe.set_xlabel("displacement x [mm]")
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return dict(
+    info = dict(
         experiment=str(r["experiment"]),
-        max_abs_error_N=float(np.abs(err).max()),
-        max_force_N=float(np.abs(D.y[a:b]).max()),
+        max_abs_error_N=float(np.abs(err).max()) if len(err) else None,
+        max_force_N=float(np.abs(D.y[a:b]).max()) if len(err) else None,
     )
+    return fig, info
 
 
 def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | None = None, figures: bool = True) -> dict:
@@ -504,7 +705,8 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
     rec : Recordings
     out_dir : path
         Created if missing. Files: ``table3.csv``, ``identification.json``,
-        ``fig10_model_vs_measurement.png``, ``fig11_force_displacement.png``.
+        one ``fig10_model_vs_measurement_p2_<p>MPa.png`` per charge pressure,
+        ``fig11_force_displacement.png``.
     fit : ModelFit, optional
         A precomputed eq.-14 fit.
     figures : bool
@@ -513,22 +715,43 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
     Returns
     -------
     dict
-        The JSON summary.
+        The JSON summary. ``identifiability`` says which parameters the data
+        cannot separate (their ``std_error`` is ``null``); ``notes`` collects
+        what the user must be told (how the file was read, identifiability).
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     D = FitData.from_recordings(rec)
     fit = fit or fit_model(D, ())
+    ident = identifiability(fit, D)
     tab = table3(fit)
+    bad = ident.unreliable_parameters
+    unrel = (not ident.errors_reliable) | tab["parameter"].map(lambda n: ("C" if n == "B (=C)" else n) in bad)
+    tab.loc[unrel, "std_error"] = np.nan
     tab.to_csv(out / "table3.csv", index=False)
     fmod = fit.predict(D)
     band = error_band_pct(D, fmod)
     f11 = None
     files = ["table3.csv", "identification.json"]
+    for old in out.glob("fig10_model_vs_measurement*.png"):  # never leave a figure of an earlier run beside the new ones
+        old.unlink()
     if figures:
-        _fig10(rec, D, fmod, out / "fig10_model_vs_measurement.png")
-        f11 = _fig11(rec, D, fmod, out / "fig11_force_displacement.png")
-        files += ["fig10_model_vs_measurement.png", "fig11_force_displacement.png"]
+        import matplotlib.pyplot as plt
+
+        for p2 in sorted(rec.experiments["p2_MPa"].unique()):
+            fig = plot_fig10(rec, D, fmod, float(p2))
+            name = _fig10_name(float(p2))
+            fig.savefig(out / name, dpi=100)
+            plt.close(fig)
+            files.append(name)
+        fig, f11 = plot_fig11(rec, D, fmod)
+        fig.savefig(out / "fig11_force_displacement.png", dpi=100)
+        plt.close(fig)
+        files.append("fig11_force_displacement.png")
+
+    def _num(v):
+        return None if v is None or not np.isfinite(v) else float(v)
+
     summary = dict(
         source=rec.source,
         model="eq14: f = g p2 x + L(gamma) xdot + C sign(xdot)",
@@ -537,11 +760,14 @@ def write_identification(rec: Recordings, out_dir: str | Path, fit: ModelFit | N
         rows_left_out_reason="samples at rest (start, turning point, end): friction is set-valued there",
         n_experiments=rec.n_experiments,
         velocity_fallback_experiments=rec.n_savgol,
-        parameters={r.parameter: dict(value=r.value, std_error=r.std_error, unit=r.unit, paper=(None if not np.isfinite(r.paper) else r.paper)) for r in tab.itertuples()},
+        parameters={r.parameter: dict(value=float(r.value), std_error=_num(r.std_error), unit=r.unit, paper=_num(r.paper)) for r in tab.itertuples()},
         rmse_N=fit.rmse_N,
         error_band_pct=dict(ours=list(band), paper=list(PAPER_ERROR_BAND_PCT)),
+        identifiability=ident.to_dict(),
+        notes=list(rec.notes) + list(ident.messages),
+        residual_sign="figures plot measurement - model",
         fig11=f11,
         files=files,
     )
-    (out / "identification.json").write_text(json.dumps(summary, indent=2))
+    (out / "identification.json").write_text(json.dumps(summary, indent=2, allow_nan=False, default=_num))
     return summary

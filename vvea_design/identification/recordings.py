@@ -132,7 +132,9 @@ def read_recordings(path: str | Path) -> Recordings:
     ----------
     path
         CSV (comma separated, header line, ``.`` decimal point) or Parquet
-        file with the exchange-format columns.
+        file with the exchange-format columns. A CSV exported with ``;`` as
+        delimiter and ``,`` as decimal mark (spreadsheet programs in many
+        locales) is read too; :attr:`Recordings.notes` says so.
 
     Returns
     -------
@@ -142,29 +144,111 @@ def read_recordings(path: str | Path) -> Recordings:
     Raises
     ------
     RecordingsError
-        Naming the file, the column or row and what is wrong.
+        Naming the file, the column or line and what is wrong. Line numbers
+        are those of the file (blank lines counted).
     """
     path = Path(path)
     if not path.exists():
         raise RecordingsError(f"{path}: file not found")
+    if path.is_dir():
+        raise RecordingsError(f"{path}: is a folder, not a recordings file")
     suffix = path.suffix.lower()
-    try:
-        if suffix in (".parquet", ".pq"):
+    notes: list[str] = []
+    lines = None
+    line_offset = 0
+    if suffix in (".parquet", ".pq"):
+        try:
             frame = pd.read_parquet(path)
-            line_offset = 0
-        else:
-            frame = pd.read_csv(path, dtype={"experiment": str}, keep_default_na=True)
-            line_offset = 2  # header is line 1, first data row line 2
-    except Exception as exc:  # pragma: no cover - depends on the parser's message
-        raise RecordingsError(f"{path}: cannot be read as {'Parquet' if suffix in ('.parquet', '.pq') else 'CSV'}: {exc}") from exc
-    return recordings_from_frame(frame, source=str(path), line_offset=line_offset)
+        except Exception as exc:
+            raise RecordingsError(f"{path}: cannot be read as Parquet: {_short(exc)}") from None
+    else:
+        frame, lines, notes = _read_csv(path)
+        line_offset = 2
+    return recordings_from_frame(frame, source=str(path), line_offset=line_offset, line_numbers=lines, notes=tuple(notes))
 
 
-def _where(source: str, idx: int, line_offset: int) -> str:
+def _short(exc: Exception) -> str:
+    msg = str(exc).strip().splitlines()
+    return (msg[0] if msg else type(exc).__name__)[:300]
+
+
+def _read_csv(path: Path):
+    """Parse a CSV; returns (frame, file line number of every data row, notes)."""
+    import csv
+    import io
+
+    raw = path.read_bytes()
+    if b"\x00" in raw:
+        raise RecordingsError(f"{path}: is not a text file (holds NUL bytes); expected a CSV or a .parquet file")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise RecordingsError(
+            f"{path}: line {line}: not UTF-8 text (byte 0x{raw[exc.start]:02x}); save the file as UTF-8 CSV"
+        ) from None
+    file_lines = text.splitlines()
+    nonblank = [i + 1 for i, ln in enumerate(file_lines) if ln.strip()]
+    if not nonblank:
+        raise RecordingsError(f"{path}: the file is empty (expected a header line and data rows)")
+    header = file_lines[nonblank[0] - 1]
+    sep = ","
+    notes: list[str] = []
+    if ";" in header and "," not in header:
+        sep = ";"
+    elif "\t" in header and "," not in header:
+        sep = "\t"
+    try:
+        frame = pd.read_csv(
+            io.StringIO(text), sep=sep, dtype=str, skip_blank_lines=True,
+            quoting=csv.QUOTE_MINIMAL, engine="c",
+        )
+    except pd.errors.ParserError as exc:
+        msg = _short(exc)
+        import re
+
+        m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", msg)
+        if m:
+            ln = int(m.group(2))  # the C parser counts the file's lines, blank ones included
+            raise RecordingsError(
+                f"{path}: line {ln}: {m.group(3)} fields where the header has {m.group(1)} "
+                f"(delimiter {sep!r}{'; is the decimal mark a comma in a comma-separated file?' if sep == ',' else ''})"
+            ) from None
+        raise RecordingsError(f"{path}: cannot be read as CSV: {msg}") from None
+    except (ValueError, csv.Error, UnicodeError, MemoryError) as exc:
+        raise RecordingsError(f"{path}: cannot be read as CSV: {_short(exc)}") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    lines = np.asarray(nonblank[1:], dtype=int) if len(nonblank) - 1 == len(frame) else None
+    if sep != ",":
+        notes.append(f"read as {'semicolon' if sep == ';' else 'tab'}-separated")
+    decimal_comma = False
+    for c in _NUMERIC + ("speed_mm_s",):
+        if c in frame.columns:
+            col = frame[c].str.strip()
+            if sep != "," and col.str.contains(",", regex=False).any() and not col.str.contains(".", regex=False).any():
+                col = col.str.replace(",", ".", regex=False)
+                decimal_comma = True
+            frame[c] = col
+    if decimal_comma:
+        notes.append("decimal comma read as decimal point")
+    if notes:
+        notes = [f"{path.name}: " + " with ".join(notes) + " (the exchange format is comma-separated with '.' decimals)"]
+    return frame, lines, notes
+
+
+def _where(source: str, idx: int, line_offset: int, lines=None) -> str:
+    if lines is not None and 0 <= idx < len(lines):
+        return f"{source}: line {int(lines[idx])}"
     return f"{source}: line {idx + line_offset}" if line_offset else f"{source}: row {idx}"
 
 
-def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_offset: int = 0) -> Recordings:
+def recordings_from_frame(
+    frame: pd.DataFrame,
+    source: str = "<frame>",
+    line_offset: int = 0,
+    line_numbers=None,
+    notes: tuple = (),
+) -> Recordings:
     """Validate a table in the exchange format and derive the kinematics.
 
     Parameters
@@ -176,6 +260,16 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
     line_offset
         Added to a 0-based row index to name the line in error messages
         (2 for a CSV with a header line, 0 for "row" numbering).
+    line_numbers
+        File line of every row (overrides ``line_offset``; blank lines in a
+        CSV shift them).
+    notes
+        Remarks about how the file was read, kept in :attr:`Recordings.notes`.
+    line_numbers
+        File line of every row (overrides ``line_offset``; blank lines in a
+        CSV shift them).
+    notes
+        Remarks about how the file was read, kept in :attr:`Recordings.notes`.
 
     Raises
     ------
@@ -198,7 +292,7 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
     bad_id = d["experiment"].isna()
     if bad_id.any():
         i = int(np.flatnonzero(bad_id.to_numpy())[0])
-        raise RecordingsError(f"{_where(source, i, line_offset)}: column experiment is empty (NaN)")
+        raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column experiment is empty (NaN)")
     d["experiment"] = d["experiment"].astype(str)
     cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
     for c in cols:
@@ -207,12 +301,12 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
         if bad.any():
             i = int(np.flatnonzero(bad.to_numpy())[0])
             raise RecordingsError(
-                f"{_where(source, i, line_offset)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
+                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
             )
         nan = num.isna() | ~np.isfinite(num.astype(float))
         if nan.any():
             i = int(np.flatnonzero(nan.to_numpy())[0])
-            raise RecordingsError(f"{_where(source, i, line_offset)}: column {c} is NaN/empty or infinite")
+            raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column {c} is NaN/empty or infinite")
         d[c] = num.astype(float)
 
     exp = d["experiment"].to_numpy()
@@ -223,7 +317,7 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
         for i in np.flatnonzero(starts):
             if exp[i] in seen:
                 raise RecordingsError(
-                    f"{_where(source, int(i), line_offset)}: rows of experiment {exp[i]!r} are not contiguous "
+                    f"{_where(source, int(i), line_offset, line_numbers)}: rows of experiment {exp[i]!r} are not contiguous "
                     "(it appears again after another experiment)"
                 )
             seen.add(exp[i])
@@ -234,14 +328,14 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
         name = block_ids[k]
         if b - a < MIN_SAMPLES_PER_EXPERIMENT:
             raise RecordingsError(
-                f"{_where(source, int(a), line_offset)}: experiment {name!r} has only {b - a} samples "
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r} has only {b - a} samples "
                 f"(at least {MIN_SAMPLES_PER_EXPERIMENT} needed)"
             )
         dt = np.diff(t[a:b])
         if np.any(dt <= 0):
             i = int(a + 1 + np.flatnonzero(dt <= 0)[0])
             raise RecordingsError(
-                f"{_where(source, i, line_offset)}: time_s does not increase inside experiment {name!r} "
+                f"{_where(source, i, line_offset, line_numbers)}: time_s does not increase inside experiment {name!r} "
                 f"({show(t[i - 1])} then {show(t[i])})"
             )
         for c in ("p2_MPa", "valve_deg"):
@@ -250,14 +344,14 @@ def recordings_from_frame(frame: pd.DataFrame, source: str = "<frame>", line_off
                 i = int(a + np.flatnonzero(vals != vals[0])[0])
                 what = "pressures" if c == "p2_MPa" else "valve positions"
                 raise RecordingsError(
-                    f"{_where(source, i, line_offset)}: experiment {name!r} has two {what} in column {c} "
+                    f"{_where(source, i, line_offset, line_numbers)}: experiment {name!r} has two {what} in column {c} "
                     f"({show(vals[0])} and {show(vals[i - a])})"
                 )
         if d["p2_MPa"].iloc[a] <= 0:
             raise RecordingsError(
-                f"{_where(source, int(a), line_offset)}: experiment {name!r}: p2_MPa must be > 0, got {show(d['p2_MPa'].iloc[a])}"
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(d['p2_MPa'].iloc[a])}"
             )
-    return _derive(d, bounds, block_ids, source)
+    return _derive(d, bounds, block_ids, source, tuple(notes), line_offset, line_numbers)
 
 
 # ---------------------------------------------------------------- kinematics
@@ -344,6 +438,8 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
         noise = np.std(np.diff(x, 2)) / np.sqrt(6.0)
         if np.sqrt(2 * best.cost / len(x)) < 2.0 * noise:
             break
+    if best is None:
+        raise ValueError("the motion profile could not be fitted")
     p = best.x
     xf, vf = trapezoid_profile(t, *p)
     rms = float(np.sqrt(np.mean((xf - x) ** 2)))
@@ -372,7 +468,8 @@ def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
     return v
 
 
-def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str) -> Recordings:
+def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str, notes: tuple = (),
+            line_offset: int = 0, line_numbers=None) -> Recordings:
     t_all = d["time_s"].to_numpy()
     x_all = d["displacement_mm"].to_numpy()
     n = len(d)
@@ -391,13 +488,25 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str)
         d2 = np.diff(x, 2)
         sig = float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
         noise.append(sig)
-        p, rms, _, vf = _fit_profile(t, x)
+        span = float(np.ptp(x))
+        if not np.isfinite(span) or span <= max(20.0 * sig, 1e-6 * max(np.max(np.abs(x)), 1.0)):
+            raise RecordingsError(
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {names[k]!r} does not move: its "
+                f"displacement spans {span:.3g} mm (noise {sig:.2g} mm); every experiment must be a loading-unloading "
+                "cycle -- remove the static recording or check the displacement column"
+            )
+        try:
+            p, rms, _, vf = _fit_profile(t, x)
+        except (ValueError, FloatingPointError, np.linalg.LinAlgError):
+            p, rms, vf = None, np.inf, None
         tol = max(4.0 * sig, 1e-3 * max(np.ptp(x), 1e-9))
         if rms <= tol:
             v, method = vf, "profile"
         else:
             v, method = _savgol_velocity(t, x), "savgol"
         vel[a:b] = v
+        if p is None:  # no profile: the cruise speed is the largest smoothed speed
+            p = np.array([float(np.max(np.abs(v))) or 1e-9, np.nan, t[int(np.argmax(x))], x[0]])
         if method == "profile":
             # samples that fall on the start, the turning point or the end of
             # the motion (within a tenth of a sample step) are at rest
@@ -451,4 +560,5 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str)
         rows_read=n,
         rows_left_out=0,
         displacement_noise_mm=float(np.median(noise)),
+        notes=tuple(notes),
     )

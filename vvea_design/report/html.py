@@ -20,7 +20,7 @@ import io
 import json
 import platform
 import sys
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "Section", "HtmlReport", "ViewerPart", "table", "paragraph", "verdict", "figure_svg", "image",
     "preformatted", "viewer", "viewer_parts_from_cad", "unit_report", "folder_report", "write_folder_report",
+    "recorded_text", "pass_fail",
     "MAX_REPORT_BYTES",
 ]
 
@@ -150,6 +151,7 @@ th{background:#eef2f7;white-space:normal;vertical-align:bottom}
 .verdict.pass{background:#e3f4e6} .verdict.fail{background:#fbe4e7}
 figure{margin:8px 0 16px 0} figcaption{font-size:.85em;color:#4a5566;max-width:1000px}
 figure svg,figure img{max-width:100%;height:auto;border:1px solid #eef0f3}
+figure img{max-width:min(100%,1000px)}
 pre{background:#f6f8fa;padding:8px;overflow:auto;font-size:.8em;max-height:420px}
 .viewer-wrap{position:relative;width:100%;max-width:1000px}
 #viewer{width:100%;height:520px;display:block;border:1px solid #d5dbe3;background:#f4f6f8;touch-action:none}
@@ -563,7 +565,7 @@ def _spring_figure(unit: "UnitDesign") -> "Figure":
     p.plot(x, c.P2_isothermal_MPa, color="C4", lw=2, label="chamber 2, isothermal")
     p.plot(x, c.P1_adiabatic_MPa, color="C2", lw=1.2, ls="--", label="chamber 1, adiabatic")
     p.plot(x, c.P2_adiabatic_MPa, color="C4", lw=1.2, ls="--", label="chamber 2, adiabatic")
-    p.set(xlabel="displacement x (mm)", ylabel="absolute gas pressure (MPa)", title="chamber pressures")
+    p.set(xlabel="displacement x (mm)", ylabel="gas pressure (MPa)", title="chamber pressures")
     p.legend(fontsize=8, loc="best")
     p.grid(alpha=0.3)
     return fig
@@ -775,7 +777,7 @@ def unit_report(unit: "UnitDesign") -> HtmlReport:
     sections.append(Section("Force curve", figure_svg(
         _spring_figure(unit),
         "Isothermal (slow motion, n = 1) and adiabatic (fast motion, n = 1.4) force from the same charge at x = 0; "
-        "deviation = force minus its least-squares line; absolute chamber pressures.") +
+        "deviation = force minus its least-squares line; chamber pressures.") +
         table(("gas law", "linearity error (%)", "mean stiffness (N/mm)", "F at full stroke (N)"),
               [("isothermal n = 1", 100 * unit.spring.linearity_isothermal, unit.spring.stiffness_isothermal_N_per_mm,
                 float(unit.spring.force_isothermal_N[-1])),
@@ -803,7 +805,7 @@ def unit_report(unit: "UnitDesign") -> HtmlReport:
 # ------------------------------------------------------------ folder report
 def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
                   tables: Sequence[tuple[str, Sequence[str], Sequence[Sequence[Any]]]] = (),
-                  data: dict | None = None, provenance: dict | None = None) -> HtmlReport:
+                  data: dict | None = None, provenance: dict | None = None, label: str | None = None) -> HtmlReport:
     """A report of a command's result folder: its summary, tables, every PNG in it, its data.
 
     Parameters
@@ -820,6 +822,9 @@ def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
         The result as JSON (shown last, pretty-printed).
     provenance : dict, optional
         Inputs, settings and seed; the version is added.
+    label : str, optional
+        How the folder is named on the page (default: its path; commands that write into a temporary
+        folder moved into place at the end pass the final path).
 
     Returns
     -------
@@ -842,7 +847,27 @@ def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
         if len(text) > 400_000:
             text = text[:400_000] + "\n... (cut; the full result is in the folder's JSON)"
         sections.append(Section("Result data", preformatted(text)))
-    return HtmlReport(title, tuple(sections), html.escape(str(folder)))
+    return HtmlReport(title, tuple(sections), html.escape(str(folder) if label is None else label))
+
+
+def recorded_text(print_to: "Callable[[Any], None]") -> str:
+    """Plain text of what ``print_to(console)`` prints on a rich console (tables included), unwrapped.
+
+    Parameters
+    ----------
+    print_to : callable
+        Called with a recording :class:`rich.console.Console`.
+
+    Returns
+    -------
+    str
+        The text, no colour codes.
+    """
+    from rich.console import Console
+
+    rec = Console(record=True, width=200, file=io.StringIO(), color_system=None)
+    print_to(rec)
+    return rec.export_text().rstrip("\n")
 
 
 def write_folder_report(title: str, folder: str | Path, **kwargs: Any) -> Path:

@@ -1,0 +1,332 @@
+"""Library hygiene (issue 9 item 6): no backend switch on import, one version, the entry points,
+declared dependencies, and numpydoc docstrings with units on every public function."""
+
+import ast
+import importlib
+import inspect
+import json
+import os
+import pkgutil
+import re
+import subprocess
+import sys
+import tomllib
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+import vvea_design
+
+ROOT = Path(__file__).resolve().parents[1]
+PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
+
+
+def _all_modules() -> list[str]:
+    names = ["vvea_design"]
+    for info in pkgutil.walk_packages(vvea_design.__path__, "vvea_design."):
+        names.append(info.name)
+    return sorted(names)
+
+
+def _public_module(name: str) -> bool:
+    return not any(part.startswith("_") and part != "__main__" for part in name.split("."))
+
+
+MODULES = _all_modules()
+
+# ------------------------------------------------------------------ backend
+_PROBE = r"""
+import json, sys, importlib, matplotlib
+callers = {}
+_use = matplotlib.use
+def use(backend, *a, **k):
+    mod = sys._getframe(1).f_globals.get("__name__", "?")
+    callers.setdefault(mod, backend)
+    return _use(backend, *a, **k)
+matplotlib.use = use
+for name in sys.argv[1:]:
+    importlib.import_module(name)
+print(json.dumps({"callers": callers, "backend": matplotlib.get_backend()}))
+"""
+
+
+@pytest.fixture(scope="module")
+def import_probe():
+    """Import every module in a fresh interpreter whose backend is svg; record who calls matplotlib.use."""
+    env = {**os.environ, "MPLBACKEND": "svg"}
+    res = subprocess.run([sys.executable, "-c", _PROBE, *MODULES], capture_output=True, text=True, env=env,
+                         cwd=ROOT, timeout=300)
+    assert res.returncode == 0, res.stderr
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+#: Modules that still select a backend when imported; their owners are converting them (issue 9 item 6).
+STILL_SWITCHING = {"vvea_design.spring.plots"}
+
+
+@pytest.mark.parametrize("module", [pytest.param(m, marks=pytest.mark.xfail(
+    reason="still calls matplotlib.use on import (owner converting it)", strict=False))
+    if m in STILL_SWITCHING else m for m in MODULES])
+def test_no_module_switches_the_backend_on_import(import_probe, module):
+    assert module not in import_probe["callers"], f"{module} calls matplotlib.use({import_probe['callers'][module]!r})"
+
+
+@pytest.mark.xfail(reason="vvea_design.spring.plots still calls matplotlib.use('Agg') on import", strict=False)
+def test_importing_everything_keeps_the_users_backend(import_probe):
+    assert import_probe["backend"].lower() == "svg"
+
+
+def test_the_command_line_selects_agg(tmp_path):
+    """The CLI (not the library) selects Agg, so a command draws off-screen whatever MPLBACKEND says."""
+    code = ("import matplotlib; from typer.testing import CliRunner; from vvea_design.cli.main import app; "
+            "r = CliRunner().invoke(app, ['check', 'nonexistent.json', '--max-linearity', '0.1']); "
+            "print(matplotlib.get_backend())")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+                         env={**os.environ, "MPLBACKEND": "svg"}, timeout=120)
+    assert res.stdout.strip().splitlines()[-1].lower() == "agg", res.stderr
+
+
+# ------------------------------------------------------------------ version, entry points
+def test_version_in_one_place():
+    assert PYPROJECT["project"]["dynamic"] == ["version"]
+    assert "version" not in PYPROJECT["project"]
+    assert PYPROJECT["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "vvea_design.__version__"}
+    assert re.fullmatch(r"\d+\.\d+\.\d+", vvea_design.__version__)
+    try:
+        assert metadata.version("vvea-design") == vvea_design.__version__
+    except metadata.PackageNotFoundError:  # pragma: no cover - run from a plain checkout
+        pass
+
+
+def test_version_option_and_python_dash_m():
+    from vvea_design.cli.main import app
+
+    res = CliRunner().invoke(app, ["--version"])
+    assert res.exit_code == 0 and res.stdout.strip() == f"vvea-design {vvea_design.__version__}"
+    res = subprocess.run([sys.executable, "-m", "vvea_design", "--version"], capture_output=True, text=True,
+                         cwd=ROOT, timeout=120)
+    assert res.returncode == 0 and res.stdout.strip() == f"vvea-design {vvea_design.__version__}"
+
+
+def test_typed_licensed_package():
+    assert (ROOT / "vvea_design" / "py.typed").exists()
+    assert "py.typed" in PYPROJECT["tool"]["setuptools"]["package-data"]["vvea_design"]
+    assert PYPROJECT["project"]["license"] == "MIT"  # PEP 639 expression
+    for f in PYPROJECT["project"]["license-files"]:
+        assert (ROOT / f).is_file()
+    assert "MIT License" in (ROOT / "LICENSE").read_text()
+    req = PYPROJECT["build-system"]["requires"][0]
+    assert int(re.search(r">=(\d+)", req).group(1)) >= 77  # setuptools that reads PEP 639 license fields
+
+
+# ------------------------------------------------------------------ dependencies
+def _imports(paths) -> set[str]:
+    out = set()
+    for path in paths:
+        tree = ast.parse(path.read_text(), str(path))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                out |= {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                out.add(node.module.split(".")[0])
+    return out
+
+
+def _third_party(mods: set[str]) -> dict[str, str]:
+    dists = metadata.packages_distributions()
+    local = {"vvea_design", "conftest", "test_cad_cases", "bladder_verification"}
+    out = {}
+    for m in sorted(mods - set(sys.stdlib_module_names) - local):
+        assert m in dists, f"import {m}: no installed distribution provides it"
+        out[m] = dists[m][0].lower().replace("_", "-")
+    return out
+
+
+def _names(reqs) -> set[str]:
+    return {re.split(r"[<>=\[ ;]", r, maxsplit=1)[0].lower().replace("_", "-") for r in reqs}
+
+
+#: Declared but not imported by name: used through another package.
+INDIRECT = {"pyarrow": "pandas' Parquet engine (read_parquet / to_parquet)"}
+
+
+def test_every_import_is_declared_and_every_dependency_imported():
+    runtime = _names(PYPROJECT["project"]["dependencies"])
+    test_extra = _names(PYPROJECT["project"]["optional-dependencies"]["test"])
+    lib = _third_party(_imports((ROOT / "vvea_design").rglob("*.py")) | _imports((ROOT / "studies").glob("*.py")))
+    missing = {m: d for m, d in lib.items() if d not in runtime}
+    assert not missing, f"imported by the package or studies but not in [project] dependencies: {missing}"
+    tests = _third_party(_imports((ROOT / "tests").glob("*.py")))
+    missing = {m: d for m, d in tests.items() if d not in runtime | test_extra}
+    assert not missing, f"imported by the tests but not declared: {missing}"
+    unused = runtime - set(lib.values()) - set(INDIRECT)
+    assert not unused, f"declared but never imported: {sorted(unused)}"
+    unused = test_extra - set(tests.values()) - {"pytest-xdist"}  # xdist: the -n option of the test command
+    assert not unused, f"test extras never imported: {sorted(unused)}"
+
+
+# ------------------------------------------------------------------ docstrings
+#: A parameter name that carries its unit (or is a count, a flag, a path, a name).
+_UNIT_IN_NAME = re.compile(r"(_(mm\d?|N|MPa|Pa|s|ms|Hz|rad|deg|g|kg|kgm2|Nm|m|m\d|J|pct)$)|_per_|^n_|^num|_n$")
+#: A unit (or "fraction" / "dimensionless") named in a description.
+_UNIT_TEXT = re.compile(r"(\b(mm|mm²|mm³|N|MPa|Pa|s|ms|Hz|rad|deg|kg|g|m|N m|N/mm|SI|K)\b|°|%|fraction|"
+                        r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per )")
+
+
+def _public_functions(module):
+    names = getattr(module, "__all__", None)
+    for name, obj in vars(module).items():
+        if name.startswith("_") or not inspect.isfunction(obj) or obj.__module__ != module.__name__:
+            continue
+        if names is not None and name not in names:
+            continue
+        yield name, obj
+
+
+def _is_command(fn) -> bool:
+    """A typer command documents its parameters in help= (shown by --help), not in a docstring."""
+    import typer.models
+
+    return any(isinstance(p.default, (typer.models.OptionInfo, typer.models.ArgumentInfo))
+               for p in inspect.signature(fn).parameters.values())
+
+
+def _needs_unit(p: inspect.Parameter, annotation: str) -> bool:
+    if _UNIT_IN_NAME.search(p.name):
+        return False
+    return bool(re.search(r"\bfloat\b|ArrayLike|ndarray", annotation))
+
+
+def docstring_problems(fn) -> list[str]:
+    """What the numpydoc docstring of ``fn`` lacks: a Parameters entry per parameter, Returns, units."""
+    from numpydoc.docscrape import FunctionDoc
+
+    problems = []
+    if not inspect.getdoc(fn):
+        return ["no docstring"]
+    doc = FunctionDoc(fn)
+    documented = {}
+    for item in doc["Parameters"]:
+        for n in item.name.split(","):
+            documented[n.strip().lstrip("*")] = (item.type, " ".join(item.desc))
+    sig = inspect.signature(fn)
+    for p in sig.parameters.values():
+        if p.name in ("self", "cls"):
+            continue
+        if p.name not in documented:
+            problems.append(f"parameter {p.name!r} not in 'Parameters'")
+            continue
+        annotation = p.annotation if isinstance(p.annotation, str) else getattr(p.annotation, "__name__", str(p.annotation))
+        typ, desc = documented[p.name]
+        if _needs_unit(p, f"{annotation} {typ}") and not _UNIT_TEXT.search(f"{typ} {desc}"):
+            problems.append(f"parameter {p.name!r}: no unit (or 'fraction', 'dimensionless') in its description")
+    ret = sig.return_annotation
+    if ret is inspect.Signature.empty:  # no annotation: does the body return a value?
+        import textwrap
+
+        tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+        returns_nothing = not any(isinstance(n, (ast.Return, ast.Yield)) and n.value is not None
+                                  for n in ast.walk(tree.body[0]))
+    else:
+        returns_nothing = ret is None or str(ret) in ("None", "NoReturn", "typing.NoReturn")
+    if not returns_nothing and not (doc["Returns"] or doc["Yields"]):
+        problems.append("no 'Returns' section")
+    return problems
+
+
+#: Modules whose public functions are not yet documented in numpydoc style with units (issue 9 item 6):
+#: converted by their owners / the coordinator after the merge. Remove a module once it passes.
+NOT_YET_CONVERTED = {
+    "vvea_design.actuator.model",
+    "vvea_design.actuator.ocp",
+    "vvea_design.actuator.figures",
+    "vvea_design.actuator.multistart",
+    "vvea_design.actuator.rest_to_rest",
+    "vvea_design.actuator.safety",
+    "vvea_design.actuator.statistics",
+    "vvea_design.bladder.check",
+    "vvea_design.bladder.membrane",
+    "vvea_design.cad.assembly",
+    "vvea_design.cad.bladder",
+    "vvea_design.cad.export",
+    "vvea_design.cad.gas",
+    "vvea_design.cad.mould",
+    "vvea_design.cad.parts",
+    "vvea_design.cad.registry",
+    "vvea_design.cad.render",
+    "vvea_design.cli.bladder",
+    "vvea_design.cli.cad",
+    "vvea_design.cli.identify",
+    "vvea_design.cli.study",
+    "vvea_design.identification.diagnose",
+    "vvea_design.identification.effects",
+    "vvea_design.identification.identify",
+    "vvea_design.identification.recordings",
+    "vvea_design.identification.physbench",
+    "vvea_design.identification.testbench",
+    "vvea_design.materials.silicones",
+    "vvea_design.materials.structural",
+    "vvea_design.parallel",
+    "vvea_design.spring.design_file",
+    "vvea_design.spring.gas_spring",
+    "vvea_design.spring.optimise",
+    "vvea_design.spring.paper",
+    "vvea_design.spring.plots",
+    "vvea_design.spring.requirements",
+}
+
+
+def _doc_param(m):
+    if m in NOT_YET_CONVERTED:
+        return pytest.param(m, marks=pytest.mark.xfail(reason="public functions not yet in numpydoc style with "
+                                                              "units", strict=False))
+    return m
+
+
+@pytest.mark.parametrize("module", [_doc_param(m) for m in MODULES if _public_module(m)])
+def test_public_functions_document_parameters_returns_and_units(module):
+    mod = importlib.import_module(module)
+    problems = {}
+    for name, fn in _public_functions(mod):
+        if _is_command(fn):
+            continue
+        p = docstring_problems(fn)
+        if p:
+            problems[name] = p
+    assert not problems, "\n".join(f"{module}.{k}: {'; '.join(v)}" for k, v in problems.items())
+
+
+def test_the_docstring_check_finds_what_is_missing():
+    def bad(x: float, depth_mm: float) -> float:
+        """Does something.
+
+        Parameters
+        ----------
+        x : float
+            A length.
+        """
+        return x
+
+    def good(x: float, depth_mm: float) -> float:
+        """Does something.
+
+        Parameters
+        ----------
+        x : float
+            A length in mm.
+        depth_mm : float
+            Depth.
+
+        Returns
+        -------
+        float
+            The sum (mm).
+        """
+        return x + depth_mm
+
+    assert docstring_problems(good) == []
+    p = docstring_problems(bad)
+    assert any("'x': no unit" in s for s in p) and any("'depth_mm' not in" in s for s in p)
+    assert "no 'Returns' section" in p

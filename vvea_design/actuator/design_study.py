@@ -1,0 +1,413 @@
+"""The design's own actuator study, fast enough for the main job (``vvea design``).
+
+:func:`run_design_study` maps a design's gas spring to a joint actuator (the
+section 3.4 mapping, :func:`~vvea_design.actuator.model.actuator_from_spring`)
+and compares it with the paper's VVEA, SEA and LWR:
+
+* **rest-to-rest** (section 5) on :data:`DESIGN_GRID` (4 amplitudes x 4 periods
+  spread over the paper's grid), every setting on one mesh
+  (:data:`DESIGN_MESH`, 64 Radau intervals) with the multi-start of
+  :mod:`~vvea_design.actuator.multistart` reduced to the starts that win
+  almost always (D_min solution, ramp) and the study regularisation; every
+  trajectory is re-simulated (:mod:`~vvea_design.actuator.verify`) and only
+  valid, verified results enter the statistics (how many were left out is
+  part of the result);
+* **safety** (section 6): the 50 N m torque step of the design with variable
+  damping and with fixed D = 31 N m s/rad (the paper's slow case), and of the
+  paper's VVEA with variable damping.
+
+One parametric CasADi solver per mesh and process serves every case (the
+per-process cache of :mod:`~vvea_design.actuator.multistart`); the cases run
+through :func:`vvea_design.parallel.parallel_map`. ``studies/bench_design_study.py``
+prints the time breakdown.
+
+Example
+-------
+>>> from vvea_design.spring.design_file import load_design      # doctest: +SKIP
+>>> study = run_design_study(load_design("cad/design.json"), out_dir="out/actuator")  # doctest: +SKIP
+>>> study.comparison("SEA").fraction_design_beats                # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..parallel import parallel_map
+from ..spring.gas_spring import GasSpring
+from .figures import plot_design_map, plot_safety, plot_trajectory
+from .model import PAPER_SETTINGS, Actuator, actuator_from_spring
+from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, RestToRestCase, solve_case_results
+from .ocp import Mesh, OcpResult, Regularisation
+from .rest_to_rest import Grid
+from .safety import SafetyStudy, solve_safety
+from .statistics import PAPER_TABLE5, table5_statistics
+
+__all__ = [
+    "DESIGN_GRID",
+    "DESIGN_MESH",
+    "DESIGN_STARTS",
+    "DESIGN_SAFETY_MESH",
+    "DESIGN_REFERENCES",
+    "CaseResult",
+    "SettingSummary",
+    "Comparison",
+    "StudyTiming",
+    "StudyFiles",
+    "DesignStudy",
+    "design_actuator",
+    "run_design_study",
+]
+
+#: Rest-to-rest grid of the design study: 4 amplitudes x 4 periods of the paper's grid.
+DESIGN_GRID = Grid((0.2, 0.4, 0.7, 1.0), (0.3, 0.6, 1.0, 1.5))
+#: Mesh of the design study (single level; SEA's grid-mean rmse is within 0.6 % of N = 256 here).
+DESIGN_MESH = Mesh(64, 3)
+#: Starts of the variable-damping settings (on the paper grid these two won 133 of 150 VVEA cases).
+DESIGN_STARTS = ("const-Dmin", "ramp")
+#: Mesh of the design's torque step (t95 within 0.3 % of the 200-interval mesh, docs/actuator.md).
+DESIGN_SAFETY_MESH = Mesh(100, 3, grading=0.8)
+#: Fixed dampings (N m s/rad) the design's variable-damping torque step is compared with (paper: 31 and 200).
+DESIGN_SAFETY_FIXED_D = (31.0,)
+#: The paper's settings the design is compared with.
+DESIGN_REFERENCES = ("VVEA", "SEA", "LWR")
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    """One setting at one (A, T)."""
+
+    A_rad: float  #: reference amplitude
+    T_s: float  #: reference period
+    setting: str  #: setting name
+    rmse_rad: float  #: tracking rmse (nan if not solved)
+    valid: bool  #: link reaches 95 % of A in both up-phases
+    verified: bool  #: re-simulation agrees, bounds kept
+    status: str  #: IPOPT status (or the error)
+    start: str  #: start that won
+
+    @property
+    def usable(self) -> bool:
+        """Counts in the statistics: solved, valid and verified."""
+        return self.valid and self.verified and math.isfinite(self.rmse_rad)
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary."""
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class SettingSummary:
+    """One setting over the grid."""
+
+    name: str  #: setting name
+    K_Nm_per_rad: float  #: series stiffness
+    D_min_Nms_per_rad: float  #: damping range, lower end
+    D_max_Nms_per_rad: float  #: damping range, upper end
+    n_cases: int  #: cases of the grid
+    n_solved: int  #: IPOPT success
+    n_valid: int  #: solved and valid (95 % rule)
+    n_unverified: int  #: solved but failed the re-simulation check (left out)
+    mean_rmse_rad: float  #: mean rmse over the cases where every setting is usable
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary."""
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """The design against one other setting (Table-5-like), over the cases where both are usable."""
+
+    other: str  #: the other setting
+    n_cases: int  #: cases where both trajectories are valid and verified
+    n_excluded: int  #: grid cases left out (either one invalid, unverified or not solved)
+    design_beats: int  #: cases with rmse_design < (1 - 1e-3) rmse_other
+    design_worse: int  #: cases with rmse_design > (1 + 1e-3) rmse_other
+    fraction_design_beats: float | None  #: design_beats / n_cases
+    meanrmse_other_over_design: float | None  #: mean rmse ratio (> 1: the design tracks better)
+    paper_vvea_beats: float | None  #: the paper's Table 5 "VVEA beats <other>" (context)
+    paper_meanrmse_other_over_vvea: float | None  #: the paper's Table 5 ratio for VVEA (context)
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary."""
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class StudyTiming:
+    """Wall-clock breakdown in s."""
+
+    rest_to_rest_and_safety_s: float  #: the parallel solves (cases + torque steps)
+    figures_s: float  #: figures and files
+    total_s: float  #: the whole call
+    workers: int  #: worker processes used
+    solver_seconds: float  #: sum of all IPOPT wall times (all processes)
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary."""
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class StudyFiles:
+    """Files written by :func:`run_design_study` (``None`` when not written)."""
+
+    results_csv: Path | None = None  #: one row per OCP (``results.csv`` columns)
+    summary_json: Path | None = None  #: :meth:`DesignStudy.to_dict`
+    map_png: Path | None = None  #: design vs the others, case by case (:func:`plot_design_map`)
+    trajectory_png: Path | None = None  #: one case's optimal trajectories
+    safety_png: Path | None = None  #: torque steps of the design and the paper's VVEA
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary (paths as strings)."""
+        return {k: (str(v) if v is not None else None) for k, v in asdict(self).items()}
+
+
+@dataclass
+class DesignStudy:
+    """Result of :func:`run_design_study`."""
+
+    actuator: Actuator  #: the design's joint actuator (name "design")
+    references: tuple[Actuator, ...]  #: the settings compared with
+    grid: Grid  #: rest-to-rest grid
+    mesh: Mesh  #: collocation mesh
+    starts: tuple[str, ...]  #: variable-damping starts
+    regularisation: Regularisation  #: input smoothing (rmse stays the pure tracking cost)
+    cases: tuple[CaseResult, ...]  #: every setting at every case
+    settings: tuple[SettingSummary, ...]  #: design first, then the references
+    comparisons: tuple[Comparison, ...]  #: the design against each reference
+    safety_design: SafetyStudy  #: torque step of the design (variable D, and fixed D = 31 with the design's K)
+    safety_reference: SafetyStudy  #: the same for the paper's VVEA
+    timing: StudyTiming  #: time breakdown
+    files: StudyFiles = field(default_factory=StudyFiles)  #: what was written
+    trajectory_case: tuple[float, float] = (float("nan"), float("nan"))  #: (A, T) of the trajectory figure
+    best: dict = field(default_factory=dict, repr=False)  #: OcpResult per setting at ``trajectory_case``
+
+    def comparison(self, other: str) -> Comparison:
+        """The comparison with the setting called ``other``."""
+        for c in self.comparisons:
+            if c.other == other:
+                return c
+        raise KeyError(f"no comparison with {other!r}; have {[c.other for c in self.comparisons]}")
+
+    @property
+    def n_left_out(self) -> int:
+        """Results left out of the statistics because the trajectory did not verify."""
+        return sum(s.n_unverified for s in self.settings)
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (what ``design_study.json`` holds)."""
+        return {
+            "actuator": asdict(self.actuator),
+            "references": [asdict(a) for a in self.references],
+            "grid": {"A_rad": list(self.grid.A_rad), "T_s": list(self.grid.T_s)},
+            "mesh": asdict(self.mesh),
+            "starts": list(self.starts),
+            "regularisation": asdict(self.regularisation),
+            "settings": [s.to_dict() for s in self.settings],
+            "comparisons": [c.to_dict() for c in self.comparisons],
+            "n_left_out_unverified": self.n_left_out,
+            "safety_design": self.safety_design.to_dict(),
+            "safety_reference": self.safety_reference.to_dict(),
+            "timing": self.timing.to_dict(),
+            "files": self.files.to_dict(),
+            "trajectory_case": {"A_rad": self.trajectory_case[0], "T_s": self.trajectory_case[1]},
+            "cases": [c.to_dict() for c in self.cases],
+        }
+
+
+def design_actuator(design, **mapping) -> Actuator:
+    """The design's joint actuator named ``"design"``.
+
+    Parameters
+    ----------
+    design
+        An :class:`Actuator` (used as is, renamed), a
+        :class:`~vvea_design.spring.gas_spring.GasSpring`, or any object with
+        a ``gas_spring`` attribute (a :class:`~vvea_design.spring.design.Design`).
+    **mapping
+        Keyword arguments of :func:`~vvea_design.actuator.model.actuator_from_spring`
+        (``pulley_radius_m``, ``p2_MPa``, ``gamma_min_deg``, ``gamma_max_deg``, ``n_units``).
+    """
+    if isinstance(design, Actuator):
+        if mapping:
+            raise ValueError(f"mapping options {sorted(mapping)} need a spring, not an Actuator")
+        return design.with_(name="design")
+    spring = design if isinstance(design, GasSpring) else getattr(design, "gas_spring", None)
+    if not isinstance(spring, GasSpring):
+        raise ValueError(f"design must be an Actuator, a GasSpring or have a .gas_spring, got {type(design).__name__}")
+    return actuator_from_spring(spring, name="design", **mapping)
+
+
+def _work(item):
+    """Worker: a rest-to-rest case -> (rows, best results), or a torque-step study. Never raises for a case."""
+    kind, payload = item
+    if kind == "safety":
+        base, mesh, name, fixed = payload
+        return solve_safety(base, mesh=mesh, name=name, fixed_D_Nms_per_rad=fixed)
+    try:
+        return solve_case_results(payload)
+    except Exception:  # noqa: BLE001 - one case must not stop the study (solve_case records the error)
+        from .multistart import solve_case
+
+        return solve_case(payload), {}
+
+
+def run_design_study(
+    design,
+    *,
+    out_dir: str | Path | None = None,
+    progress: Callable[[int, int, str], None] | None = None,
+    workers: int | None = None,
+    grid: Grid = DESIGN_GRID,
+    mesh: Mesh = DESIGN_MESH,
+    references: Sequence[str] = DESIGN_REFERENCES,
+    mapping: dict | None = None,
+) -> DesignStudy:
+    """Rest-to-rest and torque-step study of one design against the paper's VVEA, SEA and LWR.
+
+    Parameters
+    ----------
+    design
+        The design: a :class:`~vvea_design.spring.design.Design` (or anything
+        with ``.gas_spring``), a :class:`~vvea_design.spring.gas_spring.GasSpring`,
+        or a ready :class:`~vvea_design.actuator.model.Actuator`.
+    out_dir
+        If given, writes ``results.csv``, ``design_study.json``,
+        ``design_map.png``, ``design_trajectory.png`` and ``design_safety.png``
+        there (the folder is created).
+    progress
+        Called as ``progress(done, total, message)`` after each finished work
+        item (16 rest-to-rest cases + 2 torque steps by default) and once per
+        later stage.
+    workers
+        Local worker processes (default: all cores; 1 = in this process).
+    grid, mesh
+        Rest-to-rest grid and collocation mesh (defaults :data:`DESIGN_GRID`,
+        :data:`DESIGN_MESH`).
+    references
+        Names in :data:`~vvea_design.actuator.model.PAPER_SETTINGS` to compare with.
+    mapping
+        Options of the design -> actuator mapping (see :func:`design_actuator`).
+
+    Returns
+    -------
+    DesignStudy
+        Typed result; ``to_dict()`` gives the JSON.
+    """
+    import pandas as pd
+
+    t_start = time.perf_counter()
+    act = design_actuator(design, **(mapping or {}))
+    unknown = [r for r in references if r not in PAPER_SETTINGS]
+    if unknown:
+        raise ValueError(f"references {unknown} are not paper settings; choose from {sorted(PAPER_SETTINGS)}")
+    refs = tuple(PAPER_SETTINGS[r] for r in references)
+    settings = (act,) + refs
+    reg = DEFAULT_REGULARISATION
+    items: list = [("safety", (act, DESIGN_SAFETY_MESH, "design, variable D", DESIGN_SAFETY_FIXED_D)),
+                   ("safety", (PAPER_SETTINGS["VVEA"], DESIGN_SAFETY_MESH, "VVEA, variable D", ()))]
+    items += [("r2r", RestToRestCase(A, T, settings, mesh, DESIGN_STARTS, (), None, reg)) for A, T in grid.cases()]
+    total = len(items) + 1
+    done = [0]
+
+    def on_result(i, r) -> None:
+        done[0] += 1
+        if progress is not None:
+            kind, payload = items[i]
+            msg = f"torque step {payload[2]}" if kind == "safety" else f"rest-to-rest A = {payload.A_rad:g} rad, T = {payload.T_s:g} s"
+            progress(done[0], total, msg)
+
+    n_workers = workers if workers is not None else None
+    from ..parallel import default_workers
+
+    used = 1 if n_workers == 1 else min(default_workers() if n_workers is None else n_workers, len(items))
+    out = parallel_map(_work, items, workers=n_workers, on_result=on_result, progress=False)
+    t_solved = time.perf_counter()
+    safety_design, safety_ref = out[0], out[1]
+    rows: list[dict] = []
+    bests: dict[tuple[float, float], dict] = {}
+    for (kind, case), res in zip(items[2:], out[2:]):
+        rs, best = res
+        rows.extend(rs)
+        bests[(case.A_rad, case.T_s)] = best
+    df = pd.DataFrame(rows, columns=RESULT_COLUMNS)
+    stats = table5_statistics(df)
+    cases = tuple(CaseResult(float(r["A_rad"]), float(r["T_s"]), r["setting"], float(r["rmse"]), bool(r["valid"]),
+                             bool(r["verified"]), str(r["status"]), str(r["start"])) for r in rows)
+    names = [a.name for a in settings]
+    usable = {(c.A_rad, c.T_s, c.setting): c.usable for c in cases}
+    all_ok = [k for k in grid.cases() if all(usable.get((k[0], k[1], n), False) for n in names)]
+    rm = {(c.A_rad, c.T_s, c.setting): c.rmse_rad for c in cases}
+    summaries = []
+    for a in settings:
+        mine = [c for c in cases if c.setting == a.name]
+        summaries.append(SettingSummary(
+            a.name, a.K_Nm_per_rad, a.D_min_Nms_per_rad, a.D_max_Nms_per_rad, len(mine),
+            sum(1 for c in mine if math.isfinite(c.rmse_rad)),
+            sum(1 for c in mine if c.valid and math.isfinite(c.rmse_rad)),
+            sum(1 for c in mine if math.isfinite(c.rmse_rad) and not c.verified),
+            float(np.mean([rm[(A, T, a.name)] for A, T in all_ok])) if all_ok else float("nan")))
+    comps = []
+    for r in refs:
+        p = stats["pairs"].get(f"design_vs_{r.name}_valid", {})
+        comps.append(Comparison(
+            r.name, int(p.get("n_cases", 0)), int(p.get("n_excluded", len(grid.cases()))), int(p.get("X_beats_Y", 0)),
+            int(p.get("X_worse_than_Y", 0)), p.get("fraction_X_beats_Y"), p.get("meanrmse_Y_over_X"),
+            PAPER_TABLE5.get(f"VVEA_beats_{r.name}"), PAPER_TABLE5.get(f"meanrmse_{r.name}_over_VVEA")))
+    # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
+    Aex = min(grid.A_rad, key=lambda a: abs(a - 0.7))
+    Tex = min(grid.T_s, key=lambda t: abs(t - 1.0))
+    study = DesignStudy(
+        actuator=act, references=refs, grid=grid, mesh=mesh, starts=DESIGN_STARTS, regularisation=reg,
+        cases=cases, settings=tuple(summaries), comparisons=tuple(comps), safety_design=safety_design,
+        safety_reference=safety_ref,
+        timing=StudyTiming(t_solved - t_start, 0.0, 0.0, used,
+                           float(df["seconds"].sum()) + safety_design.wall_seconds + safety_ref.wall_seconds),
+        trajectory_case=(Aex, Tex), best=bests.get((Aex, Tex), {}),
+    )
+    if out_dir is not None:
+        study.files = _write(study, df, Path(out_dir))
+        if progress is not None:
+            progress(total, total, f"wrote {out_dir}")
+    elif progress is not None:
+        progress(total, total, "done")
+    t_end = time.perf_counter()
+    study.timing = StudyTiming(t_solved - t_start, t_end - t_solved, t_end - t_start, used, study.timing.solver_seconds)
+    if out_dir is not None:  # the JSON carries the final timing
+        Path(study.files.summary_json).write_text(json.dumps(study.to_dict(), indent=2))
+    return study
+
+
+def _write(study: DesignStudy, df, out: Path) -> StudyFiles:
+    """results.csv, design_study.json and the three figures."""
+    out.mkdir(parents=True, exist_ok=True)
+    res = out / "results.csv"
+    with res.open("w", newline="") as fh:
+        wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
+        wr.writeheader()
+        wr.writerows(df.to_dict("records"))
+    files = StudyFiles(results_csv=res, summary_json=out / "design_study.json", map_png=out / "design_map.png",
+                       trajectory_png=out / "design_trajectory.png", safety_png=out / "design_safety.png")
+    plot_design_map(df, "design", [r.name for r in study.references]).savefig(files.map_png, dpi=120)
+    if study.best:
+        A, T = study.trajectory_case
+        plot_trajectory(study.best, A, T, highlight="design").savefig(files.trajectory_png, dpi=120)
+    else:
+        files = StudyFiles(files.results_csv, files.summary_json, files.map_png, None, files.safety_png)
+    sr = {study.safety_design.variable_case: study.safety_design.results[study.safety_design.variable_case],
+          study.safety_reference.variable_case: study.safety_reference.results[study.safety_reference.variable_case]}
+    for name in ("fixed D 31", "fixed D 200"):
+        if name in study.safety_design.results:
+            sr[f"design, {name}"] = study.safety_design.results[name]
+    tau = float(study.safety_design.setup["tau_ref_Nm"])
+    plot_safety(sr, tau).savefig(files.safety_png, dpi=120)
+    return files
