@@ -42,13 +42,13 @@ def cad(
     renders: bool = typer.Option(True, "--renders/--no-renders", help="write the off-screen PNG renders"),
 ) -> None:
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
-    from ..cad import CadError, write_cad
     from .common import fail, load_design_or_exit
     from .outputs import check_out, out_dir
     from ..progress import console
 
-    check_out(out)
+    check_out(out)  # before the CAD kernel is even imported (seconds)
     design = load_design_or_exit(design_json)
+    from ..cad import CadError, write_cad
     try:
         with out_dir(out, "cad") as tmp:  # the CAD set lands whole, or the old one stays
             manifest = write_cad(design, tmp, renders=renders)
