@@ -177,3 +177,54 @@ def test_bom_is_read(tmp_path):
     p = tmp_path / "bom.toml"
     p.write_bytes("max_outer_diameter_mm = 55.0\n".encode("utf-8-sig"))
     assert load_requirements(p).max_outer_diameter_mm == 55.0
+
+
+# ---------------------------------------------------------------------------
+# design files: random edits of a valid design JSON
+# ---------------------------------------------------------------------------
+
+def _valid_design() -> dict:
+    from vvea_design.spring.design import Design
+    from vvea_design.spring.design_file import design_to_dict
+    from vvea_design.spring.requirements import evaluate_design
+
+    req = Requirements()
+    return design_to_dict(evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req)
+
+
+_SECTIONS = ("parameters", "fixed", "spec", None)
+edits = st.lists(
+    st.tuples(
+        st.sampled_from(_SECTIONS),  # where: a section, or the top level
+        st.one_of(st.sampled_from(sorted(_valid_design()["parameters"]) + FIXED + KNOWN + ["format", "fixed",
+                                                                                          "parameters", "version"]),
+                  st.text(max_size=6)),
+        st.one_of(st.just("<delete>"), values, st.none()),
+    ),
+    min_size=1, max_size=4,
+)
+
+
+@settings(FUZZ, max_examples=200)
+@given(changes=edits)
+def test_design_loader_gives_a_design_or_a_clean_error(tmp_path_factory, changes):
+    import json
+
+    from vvea_design.spring.design_file import DesignFileError, load_design, load_requirements_from_design
+
+    data = _valid_design()
+    for section, key, value in changes:
+        target = data if section is None else data.get(section)
+        if not isinstance(target, dict):
+            continue
+        if value == "<delete>":
+            target.pop(key, None)
+        else:
+            target[key] = value
+    path = tmp_path_factory.mktemp("fuzzdesign") / "design.json"
+    path.write_text(json.dumps(data))
+    for load in (load_design, load_requirements_from_design):
+        try:
+            load(path)
+        except DesignFileError as exc:
+            assert str(path) in str(exc) and "np.float64" not in str(exc)
