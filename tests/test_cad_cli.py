@@ -47,7 +47,7 @@ def test_cad_command_writes_the_set(app, design_json, tmp_path):
 
 def test_cad_command_bad_design_is_a_clear_error(app, design_json, tmp_path):
     data = json.loads(design_json.read_text())
-    data["fixed"]["base_mm"] = 8.0
+    data["fixed"]["min_base_mm"] = 8.0
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(data))
     out = tmp_path / "never"

@@ -21,7 +21,7 @@ def test_V1_sets_the_length_and_fits_in_the_inner_tube():
     assert d.A1_mm2 * d.chamber1_length_mm == pytest.approx(d.V1_mm3)
     f = d.fixed
     assert d.inner_length_mm == pytest.approx(d.chamber1_length_mm + f.piston_height_mm + f.travel_mm + f.fluid_clearance_mm)
-    assert d.housing_length_mm == pytest.approx(d.inner_length_mm + f.top_cap_mm + f.base_mm)
+    assert d.housing_length_mm == pytest.approx(d.inner_length_mm + d.top_cap_mm + d.base_mm)
     longer = Design(35.18, 59.5, 60000.0, 99735.0)
     assert longer.housing_length_mm - d.housing_length_mm == pytest.approx(12893.0 / d.A1_mm2)
 
@@ -39,11 +39,12 @@ def test_V2_is_the_gas_around_the_bladder():
 
 
 def test_capacity_and_room_agree():
-    d = REF
+    d = REF.with_charge(2.0)  # low charge: the walls stay at their minimums whatever V2 is
     cap = d.V2_capacity_mm3
-    at_cap = Design(d.piston_diameter_mm, d.outer_diameter_mm, d.V1_mm3, cap)
+    at_cap = Design(d.piston_diameter_mm, d.outer_diameter_mm, d.V1_mm3, cap, p2_MPa=2.0)
+    assert at_cap.walls_mm() == d.walls_mm()
     assert at_cap.bladder_clearance_mm()["compressed"] == pytest.approx(0.0, abs=1e-6)
-    over = Design(d.piston_diameter_mm, d.outer_diameter_mm, d.V1_mm3, cap * 1.05)
+    over = Design(d.piston_diameter_mm, d.outer_diameter_mm, d.V1_mm3, cap * 1.05, p2_MPa=2.0)
     assert over.bladder_clearance_mm()["compressed"] < 0
 
 
@@ -61,16 +62,30 @@ def test_gas_spring_matches_design_and_has_zero_force_at_setpoint():
     assert abs(float(shifted.gas_spring.force_N(3.0))) < 1e-8
 
 
-def test_strength_and_mass_are_physical():
+def test_walls_are_sized_for_the_adiabatic_peak_pressure_with_a_minimum():
     sf = REF.wall_safety_factors()
     assert set(sf) == {"outer_tube", "inner_tube", "top_cap", "base"}
-    assert all(v > 1 for v in sf.values())
-    tmin = REF.minimum_walls_mm(2.0)
-    assert tmin["outer_tube"] < REF.fixed.outer_wall_mm  # SF 2.25 > 2: the wall is thicker than needed
-    # same bore, thinner wall: exactly the safety factor asked for
-    D = 2 * (REF.outer_bore_radius_mm + tmin["outer_tube"])
-    thin = Design(35.18, D, 47107.0, 99735.0, fixed=FixedParameters(outer_wall_mm=tmin["outer_tube"]))
-    assert thin.wall_safety_factors()["outer_tube"] == pytest.approx(2.0, rel=1e-6)
+    assert all(v >= 2.0 - 1e-9 for v in sf.values())
+    walls, f = REF.walls_mm(), REF.fixed
+    # a wall is either at its manufacturable minimum or sized to exactly the safety factor
+    for wall, fmin in (("outer_tube", f.min_outer_wall_mm), ("inner_tube", f.min_inner_tube_wall_mm),
+                       ("top_cap", f.min_top_cap_mm), ("base", f.min_base_mm)):
+        assert walls[wall] >= fmin - 1e-12
+        assert walls[wall] == pytest.approx(fmin) or sf[wall] == pytest.approx(2.0, rel=1e-9)
+    # the outer tube is sized by Lamé at the adiabatic (n = 1.4) peak of chamber 2
+    p = REF.gas_spring.p2_MPa * (REF.V2_mm3 / (REF.V2_mm3 - REF.displaced_volume_mm3)) ** 1.4
+    assert REF.peak_pressures_MPa()["chamber_2"] == pytest.approx(p)
+    ro, rb = REF.outer_diameter_mm / 2, REF.outer_bore_radius_mm
+    assert p * (ro**2 + rb**2) / (ro**2 - rb**2) == pytest.approx(276.0 / 2.0, rel=1e-9)
+    # the inner tube carries the peak as Lamé and does not buckle under the net pressure
+    g = REF._g
+    assert g["inner_tube_buckling_MPa"] >= 2.0 * g["inner_tube_net_pressure_MPa"] * (1 - 1e-9)
+    # a higher safety factor thickens the walls and costs mass; a thicker minimum is respected
+    stiff = Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(wall_safety_factor=3.0))
+    assert stiff.outer_wall_mm > REF.outer_wall_mm and stiff.mass_g > REF.mass_g
+    thick = Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(min_outer_wall_mm=2.5))
+    assert thick.outer_wall_mm == 2.5
+    assert REF.minimum_walls_mm()["outer_tube"] == pytest.approx(REF.outer_wall_mm)  # sized, not at the minimum
     m = REF.mass_breakdown_g()
     assert 300 < REF.mass_g < 800 and m["servo_and_valve"] == 40.0
     assert sum(m.values()) == pytest.approx(REF.mass_g)
@@ -101,8 +116,67 @@ def test_invalid_designs_name_the_field(kwargs, match):
         (dict(bladder_cast_fill=1.5), "bladder_cast_fill"),
         (dict(housing_material="unobtainium"), "unknown material"),
         (dict(n_polytropic=2.0), "n_polytropic"),
+        (dict(fill_tube_bore_mm=5.0), "fill_tube_bore_mm"),
     ],
 )
 def test_invalid_fixed_parameters(kwargs, match):
     with pytest.raises(DesignError, match=match):
         FixedParameters(**kwargs)
+
+
+def test_legacy_fixed_wall_keys_become_minimums():
+    f = FixedParameters.from_dict({"outer_wall_mm": 2.0, "base_mm": 15.0})
+    assert f.min_outer_wall_mm == 2.0 and f.min_base_mm == 15.0
+
+
+BULK = Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0)
+
+
+def test_bulkhead_layout_places_every_volume():
+    d, f = BULK, BULK.fixed
+    a_fo = math.pi / 4 * f.fill_tube_outer_mm**2
+    a_fb = math.pi / 4 * f.fill_tube_bore_mm**2
+    # V2_top is the inner-tube bore above the bulkhead minus the fill tube; V1 the column below plus the tube's bore
+    assert (d.A1_mm2 - a_fo) * d.top_space_length_mm == pytest.approx(d.V2_top_mm3)
+    assert d.A1_mm2 * d.chamber1_length_mm + a_fb * (d.bulkhead_mm + d.top_space_length_mm) == pytest.approx(d.V1_mm3)
+    assert d.inner_length_mm == pytest.approx(d.chamber1_length_mm + d.bulkhead_mm + d.top_space_length_mm
+                                              + f.piston_height_mm + f.travel_mm + f.fluid_clearance_mm)
+    # the annulus holds the rest of chamber 2, over the whole inner length
+    rw, L = d.outer_bore_radius_mm, d.bladder_free_length_mm
+    r0 = d.bladder_equivalent_outer_radius_mm(0.0)
+    assert math.pi * (rw**2 - r0**2) * L + d.V2_top_mm3 == pytest.approx(d.V2_mm3, rel=1e-12)
+    assert L == pytest.approx(d.inner_length_mm - 2 * f.bladder_clamp_mm)
+    assert "bulkhead" in d.walls_mm() and d.bulkhead_mm >= f.min_bulkhead_mm
+    assert d.wall_safety_factors()["bulkhead"] >= 2.0 - 1e-9
+    assert d.mass_breakdown_g()["bulkhead"] > 0
+    # the same gas in today's layout needs a longer housing (V1 sets its length)
+    today = Design(35.4, 59.5, 48800.0, 102000.0)
+    assert d.V2_capacity_mm3 > today.V2_capacity_mm3 - 1.0 or d.housing_length_mm < today.housing_length_mm + 30
+
+
+def test_layout_errors_are_clear():
+    with pytest.raises(DesignError, match="unknown layout"):
+        Design(35.4, 59.5, 48800.0, 102000.0, layout="sideways")
+    with pytest.raises(DesignError, match="only the 'bulkhead' layout"):
+        Design(35.4, 59.5, 48800.0, 102000.0, V2_top_mm3=100.0)
+    with pytest.raises(DesignError, match="V2_top_mm3"):
+        Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=1.5e5)
+
+
+def test_population_formulas_are_the_designs():
+    import numpy as np
+
+    from vvea_design.spring.requirements import Requirements, constraint_names, evaluate_design, evaluate_population
+
+    req = Requirements()
+    rng = np.random.default_rng(3)
+    for layout, base in (("inner_tube", REF), ("bulkhead", BULK)):
+        X = base.decision_vector() * rng.uniform(0.93, 1.07, (12, base.decision_vector().size))
+        obj, mar, ok = evaluate_population(X, req, layout)
+        assert ok.any()
+        for k in np.flatnonzero(ok):
+            kw = dict(zip(base.variant.decision_variables, X[k]))
+            ev = evaluate_design(Design(**kw, p2_MPa=4.0, layout=layout), req)
+            assert obj[k] == pytest.approx(ev.objective, rel=1e-12)
+            np.testing.assert_allclose(mar[:, k], [ev.margins[n] for n in constraint_names(req, layout, search=True)],
+                                       rtol=1e-10, atol=1e-12)

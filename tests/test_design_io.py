@@ -76,10 +76,12 @@ def _mutate(path, fn):
         (lambda d: d["fixed"].update(colour="red"), "unknown fixed parameter"),
         (lambda d: d.pop("parameters"), "missing object 'parameters'"),
         # issue 11 item 3: nothing that shapes the geometry is taken from a default
-        (lambda d: d.pop("fixed"), r"missing object 'fixed'.*outer_wall_mm = 1.5"),
-        (lambda d: d["fixed"].pop("base_mm"), r"fixed.base_mm missing"),
-        (lambda d: [d["fixed"].pop(k) for k in ("outer_wall_mm", "housing_material")],
-         r"fixed.outer_wall_mm, fixed.housing_material missing"),
+        (lambda d: d.pop("fixed"), r"missing object 'fixed'.*min_outer_wall_mm = 1.5"),
+        (lambda d: d["fixed"].pop("min_base_mm"), r"fixed.min_base_mm missing"),
+        (lambda d: [d["fixed"].pop(k) for k in ("min_outer_wall_mm", "housing_material")],
+         r"fixed.min_outer_wall_mm, fixed.housing_material missing"),
+        (lambda d: d["parameters"].pop("layout"), r"parameters.layout is missing"),
+        (lambda d: d["parameters"].update(layout="sideways"), r"parameters.layout is 'sideways'"),
         (lambda d: d.update(fixed=[1, 2]), "'fixed' must be an object, got list"),
         (lambda d: d["parameters"].pop("setpoint_x0_mm"), r"parameters.setpoint_x0_mm is missing"),
         (lambda d: d["parameters"].update(setpoint_x0_mm="0"), r"parameters.setpoint_x0_mm must be a finite number"),
@@ -140,21 +142,21 @@ def test_commands_refuse_an_incomplete_design(design_file, tmp_path, command):
 
     from vvea_design.cli.main import app
 
-    path = _mutate(design_file[0], lambda d: d["fixed"].pop("base_mm"))
+    path = _mutate(design_file[0], lambda d: d["fixed"].pop("min_base_mm"))
     if command == "spring":  # the spring is eq. 5 of `parameters` alone: the file's parameters are complete
         path = _mutate(path, lambda d: d.update(version="99"))
     res = CliRunner().invoke(app, [command, str(path), "--out", str(tmp_path / "out")])
     assert res.exit_code == 2, res.output
-    assert str(path) in res.output and ("fixed.base_mm missing" in res.output or "'version'" in res.output)
+    assert str(path) in res.output and ("fixed.min_base_mm missing" in res.output or "'version'" in res.output)
     assert "Traceback" not in res.output
     assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.parametrize(
     "mutation",
-    [lambda d: d.pop("fixed"), lambda d: d["fixed"].pop("base_mm"), lambda d: d["parameters"].pop("setpoint_x0_mm"),
+    [lambda d: d.pop("fixed"), lambda d: d["fixed"].pop("min_base_mm"), lambda d: d["parameters"].pop("setpoint_x0_mm"),
      lambda d: d.update(version="99")],
-    ids=["no-fixed", "no-fixed.base_mm", "no-setpoint", "unknown-key"],
+    ids=["no-fixed", "no-fixed.min_base_mm", "no-setpoint", "unknown-key"],
 )
 def test_schema_and_loader_agree_a_design_is_self_contained(design_file, mutation):
     import jsonschema

@@ -113,3 +113,51 @@ def test_gasspring_rejects_bad_values():
 def test_peak_pressure_is_chamber2_at_full_stroke():
     g = PAPER_FIG5
     assert g.peak_pressure_MPa() == pytest.approx(g.p2_MPa * g.V2_mm3 / (g.V2_mm3 - g.A2_mm2 * 40.0))
+
+
+def _independent_metric(g: GasSpring) -> float:
+    """The metric by a different route: scipy quad for the least-squares line, bounded scalar search
+    for the largest deviation (on a fine bracket grid), span from the two ends."""
+    from scipy.integrate import quad
+    from scipy.optimize import minimize_scalar
+
+    T = g.travel_mm
+    f = lambda t: float(g.force_N(t))  # noqa: E731
+    m0 = quad(f, 0, T, epsabs=0, epsrel=1e-13)[0] / T
+    m1 = quad(lambda t: (t - T / 2) * f(t), 0, T, epsabs=0, epsrel=1e-13)[0]
+    k = m1 / (T**3 / 12)
+    b = m0 - k * T / 2
+    dev = lambda t: -abs(f(t) - (k * t + b))  # noqa: E731
+    grid = np.linspace(0, T, 201)
+    best = max(-dev(t) for t in grid)
+    for a, c in zip(grid[:-1], grid[1:]):
+        r = minimize_scalar(dev, bounds=(a, c), method="bounded", options={"xatol": 1e-10})
+        best = max(best, -r.fun)
+    return best / (f(T) - f(0.0))
+
+
+@pytest.mark.parametrize("n", [1.0, 1.4])
+@pytest.mark.parametrize("spring", [PAPER_FIG5, GasSpring(1010.0, 960.0, 48800.0, 102000.0, 3.8, 4.0)])
+def test_exact_metric_agrees_with_an_independent_computation(spring, n):
+    g = spring.with_polytropic(n)
+    assert g.linearity_error() == pytest.approx(_independent_metric(g), abs=1e-9)
+    # sampled metrics converge to it from below as the grid refines (the sampled max misses the peak)
+    assert abs(g.linearity_error(200001) - g.linearity_error()) < 1e-5
+    assert abs(g.linearity_error(401) - g.linearity_error()) > abs(g.linearity_error(200001) - g.linearity_error())
+
+
+def test_exact_metric_is_vectorised_and_reports_its_line():
+    from vvea_design.spring.gas_spring import linearity_exact
+
+    V2s = np.array([6e4, 7.34e4, 9e4])
+    r = linearity_exact(A1, A2, V1, V2s, A2 / A1 * 2.0, 2.0, 40.0)
+    assert r.linearity_error.shape == (3,)
+    for i, v2 in enumerate(V2s):
+        g = GasSpring(A1, A2, V1, v2, A2 / A1 * 2.0, 2.0)
+        one = g.linearity()
+        assert r.linearity_error[i] == pytest.approx(float(one.linearity_error), rel=1e-12)
+        assert r.max_deviation_N[i] == pytest.approx(abs(float(g.force_N(r.x_max_deviation_mm[i]))
+                                                         - (r.mean_stiffness_N_per_mm[i] * r.x_max_deviation_mm[i]
+                                                            + r.intercept_N[i])), rel=1e-9)
+    bad = linearity_exact(A1, A2, V1, 20_000.0, 1.0, 1.0, 40.0)  # chamber 2 bottoms out: nan, no exception
+    assert np.isnan(bad.linearity_error)

@@ -85,10 +85,13 @@ def test_spring_curve_matches_the_gas_law_by_hand():
         np.testing.assert_allclose(P2, p2, rtol=1e-12)
         # tension > 0 as x grows: the force rises from 0 at x = 0 (charged for F(0) = 0)
         assert abs(F[0]) < 1e-6 * abs(F).max() and F[-1] > 0
-        line = np.polyval(np.polyfit(x, F, 1), x)
-        dev = F - line
-        assert float(np.abs(dev).max() / (F.max() - F.min())) == pytest.approx(
-            c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-9)
+        # the reported linearity is the exact (continuous) metric: a fine sampled fit converges to it
+        xf = np.linspace(0.0, gs.travel_mm, 200001)
+        Ff = (700.0 * 3.857142857 * (90000.0 / (90000.0 - 700.0 * xf)) ** n
+              - 900.0 * 3.0 * (40000.0 / (40000.0 + 900.0 * xf)) ** n)
+        dev = Ff - np.polyval(np.polyfit(xf, Ff, 1), xf)
+        assert float(np.abs(dev).max() / (Ff.max() - Ff.min())) == pytest.approx(
+            c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-4)
     assert c.stiffness_adiabatic_N_per_mm > c.stiffness_isothermal_N_per_mm  # gas stiffens when it cannot cool
     assert replace(gs, n_polytropic=1.4).force_N(x[-1]) == pytest.approx(c.force_adiabatic_N[-1])
 

@@ -314,6 +314,7 @@ HEAVY = [
     ("vvea_design.spring.optimise", "pareto_front"),
     ("vvea_design.spring.optimise", "linearity_map"),
     ("vvea_design.cad", "write_cad"),
+    ("vvea_design.cad", "build_cad"),
     ("vvea_design.bladder.check", "write_bladder_report"),
     ("vvea_design.identification.recordings", "read_recordings"),
     ("vvea_design.actuator.rest_to_rest", "run_rest_to_rest"),
@@ -407,11 +408,11 @@ def test_interrupted_map_keeps_the_previous_folder(tmp_path, monkeypatch):
     before = tree(out)
     assert "map_piston_diameter_mm_V1_mm3.csv" in before
 
-    def draw_then_get_interrupted(m, path, **kw):
+    def save_then_get_interrupted(fig, path, *a, **kw):
         Path(path).write_bytes(b"half a png")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(plots, "plot_linearity_map", draw_then_get_interrupted)
+    monkeypatch.setattr(plots, "save_figure", save_then_get_interrupted)
     res = runner.invoke(_main_app(), argv[:-1] + [str(out)])
     assert interrupted(res)
     assert tree(out) == before and visible(tmp_path) == ["design.json", "m"]
@@ -428,46 +429,63 @@ def test_failed_cad_keeps_the_previous_set(tmp_path, monkeypatch):
     (out / "housing.step").write_text("earlier run")
     (out / "manifest.json").write_text("{}")
 
-    def write_some_then_fail(design, folder, renders=True):
+    def write_some_then_fail(design, folder, renders=True, **kw):
         (Path(folder) / "housing.step").write_text("new, half")
         raise CadError("the bladder mould does not close")
 
+    monkeypatch.setattr(cad, "build_cad", lambda design: object())
     monkeypatch.setattr(cad, "write_cad", write_some_then_fail)
-    res = runner.invoke(_main_app(), ["cad", str(design), "--no-renders", "--out", str(out)])
+    res = runner.invoke(_main_app(), ["cad", str(design), "--no-renders", "--no-drawings", "--out", str(out)])
     assert res.exit_code == 2 and "does not close" in res.output
     assert tree(out) == {"housing.step": b"earlier run", "manifest.json": b"{}"}
     assert visible(tmp_path) == ["cad", "design.json"]
 
 
 def test_design_job_lands_whole_or_not_at_all(tmp_path, monkeypatch):
-    """`vvea design` (optimise, spring, CAD, bladder, actuator, report): whole folder, or the old one untouched."""
+    """`vvea design` writes the whole unit into one temporary folder: a step that fails leaves the old unit."""
+    import vvea_design.pipeline as pipeline
+    from vvea_design.cli.main import app
+
+    out = tmp_path / "job"
+    with output_dir(out, "design") as tmp:  # the unit of an earlier run
+        (tmp / "design.json").write_text("earlier")
+        (tmp / "cad").mkdir()
+        (tmp / "cad" / "housing.step").write_text("earlier")
+    first = tree(out)
+
+    def unit_then_ctrl_c(req, folder, **kw):
+        (Path(folder) / "design.json").write_text("new")
+        (Path(folder) / "cad").mkdir()
+        (Path(folder) / "cad" / "housing.step").write_text("new, half")
+        raise KeyboardInterrupt  # e.g. during the bladder step
+
+    monkeypatch.setattr(pipeline, "design_unit", unit_then_ctrl_c)
+    res = runner.invoke(app, ["design", "--out", str(out), "--no-renders"])
+    assert interrupted(res), res.output
+    assert tree(out) == first and visible(tmp_path) == ["job"]
+
+
+def test_pipeline_unit_written_through_a_temporary_folder_names_no_temporary(tmp_path, monkeypatch):
+    """The unit (design, spring, CAD, bladder, actuator, report) is moved after writing: nothing in it names
+    the temporary folder it was written in (unit.json lists its files relative to the unit)."""
     import vvea_design.pipeline as pipeline
     import vvea_design.spring.optimise as opt
-    from vvea_design.cli.main import app
-    from vvea_design.spring.design import Design
+    from vvea_design.spring.design_file import load_design
     from vvea_design.spring.requirements import Requirements, evaluate_design
 
-    ev = evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), Requirements())
+    reference = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
+    ev = evaluate_design(reference, Requirements())
     monkeypatch.setattr(pipeline, "optimise", lambda req, **kw: opt.OptimisationResult(ev, 0, 1, 0.1, 1, "stub", False))
-    out = tmp_path / "job"
-    argv = ["design", "--out", str(out), "--no-renders", "--no-actuator-study"]
-    res = runner.invoke(app, argv)
-    assert res.exit_code == 0, res.output
-    first = tree(out)
-    assert {"design.json", "spring/spring.csv", "cad/manifest.json", "bladder/bladder.json", "unit.json"} <= set(first)
-    for name, data in first.items():  # nothing written names the temporary folder it was made in
+    out = tmp_path / "unit"
+    with output_dir(out, "design") as tmp:
+        pipeline.design_unit(Requirements(), tmp, renders=False, actuator_study=False)
+    files = tree(out)
+    assert {"design.json", "spring/spring.csv", "cad/manifest.json", "bladder/bladder.json", "unit.json",
+            "report.html"} <= set(files)
+    for name, data in files.items():
         assert b"vvea-tmp" not in data, name
-    assert visible(tmp_path) == ["job"]
-
-    def spring_then_ctrl_c(gs, folder):
-        Path(folder).mkdir(parents=True, exist_ok=True)
-        (Path(folder) / "spring.csv").write_text("half")
-        raise KeyboardInterrupt
-
-    monkeypatch.setattr(pipeline, "write_spring_files", spring_then_ctrl_c)
-    res = runner.invoke(app, argv)
-    assert interrupted(res)
-    assert tree(out) == first and visible(tmp_path) == ["job"]
+    unit = json.loads(files["unit.json"])
+    assert unit["files"]["design"] == "design.json" and unit["files"]["bladder_json"] == "bladder/bladder.json"
 
 
 def test_optimise_writes_design_and_plot_together(tmp_path, monkeypatch):

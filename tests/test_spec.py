@@ -27,13 +27,13 @@ min_mean_stiffness_N_per_mm = 70
 piston_diameter_mm = [20, 40]
 [fixed]
 housing_material = "al-7075-t6"
-outer_wall_mm = 2.0
+min_outer_wall_mm = 2.0
 """)
     r = load_requirements(p)
     assert r.max_outer_diameter_mm == 55.0 and r.min_mean_stiffness_N_per_mm == 70
     assert r.search_bounds()[0] == (20.0, 40.0)
     assert r.search_bounds()[1][1] == 55.0  # diameter bound clipped to the envelope
-    assert r.fixed.housing_material == "al-7075-t6" and r.fixed.outer_wall_mm == 2.0
+    assert r.fixed.housing_material == "al-7075-t6" and r.fixed.min_outer_wall_mm == 2.0
 
 
 @pytest.mark.parametrize(
@@ -50,6 +50,10 @@ outer_wall_mm = 2.0
         ("max_housing_length_mm = 60", "leaves no room for chamber 1"),
         ("setpoint_x0_mm = 50", "must lie inside the travel"),
         ("this is = not toml [", "not valid TOML"),
+        ("objective = 'fastest'", "objective must be one of"),
+        ("objective_n = [0.9]", "objective_n must be"),
+        ("layouts = ['sideways']", "layouts must be"),
+        ("[bounds]\nV2_top_mm3 = [-1, 2]", "0 < low < high"),
         # issue 11 item 11: [fixed] travel_mm was silently overridden by the top-level value
         ("[fixed]\ntravel_mm = 30", r"\[fixed\] travel_mm = 30 disagrees with the top-level travel_mm = 40 \(the default\)"),
         ("travel_mm = 35\n[fixed]\ntravel_mm = 30", r"\[fixed\] travel_mm = 30 disagrees with the top-level travel_mm = 35;"),
@@ -72,7 +76,7 @@ def test_missing_file(tmp_path):
 
 
 def test_margins_have_signs_and_details():
-    d = Design(34.5, 59.5, 41500.0, 90000.0)
+    d = Design(34.5, 59.5, 41500.0, 80000.0)
     ev = evaluate_design(d, Requirements())
     assert ev.feasible
     assert list(ev.margins) == constraint_names(Requirements())
@@ -99,9 +103,20 @@ def test_unknown_bladder_material(tmp_path):
         load_requirements(write(tmp_path, 'bladder_material = "chewing-gum"'))
 
 
+def test_objective_layouts_and_wall_safety_reach_the_design(tmp_path):
+    r = load_requirements(write(tmp_path, 'objective = "worst"\nlayouts = ["bulkhead"]\nmin_wall_safety_factor = 3\n'
+                                          '[bounds]\nV2_top_mm3 = [0, 5e4]'))
+    assert r.objective_exponents == (1.0, 1.4) and r.layouts == ("bulkhead",)
+    assert r.fixed.wall_safety_factor == 3.0
+    assert r.search_bounds("bulkhead")[-1] == (0.0, 5e4)
+    assert len(r.search_bounds("inner_tube")) == 4
+    assert Requirements().objective_exponents == (1.0,)
+    assert Requirements(n_polytropic=1.2, objective="adiabatic").objective_exponents == (1.4,)
+
+
 def test_fixed_copy_that_agrees_is_accepted(tmp_path):
-    r = load_requirements(write(tmp_path, "travel_mm = 30\n[fixed]\ntravel_mm = 30\nbase_mm = 12"))
-    assert r.travel_mm == 30 and r.fixed.travel_mm == 30 and r.fixed.base_mm == 12
+    r = load_requirements(write(tmp_path, "travel_mm = 30\n[fixed]\ntravel_mm = 30\nmin_base_mm = 12"))
+    assert r.travel_mm == 30 and r.fixed.travel_mm == 30 and r.fixed.min_base_mm == 12
     assert Requirements.from_dict(r.to_dict()) == r  # a design file's spec holds both copies
 
 
@@ -127,7 +142,7 @@ def test_messages_never_show_numpy_reprs():
         (SpecError, lambda: Requirements(setpoint_x0_mm=np.float64(50.0))),
         (SpecError, lambda: Requirements(bounds={"V1_mm3": (np.float64(5.0), np.float64(1.0))})),
         (DesignError, lambda: Design(np.float64(-34.5), 59.5, 41500.0, 90000.0)),
-        (DesignError, lambda: FixedParameters(outer_wall_mm=np.float64(-1.0))),
+        (DesignError, lambda: FixedParameters(min_outer_wall_mm=np.float64(-1.0))),
         (ValueError, lambda: GasSpring(np.float64(-1.0), 900.0, 4e4, 9e4, 3.0, 4.0, 40.0)),
     ]
     for exc_type, make in cases:

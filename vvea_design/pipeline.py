@@ -26,7 +26,7 @@ from . import __version__
 from .actuator.model import Actuator, actuator_from_spring
 from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
 from .spring.design_file import save_design
-from .spring.gas_spring import GasSpring, least_squares_line, linearity_error
+from .spring.gas_spring import GasSpring
 from .spring.optimise import Infeasible, OptimisationResult, optimise
 from .spring.requirements import N_SAMPLES, Requirements
 
@@ -94,12 +94,13 @@ def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
     out: dict[str, Any] = {"x_mm": x}
     for tag, gs in (("isothermal", iso), ("adiabatic", adi)):
         F = gs.force_N(x)
-        k, b = least_squares_line(x, F)
+        lin = gs.linearity()  # the exact (continuous) metric and its least-squares line
+        k, b = float(lin.mean_stiffness_N_per_mm), float(lin.intercept_N)
         P1, P2 = gs.pressures_MPa(x)
         out[f"force_{tag}_N"] = F
         out[f"deviation_{tag}_N"] = F - (k * x + b)
         out[f"stiffness_{tag}_N_per_mm"] = float(k)
-        out[f"linearity_{tag}"] = float(linearity_error(x, F))
+        out[f"linearity_{tag}"] = float(lin.linearity_error)
         out[f"P1_{tag}_MPa"] = np.asarray(P1, float)
         out[f"P2_{tag}_MPa"] = np.asarray(P2, float)
     return SpringCurve(**out)
@@ -134,7 +135,7 @@ def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path
         w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
         for row in zip(x, F, k, P1, P2):
             w.writerow([f"{v:.6g}" for v in row])
-    png = _save(plot_spring(spring, out / "spring.png", extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
+    png = _save(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
     return {"csv": csv_path, "png": png}
 
 
@@ -279,8 +280,8 @@ def design_unit(
     files["design"] = save_design(out / "design.json", res.evaluation, requirements, optimiser=res.summary())
     lin = res.evaluation.linearity_error
     files["design_force_png"] = _save(
-        plot_spring(res.design.gas_spring, out / "design_force.png", extra_charges_MPa=(1.0, 2.0),
-                    title=f"optimised design: linearity {100 * lin:.2f} %"), out / "design_force.png")
+        plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                    title=f"optimised design ({res.layout} layout): linearity {100 * lin:.2f} %"), out / "design_force.png")
     seconds["optimise"] = time.perf_counter() - t
 
     # 2. spring curve --------------------------------------------------------

@@ -26,7 +26,7 @@ from typing import Any
 
 from .materials.silicones import SILICONES
 from .materials.structural import STRUCTURAL
-from .spring.design import DECISION_VARIABLES, FixedParameters
+from .spring.design import LAYOUTS, FixedParameters
 from .spring.design_file import DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION
 from .spring.gas_spring import GasSpring
 from .spring.requirements import DEFAULT_BOUNDS, Requirements
@@ -57,6 +57,8 @@ def _type_schema(tp: Any) -> dict[str, Any]:
     if tp is bool:
         return {"type": "boolean"}
     origin = typing.get_origin(tp)
+    if origin is tuple:  # tuple[X, ...]: a list of X
+        return {"type": "array", "items": _type_schema(typing.get_args(tp)[0])}
     if origin in (types.UnionType, typing.Union):
         args = [a for a in typing.get_args(tp) if a is not type(None)]
         if len(args) == 1:
@@ -76,7 +78,7 @@ def _dataclass_properties(cls: type, skip: set[str] = frozenset()) -> dict[str, 
         if f.name in notes:
             s["description"] = notes[f.name]
         if f.default is not MISSING:
-            s["default"] = f.default
+            s["default"] = list(f.default) if isinstance(f.default, tuple) else f.default
         props[f.name] = s
     return props
 
@@ -118,7 +120,7 @@ def requirements_schema() -> dict[str, Any]:
         "type": "object",
         "description": "search range [low, high] of each decision variable (mm, mm³)",
         "properties": {name: {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2,
-                              "default": list(DEFAULT_BOUNDS[name])} for name in DECISION_VARIABLES},
+                              "default": list(DEFAULT_BOUNDS[name])} for name in DEFAULT_BOUNDS},
         "additionalProperties": False,
     }
     props["fixed"] = fixed_schema()
@@ -138,6 +140,7 @@ def design_schema() -> dict[str, Any]:
     gs_notes = _comments(GasSpring)
     params = {k: {"type": "number", **({"description": gs_notes[k]} if k in gs_notes else {})}
               for k in DESIGN_PARAMETER_KEYS}
+    params["layout"] = {"type": "string", "enum": list(LAYOUTS), "description": "layout variant (docs/layout.md)"}
     spec = requirements_schema()
     spec = {k: v for k, v in spec.items() if k not in ("$schema", "$id", "title")}
     number_map = {"type": "object", "additionalProperties": {"type": ["number", "null"]}}

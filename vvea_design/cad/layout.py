@@ -216,7 +216,7 @@ class Layout:
 
     @cached_property
     def throttle_d(self) -> float:
-        return min(self.cad.throttle_bore_mm, self.design.fixed.base_mm - 8.0)
+        return min(self.cad.throttle_bore_mm, self.design.base_mm - 8.0)
 
     @cached_property
     def relief_d(self) -> float:
@@ -230,12 +230,12 @@ class Layout:
     # ----------------------------------------------------------- levels
     @property
     def z_base_top(self) -> float:
-        return self.design.fixed.base_mm
+        return self.design.base_mm
 
     @property
     def z_cap(self) -> float:
         """Underside of the top cap (top of both tubes)."""
-        return self.design.fixed.base_mm + self.design.inner_length_mm
+        return self.design.base_mm + self.design.inner_length_mm
 
     @property
     def z_top(self) -> float:
@@ -247,6 +247,46 @@ class Layout:
 
     def z_piston_top(self, x_mm: float = 0.0) -> float:
         return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
+
+    # ----------------------------------------------------------- bulkhead layout
+    @property
+    def has_bulkhead(self) -> bool:
+        return self.design.variant.has_bulkhead
+
+    @property
+    def z_bulkhead0(self) -> float:
+        """Underside of the bulkhead (top of chamber 1 at x = 0); the top cap's underside without one."""
+        if not self.has_bulkhead:
+            return self.z_cap
+        return self.z_piston_top(0.0) + self.design.chamber1_length_mm
+
+    @property
+    def z_bulkhead1(self) -> float:
+        """Top of the bulkhead (bottom of the chamber-2 space above it)."""
+        return self.z_bulkhead0 + self.design.bulkhead_mm
+
+    @property
+    def r_fill_tube_out(self) -> float:
+        return self.design.fixed.fill_tube_outer_mm / 2
+
+    @property
+    def r_fill_tube_bore(self) -> float:
+        return self.design.fixed.fill_tube_bore_mm / 2
+
+    @property
+    def cross_port_d(self) -> float:
+        """Diameter of the top cap's cross port from the space above the bulkhead to the chamber-2 port."""
+        return min(self.fill_port_d, 1.5)
+
+    @property
+    def z_cross_port(self) -> float:
+        """Axis height of that cross port (inside the top cap)."""
+        return self.z_cap + 0.5 * (self.z_top - self.z_cap - self.cad.fill_port_counterbore_depth_mm)
+
+    @property
+    def y_cross_riser(self) -> float:
+        """Where the riser from the space above the bulkhead meets the cross port (+y)."""
+        return 0.5 * (self.r_fill_tube_out + self.r_piston)
 
     @property
     def clamp(self) -> float:
@@ -282,16 +322,18 @@ class Layout:
     @property
     def z_valve(self) -> float:
         """Axis height of the radial throttle and relief bores in the base."""
-        return self.design.fixed.base_mm - 2.0 - self.throttle_d / 2
+        return self.design.base_mm - 2.0 - self.throttle_d / 2
 
     # ----------------------------------------------------------- checks
     def check(self) -> None:
         """Raise :class:`CadError` if a feature does not fit."""
         f, c = self.design.fixed, self.cad
-        if f.base_mm < 11.0:
-            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm is too thin for the valve bores and rod seal; needs >= 11 mm")
-        if f.top_cap_mm <= c.fill_port_counterbore_depth_mm:
-            raise CadError(f"fixed.top_cap_mm = {f.top_cap_mm:g} mm must exceed cad.fill_port_counterbore_depth_mm")
+        if self.design.base_mm < 11.0:
+            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) is too thin "
+                           f"for the valve bores and rod seal; needs >= 11 mm")
+        if self.design.top_cap_mm <= c.fill_port_counterbore_depth_mm:
+            raise CadError(f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g}) "
+                           f"must exceed cad.fill_port_counterbore_depth_mm")
         ps, rs = self.piston_seal, self.rod_seal
         if f.piston_height_mm < 2.5 * ps.width_mm:
             raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
@@ -300,8 +342,9 @@ class Layout:
         if ps.depth_mm >= 0.5 * (self.r_piston - self.r_rod):
             raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
                            f"than half the piston's radial land")
-        if self.z_rod_seal[1] > f.base_mm - 4.0 - self.throttle_d:
-            raise CadError(f"fixed.base_mm = {f.base_mm:g} mm has no room for the rod seal groove below the valve bores")
+        if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
+            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) has no room "
+                           f"for the rod seal groove below the valve bores")
         if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
             raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
                            f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")
@@ -319,5 +362,14 @@ class Layout:
             raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
         if self.design.fluid_column_mm - f.travel_mm < 0.5:
             raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
+        if self.has_bulkhead:
+            if self.y_cross_riser - self.cross_port_d / 2 < self.r_fill_tube_out + 0.5 \
+                    or self.y_cross_riser + self.cross_port_d / 2 > self.r_piston - 0.5:
+                raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
+                               "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
+            if self.z_cross_port - self.cross_port_d / 2 < self.z_cap + 0.8:
+                raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
+            if self.r_fill_tube_out >= 0.5 * self.r_piston:
+                raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
         if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
             raise CadError("bladder free length too short for its cuffs")

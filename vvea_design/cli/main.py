@@ -55,12 +55,15 @@ def _print_evaluation(ev, title: str) -> None:
     t = Table(title=title, show_header=True)
     t.add_column("quantity")
     t.add_column("value", justify="right")
-    for key in ("linearity_error", "mean_stiffness_N_per_mm", "max_force_N", "mass_g", "peak_pressure_MPa",
-                "p1_MPa", "housing_length_mm"):
+    t.add_row("layout", str(perf["layout"]))
+    for key in ("linearity_error", "linearity_error_isothermal", "linearity_error_adiabatic", "mean_stiffness_N_per_mm",
+                "max_force_N", "mass_g", "peak_pressure_MPa", "p1_MPa", "housing_length_mm"):
         v = perf[key]
-        t.add_row(key, f"{100 * v:.3f} %" if key == "linearity_error" else f"{v:.4g}")
-    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2"):
+        t.add_row(key, f"{100 * v:.3f} %" if key.startswith("linearity_error") else f"{v:.4g}")
+    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "V2_top_mm3", "A1_mm2", "A2_mm2"):
         t.add_row(name, f"{getattr(ev.design, name):.5g}")
+    for wall, t_mm in ev.design.walls_mm().items():
+        t.add_row(f"wall {wall} [mm]", f"{t_mm:.3g}")
     stdout.print(t)
     c = Table(title="constraints (margin > 0 = satisfied)")
     c.add_column("constraint")
@@ -78,7 +81,7 @@ def _print_evaluation(ev, title: str) -> None:
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     from ..spring.design_file import save_design
     from ..spring.optimise import Infeasible, NoBuildableDesign, optimise
-    from ..spring.plots import plot_spring
+    from ..spring.plots import plot_spring, save_figure
     from ..spring.requirements import SpecError, load_requirements
 
     png = out.with_name(out.stem + "_force.png")
@@ -104,8 +107,10 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
         _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
     with out_files(out, png) as (tmp_json, tmp_png):  # both files whole, or neither
         save_design(tmp_json, res.evaluation, req, optimiser=res.summary())
-        plot_spring(res.design.gas_spring, tmp_png, extra_charges_MPa=(1.0, 2.0),
-                    title=f"optimised design: linearity {100 * res.evaluation.linearity_error:.2f} %")
+        save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                                title=f"optimised design ({res.layout} layout): linearity "
+                                      f"{100 * res.evaluation.linearity_error:.2f} %"),
+                    tmp_png)
     _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
                   f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
@@ -145,7 +150,8 @@ def spring(
     out = out or design.parent
     with out_dir(out, "spring") as tmp:
         files = {k: out / Path(v).name for k, v in write_spring_files(gs, tmp).items()}
-    stdout.print(f"linearity error {100 * gs.linearity_error():.3f} %, mean stiffness "
+    stdout.print(f"linearity error {100 * gs.linearity_error():.3f} % (n = {gs.n_polytropic:g}; "
+                 f"{100 * gs.with_polytropic(1.4).linearity_error():.3f} % at n = 1.4), mean stiffness "
                  f"{gs.mean_stiffness_N_per_mm():.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
                  f"F({gs.travel_mm:g}) = {float(gs.force_N(gs.travel_mm)):.1f} N")
     console.print(f"wrote {files['csv']} and {files['png']}")
@@ -222,7 +228,7 @@ def map_(
 
     from ..spring.design_file import DesignFileError, load_requirements_from_design
     from ..spring.optimise import linearity_map
-    from ..spring.plots import plot_linearity_map
+    from ..spring.plots import plot_linearity_map, save_figure
 
     check_out(out)
     try:
@@ -232,7 +238,7 @@ def map_(
     except (DesignFileError, ValueError) as exc:
         _fail(str(exc))
     with out_dir(out, "map") as tmp:
-        plot_linearity_map(m, tmp / f"map_{x}_{y}.png", optimum=(getattr(d, x), getattr(d, y)))
+        save_figure(plot_linearity_map(m, optimum=(getattr(d, x), getattr(d, y))), tmp / f"map_{x}_{y}.png")
         with open(tmp / f"map_{x}_{y}.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
@@ -251,7 +257,13 @@ def design(
     seed: int = typer.Option(0, "--seed", help="seed of the global search (same seed, same design)"),
     renders: bool = typer.Option(True, "--renders/--no-renders", help="make the CAD PNG renders"),
     actuator_study: bool = typer.Option(True, "--actuator-study/--no-actuator-study",
-                                        help="run the design's own actuator study"),
+                                        help="run the design's own actuator study (rest-to-rest vs VVEA, SEA, LWR; "
+                                             "torque step)"),
+    study_grid: Optional[str] = typer.Option(None, "--study-grid",
+                                             help="rest-to-rest grid of the actuator study: 'A1,A2,..:T1,T2,..' "
+                                                  "(rad:s); default 4 x 4 cases over the paper's grid"),
+    workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
+                                                                  "(default: all cores)"),
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
     from ..pipeline import STEPS, design_unit
@@ -264,13 +276,23 @@ def design(
     except SpecError as exc:
         _fail(str(exc))
 
+    study_options: dict = {"workers": workers}
+    if study_grid is not None:
+        from ..actuator.rest_to_rest import Grid
+
+        try:
+            a, t = study_grid.split(":")
+            study_options["grid"] = Grid(tuple(float(v) for v in a.split(",")), tuple(float(v) for v in t.split(",")))
+        except ValueError as exc:
+            _fail(f"--study-grid must be 'A1,A2,..:T1,T2,..' (rad:s), got {study_grid!r} ({exc})")
+
     def say(step: str, i: int, n: int) -> None:
         console.print(f"[{i + 1}/{n}] {step}")
 
     try:
         with out_dir(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
             unit = design_unit(req, tmp, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
-                               progress=say)
+                               study_options=study_options, progress=say)
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
@@ -284,6 +306,12 @@ def design(
     a = unit.actuator
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
+    if unit.actuator_study is not None:
+        for c in unit.actuator_study.comparisons:
+            beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
+            ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
+            stdout.print(f"design vs {c.other}: design beats it in {beats} of {c.n_cases} cases "
+                         f"({c.n_excluded} left out), mean rmse {c.other}/design {ratio}")
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 

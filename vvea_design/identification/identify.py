@@ -115,7 +115,12 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
         params = params + list(eff.params(D))
         groups[eid] = slice(p, p + c.shape[1])
         p += c.shape[1]
-    return np.column_stack(cols), params, groups
+    X = np.column_stack(cols)
+    for eid in effects:
+        eff = REGISTRY[eid]
+        if eff.transforms_design:
+            X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
+    return X, params, groups
 
 
 @dataclass(frozen=True)
@@ -259,6 +264,9 @@ class ModelFit:
     def context(self, D: FitData) -> dict:
         """Context rebuilt from this fit on ``D``: its damping force and its force without model-force terms."""
         ctx = {"damping_force_N": self.damping_force(D)}
+        keep = self.ctx.get("residual_all_N")  # per-experiment nuisance terms keep the residual they were fitted with
+        if keep is not None and len(keep) == D.n:
+            ctx["residual_all_N"] = keep
         if any("model_force_N" in REGISTRY[e].needs for e in self.effects):
             X = assemble(D, self.effects, self.shapes, ctx)[0]  # model-force terms give zero columns here
             ctx["model_force_N"] = X @ self.theta
@@ -273,15 +281,14 @@ class ModelFit:
         return self.design(D) @ self.theta
 
     def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
-        """Force (N) the effect adds relative to the same model without it."""
+        """Force (N) the effect adds relative to the same model (same amplitudes) without it."""
         ctx = self._ctx_for(D)
         X = assemble(D, self.effects, self.shapes, ctx)[0]
-        sl = self.groups[effect_id]
-        f = X[:, sl] @ self.theta[sl]
-        m = REGISTRY[effect_id].damping_mask(D, self.shapes.get(effect_id, np.nan), ctx)
-        if m is not None:
-            f = f - np.where(m, self.damping_force(D), 0.0)
-        return f
+        others = tuple(e for e in self.effects if e != effect_id)
+        Xo, _, go = assemble(D, others, self.shapes, ctx)
+        keep = np.ones(len(self.theta), bool)
+        keep[self.groups[effect_id]] = False
+        return X @ self.theta - Xo @ self.theta[keep]
 
     def damping_force(self, D: FitData) -> np.ndarray:
         """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
@@ -357,7 +364,7 @@ def fit_model(
     def cost_fn(e):
         """SSE as a function of effect e's shape, others fixed (blocks of the rest computed once)."""
         eff = REGISTRY[e]
-        if any(REGISTRY[o].replaces_damping for o in effects):
+        if not all(REGISTRY[o].nested for o in effects):
             return lambda val: train_sse(dict(shapes, **{e: float(val)}))[0]
         rest = tuple(o for o in effects if o != e)
         X0, p0, _ = assemble(D, rest, shapes, ctx)
@@ -386,7 +393,7 @@ def fit_model(
                 if hi > lo:
                     lg = REGISTRY[e].log_shape
                     fwd, back = (np.log, np.exp) if lg else (float, float)
-                    r = minimize_scalar(lambda z, back=back, cost=cost: cost(back(z)), bounds=(fwd(lo), fwd(hi)), method="bounded", options={"xatol": 1e-3})
+                    r = minimize_scalar(lambda z, back=back, cost=cost: cost(back(z)), bounds=(fwd(lo), fwd(hi)), method="bounded", options={"xatol": REGISTRY[e].shape_xtol})
                     if r.fun <= costs[k]:
                         shapes[e] = float(back(r.x))
     sse, th, Bk, params = train_sse(shapes)
@@ -416,6 +423,7 @@ def auto_context(D: FitData, effects, experiments, shapes: dict | None = None, i
     ctx = fit.context(D)
     ctx["model_force_N"] = fit.predict(D)
     ctx["residual_N"] = D.y - ctx["model_force_N"]
+    ctx["residual_all_N"] = ctx["residual_N"]
     needy = tuple(e for e in effects if REGISTRY[e].needs)
     if _needs(needy, "damping_force_N") or _needs(needy, "model_force_N"):
         for _ in range(iters):

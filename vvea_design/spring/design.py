@@ -46,10 +46,66 @@ from ..materials.structural import (
     get_material,
 )
 
-__all__ = ["FixedParameters", "Design", "DesignError", "DECISION_VARIABLES"]
+__all__ = ["FixedParameters", "Design", "DesignError", "DECISION_VARIABLES", "LayoutVariant", "LAYOUTS",
+           "get_layout", "derive", "WALLS"]
 
-#: The optimiser's decision variables, in order, with their units in the name.
+#: The decision variables of today's layout (``inner_tube``), in order, with their units in the name.
 DECISION_VARIABLES = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3")
+
+
+@dataclass(frozen=True)
+class LayoutVariant:
+    """A named geometry of the unit: where each gas volume goes (``docs/layout.md`` draws each)."""
+
+    name: str
+    summary: str
+    decision_variables: tuple[str, ...]
+    has_bulkhead: bool  #: a bulkhead closes chamber 1; the inner-tube space above it is chamber-2 gas
+
+
+#: The layouts the optimiser chooses between.
+LAYOUTS: dict[str, LayoutVariant] = {
+    "inner_tube": LayoutVariant(
+        "inner_tube",
+        "chamber 1 fills the inner tube from the piston to the top cap; V1 sets the housing length",
+        DECISION_VARIABLES, False),
+    "bulkhead": LayoutVariant(
+        "bulkhead",
+        "a bulkhead closes chamber 1 inside the inner tube; the inner-tube space above it (V2_top) is "
+        "chamber-2 gas, ported to the annulus through the top cap, so the housing length is free of V1",
+        DECISION_VARIABLES + ("V2_top_mm3",), True),
+}
+
+
+def get_layout(name: str) -> LayoutVariant:
+    """The layout variant called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`LAYOUTS` (``"inner_tube"`` or ``"bulkhead"``).
+
+    Returns
+    -------
+    LayoutVariant
+        Its name, summary, decision variables and whether it has a bulkhead.
+
+    Raises
+    ------
+    DesignError
+        For an unknown name (the message lists the known ones).
+    """
+    try:
+        return LAYOUTS[name]
+    except (KeyError, TypeError):
+        raise DesignError(f"unknown layout {name!r}; known: {', '.join(LAYOUTS)}") from None
+
+#: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout).
+WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead")
+
+#: Old names of the wall fields (design files written before the walls were sized): now the minimums.
+_LEGACY_FIXED = {"outer_wall_mm": "min_outer_wall_mm", "inner_tube_wall_mm": "min_inner_tube_wall_mm",
+                 "top_cap_mm": "min_top_cap_mm", "base_mm": "min_base_mm"}
 
 _NONNEGATIVE = {"dead_volume_1_mm3", "dead_volume_2_mm3", "servo_and_valve_mass_g", "bladder_min_gap_mm"}
 
@@ -64,10 +120,15 @@ class FixedParameters:
 
     travel_mm: float = 40.0  #: stroke, x from 0 to travel
     rod_diameter_mm: float = 8.0  #: piston rod (crosses the fluid, leaves through the base)
-    outer_wall_mm: float = 1.5  #: outer tube wall (carries chamber-2 pressure)
-    inner_tube_wall_mm: float = 1.5  #: inner tube wall (chamber 2 outside, chamber 1 / fluid inside)
-    top_cap_mm: float = 8.0  #: top end cap (fill ports, top eye)
-    base_mm: float = 14.0  #: bottom end cap (valve bores, channels, rod seal)
+    min_outer_wall_mm: float = 1.5  #: thinnest outer tube wall made (sized up for chamber-2 pressure)
+    min_inner_tube_wall_mm: float = 1.5  #: thinnest inner tube wall made (sized up for external chamber-2 pressure)
+    min_top_cap_mm: float = 8.0  #: thinnest top end cap (fill ports, top eye)
+    min_base_mm: float = 14.0  #: thinnest base (valve bores, channels, rod seal)
+    min_bulkhead_mm: float = 4.0  #: thinnest bulkhead web (``bulkhead`` layout: a web left when boring the inner tube)
+    fill_tube_outer_mm: float = 4.0  #: chamber-1 fill tube through the upper chamber-2 space (``bulkhead`` layout)
+    fill_tube_bore_mm: float = 1.5  #: its bore (counted in V1)
+    wall_safety_factor: float = 2.0  #: walls are sized to this safety factor on yield (the requirements set it)
+    wall_sizing_n: float = 1.4  #: walls carry the peak pressure of this polytropic exponent (1.4: a fast, adiabatic stroke)
     piston_height_mm: float = 10.0  #: working piston incl. seal grooves
     fluid_clearance_mm: float = 2.0  #: fluid column left under the piston at full stroke
     bladder_thickness_mm: float = 1.5  #: silicone sleeve wall as cast
@@ -98,6 +159,10 @@ class FixedParameters:
             raise DesignError(f"fixed.bladder_cast_fill must be in [0, 1], got {show(self.bladder_cast_fill)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
             raise DesignError(f"fixed.n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
+        if not 1.0 <= self.wall_sizing_n <= 1.67:
+            raise DesignError(f"fixed.wall_sizing_n must be in [1, 1.67], got {show(self.wall_sizing_n)}")
+        if self.fill_tube_bore_mm >= self.fill_tube_outer_mm:
+            raise DesignError("fixed.fill_tube_bore_mm must be smaller than fixed.fill_tube_outer_mm")
         for key in ("housing_material", "rod_material", "support_ring_material"):
             try:
                 get_material(getattr(self, key))
@@ -112,6 +177,8 @@ class FixedParameters:
         """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error."""
         if not isinstance(data, dict):
             raise DesignError(f"fixed parameters must be a table/object, got {type(data).__name__}")
+        # files written before the walls were sized: their fixed walls become the minimums
+        data = {_LEGACY_FIXED.get(k, k): v for k, v in data.items()}
         known = {f.name for f in fields(cls)}
         bad = set(data) - known
         if bad:
@@ -122,12 +189,201 @@ class FixedParameters:
             raise DesignError(str(exc)) from None
 
 
+# ---------------------------------------------------------------------------
+# One set of formulas for one design and for a whole population (numpy broadcast)
+# ---------------------------------------------------------------------------
+
+def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2_MPa, setpoint_x0_mm,
+           fixed: FixedParameters, bulkhead: bool) -> dict[str, np.ndarray]:
+    """Every derived quantity of a design, from its decision variables (arrays broadcast).
+
+    The single source of the geometry, strength and mass formulas: :class:`Design`
+    reads its properties from it, and the optimiser evaluates a whole population
+    with it in one call. Units: mm, mm², mm³, MPa, g.
+
+    Walls are **sized**: each wall is the thinnest that carries its peak
+    pressure with ``fixed.wall_safety_factor`` on yield, but never thinner than
+    its manufacturable minimum (``fixed.min_*``). Peak pressures are those of a
+    stroke with ``max(n_polytropic, fixed.wall_sizing_n)`` (adiabatic by
+    default: a fast stroke compresses chamber 2 harder). Outer tube: Lamé,
+    internal pressure; inner tube: Lamé, external pressure, and elastic
+    buckling of a long tube under the net pressure (chamber 2 outside,
+    chamber 1 at its lowest inside); end caps and the
+    bulkhead: simply supported circular plates. When no wall can carry the
+    pressure the minimum is drawn and ``wall_capacity`` (value/limit) says so.
+
+    Parameters
+    ----------
+    piston_diameter_mm, outer_diameter_mm : float or array
+        Piston (= inner-tube bore) and outer diameter, mm.
+    V1_mm3, V2_mm3, V2_top_mm3 : float or array
+        Chamber gas volumes at x = 0 and the chamber-2 gas above the bulkhead, mm³.
+    p2_MPa : float or array
+        Chamber-2 charge, MPa.
+    setpoint_x0_mm : float or array
+        Displacement of zero force, mm.
+    fixed : FixedParameters
+        Everything the optimiser does not change (walls' minimums, safety factor, bladder, materials).
+    bulkhead : bool
+        The ``bulkhead`` layout (else ``inner_tube``).
+
+    Returns
+    -------
+    dict of str to ndarray
+        Areas (mm²), charges and peak pressures (MPa), sized walls and radii (mm),
+        lengths (mm), volumes (mm³), bladder clearances (mm), stresses (MPa) and
+        safety factors (dimensionless), masses (g, ``mass_*_g``), and the boolean
+        ``buildable``; arrays broadcast like the inputs.
+    """
+    f = fixed
+    pi = math.pi
+    dp = np.asarray(piston_diameter_mm, dtype=float)
+    Do = np.asarray(outer_diameter_mm, dtype=float)
+    V1 = np.asarray(V1_mm3, dtype=float)
+    V2 = np.asarray(V2_mm3, dtype=float)
+    Vt = np.asarray(V2_top_mm3, dtype=float) if bulkhead else np.zeros_like(V2)
+    p2 = np.asarray(p2_MPa, dtype=float)
+    x0 = np.asarray(setpoint_x0_mm, dtype=float)
+    T, n = f.travel_mm, f.n_polytropic
+    mat = get_material(f.housing_material)
+    g: dict[str, np.ndarray] = {}
+    A1 = pi / 4 * dp**2
+    A2 = pi / 4 * (dp**2 - f.rod_diameter_mm**2)
+    g["A1_mm2"], g["A2_mm2"] = A1, A2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v2x0 = np.where(V2 - A2 * x0 > 0, V2 - A2 * x0, np.nan)
+        p1 = (A2 / A1) * p2 * (V2 / v2x0) ** n * ((V1 + A1 * x0) / V1) ** n
+        g["p1_MPa"] = p1
+        nw = max(n, f.wall_sizing_n)
+        v2T = np.where(V2 - A2 * T > 0, V2 - A2 * T, np.nan)
+        P2_peak = p2 * (V2 / v2T) ** nw
+        P1_min = p1 * (V1 / (V1 + A1 * T)) ** nw
+        dP_bulkhead = np.maximum(np.maximum(P2_peak - P1_min, p1 - p2), 0.0)
+        g["peak_chamber_1_MPa"], g["peak_chamber_2_MPa"] = p1 * (1 + 0 * P2_peak), P2_peak
+        g["bulkhead_pressure_MPa"] = dP_bulkhead if bulkhead else np.zeros_like(P2_peak)
+        sa = mat.yield_MPa / f.wall_safety_factor  # allowable stress
+        kp = 3 * (3 + mat.poisson) / 8  # plate: sigma = kp p a^2 / t^2
+        ro, ri = Do / 2, dp / 2
+        # walls: required thickness (nan where no wall can carry the pressure), then the minimums
+        t_o_req = ro - ro * np.sqrt((sa - P2_peak) / (sa + P2_peak))
+        t_i_req = ri * (np.sqrt(sa / (sa - 2 * P2_peak)) - 1)
+        # the inner tube must also not buckle under the net external pressure: chamber 2 outside, chamber 1
+        # (at its lowest, full stroke) inside; long-tube elastic buckling p_cr = E/(4(1-nu^2)) (t/r_mean)^3
+        dP_net = np.maximum(P2_peak - P1_min, 0.0)
+        kb = mat.youngs_modulus_MPa / (4 * (1 - mat.poisson**2))
+        cb = np.cbrt(f.wall_safety_factor * dP_net / kb)
+        t_i_req = np.fmax(t_i_req, ri * cb / (1 - cb / 2))
+        g["wall_capacity_value_MPa"] = P2_peak
+        g["wall_capacity_limit_MPa"] = np.full_like(P2_peak, sa / 2)  # external pressure on the inner tube: p < sa/2
+        t_o = np.fmax(f.min_outer_wall_mm, np.where(P2_peak < sa, t_o_req, np.nan))
+        t_i = np.fmax(f.min_inner_tube_wall_mm, np.where(2 * P2_peak < sa, t_i_req, np.nan))
+        rb = ro - t_o
+        t_cap = np.fmax(f.min_top_cap_mm, np.sqrt(kp * P2_peak * rb**2 / sa))
+        t_base = np.fmax(f.min_base_mm, np.sqrt(kp * P2_peak * rb**2 / sa))
+        t_bh = np.fmax(f.min_bulkhead_mm, np.sqrt(kp * dP_bulkhead * ri**2 / sa)) if bulkhead else np.zeros_like(rb)
+    g["outer_wall_mm"], g["inner_tube_wall_mm"] = t_o, t_i
+    g["top_cap_mm"], g["base_mm"], g["bulkhead_mm"] = t_cap, t_base, t_bh
+    rio = ri + t_i
+    g["outer_bore_radius_mm"], g["inner_tube_outer_radius_mm"] = rb, rio
+    g["annulus_gap_mm"] = rb - rio
+    # axial stack
+    a_fo = pi / 4 * f.fill_tube_outer_mm**2 if bulkhead else 0.0
+    a_fb = pi / 4 * f.fill_tube_bore_mm**2 if bulkhead else 0.0
+    L_top = Vt / (A1 - a_fo) if bulkhead else np.zeros_like(V1)
+    g["top_space_length_mm"] = L_top
+    g["fill_tube_volume_mm3"] = a_fb * (t_bh + L_top) if bulkhead else np.zeros_like(V1)
+    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"]) / A1
+    g["chamber1_length_mm"] = L1
+    fluid_col = f.travel_mm + f.fluid_clearance_mm
+    g["fluid_column_mm"] = np.full_like(L1, fluid_col)
+    L_in = L1 + f.piston_height_mm + fluid_col + t_bh + L_top
+    g["inner_length_mm"] = L_in
+    g["housing_length_mm"] = t_cap + L_in + t_base
+    L = L_in - 2 * f.bladder_clamp_mm
+    g["bladder_free_length_mm"] = L
+    g["rod_length_mm"] = np.full_like(L1, fluid_col) + t_base + f.travel_mm + 10.0
+    # chamber 2 around the bladder
+    disp = A2 * T
+    g["displaced_volume_mm3"] = disp
+    fill = f.bladder_cast_fill
+    g["bladder_cast_fill_fraction"] = np.full_like(L, fill)
+    V2_ann = V2 - f.dead_volume_2_mm3 - Vt
+    g["V2_annulus_mm3"] = V2_ann
+    cast_gas = V2_ann - disp * fill
+    g["bladder_gas_volume_cast_mm3"] = cast_gas
+    Ls = np.where(L > 0, L, np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g["annulus_volume_mm3"] = pi * (rb**2 - rio**2) * L
+        a = rio + f.bladder_min_gap_mm
+        c = f.bladder_bulge_factor * disp * fill / (2 * pi * Ls)
+        r_bi_cap = 0.5 * (a + np.sqrt(a * a + 4 * c))
+        r_bo_cap = r_bi_cap + f.bladder_thickness_mm
+        gas_cap = pi * np.maximum(rb**2 - r_bo_cap**2, 0.0) * L
+        g["V2_capacity_mm3"] = gas_cap + disp * fill + f.dead_volume_2_mm3 + Vt
+        r_bo = np.sqrt(np.maximum(rb**2 - cast_gas / (pi * Ls), 1e-9))
+        r_bi = r_bo - f.bladder_thickness_mm
+        g["bladder_outer_radius_mm"], g["bladder_inner_radius_mm"] = r_bo, r_bi
+        g["bladder_mid_radius_mm"] = r_bo - f.bladder_thickness_mm / 2
+        dv_c, dv_e = -disp * fill, disp * (1.0 - fill)
+        s_c = dv_c / (2 * pi * np.maximum(r_bi, 1e-9) * Ls)
+        s_e = dv_e / (2 * pi * r_bo * Ls)
+        k, gap = f.bladder_bulge_factor, f.bladder_min_gap_mm
+        g["bladder_shift_compressed_mm"], g["bladder_shift_expanded_mm"] = s_c, s_e
+        g["bladder_clearance_compressed_mm"] = r_bi + k * s_c - rio - gap
+        g["bladder_clearance_expanded_mm"] = rb - (r_bo + k * s_e) - gap
+        fluid_cast = pi * np.maximum(r_bi**2 - rio**2, 0.0) * L
+        g["bladder_fluid_volume_cast_mm3"] = fluid_cast
+        g["fluid_volume_mm3"] = A2 * fluid_col + fluid_cast + dv_c
+        # stresses of the drawn walls (their safety factors are reported)
+        st = {
+            "outer_tube": P2_peak * (ro**2 + rb**2) / (ro**2 - rb**2),
+            "inner_tube": 2 * P2_peak * rio**2 / (rio**2 - ri**2),
+            "top_cap": kp * P2_peak * rb**2 / t_cap**2,
+            "base": kp * P2_peak * rb**2 / t_base**2,
+        }
+        if bulkhead:
+            st["bulkhead"] = kp * dP_bulkhead * ri**2 / t_bh**2
+        for w, v in st.items():
+            g[f"stress_{w}_MPa"] = v
+            g[f"safety_{w}"] = np.where(v > 0, mat.yield_MPa / v, np.inf)
+        p_cr = kb * (t_i / (ri + t_i / 2)) ** 3
+        g["inner_tube_buckling_MPa"] = p_cr
+        g["inner_tube_net_pressure_MPa"] = dP_net
+        g["safety_inner_tube"] = np.fmin(g["safety_inner_tube"], np.where(dP_net > 0, p_cr / dP_net, np.inf))
+    # mass
+    rho_h = mat.density_g_per_mm3
+    rho_r = get_material(f.rod_material).density_g_per_mm3
+    rho_s = get_material(f.support_ring_material).density_g_per_mm3
+    m = {
+        "outer_tube": pi * (ro**2 - rb**2) * L_in * rho_h,
+        "end_caps": pi * ro**2 * (t_cap + t_base) * rho_h,
+        "inner_tube": pi * (rio**2 - ri**2) * L_in * rho_h,
+        "bulkhead": (pi * ri**2 * t_bh + (a_fo - a_fb) * L_top) * rho_h,
+        "piston": pi * ri**2 * f.piston_height_mm * rho_h,
+        "rod": pi / 4 * f.rod_diameter_mm**2 * g["rod_length_mm"] * rho_r,
+        "bladder": 2 * pi * g["bladder_mid_radius_mm"] * f.bladder_thickness_mm * (L + 2 * f.bladder_clamp_mm)
+        * DENSITY_SILICONE_g_per_mm3,
+        "support_ring": pi * (rb**2 - rio**2) * f.bladder_clamp_mm * 0.5 * rho_s,
+        "fluid": np.maximum(g["fluid_volume_mm3"], 0.0) * DENSITY_HYDRAULIC_OIL_g_per_mm3,
+        "servo_and_valve": np.full_like(L1, f.servo_and_valve_mass_g),
+    }
+    for k_, v in m.items():
+        g[f"mass_{k_}_g"] = v
+    g["mass_g"] = sum(m.values())
+    # what cannot be drawn at all (Design raises DesignError for these)
+    g["buildable"] = ((dp > f.rod_diameter_mm) & (g["annulus_gap_mm"] > f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm)
+                      & (L1 > 0) & (V2 > disp) & (cast_gas > 0) & (L > 0) & (Vt >= 0) & (V2_ann > 0)
+                      & np.isfinite(p1))
+    return g
+
+
 @dataclass(frozen=True)
 class Design:
-    """One unit: the paper's four decision variables, its charge and fixed parameters.
+    """One unit: its layout, decision variables, charge and fixed parameters.
 
-    Derived geometry is exposed as properties (mm, mm², mm³); everything the
-    CAD, the bladder check and the actuator study need is here.
+    Derived geometry is exposed as properties (mm, mm², mm³), all computed by
+    :func:`derive`; everything the CAD, the bladder check and the actuator
+    study need is here.
 
     Raises
     ------
@@ -141,17 +397,26 @@ class Design:
     piston_diameter_mm: float  #: working piston = inner-tube bore
     outer_diameter_mm: float  #: outer tube outer diameter (the envelope)
     V1_mm3: float  #: chamber-1 gas volume at x = 0
-    V2_mm3: float  #: chamber-2 gas volume at x = 0
+    V2_mm3: float  #: chamber-2 gas volume at x = 0 (annulus + V2_top_mm3 + dead volume)
     p2_MPa: float = 4.0  #: charge of chamber 2 (p1 follows from the setpoint)
     setpoint_x0_mm: float = 0.0  #: displacement of zero force (paper eq. 6)
     fixed: FixedParameters = field(default_factory=FixedParameters)
+    layout: str = "inner_tube"  #: a key of :data:`LAYOUTS`
+    V2_top_mm3: float = 0.0  #: chamber-2 gas above the bulkhead (``bulkhead`` layout only)
 
     def __post_init__(self) -> None:
         f = self.fixed
+        lay = get_layout(self.layout)
         for name in DECISION_VARIABLES:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise DesignError(f"{name} must be a positive number, got {show(v)}")
+        v = self.V2_top_mm3
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+            raise DesignError(f"V2_top_mm3 must be a number >= 0, got {show(v)}")
+        if not lay.has_bulkhead and v != 0:
+            raise DesignError(f"V2_top_mm3 = {v:g}: only the 'bulkhead' layout has chamber-2 gas above chamber 1 "
+                              f"(this design's layout is {self.layout!r})")
         if not isinstance(self.p2_MPa, (int, float)) or not math.isfinite(self.p2_MPa) or self.p2_MPa <= 0:
             raise DesignError(f"p2_MPa must be > 0, got {show(self.p2_MPa)}")
         if not isinstance(self.setpoint_x0_mm, (int, float)) or not math.isfinite(self.setpoint_x0_mm):
@@ -162,87 +427,138 @@ class Design:
                 f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})"
             )
         need = f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm
-        if self.annulus_gap_mm <= need:
+        if not self.annulus_gap_mm > need:
             raise DesignError(
                 f"no room for the bladder: the annulus between inner tube (outer radius "
                 f"{self.inner_tube_outer_radius_mm:.2f} mm) and outer tube bore (radius "
                 f"{self.outer_bore_radius_mm:.2f} mm) is {self.annulus_gap_mm:.2f} mm wide, needs more than "
                 f"{need:.2f} mm; reduce piston_diameter_mm or increase outer_diameter_mm"
             )
-        if self.V1_mm3 <= f.dead_volume_1_mm3:
-            raise DesignError(f"V1_mm3 ({self.V1_mm3:g}) must exceed fixed.dead_volume_1_mm3 ({f.dead_volume_1_mm3:g})")
+        if not self.chamber1_length_mm > 0:
+            raise DesignError(f"V1_mm3 ({self.V1_mm3:g}) must exceed fixed.dead_volume_1_mm3 ({f.dead_volume_1_mm3:g})"
+                              + (" plus the fill tube's bore" if lay.has_bulkhead else ""))
         if self.V2_mm3 <= self.displaced_volume_mm3:
             raise DesignError(
                 f"chamber 2 bottoms out inside the stroke: V2_mm3 ({self.V2_mm3:.0f}) <= A2 * travel "
                 f"({self.displaced_volume_mm3:.0f} mm³)"
             )
+        if not self._g["V2_annulus_mm3"] > 0:
+            raise DesignError(f"V2_top_mm3 ({self.V2_top_mm3:.0f}) leaves no chamber-2 gas around the bladder "
+                              f"(V2_mm3 = {self.V2_mm3:.0f}); reduce V2_top_mm3")
         if self.bladder_gas_volume_cast_mm3 <= 0:
             raise DesignError(
                 f"V2_mm3 ({self.V2_mm3:.0f}) is smaller than the gas the bladder gives up before reaching its "
-                f"cast shape plus the dead volume; increase V2_mm3"
+                f"cast shape plus the dead volume{' and V2_top_mm3' if lay.has_bulkhead else ''}; increase V2_mm3"
             )
+        if not self.bladder_free_length_mm > 0:
+            raise DesignError(f"the bladder clamps take the whole inner length ({self.inner_length_mm:.1f} mm)")
+
+    @cached_property
+    def _g(self) -> dict[str, float]:
+        g = derive(self.piston_diameter_mm, self.outer_diameter_mm, self.V1_mm3, self.V2_mm3, self.V2_top_mm3,
+                   self.p2_MPa, self.setpoint_x0_mm, self.fixed, self.variant.has_bulkhead)
+        return {k: (bool(v) if k == "buildable" else float(v)) for k, v in g.items()}
+
+    @property
+    def variant(self) -> LayoutVariant:
+        return LAYOUTS[self.layout]
 
     # ------------------------------------------------------------------ areas
     @property
     def A1_mm2(self) -> float:
         """Chamber-1 effective area: full piston face (inner tube bore), mm²."""
-        return math.pi / 4 * self.piston_diameter_mm**2
+        return self._g["A1_mm2"]
 
     @property
     def A2_mm2(self) -> float:
         """Chamber-2 effective area: piston minus rod (the rod crosses the fluid), mm²."""
-        return math.pi / 4 * (self.piston_diameter_mm**2 - self.fixed.rod_diameter_mm**2)
+        return self._g["A2_mm2"]
+
+    # ------------------------------------------------------------------ walls
+    @property
+    def outer_wall_mm(self) -> float:
+        """Outer tube wall, sized (>= fixed.min_outer_wall_mm), mm."""
+        return self._g["outer_wall_mm"]
+
+    @property
+    def inner_tube_wall_mm(self) -> float:
+        """Inner tube wall, sized (>= fixed.min_inner_tube_wall_mm), mm."""
+        return self._g["inner_tube_wall_mm"]
+
+    @property
+    def top_cap_mm(self) -> float:
+        """Top end cap, sized (>= fixed.min_top_cap_mm), mm."""
+        return self._g["top_cap_mm"]
+
+    @property
+    def base_mm(self) -> float:
+        """Base, sized (>= fixed.min_base_mm), mm."""
+        return self._g["base_mm"]
+
+    @property
+    def bulkhead_mm(self) -> float:
+        """Bulkhead web, sized (>= fixed.min_bulkhead_mm); 0 without a bulkhead, mm."""
+        return self._g["bulkhead_mm"]
 
     # ------------------------------------------------------------------ radii
     @property
     def outer_bore_radius_mm(self) -> float:
-        return self.outer_diameter_mm / 2 - self.fixed.outer_wall_mm
+        return self._g["outer_bore_radius_mm"]
 
     @property
     def inner_tube_outer_radius_mm(self) -> float:
-        return self.piston_diameter_mm / 2 + self.fixed.inner_tube_wall_mm
+        return self._g["inner_tube_outer_radius_mm"]
 
     @property
     def annulus_gap_mm(self) -> float:
-        return self.outer_bore_radius_mm - self.inner_tube_outer_radius_mm
+        return self._g["annulus_gap_mm"]
 
     # ---------------------------------------------------------------- lengths
     @property
     def chamber1_length_mm(self) -> float:
-        """Gas column above the piston at x = 0, mm."""
-        return (self.V1_mm3 - self.fixed.dead_volume_1_mm3) / self.A1_mm2
+        """Gas column above the piston at x = 0 (up to the top cap or the bulkhead), mm."""
+        return self._g["chamber1_length_mm"]
+
+    @property
+    def top_space_length_mm(self) -> float:
+        """Length of the chamber-2 space above the bulkhead (0 without one), mm."""
+        return self._g["top_space_length_mm"]
+
+    @property
+    def fill_tube_volume_mm3(self) -> float:
+        """Chamber-1 gas in the fill tube's bore (bulkhead layout; part of V1), mm³."""
+        return self._g["fill_tube_volume_mm3"]
 
     @property
     def fluid_column_mm(self) -> float:
         """Fluid under the piston at x = 0: travel + clearance, mm."""
-        return self.fixed.travel_mm + self.fixed.fluid_clearance_mm
+        return self._g["fluid_column_mm"]
 
     @property
     def inner_length_mm(self) -> float:
         """Inner-tube bore length = housing interior (base top to top-cap underside), mm."""
-        return self.chamber1_length_mm + self.fixed.piston_height_mm + self.fluid_column_mm
+        return self._g["inner_length_mm"]
 
     @property
     def housing_length_mm(self) -> float:
         """Overall length of the housing (the envelope, eyes excluded), mm."""
-        return self.fixed.top_cap_mm + self.inner_length_mm + self.fixed.base_mm
+        return self._g["housing_length_mm"]
 
     @property
     def bladder_free_length_mm(self) -> float:
         """Bladder length between the two clamps, mm."""
-        return self.inner_length_mm - 2 * self.fixed.bladder_clamp_mm
+        return self._g["bladder_free_length_mm"]
 
     @property
     def rod_length_mm(self) -> float:
         """Rod from the piston's underside to its end outside the base at x = 0, mm."""
-        f = self.fixed
-        return self.fluid_column_mm + f.base_mm + f.travel_mm + 10.0
+        return self._g["rod_length_mm"]
 
     # ---------------------------------------------------------------- volumes
     @property
     def displaced_volume_mm3(self) -> float:
         """Fluid pushed into the bladder over the full stroke, A2 * travel, mm³."""
-        return self.A2_mm2 * self.fixed.travel_mm
+        return self._g["displaced_volume_mm3"]
 
     @property
     def bladder_volume_change_mm3(self) -> dict[str, float]:
@@ -254,64 +570,54 @@ class Design:
         }
 
     @property
+    def V2_annulus_mm3(self) -> float:
+        """Chamber-2 gas around the bladder at x = 0 (V2 minus V2_top minus the dead volume), mm³."""
+        return self._g["V2_annulus_mm3"]
+
+    @property
     def bladder_gas_volume_cast_mm3(self) -> float:
-        """Chamber-2 gas around the bladder in its cast shape (dead volume excluded), mm³."""
-        f = self.fixed
-        return self.V2_mm3 - f.dead_volume_2_mm3 - self.displaced_volume_mm3 * f.bladder_cast_fill
+        """Chamber-2 gas around the bladder in its cast shape (dead volume and V2_top excluded), mm³."""
+        return self._g["bladder_gas_volume_cast_mm3"]
 
     @property
     def annulus_volume_mm3(self) -> float:
         """Annulus between the tubes over the bladder's free length, mm³."""
-        return math.pi * (self.outer_bore_radius_mm**2 - self.inner_tube_outer_radius_mm**2) * self.bladder_free_length_mm
+        return self._g["annulus_volume_mm3"]
 
     @property
     def V2_capacity_mm3(self) -> float:
-        """Largest V2 the annulus can hold: the bladder cast so close to the inner tube that at
-        x = 0 (peak inward shift) it keeps just ``bladder_min_gap_mm``, mm³."""
-        f = self.fixed
-        L = self.bladder_free_length_mm
-        a = self.inner_tube_outer_radius_mm + f.bladder_min_gap_mm
-        c = -f.bladder_bulge_factor * self.bladder_volume_change_mm3["compressed"] / (2 * math.pi * L)
-        r_bi = 0.5 * (a + math.sqrt(a * a + 4 * c))  # r_bi - c / r_bi = a
-        r_bo = r_bi + f.bladder_thickness_mm
-        gas = math.pi * max(self.outer_bore_radius_mm**2 - r_bo**2, 0.0) * L
-        return gas + self.displaced_volume_mm3 * f.bladder_cast_fill + f.dead_volume_2_mm3
+        """Largest V2 the annulus (+ V2_top) can hold: the bladder cast so close to the inner tube that
+        at x = 0 (peak inward shift) it keeps just ``bladder_min_gap_mm``, mm³."""
+        return self._g["V2_capacity_mm3"]
 
     @property
     def bladder_outer_radius_mm(self) -> float:
         """Outer radius of the cast bladder that leaves exactly V2 of gas, mm (may be unphysical
         when V2 exceeds the capacity; see the ``bladder_room`` constraint)."""
-        L = self.bladder_free_length_mm
-        r2 = self.outer_bore_radius_mm**2 - self.bladder_gas_volume_cast_mm3 / (math.pi * L) if L > 0 else 0.0
-        return math.sqrt(max(r2, 1e-9))
+        return self._g["bladder_outer_radius_mm"]
 
     @property
     def bladder_inner_radius_mm(self) -> float:
-        return self.bladder_outer_radius_mm - self.fixed.bladder_thickness_mm
+        return self._g["bladder_inner_radius_mm"]
 
     def bladder_equivalent_outer_radius_mm(self, x_mm: float) -> float:
-        """Outer radius of the straight sleeve that leaves exactly the chamber-2 gas of
-        displacement ``x_mm`` (``V2 - A2 x`` minus dead volume) in the annulus, mm.
+        """Outer radius of the straight sleeve that leaves exactly the annulus's chamber-2 gas of
+        displacement ``x_mm`` (``V2 - V2_top - A2 x`` minus dead volume) in the annulus, mm.
 
         The real bladder bulges between its clamps; this equal-volume cylinder
         is what the CAD draws as the chamber-2 gas domain at x = 0.
         """
         L = self.bladder_free_length_mm
-        gas = self.V2_mm3 - self.fixed.dead_volume_2_mm3 - self.A2_mm2 * x_mm
+        gas = self.V2_annulus_mm3 - self.A2_mm2 * x_mm
         return math.sqrt(max(self.outer_bore_radius_mm**2 - gas / (math.pi * L), 1e-9))
 
     @property
     def bladder_mid_radius_mm(self) -> float:
-        return self.bladder_outer_radius_mm - self.fixed.bladder_thickness_mm / 2
+        return self._g["bladder_mid_radius_mm"]
 
     def bladder_shift_mm(self) -> dict[str, float]:
         """Mean radial shift of the bladder from its cast shape at both stroke ends (+ outward), mm."""
-        dv = self.bladder_volume_change_mm3
-        L = self.bladder_free_length_mm
-        return {
-            "compressed": dv["compressed"] / (2 * math.pi * max(self.bladder_inner_radius_mm, 1e-9) * L),
-            "expanded": dv["expanded"] / (2 * math.pi * self.bladder_outer_radius_mm * L),
-        }
+        return {"compressed": self._g["bladder_shift_compressed_mm"], "expanded": self._g["bladder_shift_expanded_mm"]}
 
     def bladder_clearance_mm(self) -> dict[str, float]:
         """Radial room left beyond ``bladder_min_gap_mm`` at both stroke ends, mm (negative = collision).
@@ -320,24 +626,18 @@ class Design:
         shift: clamped at both ends it deflects about parabolically (peak = 1.5
         × mean), which the FE check (``vvea bladder``) confirms.
         """
-        s = self.bladder_shift_mm()
-        g = self.fixed.bladder_min_gap_mm
-        k = self.fixed.bladder_bulge_factor
-        return {
-            "compressed": self.bladder_inner_radius_mm + k * s["compressed"] - self.inner_tube_outer_radius_mm - g,
-            "expanded": self.outer_bore_radius_mm - (self.bladder_outer_radius_mm + k * s["expanded"]) - g,
-        }
+        return {"compressed": self._g["bladder_clearance_compressed_mm"],
+                "expanded": self._g["bladder_clearance_expanded_mm"]}
 
     @property
     def bladder_fluid_volume_cast_mm3(self) -> float:
         """Fluid inside the cast bladder (between inner tube and bladder), mm³."""
-        return math.pi * max(self.bladder_inner_radius_mm**2 - self.inner_tube_outer_radius_mm**2, 0.0) * self.bladder_free_length_mm
+        return self._g["bladder_fluid_volume_cast_mm3"]
 
     @property
     def fluid_volume_mm3(self) -> float:
         """Hydraulic fluid to fill at x = 0 (inner-tube column + bladder at x = 0), mm³."""
-        return (self.A2_mm2 * self.fluid_column_mm + self.bladder_fluid_volume_cast_mm3
-                + self.bladder_volume_change_mm3["compressed"])
+        return self._g["fluid_volume_mm3"]
 
     # --------------------------------------------------------------- springs
     @property
@@ -353,81 +653,65 @@ class Design:
                          self.fixed.travel_mm, self.fixed.n_polytropic)
 
     def with_charge(self, p2_MPa: float, setpoint_x0_mm: float | None = None) -> "Design":
-        """The same hardware charged differently."""
+        """The same hardware charged differently (walls follow the new peak pressure)."""
         x0 = self.setpoint_x0_mm if setpoint_x0_mm is None else setpoint_x0_mm
         return replace(self, p2_MPa=p2_MPa, setpoint_x0_mm=x0)
 
     # --------------------------------------------------------------- strength
     def peak_pressures_MPa(self) -> dict[str, float]:
-        """Highest gas pressure of each chamber over the stroke, MPa."""
-        P1, P2 = self.gas_spring.pressures_MPa(np.array([0.0, self.fixed.travel_mm]))
-        return {"chamber_1": float(P1.max()), "chamber_2": float(P2.max())}
+        """Highest gas pressure of each chamber over a stroke at ``max(n, fixed.wall_sizing_n)``, MPa."""
+        return {"chamber_1": self._g["peak_chamber_1_MPa"], "chamber_2": self._g["peak_chamber_2_MPa"]}
+
+    def walls_mm(self) -> dict[str, float]:
+        """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout)."""
+        out = {"outer_tube": self.outer_wall_mm, "inner_tube": self.inner_tube_wall_mm,
+               "top_cap": self.top_cap_mm, "base": self.base_mm}
+        if self.variant.has_bulkhead:
+            out["bulkhead"] = self.bulkhead_mm
+        return out
 
     def wall_stresses_MPa(self) -> dict[str, float]:
-        """Peak stresses of the pressure-carrying walls, MPa.
+        """Peak stresses of the pressure-carrying walls as drawn, MPa.
 
         * ``outer_tube``: thick-walled tube (Lamé), internal chamber-2 pressure.
-        * ``inner_tube``: Lamé, external chamber-2 pressure over chamber 1 at
-          its lowest (conservatively the full peak chamber-2 pressure),
-          ``2 p ro^2 / (ro^2 - ri^2)``.
-        * ``top_cap`` and ``base``: circular plates, simply supported, peak
+        * ``inner_tube``: Lamé, external peak chamber-2 pressure (conservatively
+          nothing inside), ``2 p ro^2 / (ro^2 - ri^2)``; its safety factor is
+          also the buckling one, ``p_cr / (P2 - P1)`` with the long-tube
+          ``p_cr = E / (4 (1 - nu^2)) (t / r_mean)^3``, if smaller.
+        * ``top_cap``, ``base``: circular plates, simply supported, peak
           chamber-2 pressure, ``3 (3 + nu) p a^2 / (8 t^2)``.
+        * ``bulkhead`` (its layout only): the same plate over the piston bore,
+          the largest chamber-2 minus chamber-1 pressure.
         """
-        p2 = self.peak_pressures_MPa()["chamber_2"]
-        f = self.fixed
-        nu = get_material(f.housing_material).poisson
-        rb, ro = self.outer_bore_radius_mm, self.outer_diameter_mm / 2
-        ri_in, ri_out = self.piston_diameter_mm / 2, self.inner_tube_outer_radius_mm
-        return {
-            "outer_tube": p2 * (ro**2 + rb**2) / (ro**2 - rb**2),
-            "inner_tube": 2 * p2 * ri_out**2 / (ri_out**2 - ri_in**2),
-            "top_cap": 3 * (3 + nu) * p2 * rb**2 / (8 * f.top_cap_mm**2),
-            "base": 3 * (3 + nu) * p2 * rb**2 / (8 * f.base_mm**2),
-        }
+        return {w: self._g[f"stress_{w}_MPa"] for w in self.walls_mm()}
 
     def wall_safety_factors(self) -> dict[str, float]:
         """Yield strength over peak stress, per wall."""
-        sy = get_material(self.fixed.housing_material).yield_MPa
-        return {k: (sy / s if s > 0 else math.inf) for k, s in self.wall_stresses_MPa().items()}
+        return {w: self._g[f"safety_{w}"] for w in self.walls_mm()}
 
-    def minimum_walls_mm(self, safety_factor: float = 2.0) -> dict[str, float]:
-        """Thinnest walls that carry the peak pressure with ``safety_factor`` (same formulas inverted), mm."""
-        p2 = self.peak_pressures_MPa()["chamber_2"]
-        f = self.fixed
-        mat = get_material(f.housing_material)
-        allow = mat.yield_MPa / safety_factor
-        if allow <= p2:
-            return {k: math.inf for k in ("outer_tube", "inner_tube", "top_cap", "base")}
-        rb = self.outer_bore_radius_mm
-        ro_min = rb * math.sqrt((allow + p2) / (allow - p2))  # Lamé internal
-        ri = self.piston_diameter_mm / 2
-        ri_out_min = ri * math.sqrt(allow / (allow - 2 * p2)) if allow > 2 * p2 else math.inf  # Lamé external
-        plate_t = math.sqrt(3 * (3 + mat.poisson) * p2 * rb**2 / (8 * allow))
-        return {"outer_tube": ro_min - rb, "inner_tube": ri_out_min - ri, "top_cap": plate_t, "base": plate_t}
+    def minimum_walls_mm(self, safety_factor: float | None = None) -> dict[str, float]:
+        """Thinnest walls that carry the peak pressure with ``safety_factor`` (default: the design's), mm."""
+        f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor,
+                                                              min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6,
+                                                              min_top_cap_mm=1e-6, min_base_mm=1e-6,
+                                                              min_bulkhead_mm=1e-6)
+        if safety_factor is None:
+            f = replace(f, min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6, min_top_cap_mm=1e-6,
+                        min_base_mm=1e-6, min_bulkhead_mm=1e-6)
+        g = derive(self.piston_diameter_mm, self.outer_diameter_mm, self.V1_mm3, self.V2_mm3, self.V2_top_mm3,
+                   self.p2_MPa, self.setpoint_x0_mm, f, self.variant.has_bulkhead)
+        keys = {"outer_tube": "outer_wall_mm", "inner_tube": "inner_tube_wall_mm", "top_cap": "top_cap_mm",
+                "base": "base_mm", "bulkhead": "bulkhead_mm"}
+        return {w: (float(g[keys[w]]) if np.isfinite(g[keys[w]]) else math.inf) for w in self.walls_mm()}
 
     # ------------------------------------------------------------------- mass
     def mass_breakdown_g(self) -> dict[str, float]:
         """Mass estimate per component from closed-form volumes, g."""
-        f = self.fixed
-        rho_h = get_material(f.housing_material).density_g_per_mm3
-        rho_r = get_material(f.rod_material).density_g_per_mm3
-        rho_s = get_material(f.support_ring_material).density_g_per_mm3
-        pi = math.pi
-        ro, rb = self.outer_diameter_mm / 2, self.outer_bore_radius_mm
-        ri_in, ri_out = self.piston_diameter_mm / 2, self.inner_tube_outer_radius_mm
-        L = self.inner_length_mm
-        bladder_len = self.bladder_free_length_mm + 2 * f.bladder_clamp_mm
-        return {
-            "outer_tube": pi * (ro**2 - rb**2) * L * rho_h,
-            "end_caps": pi * ro**2 * (f.top_cap_mm + f.base_mm) * rho_h,
-            "inner_tube": pi * (ri_out**2 - ri_in**2) * L * rho_h,
-            "piston": pi * ri_in**2 * f.piston_height_mm * rho_h,
-            "rod": pi / 4 * f.rod_diameter_mm**2 * self.rod_length_mm * rho_r,
-            "bladder": 2 * pi * self.bladder_mid_radius_mm * f.bladder_thickness_mm * bladder_len * DENSITY_SILICONE_g_per_mm3,
-            "support_ring": pi * (rb**2 - ri_out**2) * f.bladder_clamp_mm * 0.5 * rho_s,
-            "fluid": max(self.fluid_volume_mm3, 0.0) * DENSITY_HYDRAULIC_OIL_g_per_mm3,
-            "servo_and_valve": f.servo_and_valve_mass_g,
-        }
+        keys = ["outer_tube", "end_caps", "inner_tube", "piston", "rod", "bladder", "support_ring", "fluid",
+                "servo_and_valve"]
+        if self.variant.has_bulkhead:
+            keys.insert(3, "bulkhead")
+        return {k: self._g[f"mass_{k}_g"] for k in keys}
 
     @property
     def mass_g(self) -> float:
@@ -435,13 +719,15 @@ class Design:
 
     # ---------------------------------------------------------------- export
     def decision_vector(self) -> np.ndarray:
-        return np.array([getattr(self, n) for n in DECISION_VARIABLES], dtype=float)
+        return np.array([getattr(self, n) for n in self.variant.decision_variables], dtype=float)
 
     def geometry_summary(self) -> dict[str, float]:
         """Derived geometry (mm, mm², mm³) for the design JSON and the CAD."""
-        return {
+        out = {
+            "layout": self.layout,
             "outer_bore_radius_mm": self.outer_bore_radius_mm,
             "inner_tube_outer_radius_mm": self.inner_tube_outer_radius_mm,
+            "walls_mm": self.walls_mm(),
             "chamber1_length_mm": self.chamber1_length_mm,
             "fluid_column_mm": self.fluid_column_mm,
             "inner_length_mm": self.inner_length_mm,
@@ -452,6 +738,11 @@ class Design:
             "bladder_free_length_mm": self.bladder_free_length_mm,
             "bladder_thickness_mm": self.fixed.bladder_thickness_mm,
             "displaced_volume_mm3": self.displaced_volume_mm3,
+            "V2_annulus_mm3": self.V2_annulus_mm3,
             "V2_capacity_mm3": self.V2_capacity_mm3,
             "fluid_volume_mm3": self.fluid_volume_mm3,
         }
+        if self.variant.has_bulkhead:
+            out.update(V2_top_mm3=self.V2_top_mm3, top_space_length_mm=self.top_space_length_mm,
+                       fill_tube_volume_mm3=self.fill_tube_volume_mm3)
+        return out

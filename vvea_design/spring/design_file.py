@@ -7,11 +7,15 @@ Layout (``format_version`` 1)::
       "format_version": 1,
       "parameters": {piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3,
                      A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
-                     setpoint_x0_mm},
+                     setpoint_x0_mm, layout, V2_top_mm3},
+      (layout: a key of spring.design.LAYOUTS; V2_top_mm3: chamber-2 gas above
+       the bulkhead, 0 in the inner_tube layout)
       "fixed":       {every FixedParameters field},
       "geometry":    {derived lengths/radii/volumes, for reading},
-      "performance": {linearity_error, mean_stiffness_N_per_mm, max_force_N,
-                      mass_g, peak_pressure_MPa, ...},
+      "performance": {linearity_error, linearity_error_isothermal (n = 1),
+                      linearity_error_adiabatic (n = 1.4), objective,
+                      mean_stiffness_N_per_mm, max_force_N, mass_g,
+                      peak_pressure_MPa, walls_mm, ...},
       "constraints": {name: margin (positive = satisfied)},
       "constraint_details": {name: {value, limit, unit, kind}},
       "spec":        {the requirements used},
@@ -41,7 +45,7 @@ from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any
 
-from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
+from .design import DECISION_VARIABLES, LAYOUTS, Design, DesignError, FixedParameters
 from .gas_spring import GasSpring
 from .requirements import Evaluation, Requirements, SpecError, evaluate_design
 
@@ -54,7 +58,7 @@ FORMAT_VERSION = 1
 PARAMETER_KEYS = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "A1_mm2", "A2_mm2",
                   "p1_MPa", "p2_MPa", "travel_mm", "n_polytropic")
 #: Parameters that shape the geometry beyond eq. 5: required by :func:`load_design_dict`.
-DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm",)
+DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm3")
 #: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
 TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
                   "constraint_details", "spec", "optimiser")
@@ -96,12 +100,15 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
             "travel_mm": gs.travel_mm,
             "n_polytropic": gs.n_polytropic,
             "setpoint_x0_mm": d.setpoint_x0_mm,
+            "layout": d.layout,
+            "V2_top_mm3": d.V2_top_mm3,
         },
         "fixed": d.fixed.to_dict(),
         "geometry": d.geometry_summary(),
         "performance": {
             **evaluation.performance(),
             "wall_safety_factors": d.wall_safety_factors(),
+            "walls_mm": d.walls_mm(),
             "minimum_walls_mm": d.minimum_walls_mm(req.min_wall_safety_factor),
             "mass_breakdown_g": d.mass_breakdown_g(),
         },
@@ -192,6 +199,14 @@ def _check_geometry_complete(data: dict, src: str) -> None:
                               "0 for the paper's unit); every parameter that shapes the design must be in the file")
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
         raise DesignFileError(f"{src}: parameters.setpoint_x0_mm must be a finite number, got {v!r}")
+    lay = p.get("layout")
+    if lay not in LAYOUTS:
+        raise DesignFileError(f"{src}: parameters.layout is {'missing' if lay is None else repr(lay)}; "
+                              f"one of {', '.join(map(repr, LAYOUTS))} (docs/layout.md)")
+    vt = p.get("V2_top_mm3")
+    if isinstance(vt, bool) or not isinstance(vt, (int, float)) or not math.isfinite(vt):
+        raise DesignFileError(f"{src}: parameters.V2_top_mm3 must be a finite number (0 in the inner_tube layout), "
+                              f"got {vt!r}")
     fixed = data.get("fixed")
     hint = ("; a design file must hold every fixed parameter (write it with `vvea optimise`, or copy the "
             "missing ones from the defaults: " + ", ".join(f"{k} = {v!r}" for k, v in FixedParameters().to_dict().items())
@@ -222,6 +237,8 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             p2_MPa=p["p2_MPa"],
             setpoint_x0_mm=p["setpoint_x0_mm"],
             fixed=fixed,
+            layout=p["layout"],
+            V2_top_mm3=p["V2_top_mm3"],
         )
     except (DesignError, TypeError) as exc:
         raise DesignFileError(f"{src}: {exc}") from None

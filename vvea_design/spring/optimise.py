@@ -1,11 +1,17 @@
-"""The linearity optimiser: global search + gradient polish over the four decision variables.
+"""The linearity optimiser: a vectorised global search per layout variant + a gradient polish.
 
-Objective: the linearity error (:func:`vvea_design.spring.gas_spring.linearity_error`)
-of the design at the highest allowed charge. Constraints: every margin of
-:func:`vvea_design.spring.requirements.evaluate_design` >= 0. Search: scipy's
-``differential_evolution`` with the constraints handled by its feasibility
-rules (Lampinen), seeded; then an SLSQP polish from the best point. When no
-feasible design exists the least-violating design is returned with the
+Objective: the exact linearity error (:func:`vvea_design.spring.gas_spring.linearity_exact`)
+at the highest allowed charge, worst over the requirements' polytropic
+exponents (``objective``: nominal, isothermal, adiabatic or worst of both).
+Constraints: every margin of :func:`vvea_design.spring.requirements.evaluate_design`
+>= 0. Search, for each layout in ``req.layouts``: scipy's
+``differential_evolution`` over the layout's decision variables, the whole
+population evaluated in one numpy call (:func:`~vvea_design.spring.requirements.evaluate_population`),
+constraints by its feasibility rules (Lampinen), seeded; then an SLSQP polish.
+The best layout wins. With ``max_bladder_strain`` the global search uses a
+cheap surrogate of the FE strain bound (:mod:`vvea_design.spring.strain_surrogate`)
+and the FE itself corrects it in the polish and checks the final design.
+When no feasible design exists the least-violating design is returned with the
 violated constraints named (:class:`Infeasible`).
 
 Also here: Pareto fronts (linearity against stiffness, outer diameter or
@@ -16,19 +22,27 @@ and 2-D linearity maps over any two decision variables.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
-from typing import Literal
+from dataclasses import dataclass, field, replace
+from typing import Callable, Literal
 
 import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
-from .design import DECISION_VARIABLES, Design, DesignError
+from .design import DECISION_VARIABLES, LAYOUTS, Design, DesignError, get_layout
 from ..parallel import parallel_map
 from ..progress import progress_bar
-from .requirements import Evaluation, Requirements, constraint_names, design_from_vector, evaluate_design
+from .requirements import (
+    Evaluation,
+    Requirements,
+    constraint_names,
+    design_from_vector,
+    evaluate_design,
+    evaluate_population,
+)
 
 __all__ = [
     "OptimisationResult",
+    "LayoutSearch",
     "Infeasible",
     "NoBuildableDesign",
     "optimise",
@@ -36,6 +50,7 @@ __all__ = [
     "linearity_map",
     "PARETO_AXES",
     "gas_volume_bound",
+    "gas_capacity",
     "save_pareto",
 ]
 
@@ -52,32 +67,56 @@ class NoBuildableDesign(ValueError):
     """No point inside the search bounds can even be drawn; the message names why and the bounds."""
 
 
-def _unbuildable_message(req: Requirements, x, bounds) -> str:
-    try:
-        design_from_vector(x, req)
-        reason = "it violates every constraint by construction"
-    except DesignError as exc:
-        reason = str(exc)
-    point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(DECISION_VARIABLES, x))
-    box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(DECISION_VARIABLES, bounds))
-    return (f"no buildable design inside the search bounds ({box}; outer_diameter_mm is capped at "
-            f"max_outer_diameter_mm = {req.max_outer_diameter_mm:.4g}): the best point found ({point}) cannot be "
-            f"drawn: {reason}; widen [bounds] or the envelope in the requirements file")
+def _unbuildable_message(req: Requirements, x, layout: str, layouts, reason: Exception) -> str:
+    names = get_layout(layout).decision_variables
+    point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(names, x))
+    box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(names, req.search_bounds(layout)))
+    tried = f" (layouts tried: {', '.join(layouts)})" if len(layouts) > 1 else ""
+    return (f"the search found no buildable design inside the search bounds{tried}: {box}; outer_diameter_mm is capped at "
+            f"max_outer_diameter_mm = {req.max_outer_diameter_mm:.4g}. The best point found ({layout} layout: "
+            f"{point}) cannot be drawn: {reason}; widen [bounds] or the envelope in the requirements file")
+
+
+@dataclass(frozen=True)
+class LayoutSearch:
+    """The global search of one layout variant."""
+
+    layout: str
+    objective: float  #: best objective found (fraction; 1.0 = nothing buildable)
+    feasible: bool
+    evaluations: int
+    generations: int
+    seconds: float
+    message: str
+    decision_vector: tuple[float, ...]
+    worst_margin: float  #: smallest constraint margin of its best design
+
+    def to_dict(self) -> dict:
+        return {**self.__dict__, "decision_vector": list(self.decision_vector)}
 
 
 @dataclass(frozen=True)
 class OptimisationResult:
-    evaluation: Evaluation  #: the best design found, evaluated
+    """What :func:`optimise` found: the evaluated best design and how it was found."""
+
+    evaluation: Evaluation  #: the best design found, evaluated (with the FE strain when constrained)
     seed: int
-    evaluations: int  #: model evaluations (objective + constraints share one)
+    evaluations: int  #: model evaluations over all layouts and the polish
     seconds: float
     generations: int
     de_message: str
     polished: bool  #: the SLSQP polish improved the global result
+    searches: tuple[LayoutSearch, ...] = ()  #: one per layout variant tried
+    bladder_strain_fe: float | None = None  #: FE strain bound of the final design (when constrained)
+    bladder_strain_surrogate: float | None = None  #: the surrogate's value at the final design
 
     @property
     def design(self) -> Design:
         return self.evaluation.design
+
+    @property
+    def layout(self) -> str:
+        return self.design.layout
 
     @property
     def evaluations_per_second(self) -> float:
@@ -85,7 +124,8 @@ class OptimisationResult:
 
     def infeasibility_message(self) -> str:
         ev = self.evaluation
-        lines = ["no design meets the requirements; the least-violating design found misses:"]
+        lines = [f"no design meets the requirements; the least-violating design found "
+                 f"(layout {ev.design.layout!r}) misses:"]
         for name, m in sorted(ev.margins.items(), key=lambda kv: kv[1]):
             if m < -1e-9:
                 d = ev.details[name]
@@ -97,6 +137,7 @@ class OptimisationResult:
         return "\n".join(lines)
 
     def summary(self) -> dict:
+        """The ``optimiser`` block of the design JSON."""
         return {
             "seed": self.seed,
             "evaluations": self.evaluations,
@@ -105,67 +146,123 @@ class OptimisationResult:
             "generations": self.generations,
             "message": self.de_message,
             "polished": self.polished,
+            "layout": self.layout,
             "binding_constraints": self.evaluation.binding(),
+            "searches": [s.to_dict() for s in self.searches],
+            "bladder_strain_fe": self.bladder_strain_fe,
+            "bladder_strain_surrogate": self.bladder_strain_surrogate,
         }
 
+    def to_dict(self) -> dict:
+        """Everything as plain JSON-able data (the design, its evaluation, the search)."""
+        d = self.design
+        return {"layout": d.layout,
+                "decision_variables": {n: float(getattr(d, n)) for n in d.variant.decision_variables},
+                **self.evaluation.to_dict(), "optimiser": self.summary()}
 
-class _Problem:
-    """Objective and constraints sharing one cached evaluation per point."""
 
-    def __init__(self, req: Requirements, bladder_strain_fn=None):
-        self.req = req
-        self.bladder_strain_fn = bladder_strain_fn
-        self.names = constraint_names(req)
+class _Population:
+    """Vectorised objective and constraints of one layout, sharing one evaluation per population."""
+
+    def __init__(self, req: Requirements, layout: str, strain_fn=None):
+        self.req, self.layout, self.strain_fn = req, layout, strain_fn
         self.count = 0
-        self._cache: dict[bytes, tuple[float, np.ndarray]] = {}
+        self._key: bytes | None = None
+        self._val = None
 
-    def _evaluate_design(self, v) -> Evaluation | None:
-        try:
-            d = design_from_vector(v, self.req)
-        except DesignError:
-            return None
-        strain = self.bladder_strain_fn(d) if (self.bladder_strain_fn and self.req.max_bladder_strain) else None
-        try:
-            return evaluate_design(d, self.req, bladder_strain=strain)
-        except (DesignError, ValueError):
-            return None
+    def __call__(self, X, extremes: bool = False):
+        X = np.asarray(X, dtype=float)
+        key = X.tobytes()
+        if key != self._key:
+            XS = X.T if X.ndim == 2 else X[None, :]
+            self.count += XS.shape[0]
+            obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
+            self._key, self._val = key, (obj, mar, ext)
+        return self._val if extremes else self._val[:2]
 
-    def __call__(self, v) -> tuple[float, np.ndarray]:
-        key = np.asarray(v, dtype=float).tobytes()
-        hit = self._cache.get(key)
-        if hit is not None:
-            return hit
-        self.count += 1
-        ev = self._evaluate_design(v)
-        if ev is None:  # cannot be drawn at all: worst objective, every constraint violated
-            out = (1.0, -np.ones(len(self.names)))
-        else:
-            out = (ev.linearity_error, np.array([ev.margins[k] for k in self.names]))
-        if len(self._cache) > 50_000:
-            self._cache.clear()
-        self._cache[key] = out
-        return out
+    def objective(self, X):
+        obj = self(X)[0]
+        return obj if np.asarray(X).ndim == 2 else float(obj[0])
 
-    def objective(self, v) -> float:
-        return self(v)[0]
+    def constraints(self, X):
+        mar = self(X)[1]
+        return mar if np.asarray(X).ndim == 2 else mar[:, 0]
 
-    def constraints(self, v) -> np.ndarray:
-        return self(v)[1]
+
+def _search(req: Requirements, layout: str, seed: int, popsize: int, maxiter: int, tol: float,
+            strain_fn, advance, n_starts: int = 8) -> tuple[np.ndarray, LayoutSearch, "_Population"]:
+    prob = _Population(req, layout, strain_fn)
+    bounds = req.search_bounds(layout)
+    t0 = time.perf_counter()
+    gens = 0
+
+    def _cb(*_args, **_kw):
+        nonlocal gens
+        gens += 1
+        advance()
+
+    de = differential_evolution(
+        prob.objective, bounds,
+        constraints=[NonlinearConstraint(prob.constraints, 0.0, np.inf)],
+        seed=seed, popsize=popsize, maxiter=maxiter, tol=tol, atol=0.0,
+        mutation=(0.5, 1.0), recombination=0.7, init="sobol", polish=False,
+        vectorized=True, updating="deferred", callback=_cb,
+    )
+    advance(maxiter - gens)
+    x = np.asarray(de.x, dtype=float)
+    prob.starts = _starts(prob, de, bounds, n_starts)
+    obj, mar = prob(x)
+    return x, LayoutSearch(layout, float(obj[0]), bool(np.all(mar[:, 0] >= -1e-9)), prob.count, gens,
+                           time.perf_counter() - t0, str(de.message), tuple(float(v) for v in x),
+                           float(mar[:, 0].min())), prob
+
+
+def _starts(prob, de, bounds, n_starts: int) -> list[np.ndarray]:
+    """The best point of a differential-evolution run and the best distinct members of its final
+    population (feasible first, then by objective), as starts for the polish."""
+    x = np.asarray(de.x, dtype=float)
+    starts = [x]
+    pop = getattr(de, "population", None)
+    if pop is not None and len(pop):
+        span = np.array([b[1] - b[0] for b in bounds])
+        obj_p, mar_p = prob(pop.T)
+        viol = np.clip(-mar_p, 0, None).sum(axis=0)
+        for k in np.lexsort((obj_p, viol)):
+            cand = pop[k]
+            if all(np.abs((cand - s_) / span).max() > 0.05 for s_ in starts):
+                starts.append(cand)
+            if len(starts) >= n_starts:
+                break
+    return starts
+
+
+def _best_polish(prob, starts, bounds) -> tuple[np.ndarray, bool]:
+    """Polish from every start; the best feasible result (or the first start)."""
+    x, best, polished = starts[0], np.inf, False
+    if np.all(prob.constraints(x) >= -1e-9):
+        best = prob.objective(x)
+    for start in starts:
+        xs, ok = _polish(prob, start, bounds)
+        fs = prob.objective(xs)
+        if np.all(prob.constraints(xs) >= -1e-9) and fs < best:
+            x, best, polished = xs, fs, True
+    return x, polished
 
 
 def optimise(
     req: Requirements | None = None,
     *,
     seed: int = 0,
-    popsize: int = 15,
-    maxiter: int = 250,
-    tol: float = 1e-4,
+    popsize: int = 10,
+    maxiter: int = 60,
+    tol: float = 1e-5,
     polish: bool = True,
     progress: bool = True,
-    bladder_strain_fn=None,
+    bladder_strain_fn: Callable[[Design], float] | None = None,
     raise_infeasible: bool = True,
+    layouts: tuple[str, ...] | None = None,
 ) -> OptimisationResult:
-    """Find the most linear design that meets ``req``.
+    """Find the most linear design that meets ``req``, choosing between its layout variants.
 
     Parameters
     ----------
@@ -174,89 +271,205 @@ def optimise(
     seed
         Seed of the global search: the same seed gives the same design.
     popsize, maxiter, tol
-        Differential-evolution settings (population = popsize × 4).
+        Differential-evolution settings (population = popsize × number of variables).
     polish
-        Run an SLSQP polish from the best point.
+        Run an SLSQP polish from the best point of each layout.
     bladder_strain_fn
-        ``f(design) -> strain`` used when ``req.max_bladder_strain`` is set
-        (e.g. :func:`vvea_design.bladder.check.strain_bound`, the FE bound). It is
-        applied in the polish, which then always runs and must end feasible.
+        ``f(design) -> strain``, the FE strain bound (e.g.
+        :func:`vvea_design.bladder.check.strain_bound`), required when
+        ``req.max_bladder_strain`` is set. The global search uses the
+        surrogate of :mod:`vvea_design.spring.strain_surrogate`; the polish
+        corrects it with this function until the final design meets the
+        limit by this function's own value.
     raise_infeasible
         Raise :class:`Infeasible` (with the violated constraints) when no
         feasible design is found; otherwise return the least-violating one.
+    layouts
+        Layout variants to search (default ``req.layouts``).
+
+    Returns
+    -------
+    OptimisationResult
+        The evaluated best design, per-layout searches, counts and seconds.
     """
     req = req or Requirements()
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
         raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.check.strain_bound)")
-    # The FE strain bound costs ~0.1 s a call: the global search runs on the closed-form constraints
-    # and the polish adds the bladder-strain constraint (and must end feasible with it).
-    prob = _Problem(replace(req, max_bladder_strain=None))
-    full = _Problem(req, bladder_strain_fn) if req.max_bladder_strain is not None else prob
-    bounds = req.search_bounds()
+    layouts = tuple(layouts or req.layouts)
+    for lay in layouts:
+        get_layout(lay)
+    surrogate = None
+    if req.max_bladder_strain is not None:
+        from .strain_surrogate import population_strain
+
+        surrogate = population_strain
     t0 = time.perf_counter()
-    gens = 0
-    with progress_bar("optimising linearity", total=maxiter, enabled=progress) as advance:
+    found = []
+    with progress_bar("optimising linearity", total=maxiter * len(layouts), enabled=progress) as advance:
+        for lay in layouts:
+            x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance)
+            polished = False
+            if polish:
+                x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
+                mar = prob.constraints(x)
+                info = replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
+                               decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
+                               evaluations=prob.count)
+            found.append((lay, x, info, prob, polished))
+    # best layout: feasible first, then the lowest objective (or the least violation)
+    def rank(item):
+        lay, x, info, prob, _ = item
+        obj, mar = prob(x)
+        worst = float(mar[:, 0].min())
+        return (0, float(obj[0])) if worst >= -1e-9 else (1, -worst)
 
-        def _cb(*_args, **_kw):
-            nonlocal gens
-            gens += 1
-            advance()
-
-        de = differential_evolution(
-            prob.objective,
-            bounds,
-            constraints=[NonlinearConstraint(prob.constraints, 0.0, np.inf)],
-            seed=seed,
-            popsize=popsize,
-            maxiter=maxiter,
-            tol=tol,
-            atol=0.0,
-            mutation=(0.5, 1.0),
-            recombination=0.7,
-            init="sobol",
-            polish=False,
-            callback=_cb,
-        )
-        advance(maxiter - gens)  # converged early: complete the bar
-    best_x = np.asarray(de.x, dtype=float)
-    polished = False
-    if polish or full is not prob:
-        best_x, polished = _polish(full, best_x, bounds)
+    found.sort(key=rank)
+    lay, best_x, info, prob, polished = found[0]
+    try:  # every point the search tried may be unbuildable: name why and the bounds (issue 11 item 8)
+        design_from_vector(best_x, req, lay)
+    except DesignError as exc:
+        raise NoBuildableDesign(_unbuildable_message(req, best_x, lay, layouts, exc)) from None
+    strain_fe = strain_sur = None
+    if req.max_bladder_strain is not None:
+        best_x, strain_fe, strain_sur, extra = _fe_correct(req, lay, best_x, bladder_strain_fn, prob)
+        polished = polished or extra
+    design = design_from_vector(best_x, req, lay)
+    ev = evaluate_design(design, req, bladder_strain=strain_fe)
     seconds = time.perf_counter() - t0
-    ev = full._evaluate_design(best_x)
-    if ev is None:  # every point DE tried is unbuildable: name why and the bounds (issue 11 item 8)
-        raise NoBuildableDesign(_unbuildable_message(req, best_x, bounds))
-    result = OptimisationResult(ev, seed, prob.count + (full.count if full is not prob else 0), seconds, gens,
-                                str(de.message), polished)
+    searches = tuple(item[2] for item in sorted(found, key=lambda it: layouts.index(it[0])))
+    result = OptimisationResult(ev, seed, sum(item[3].count for item in found), seconds,
+                                sum(s.generations for s in searches), info.message, polished, searches,
+                                strain_fe, strain_sur)
     if raise_infeasible and not ev.feasible:
         raise Infeasible(result)
     return result
 
 
-def _polish(prob: _Problem, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
-    """SLSQP in scaled variables from ``x0``; keep the result only if feasible and better."""
+def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
+    """SLSQP from ``x0`` in scaled variables; keep the result only if feasible and better.
+
+    The objective is a maximum of deviations whose location jumps (an end of
+    the travel, an interior extremum) — kinks exactly where the optimum sits.
+    So the polish works on its epigraph: minimise ``t`` subject to
+    ``t >= ±(signed deviation)/span`` at each place, smooth constraints, and
+    the requirements' margins. Gradients by forward differences, all points
+    of one gradient evaluated as one population.
+    """
     lo = np.array([b[0] for b in bounds])
     hi = np.array([b[1] for b in bounds])
     span = hi - lo
+    N = len(bounds)
+    h = 1e-7
+    epi = isinstance(prob, _Population)
 
     def unscale(z):
-        return lo + z * span
+        return lo + np.asarray(z) * span
 
-    f0, c0 = prob(x0)
-    res = minimize(
-        lambda z: prob.objective(unscale(z)),
-        (x0 - lo) / span,
-        method="SLSQP",
-        bounds=[(0.0, 1.0)] * len(bounds),
-        constraints=[{"type": "ineq", "fun": lambda z: prob.constraints(unscale(z))}],
-        options={"maxiter": 200, "ftol": 1e-12},
-    )
-    x1 = np.clip(unscale(res.x), lo, hi)
-    f1, c1 = prob(x1)
+    cache: dict[bytes, tuple] = {}
+
+    def evalz(z):
+        z = np.clip(np.asarray(z, dtype=float), 0.0, 1.0)
+        key = z.tobytes()
+        if key not in cache:
+            step = np.where(z + h <= 1.0, h, -h)
+            Z = np.vstack([z, z + np.diag(step)])
+            if epi:
+                obj, mar, ext = prob(unscale(Z).T, extremes=True)
+                cons = np.vstack([mar, ext, -ext])  # margins >= 0; t - ext >= 0; t + ext >= 0 (t added below)
+            else:
+                obj, mar = prob(unscale(Z).T)
+                cons = mar
+            cache.clear()
+            cache[key] = (obj[0], cons[:, 0], (obj[1:] - obj[0]) / step, (cons[:, 1:] - cons[:, :1]) / step,
+                          mar.shape[0])
+        return cache[key]
+
+    x0 = np.asarray(x0, dtype=float)
+    f0, c0 = prob.objective(x0), prob.constraints(x0)
+    z0 = (x0 - lo) / span
+    if epi:
+        m = evalz(z0)[4]
+
+        def fun(w):
+            return w[-1]
+
+        def jac(w):
+            g = np.zeros_like(w)
+            g[-1] = 1.0
+            return g
+
+        def cfun(w):
+            c = evalz(w[:-1])[1].copy()
+            c[m:] += w[-1]
+            return c
+
+        def cjac(w):
+            J = evalz(w[:-1])[3]
+            tcol = np.zeros((J.shape[0], 1))
+            tcol[m:] = 1.0
+            return np.hstack([J, tcol])
+
+        res = minimize(fun, np.append(z0, f0 if np.isfinite(f0) else 1.0), jac=jac, method="SLSQP",
+                       bounds=[(0.0, 1.0)] * N + [(0.0, 1.0)],
+                       constraints=[{"type": "ineq", "fun": cfun, "jac": cjac}],
+                       options={"maxiter": 300, "ftol": 1e-12})
+        z1 = res.x[:-1]
+    else:
+        res = minimize(lambda z: evalz(z)[0], z0, jac=lambda z: evalz(z)[2], method="SLSQP",
+                       bounds=[(0.0, 1.0)] * N,
+                       constraints=[{"type": "ineq", "fun": lambda z: evalz(z)[1], "jac": lambda z: evalz(z)[3]}],
+                       options={"maxiter": 200, "ftol": 1e-12})
+        z1 = res.x
+    x1 = np.clip(unscale(z1), lo, hi)
+    f1, c1 = prob.objective(x1), prob.constraints(x1)
     feasible0 = bool(np.all(c0 >= -1e-9))
     if np.all(c1 >= -1e-9) and (f1 < f0 or not feasible0):
         return x1, True
     return x0, False
+
+
+def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Population, rounds: int = 4):
+    """Make the FE strain bound, not the surrogate, meet ``req.max_bladder_strain``.
+
+    The surrogate is scaled by FE / surrogate at the current design and the
+    polish re-run with that corrected surrogate, until the FE value at the
+    polished design meets the limit (a few FE checks in all).
+    """
+    from .strain_surrogate import population_strain
+
+    factor = 1.0
+    improved = False
+    fe = sur = None
+    for _ in range(rounds):
+        design = design_from_vector(x, req, layout)
+        fe = float(fe_fn(design))
+        sur = float(np.ravel(population_strain(*_g_cols(x, req, layout)))[0])
+        if fe <= req.max_bladder_strain * (1 + 1e-9):
+            break
+        factor = fe / sur * factor if np.isfinite(fe) and sur > 0 else factor * 1.2
+
+        def corrected(g, cols, f=factor):
+            return f * population_strain(g, cols)
+
+        p2 = _Population(req, layout, corrected)
+        x_new, ok = _polish(p2, x, req.search_bounds(layout))
+        prob.count += p2.count
+        if not ok:  # polish could not restore feasibility: tighten and retry from the same point
+            factor *= 1.05
+            continue
+        x, improved = x_new, True
+    return x, fe, sur, improved
+
+
+def _g_cols(x, req, layout):
+    from .design import derive
+
+    lay = get_layout(layout)
+    cols = {name: np.atleast_1d(float(v)) for name, v in zip(lay.decision_variables, x)}
+    g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
+               cols.get("V2_top_mm3", np.zeros(1)), np.full(1, req.max_charge_MPa), req.setpoint_x0_mm,
+               req.fixed, lay.has_bulkhead)
+    return g, cols
 
 
 # ---------------------------------------------------------------------------
@@ -267,6 +480,7 @@ PARETO_AXES = {
     "stiffness": ("min_mean_stiffness_N_per_mm", "mean stiffness at max charge [N/mm]"),
     "outer_diameter": ("max_outer_diameter_mm", "max outer diameter [mm]"),
     "mass": ("max_mass_g", "max mass [g]"),
+    "adiabatic": ("max_linearity_adiabatic", "largest linearity error allowed at n = 1.4 [fraction]"),
 }
 
 
@@ -277,16 +491,19 @@ def _pareto_point(args) -> dict:
     except Exception as exc:  # a point that cannot even be set up is recorded, not fatal
         return {"feasible": False, "error": str(exc)}
     ev = r.evaluation
-    row = {"feasible": ev.feasible, "linearity_error": ev.linearity_error, "mass_g": ev.mass_g,
+    row = {"feasible": ev.feasible, "linearity_error": ev.linearity_error,
+           "linearity_error_isothermal": ev.linearity_isothermal, "linearity_error_adiabatic": ev.linearity_adiabatic,
+           "objective": ev.objective, "mass_g": ev.mass_g, "layout": ev.design.layout,
            "mean_stiffness_at_max_charge_N_per_mm": ev.details["mean_stiffness"]["value"],
-           "outer_diameter_mm": ev.design.outer_diameter_mm, "binding": ",".join(ev.binding())}
-    row.update({n: float(getattr(ev.design, n)) for n in DECISION_VARIABLES})
+           "outer_diameter_mm": ev.design.outer_diameter_mm,
+           "binding": ",".join(ev.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9])}
+    row.update({n: float(getattr(ev.design, n)) for n in LAYOUTS["bulkhead"].decision_variables})
     return row
 
 
 def pareto_front(
     req: Requirements,
-    axis: Literal["stiffness", "outer_diameter", "mass"],
+    axis: Literal["stiffness", "outer_diameter", "mass", "adiabatic"],
     values,
     *,
     seed: int = 0,
@@ -299,8 +516,10 @@ def pareto_front(
     """Best linearity as one requirement is swept: one optimisation per value.
 
     ``axis`` names the swept requirement: ``stiffness`` (minimum mean
-    stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm) or ``mass``
-    (maximum mass, g). Returns one row per value with the optimum's
+    stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm), ``mass``
+    (maximum mass, g) or ``adiabatic`` (largest linearity error at n = 1.4,
+    fraction: with the nominal objective this traces the isothermal vs
+    adiabatic Pareto front). Returns one row per value with the optimum's
     linearity, mass, stiffness and decision variables; infeasible values are
     rows with ``feasible = False``.
     """
@@ -328,7 +547,7 @@ def save_pareto(rows: list[dict], axis: str, out_dir, title: str = "") -> tuple:
     import csv
     from pathlib import Path
 
-    from .plots import plot_pareto
+    from .plots import plot_pareto, save_figure
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -339,7 +558,8 @@ def save_pareto(rows: list[dict], axis: str, out_dir, title: str = "") -> tuple:
         w.writeheader()
         w.writerows(rows)
     field, label = PARETO_AXES[axis]
-    png = plot_pareto(rows, field, label, out_dir / f"pareto_{axis}.png", title=title or f"best linearity vs {axis}")
+    png = save_figure(plot_pareto(rows, field, label, title=title or f"best linearity vs {axis}"),
+                      out_dir / f"pareto_{axis}.png")
     return csv_path, png
 
 
@@ -361,44 +581,42 @@ def linearity_map(
 
     Returns a dict with the axes (``x``, ``y``), ``linearity`` (nan where the
     design cannot be built) and ``feasible`` (all margins >= 0) grids of shape
-    ``(n, n)`` indexed ``[iy, ix]``, and the name of the most violated
-    constraint at every point (``worst``). The default ranges are ±40 % around
+    ``(n, n)`` indexed ``[iy, ix]``, the name of the most violated
+    constraint at every point (``worst``) and every constraint's margin grid
+    (``margins``: name -> grid, nan where unbuildable). The default ranges are ±40 % around
     the design, clipped to the search bounds.
     """
+    names = design.variant.decision_variables
     for v in (var_x, var_y):
-        if v not in DECISION_VARIABLES:
-            raise ValueError(f"unknown design variable {v!r}; choose from {list(DECISION_VARIABLES)}")
+        if v not in names:
+            raise ValueError(f"unknown design variable {v!r} of the {design.layout!r} layout; choose from {list(names)}")
     if var_x == var_y:
         raise ValueError("the two map variables must differ")
-    bounds = dict(zip(DECISION_VARIABLES, req.search_bounds()))
+    bounds = dict(zip(names, req.search_bounds(design.layout)))
 
     def around(var):  # default range: ±40 % around the design, inside the search bounds
         v = float(getattr(design, var))
         lo, hi = bounds[var]
-        return max(lo, 0.6 * v), min(hi, 1.4 * v)
+        return max(lo, 0.6 * v), min(hi, max(1.4 * v, lo + 0.4 * (hi - lo) if v == 0 else 1.4 * v))
 
     xs = np.linspace(*(x_range or around(var_x)), n)
     ys = np.linspace(*(y_range or around(var_y)), n)
-    lin = np.full((n, n), np.nan)
-    feas = np.zeros((n, n), dtype=bool)
-    worst = np.full((n, n), "unbuildable", dtype=object)
-    base = {k: float(getattr(design, k)) for k in DECISION_VARIABLES}
-    with progress_bar(f"map {var_x} × {var_y}", total=n) as advance:
-        for iy, yv in enumerate(ys):
-            for ix, xv in enumerate(xs):
-                kw = dict(base)
-                kw[var_x], kw[var_y] = float(xv), float(yv)
-                try:
-                    d = Design(**kw, p2_MPa=design.p2_MPa, setpoint_x0_mm=design.setpoint_x0_mm, fixed=design.fixed)
-                    ev = evaluate_design(d, req)
-                except (DesignError, ValueError):
-                    continue
-                lin[iy, ix] = ev.linearity_error
-                feas[iy, ix] = ev.feasible
-                name, m = min(ev.margins.items(), key=lambda kv: kv[1])
-                worst[iy, ix] = name if m < 0 else ""
-            advance()
-    return {"var_x": var_x, "var_y": var_y, "x": xs, "y": ys, "linearity": lin, "feasible": feas, "worst": worst}
+    YY, XX = np.meshgrid(ys, xs, indexing="ij")
+    X = np.tile(design.decision_vector(), (n * n, 1))
+    X[:, names.index(var_x)] = XX.ravel()
+    X[:, names.index(var_y)] = YY.ravel()
+    r = replace(req, max_bladder_strain=None, max_charge_MPa=design.p2_MPa, setpoint_x0_mm=design.setpoint_x0_mm)
+    r = replace(r, fixed=design.fixed)
+    obj, mar, ok = evaluate_population(X, r, design.layout)
+    cn = constraint_names(r, design.layout, search=True)
+    lin = np.where(ok, obj, np.nan).reshape(n, n)
+    feas = (ok & np.all(mar >= -1e-9, axis=0)).reshape(n, n)
+    worst_i = mar.argmin(axis=0)
+    worst = np.array([("unbuildable" if not o else (cn[w] if mar[w, k] < 0 else ""))
+                      for k, (o, w) in enumerate(zip(ok, worst_i))], dtype=object).reshape(n, n)
+    margins = {name: np.where(ok, mar[i], np.nan).reshape(n, n) for i, name in enumerate(cn)}
+    return {"var_x": var_x, "var_y": var_y, "x": xs, "y": ys, "linearity": lin, "feasible": feas, "worst": worst,
+            "margins": margins}
 
 
 # ---------------------------------------------------------------------------
@@ -411,35 +629,111 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
 
     Ignores packing entirely: only eq. 5, the charge limit (both chambers <=
     ``max_charge_MPa``, F(0) = 0 so ``p1 = A2/A1 p2``), the stiffness
-    requirement and the minimum gas left at full stroke. It tells how much
-    gas a target linearity needs, whatever the housing.
+    requirement and the minimum gas left at full stroke; the objective is the
+    requirements' (worst over its exponents, exact metric). It tells how much
+    gas a target linearity needs, whatever the housing. Vectorised
+    differential evolution + SLSQP polish over (A1, A2, V1, V2).
     """
-    from .gas_spring import force_N, linearity_error, mean_stiffness_N_per_mm
+    from .gas_spring import linearity_exact
 
     req = req or Requirements()
-    x = np.linspace(0.0, req.travel_mm, 201)
+    T = req.travel_mm
     pmax = req.max_charge_MPa
     fmin = req.min_gas_fraction_at_full_stroke
+    ns = req.objective_exponents
 
-    def curve(v):
-        A1, A2, V1, V2 = v
-        if V2 - A2 * req.travel_mm <= max(fmin, 1e-3) * V2:
-            return None
-        return force_N(x, A1, A2, V1, V2, A2 / A1 * pmax, pmax, req.n_polytropic)
+    def both(X):
+        X = np.atleast_2d(X)
+        A1, A2, V1, V2 = X[:, 0], X[:, 1], X[:, 2], X[:, 3]
+        p1 = A2 / A1 * pmax
+        with np.errstate(all="ignore"):
+            objs = [linearity_exact(A1, A2, V1, V2, p1, pmax, T, n) for n in ns]
+            obj = np.max([r.linearity_error for r in objs], axis=0)
+            kn = linearity_exact(A1, A2, V1, V2, p1, pmax, T, req.n_polytropic).mean_stiffness_N_per_mm
+            k = kn / req.min_mean_stiffness_N_per_mm - 1
+            gas_left = (V2 - A2 * T) / V2 - fmin
+            cons = np.array([(A1 - A2) / A1, 1 - (V1 + V2) / total_gas_mm3, k, gas_left])
+        bad = ~np.isfinite(obj) | ~np.all(np.isfinite(cons), axis=0)
+        return np.where(bad, 1.0, obj), np.where(bad[None, :], -1.0, cons)
 
-    def obj(v):
-        F = curve(v)
-        return 1.0 if F is None else float(linearity_error(x, F))
+    bounds = [(100, 5000), (100, 5000), (1e3, total_gas_mm3), (1e3, total_gas_mm3)]
+    r = differential_evolution(lambda X: both(X.T)[0], bounds,
+                               constraints=[NonlinearConstraint(lambda X: both(np.asarray(X).T)[1], 0, np.inf)],
+                               seed=seed, popsize=20, maxiter=maxiter, tol=1e-8, polish=False, init="sobol",
+                               vectorized=True, updating="deferred")
 
-    def cons(v):
-        F = curve(v)
-        k = -1.0 if F is None else float(mean_stiffness_N_per_mm(x, F)) / req.min_mean_stiffness_N_per_mm - 1
-        gas_left = (v[3] - v[1] * req.travel_mm) / v[3] - fmin
-        return np.array([v[0] - v[1], 1 - (v[2] + v[3]) / total_gas_mm3, k, gas_left])
+    class _P:
+        count = 0
 
-    r = differential_evolution(obj, [(100, 5000), (100, 5000), (1e3, total_gas_mm3), (1e3, total_gas_mm3)],
-                               constraints=[NonlinearConstraint(cons, 0, np.inf)], seed=seed, popsize=20,
-                               maxiter=maxiter, tol=1e-8, polish=False, init="sobol")
-    A1, A2, V1, V2 = (float(v) for v in r.x)
-    return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(r.fun), "A1_mm2": A1, "A2_mm2": A2,
-            "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons(r.x) >= -1e-6))}
+        def __call__(self, X):
+            o, c = both(np.asarray(X).T)
+            return o, c
+
+        def objective(self, x):
+            return float(both(x)[0][0])
+
+        def constraints(self, x):
+            return both(x)[1][:, 0]
+
+    x, _ = _polish(_P(), np.asarray(r.x, dtype=float), bounds)
+    A1, A2, V1, V2 = (float(v) for v in x)
+    obj, cons = both(x)
+    return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(obj[0]), "A1_mm2": A1, "A2_mm2": A2,
+            "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons >= -1e-6)),
+            "objective_exponents": list(ns)}
+
+
+# ---------------------------------------------------------------------------
+# The envelope's gas capacity
+# ---------------------------------------------------------------------------
+
+def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *, seed: int = 0,
+                 maxiter: int = 200) -> dict:
+    """The largest gas volume ``V1 + V2`` a layout can hold in the requirements' envelope.
+
+    Every constraint of :func:`~vvea_design.spring.requirements.evaluate_design`
+    holds — envelope, walls sized for the peak pressure at the charge limit,
+    the piston and fluid column, the bladder with its room at both stroke
+    ends, the gas left at full stroke, and the stiffness (without it a thin
+    piston would leave the whole housing to gas, for no spring) — only the
+    linearity is not asked for. Since the packing-free bound
+    (:func:`gas_volume_bound`) falls with the gas volume, the bound at this
+    capacity is a floor no design of the layout can beat. Returns the volume
+    and the design that holds it.
+    """
+    req = req or Requirements()
+    r = replace(req, max_bladder_strain=None, objective="nominal", objective_n=None)
+    lay = get_layout(layout)
+    names = constraint_names(r, layout)
+    bounds = r.search_bounds(layout)
+    i1, i2 = lay.decision_variables.index("V1_mm3"), lay.decision_variables.index("V2_mm3")
+    scale = 1.0 / max(b[1] for b in bounds)
+
+    class _Cap:
+        count = 0
+
+        def __call__(self, X):
+            XS = np.atleast_2d(np.asarray(X).T)
+            _, mar, ok = evaluate_population(XS, r, layout)
+            self.count += XS.shape[0]
+            obj = np.where(ok, -(XS[:, i1] + XS[:, i2]) * scale, 1.0)
+            return obj, mar
+
+        def objective(self, x):
+            return float(self(np.asarray(x)[:, None])[0][0])
+
+        def constraints(self, x):
+            return self(np.asarray(x)[:, None])[1][:, 0]
+
+    prob = _Cap()
+    de = differential_evolution(lambda X: prob(X)[0], bounds,
+                                constraints=[NonlinearConstraint(lambda X: prob(X)[1], 0.0, np.inf)],
+                                seed=seed, popsize=15, maxiter=maxiter, tol=1e-8, atol=0.0, polish=False,
+                                init="sobol", vectorized=True, updating="deferred")
+    x, _ = _best_polish(prob, _starts(prob, de, bounds, 8), bounds)
+    d = design_from_vector(x, r, layout)
+    ev = evaluate_design(d, r)
+    return {"layout": layout, "total_gas_mm3": d.V1_mm3 + d.V2_mm3, "V1_mm3": d.V1_mm3, "V2_mm3": d.V2_mm3,
+            "feasible": ev.feasible, "decision_vector": [float(v) for v in x],
+            "binding": [n for n in names if ev.margins[n] < 1e-3],
+            "housing_length_mm": d.housing_length_mm, "piston_diameter_mm": d.piston_diameter_mm}

@@ -1,105 +1,178 @@
 """Figures of the spring side: force curve, Pareto fronts, linearity maps.
 
-Pure functions from results to a PNG file (matplotlib, Agg backend).
+Every plot function builds a :class:`matplotlib.figure.Figure` (no pyplot, no
+backend switch: importing this module leaves the user's backend alone), draws
+into the ``ax`` / ``fig`` given or a new one, and returns the Figure; the
+caller saves it (:func:`save_figure` writes a byte-stable PNG).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .gas_spring import GasSpring
 
-from .gas_spring import GasSpring, least_squares_line, linearity_error  # noqa: E402
-
-__all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure"]
+__all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure", "VARIABLE_LABELS"]
 
 _META = {"Software": "vvea-design"}  # no timestamps in PNG metadata: byte-stable figures
 
+#: Axis labels (with units and the scale used on the axis) of the decision variables.
+VARIABLE_LABELS = {
+    "piston_diameter_mm": ("piston diameter d_p [mm]", 1.0),
+    "outer_diameter_mm": ("outer diameter D_o [mm]", 1.0),
+    "V1_mm3": ("chamber-1 gas V1 [10³ mm³]", 1e-3),
+    "V2_mm3": ("chamber-2 gas V2 [10³ mm³]", 1e-3),
+    "V2_top_mm3": ("chamber-2 gas above the bulkhead V2_top [10³ mm³]", 1e-3),
+}
 
-def save_figure(fig, path: str | Path) -> Path:
+
+def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
+    """Write ``fig`` as a PNG (parent folders created; no timestamp metadata) and return the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, metadata=_META)
-    plt.close(fig)
+    fig.savefig(path, dpi=dpi, metadata=_META)
+    try:  # a figure made with pyplot would otherwise stay open
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+    except Exception:  # pragma: no cover - pyplot unavailable: nothing to close
+        pass
     return path
 
 
-def plot_spring(spring: GasSpring, path: str | Path, title: str = "", extra_charges_MPa=()) -> Path:
-    """Force–displacement with its least-squares line, the deviation, stiffness and pressures."""
+def _axes(ax, figsize, nrows=1, ncols=1):
+    if ax is not None:
+        return ax.figure, ax
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(nrows, ncols)
+
+
+def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig: Figure | None = None,
+                adiabatic: bool = True) -> Figure:
+    """Force–displacement with its least-squares line, the deviation, stiffness and pressures.
+
+    Four panels into ``fig`` (a new Figure by default). With ``adiabatic``
+    the same charged spring compressed at n = 1.4 is drawn dashed next to the
+    nominal curve. Linearity numbers are the exact (continuous) metric.
+    Returns the Figure.
+    """
+    fig = fig or Figure(figsize=(10.5, 7.5))
+    axes = fig.subplots(2, 2)
     x = spring.x_mm(401)
-    F = spring.force_N(x)
-    k, b = least_squares_line(x, F)
-    lin = float(linearity_error(x, F))
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
-    ax = axes[0, 0]
-    ax.plot(x, F, lw=2, label=f"F(x), p2 = {spring.p2_MPa:.2f} MPa")
-    ax.plot(x, k * x + b, "k--", lw=1, label=f"least-squares line, {float(k):.1f} N/mm")
-    for p2 in extra_charges_MPa:
+    cases = [(spring, "-", f"n = {spring.n_polytropic:g}")]
+    if adiabatic and spring.n_polytropic != 1.4:
+        cases.append((spring.with_polytropic(1.4), "--", "n = 1.4 (adiabatic)"))
+    lin0 = spring.linearity()
+    for s, ls, lab in cases:
+        r = s.linearity()
+        k, b = float(r.mean_stiffness_N_per_mm), float(r.intercept_N)
+        F = s.force_N(x)
+        color = "C0" if ls == "-" else "C1"
+        axes[0, 0].plot(x, F, ls, color=color, lw=2, label=f"F(x), {lab}: {100 * float(r.linearity_error):.2f} %")
+        axes[0, 0].plot(x, k * x + b, ":", color="k", lw=1)
+        axes[0, 1].plot(x, F - (k * x + b), ls, color=color,
+                        label=f"{lab}: max {float(r.max_deviation_N):.1f} N = {100 * float(r.linearity_error):.2f} % of span")
+        axes[1, 0].plot(x, s.stiffness_N_per_mm(x), ls, color=color, label=f"{lab}, mean {k:.1f} N/mm")
+        P1, P2 = s.pressures_MPa(x)
+        axes[1, 1].plot(x, P1, ls, color="C2", label=f"chamber 1 (expands), {lab}")
+        axes[1, 1].plot(x, P2, ls, color="C3", label=f"chamber 2 (compressed), {lab}")
+    for p2, grey in zip(extra_charges_MPa, np.linspace(0.35, 0.65, max(len(extra_charges_MPa), 1))):
         s = spring.with_pressures(p2)
-        ax.plot(x, s.force_N(x), lw=1, alpha=0.7, label=f"p2 = {p2:g} MPa")
-    ax.set(xlabel="displacement x [mm]", ylabel="force [N] (tension > 0)", title="force–displacement")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax = axes[0, 1]
-    dev = F - (k * x + b)
-    ax.plot(x, dev, color="C3")
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set(xlabel="x [mm]", ylabel="F − line [N]",
-           title=f"deviation: max {np.abs(dev).max():.1f} N = {100 * lin:.2f} % of span")
-    ax.grid(alpha=0.3)
-    ax = axes[1, 0]
-    ax.plot(x, spring.stiffness_N_per_mm(x), color="C2")
-    ax.axhline(float(k), color="k", ls="--", lw=1, label="mean (LS slope)")
-    ax.set(xlabel="x [mm]", ylabel="dF/dx [N/mm]", title="local stiffness")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax = axes[1, 1]
-    P1, P2 = spring.pressures_MPa(x)
-    ax.plot(x, P1, label="chamber 1 (expands)")
-    ax.plot(x, P2, label="chamber 2 (compressed)")
-    ax.set(xlabel="x [mm]", ylabel="pressure [MPa]", title="chamber pressures")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.suptitle(title or f"gas spring: linearity error {100 * lin:.2f} %")
+        axes[0, 0].plot(x, s.force_N(x), lw=1, color=str(grey),
+                        label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
+    axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)",
+                   title="force–displacement (dotted: least-squares lines)")
+    axes[0, 1].axhline(0, color="k", lw=0.5)
+    axes[0, 1].set(xlabel="displacement x [mm]", ylabel="F − least-squares line [N]", title="deviation from the line")
+    axes[1, 0].set(xlabel="displacement x [mm]", ylabel="local stiffness dF/dx [N/mm]", title="local stiffness")
+    axes[1, 1].set(xlabel="displacement x [mm]", ylabel="absolute pressure [MPa]", title="chamber pressures")
+    for ax in axes.flat:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(title or f"gas spring: linearity error {100 * float(lin0.linearity_error):.2f} % "
+                          f"(n = {spring.n_polytropic:g}, p2 = {spring.p2_MPa:.2f} MPa)")
     fig.tight_layout()
-    return save_figure(fig, path)
+    return fig
 
 
-def plot_pareto(rows: list[dict], x_key: str, x_label: str, path: str | Path, title: str = "") -> Path:
-    """Best linearity against a swept requirement; infeasible points marked."""
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, ax=None) -> Figure:
+    """Best linearity against a swept requirement.
+
+    Feasible optima are joined by a line; a requirement value no design meets
+    is drawn as a red cross on a separate "infeasible" strip under the axis
+    (its least-violating design has no meaningful linearity), labelled with
+    the constraint it misses. Returns the Figure.
+    """
+    fig, ax = _axes(ax, (7.5, 4.8))
     xs = np.array([r[x_key] for r in rows], dtype=float)
-    ys = np.array([100 * r.get("linearity_error", np.nan) if r.get("feasible") else np.nan for r in rows])
-    ax.plot(xs, ys, "o-", label="best feasible design")
-    bad = [r[x_key] for r in rows if not r.get("feasible")]
-    if bad:
-        ax.plot(bad, [np.nanmax(ys) if np.isfinite(ys).any() else 1.0] * len(bad), "rx", label="infeasible")
-    ax.set(xlabel=x_label, ylabel="linearity error [%]", title=title or "Pareto front")
+    feas = np.array([bool(r.get("feasible")) for r in rows])
+    ys = np.array([100 * float(r.get("linearity_error", np.nan)) if f else np.nan for r, f in zip(rows, feas)])
+    order = np.argsort(xs)
+    ax.plot(xs[order][feas[order]], ys[order][feas[order]], "o-", label="best feasible design")
+    if (~feas).any():
+        trans = ax.get_xaxis_transform()  # x in data, y in axes fraction
+        ax.plot(xs[~feas], np.full((~feas).sum(), 0.04), "rx", ms=10, mew=2, transform=trans, clip_on=False,
+                label="no feasible design (misses: see label)")
+        for r, xv in zip([r for r, f in zip(rows, feas) if not f], xs[~feas]):
+            miss = r.get("binding") or r.get("error", "")
+            ax.annotate(str(miss).split(",")[0][:28], (xv, 0.04), xycoords=trans, textcoords="offset points",
+                        xytext=(0, 8), ha="center", fontsize=7, color="r")
+    if np.isfinite(ys).any():
+        ax.set_ylim(0.0, 1.1 * np.nanmax(ys))  # linearity >= 0; the infeasible strip sits at the bottom
+    ax.set(xlabel=x_label, ylabel="best linearity error [%]", title=title or "Pareto front")
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    return save_figure(fig, path)
+    return fig
 
 
-def plot_linearity_map(m: dict, path: str | Path, optimum: tuple[float, float] | None = None) -> Path:
-    """Filled contours of linearity (%) over two variables, infeasible region hatched."""
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    X, Y = np.meshgrid(m["x"], m["y"])
-    lin = 100 * np.clip(m["linearity"], 0, 0.1)
-    cs = ax.contourf(X, Y, lin, levels=np.linspace(0, 10, 41), cmap="viridis_r", extend="max")
-    ax.contour(X, Y, lin, levels=[1, 1.86, 3, 5, 10], colors="w", linewidths=0.7)
+def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, ax=None) -> Figure:
+    """Filled contours of linearity (%) over two variables; infeasible region hatched, the optimum starred.
+
+    Axes are labelled with names and units (volumes in 10³ mm³); the optimum
+    marker is drawn unclipped, so it shows even on the edge of the map.
+    Returns the Figure.
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
+
+    fig, ax = _axes(ax, (8.2, 6.0))
+    lx, sx = VARIABLE_LABELS.get(m["var_x"], (m["var_x"], 1.0))
+    ly, sy = VARIABLE_LABELS.get(m["var_y"], (m["var_y"], 1.0))
+    X, Y = np.meshgrid(np.asarray(m["x"]) * sx, np.asarray(m["y"]) * sy)
+    lin = 100 * np.asarray(m["linearity"], dtype=float)
+    finite = lin[np.isfinite(lin)]
+    lo = float(finite.min()) if finite.size else 0.0
+    top = float(np.nanpercentile(finite, 90)) if finite.size else 10.0
+    levels = MaxNLocator(nbins=24).tick_values(lo, max(top, lo + 1e-3))
+    cs = ax.contourf(X, Y, np.clip(lin, levels[0], levels[-1]), levels=levels, cmap="viridis_r", extend="max")
     fig.colorbar(cs, ax=ax, label="linearity error [%]")
-    infeas = (~m["feasible"]).astype(float)
-    ax.contourf(X, Y, infeas, levels=[0.5, 1.5], colors="none", hatches=["//"])
-    ax.contour(X, Y, infeas, levels=[0.5], colors="r", linewidths=1)
+    infeas = (~np.asarray(m["feasible"], dtype=bool)).astype(float)
+    ax.contourf(X, Y, infeas, levels=[0.5, 1.5], colors="none", hatches=["///"], alpha=0.3)
+    # where each constraint binds: its zero-margin line, labelled, on the side it is violated the hatching
+    styles = [("w", "-"), ("k", "--"), ("tab:red", "-."), ("tab:orange", ":"), ("w", ":"), ("k", "-.")]
+    handles = []
+    k = 0
+    for name, grid in (m.get("margins") or {}).items():
+        g = np.asarray(grid, dtype=float)
+        if not (np.nanmin(g) < 0 < np.nanmax(g)):
+            continue
+        col, ls = styles[k % len(styles)]
+        ax.contour(X, Y, g, levels=[0.0], colors=col, linewidths=1.8, linestyles=ls)
+        handles.append(Line2D([], [], color=col, ls=ls, lw=1.8, label=f"{name.replace('_', ' ')} binds"))
+        k += 1
     if optimum is not None:
-        ax.plot(*optimum, "r*", ms=14, label="optimum")
-        ax.legend(loc="best")
-    ax.set(xlabel=m["var_x"], ylabel=m["var_y"],
-           title="linearity over two design variables (hatched: violates a requirement)")
+        handles += ax.plot(optimum[0] * sx, optimum[1] * sy, "r*", ms=16, mec="w", mew=1.0, clip_on=False, zorder=10,
+                           label="optimum")
+    if handles:
+        leg = ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
+        leg.get_frame().set_facecolor("0.85")
+    ax.set_xmargin(0.03)
+    ax.set_ymargin(0.03)
+    ax.set(xlabel=lx, ylabel=ly, title="linearity over two design variables, the others at the optimum\n"
+                                       "(hatched: violates a requirement; lines: where each one binds)")
     fig.tight_layout()
-    return save_figure(fig, path)
+    return fig

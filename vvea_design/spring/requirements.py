@@ -32,8 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from .design import DECISION_VARIABLES, Design, DesignError, FixedParameters
-from .gas_spring import linearity_error, mean_stiffness_N_per_mm
+from .design import DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive, get_layout
+from .gas_spring import linearity_exact
 from ..materials.silicones import get_silicone
 from ..messages import show
 
@@ -45,6 +45,9 @@ __all__ = [
     "evaluate_design",
     "constraint_margins",
     "constraint_names",
+    "evaluate_population",
+    "design_from_vector",
+    "OBJECTIVES",
 ]
 
 #: Default search range of each decision variable.
@@ -53,11 +56,23 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "outer_diameter_mm": (25.0, 59.5),
     "V1_mm3": (5.0e3, 3.0e5),
     "V2_mm3": (5.0e3, 3.0e5),
+    "V2_top_mm3": (0.0, 1.5e5),
 }
+
+#: Polytropic exponents whose worst linearity each objective minimises (``nominal``: the design's n_polytropic).
+OBJECTIVES: dict[str, tuple[float, ...] | None] = {
+    "nominal": None,
+    "isothermal": (1.0,),
+    "adiabatic": (1.4,),
+    "worst": (1.0, 1.4),
+}
+
+#: Exponents whose linearity every design file and report shows.
+REPORTED_N = {"isothermal": 1.0, "adiabatic": 1.4}
 
 
 #: Requirements that may be absent (``None``: no limit).
-_OPTIONAL = ("max_mass_g", "max_bladder_strain")
+_OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic")
 #: Top-level requirements that FixedParameters also carries (kept equal to the top level).
 _TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
 
@@ -81,7 +96,11 @@ class Requirements:
     max_mass_g: float | None = None  #: optional mass limit (Pareto fronts use it)
     max_bladder_strain: float | None = None  #: optional FE strain-bound constraint (fraction)
     bladder_material: str = "dragon-skin-20"  #: bladder silicone: checked by `vvea design` and by the optional strain constraint
-    n_polytropic: float = 1.0  #: 1 isothermal ... 1.4 adiabatic
+    n_polytropic: float = 1.0  #: 1 isothermal ... 1.4 adiabatic (the design's nominal law: stiffness, setpoint)
+    objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
+    objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
+    layouts: tuple[str, ...] = ("inner_tube", "bulkhead")  #: layout variants the optimiser chooses between
+    max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
     fixed: FixedParameters = field(default_factory=FixedParameters)
 
@@ -102,36 +121,64 @@ class Requirements:
             raise SpecError(f"bladder_material: {exc}") from None
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
             raise SpecError(f"max_mass_g must be > 0, got {show(self.max_mass_g)}")
+        if self.max_linearity_adiabatic is not None and not (0 < self.max_linearity_adiabatic < 1):
+            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got {show(self.max_linearity_adiabatic)}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):
             raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}")
         if not (abs(self.setpoint_x0_mm) < self.travel_mm):
             raise SpecError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
                             f"(|x0| < {show(self.travel_mm)})")
-        unknown = set(self.bounds) - set(DECISION_VARIABLES)
+        if self.objective not in OBJECTIVES:
+            raise SpecError(f"objective must be one of {list(OBJECTIVES)}, got {show(self.objective)}")
+        if self.objective_n is not None:
+            ns = tuple(self.objective_n) if isinstance(self.objective_n, (list, tuple)) else None
+            if (not ns or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 1.0 <= v <= 1.4
+                                  for v in ns)):
+                raise SpecError(f"objective_n must be a non-empty list of exponents in [1, 1.4], got {show(self.objective_n)}")
+            object.__setattr__(self, "objective_n", tuple(float(v) for v in ns))
+        lays = tuple(self.layouts) if isinstance(self.layouts, (list, tuple)) else ()
+        if not lays or any(not isinstance(v, str) or v not in LAYOUTS for v in lays):
+            raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {show(self.layouts)}")
+        object.__setattr__(self, "layouts", lays)
+        known_vars = set(DEFAULT_BOUNDS)
+        unknown = set(self.bounds) - known_vars
         if unknown:
-            raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {list(DECISION_VARIABLES)}")
+            raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {sorted(known_vars)}")
         for name, (lo, hi) in self.bounds.items():
-            if not (math.isfinite(lo) and math.isfinite(hi)) or lo <= 0 or hi <= lo:
-                raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high")
+            low_ok = lo >= 0 if name == "V2_top_mm3" else lo > 0
+            if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
+                raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
+                                + (" (low may be 0)" if name == "V2_top_mm3" else ""))
         lo_D = self.bounds.get("outer_diameter_mm", DEFAULT_BOUNDS["outer_diameter_mm"])[0]
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
                 f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
                 f"lower search bound of outer_diameter_mm ({show(lo_D)})"
             )
-        if self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic:
-            object.__setattr__(self, "fixed", replace(self.fixed, travel_mm=self.travel_mm, n_polytropic=self.n_polytropic))
-        min_len = self.fixed.top_cap_mm + self.fixed.base_mm + self.fixed.piston_height_mm + self.travel_mm + self.fixed.fluid_clearance_mm
+        if (self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic
+                or self.fixed.wall_safety_factor != self.min_wall_safety_factor):
+            object.__setattr__(self, "fixed", replace(self.fixed, travel_mm=self.travel_mm, n_polytropic=self.n_polytropic,
+                                                      wall_safety_factor=self.min_wall_safety_factor))
+        min_len = (self.fixed.min_top_cap_mm + self.fixed.min_base_mm + self.fixed.piston_height_mm + self.travel_mm
+                   + self.fixed.fluid_clearance_mm)
         if self.max_housing_length_mm <= min_len:
             raise SpecError(
                 f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
                 f"+ travel + fluid clearance already take {min_len:.1f} mm"
             )
 
-    def search_bounds(self) -> list[tuple[float, float]]:
-        """Bounds per decision variable, clipped to the envelope."""
+    @property
+    def objective_exponents(self) -> tuple[float, ...]:
+        """The polytropic exponents whose worst linearity is the objective."""
+        if self.objective_n is not None:
+            return tuple(self.objective_n)
+        ns = OBJECTIVES[self.objective]
+        return (float(self.n_polytropic),) if ns is None else ns
+
+    def search_bounds(self, layout: str = "inner_tube") -> list[tuple[float, float]]:
+        """Bounds per decision variable of ``layout``, clipped to the envelope."""
         out = []
-        for name in DECISION_VARIABLES:
+        for name in get_layout(layout).decision_variables:
             lo, hi = self.bounds.get(name, DEFAULT_BOUNDS[name])
             if name == "outer_diameter_mm":
                 hi = min(hi, self.max_outer_diameter_mm)
@@ -141,6 +188,9 @@ class Requirements:
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
         d["bounds"] = {k: list(v) for k, v in self.bounds.items()}
+        d["layouts"] = list(self.layouts)
+        if self.objective_n is not None:
+            d["objective_n"] = list(self.objective_n)
         return d
 
     @classmethod
@@ -179,9 +229,18 @@ class Requirements:
                                 f"{source}: [fixed] {dup} = {show(value[dup])} disagrees with the top-level {dup} = "
                                 f"{show(top)}{'' if dup in data else ' (the default)'}; set {dup} once, at the top "
                                 "level (above any [table])")
-            elif key in ("bladder_material",):
+                wsf = value.get("wall_safety_factor")
+                top_sf = data.get("min_wall_safety_factor", getattr(cls, "min_wall_safety_factor"))
+                if wsf is not None and wsf != top_sf:
+                    raise SpecError(f"{source}: [fixed] wall_safety_factor = {show(wsf)} disagrees with the top-level "
+                                    f"min_wall_safety_factor = {show(top_sf)}; set it once, at the top level")
+            elif key in ("bladder_material", "objective"):
                 if not isinstance(value, str):
                     raise SpecError(f"{source}: {key} must be a string, got {show(value)}")
+                kwargs[key] = value
+            elif key in ("layouts", "objective_n"):
+                if value is not None and not isinstance(value, (list, tuple)):
+                    raise SpecError(f"{source}: {key} must be a list, got {show(value)}")
                 kwargs[key] = value
             else:
                 if value is None and key in _OPTIONAL:
@@ -226,7 +285,7 @@ def load_requirements(path: str | Path | None) -> Requirements:
 # Evaluation of one design against the requirements
 # ---------------------------------------------------------------------------
 
-#: Displacement samples used for linearity and stiffness everywhere.
+#: Displacement samples of the curves that are drawn and written (the metric itself is exact, continuous).
 N_SAMPLES = 401
 
 
@@ -235,13 +294,18 @@ class Evaluation:
     """A design's performance and its constraint margins (positive = satisfied)."""
 
     design: Design
-    linearity_error: float  #: fraction (see gas_spring.linearity_error)
-    mean_stiffness_N_per_mm: float
+    linearity_error: float  #: fraction, exact (continuous) metric at the nominal n_polytropic
+    mean_stiffness_N_per_mm: float  #: continuous least-squares slope at the design's charge (nominal n)
     max_force_N: float
-    peak_pressure_MPa: float
+    peak_pressure_MPa: float  #: highest chamber pressure the walls are sized for
     mass_g: float
     margins: dict[str, float]  #: dimensionless, positive = satisfied
     details: dict[str, dict[str, float | str]]  #: value, limit and unit of each constraint
+    linearity_isothermal: float = float("nan")  #: n = 1, fraction
+    linearity_adiabatic: float = float("nan")  #: n = 1.4, fraction
+    mean_stiffness_adiabatic_N_per_mm: float = float("nan")  #: n = 1.4, at the design's charge
+    objective: float = float("nan")  #: what the optimiser minimised (worst linearity over its exponents)
+    objective_exponents: tuple[float, ...] = (1.0,)
 
     @property
     def feasible(self) -> bool:
@@ -254,20 +318,97 @@ class Evaluation:
     def performance(self) -> dict[str, float]:
         return {
             "linearity_error": self.linearity_error,
+            "linearity_error_isothermal": self.linearity_isothermal,
+            "linearity_error_adiabatic": self.linearity_adiabatic,
+            "objective": self.objective,
+            "objective_exponents": list(self.objective_exponents),
             "mean_stiffness_N_per_mm": self.mean_stiffness_N_per_mm,
+            "mean_stiffness_adiabatic_N_per_mm": self.mean_stiffness_adiabatic_N_per_mm,
             "stiffness_per_charge_N_per_mm_per_MPa": self.mean_stiffness_N_per_mm / self.design.p2_MPa,
             "max_force_N": self.max_force_N,
             "mass_g": self.mass_g,
             "peak_pressure_MPa": self.peak_pressure_MPa,
             "p1_MPa": self.design.p1_MPa,
             "housing_length_mm": self.design.housing_length_mm,
+            "total_gas_mm3": self.design.V1_mm3 + self.design.V2_mm3,
+            "layout": self.design.layout,
         }
 
+    def to_dict(self) -> dict:
+        return {"performance": self.performance(), "constraints": dict(self.margins),
+                "constraint_details": {k: dict(v) for k, v in self.details.items()}}
 
-def design_from_vector(v, req: Requirements) -> Design:
-    """A design from the decision vector, charged to the highest allowed pressure."""
-    kw = {name: float(val) for name, val in zip(DECISION_VARIABLES, v)}
-    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=req.fixed)
+
+def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Design:
+    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure."""
+    kw = {name: float(val) for name, val in zip(get_layout(layout).decision_variables, v)}
+    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=req.fixed, layout=layout)
+
+
+def _exponents(req: Requirements, report: bool = True) -> list[float]:
+    extra = REPORTED_N.values() if report else ()
+    cap = (REPORTED_N["adiabatic"],) if req.max_linearity_adiabatic is not None else ()
+    return sorted({float(req.n_polytropic), *extra, *cap, *req.objective_exponents})
+
+
+def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[str, np.ndarray]:
+    """Linearity (exact metric) at every exponent needed, stiffness, force; arrays like ``g``."""
+    T = req.fixed.travel_mm
+    out: dict[str, np.ndarray] = {}
+    for n in _exponents(req, report):
+        r = linearity_exact(g["A1_mm2"], g["A2_mm2"], g["V1_mm3"], g["V2_mm3"], g["p1_MPa"], p2, T, n)
+        out[f"lin_{n:g}"] = r.linearity_error
+        out[f"k_{n:g}"] = r.mean_stiffness_N_per_mm
+        if n in req.objective_exponents or (n == REPORTED_N["adiabatic"] and req.max_linearity_adiabatic is not None):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out[f"ext_{n:g}"] = r.signed_extremes_N / r.force_span_N[..., None]
+        if n == req.n_polytropic:
+            A1, A2, V1, V2, p1 = g["A1_mm2"], g["A2_mm2"], g["V1_mm3"], g["V2_mm3"], g["p1_MPa"]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                F0 = A2 * p2 - A1 * p1
+                FT = A2 * p2 * (V2 / (V2 - A2 * T)) ** n - A1 * p1 * (V1 / (V1 + A1 * T)) ** n
+            out["max_force_N"] = np.maximum(np.abs(F0), np.abs(FT))
+    with np.errstate(invalid="ignore"):
+        out["objective"] = np.max([out[f"lin_{n:g}"] for n in req.objective_exponents], axis=0)
+    return out
+
+
+def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout: str,
+             strain=None) -> dict[str, dict]:
+    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``)."""
+    p1, p2 = g["p1_MPa"], design_values["p2_MPa"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale_to_max = req.max_charge_MPa / np.maximum(p2, p1)
+        k = perf[f"k_{req.n_polytropic:g}"] * scale_to_max
+        gas_left = (g["V2_mm3"] - g["displaced_volume_mm3"]) / g["V2_mm3"]
+    t_bl = req.fixed.bladder_thickness_mm
+    d: dict[str, dict] = {
+        "outer_diameter": {"value": design_values["outer_diameter_mm"], "limit": req.max_outer_diameter_mm, "unit": "mm", "kind": "max"},
+        "housing_length": {"value": g["housing_length_mm"], "limit": req.max_housing_length_mm, "unit": "mm", "kind": "max"},
+        "charge_p1": {"value": p1, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
+        "charge_p2": {"value": p2, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
+        "mean_stiffness": {"value": k, "limit": req.min_mean_stiffness_N_per_mm, "unit": "N/mm", "kind": "min"},
+        "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
+        "bladder_room_compressed": {"value": g["bladder_clearance_compressed_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
+        "bladder_room_expanded": {"value": g["bladder_clearance_expanded_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
+        "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
+    }
+    for wall in _walls(layout):
+        d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
+    if req.max_mass_g is not None:
+        d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
+    if req.max_linearity_adiabatic is not None:
+        d["linearity_adiabatic"] = {"value": perf[f"lin_{REPORTED_N['adiabatic']:g}"],
+                                    "limit": req.max_linearity_adiabatic, "unit": "-", "kind": "max"}
+    if req.max_bladder_strain is not None:
+        if strain is None:
+            raise ValueError("req.max_bladder_strain is set: pass the design's bladder_strain to evaluate_design")
+        d["bladder_strain"] = {"value": strain, "limit": req.max_bladder_strain, "unit": "-", "kind": "max"}
+    return d
+
+
+def _walls(layout: str) -> tuple[str, ...]:
+    return WALLS if get_layout(layout).has_bulkhead else WALLS[:4]
 
 
 def evaluate_design(design: Design, req: Requirements, bladder_strain: float | None = None) -> Evaluation:
@@ -276,70 +417,107 @@ def evaluate_design(design: Design, req: Requirements, bladder_strain: float | N
     The design is evaluated as charged (``design.p2_MPa``); the stiffness
     requirement is checked at the highest allowed charge, where p2 is
     ``req.max_charge_MPa`` unless p1 would exceed it (then p1 is the
-    limiting chamber).
+    limiting chamber). Linearity is the exact (continuous) metric, at the
+    nominal exponent and at n = 1 and n = 1.4.
     """
-    gs = design.gas_spring
-    x = gs.x_mm(N_SAMPLES)
-    F = gs.force_N(x)
-    lin = float(linearity_error(x, F))
-    # stiffness at the highest charge both chambers allow (force scales with pressure)
-    scale_to_max = req.max_charge_MPa / max(design.p2_MPa, design.p1_MPa)
-    k = float(mean_stiffness_N_per_mm(x, F)) * scale_to_max
-    peaks = design.peak_pressures_MPa()
-    sf = design.wall_safety_factors()
-    clear = design.bladder_clearance_mm()
-    gas_left = (design.V2_mm3 - design.displaced_volume_mm3) / design.V2_mm3
-    t_bl = design.fixed.bladder_thickness_mm
-    details: dict[str, dict[str, float | str]] = {
-        "outer_diameter": {"value": design.outer_diameter_mm, "limit": req.max_outer_diameter_mm, "unit": "mm", "kind": "max"},
-        "housing_length": {"value": design.housing_length_mm, "limit": req.max_housing_length_mm, "unit": "mm", "kind": "max"},
-        "charge_p1": {"value": design.p1_MPa, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
-        "charge_p2": {"value": design.p2_MPa, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
-        "mean_stiffness": {"value": k, "limit": req.min_mean_stiffness_N_per_mm, "unit": "N/mm", "kind": "min"},
-        "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
-        "bladder_room_compressed": {"value": clear["compressed"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
-        "bladder_room_expanded": {"value": clear["expanded"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
-    }
-    for wall in WALLS:
-        s = sf[wall]
-        details[f"wall_safety_{wall}"] = {"value": s, "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
-    if req.max_mass_g is not None:
-        details["mass"] = {"value": design.mass_g, "limit": req.max_mass_g, "unit": "g", "kind": "max"}
-    if req.max_bladder_strain is not None:
-        if bladder_strain is None:
-            raise ValueError("req.max_bladder_strain is set: pass the design's bladder_strain to evaluate_design")
-        details["bladder_strain"] = {"value": bladder_strain, "limit": req.max_bladder_strain, "unit": "-", "kind": "max"}
-    margins = {name: _margin(d) for name, d in details.items()}
+    g = dict(design._g)
+    g["V1_mm3"], g["V2_mm3"] = design.V1_mm3, design.V2_mm3
+    g["p1_MPa"] = design.p1_MPa
+    perf = {k: float(v) for k, v in _performance(g, req, design.p2_MPa).items() if not k.startswith("ext_")}
+    values = {"p2_MPa": design.p2_MPa, "outer_diameter_mm": design.outer_diameter_mm}
+    details = _details(g, perf, req, values, design.layout, bladder_strain)
+    details = {k: {kk: (float(vv) if not isinstance(vv, str) else vv) for kk, vv in v.items()} for k, v in details.items()}
+    margins = {name: float(_margin(d)) for name, d in details.items()}
+    n = req.n_polytropic
     return Evaluation(
         design=design,
-        linearity_error=lin,
-        mean_stiffness_N_per_mm=float(mean_stiffness_N_per_mm(x, F)),
-        max_force_N=float(np.abs(F).max()),
-        peak_pressure_MPa=max(peaks.values()),
+        linearity_error=perf[f"lin_{n:g}"],
+        mean_stiffness_N_per_mm=perf[f"k_{n:g}"],
+        max_force_N=perf["max_force_N"],
+        peak_pressure_MPa=max(design.peak_pressures_MPa().values()),
         mass_g=design.mass_g,
         margins=margins,
         details=details,
+        linearity_isothermal=perf["lin_1"],
+        linearity_adiabatic=perf["lin_1.4"],
+        mean_stiffness_adiabatic_N_per_mm=perf["k_1.4"],
+        objective=perf["objective"],
+        objective_exponents=tuple(req.objective_exponents),
     )
 
 
-WALLS = ("outer_tube", "inner_tube", "top_cap", "base")
+def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain_fn=None, extremes: bool = False):
+    """Objective and constraint margins of many designs at once (what the optimiser calls).
+
+    ``X`` has shape ``(S, N)``: ``S`` decision vectors of ``layout`` (its
+    ``decision_variables``), each charged to ``req.max_charge_MPa``. Returns
+    ``(objective (S,), margins (M, S), buildable (S,))`` with the margins in
+    the order of ``constraint_names(req, layout, search=True)`` (the
+    constraints a search can violate: not the p2 charge, which is the limit,
+    nor the wall safety factors, which the sized walls meet whenever
+    ``wall_capacity`` does); the same formulas as
+    :func:`evaluate_design` (:func:`~vvea_design.spring.design.derive`).
+    ``strain_fn(g) -> (S,)`` gives the bladder strain when
+    ``req.max_bladder_strain`` is set (the optimiser's surrogate). With
+    ``extremes`` a fourth array ``(4 E, S)`` holds the signed deviations
+    over the force span (at both ends, interior max and min) for each of the
+    ``E`` objective exponents: the objective is their largest magnitude, and
+    they are smooth where the objective has kinks (the polish's epigraph).
+    """
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    lay = get_layout(layout)
+    cols = {name: X[:, i] for i, name in enumerate(lay.decision_variables)}
+    S = X.shape[0]
+    p2 = np.full(S, req.max_charge_MPa)
+    with np.errstate(all="ignore"):
+        g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
+                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead)
+        g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
+        perf = _performance(g, req, p2, report=False)
+        strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
+        details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
+                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)))
+        rows = []
+        for k in constraint_names(req, layout, search=True):
+            if k.startswith("linearity_adiabatic["):  # smooth pieces of max |deviation| <= limit (no kinks)
+                i = int(k[len("linearity_adiabatic["):-1])
+                e = perf[f"ext_{REPORTED_N['adiabatic']:g}"][:, i % 4]
+                lim = req.max_linearity_adiabatic
+                rows.append((lim - e) / lim if i < 4 else (lim + e) / lim)
+            else:
+                rows.append(np.broadcast_to(_margin(details[k]), (S,)))
+        margins = np.array(rows, dtype=float)
+    ok = g["buildable"] & np.all(np.isfinite(margins), axis=0) & np.isfinite(perf["objective"])
+    obj = np.where(ok, perf["objective"], 1.0)
+    margins = np.where(ok[None, :], margins, -1.0)
+    if extremes:
+        ext = np.concatenate([perf[f"ext_{n:g}"].T for n in req.objective_exponents], axis=0)
+        ext = np.where(ok[None, :], ext, 1.0)
+        return obj, margins, ok, ext
+    return obj, margins, ok
 
 
-def constraint_names(req: Requirements) -> list[str]:
-    """Names of the constraints :func:`evaluate_design` reports for ``req``, in its order."""
+def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool = False) -> list[str]:
+    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order
+    (``search``: only those :func:`evaluate_population` returns)."""
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
-             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded"]
-    names += [f"wall_safety_{w}" for w in WALLS]
+             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "wall_capacity"]
+    if search:
+        names.remove("charge_p2")
+    else:
+        names += [f"wall_safety_{w}" for w in _walls(layout)]
     if req.max_mass_g is not None:
         names.append("mass")
+    if req.max_linearity_adiabatic is not None:
+        names += [f"linearity_adiabatic[{i}]" for i in range(8)] if search else ["linearity_adiabatic"]
     if req.max_bladder_strain is not None:
         names.append("bladder_strain")
     return names
 
 
-def _margin(d: dict) -> float:
-    v, lim = float(d["value"]), float(d["limit"])
-    scale = float(d.get("scale", abs(lim) if lim != 0 else 1.0))
+def _margin(d: dict):
+    v, lim = d["value"], d["limit"]
+    scale = d.get("scale", np.where(np.asarray(lim) != 0, np.abs(lim), 1.0))
     if d["kind"] == "max":
         return (lim - v) / scale
     return (v - lim) / scale
