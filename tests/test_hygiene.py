@@ -263,7 +263,6 @@ NOT_YET_CONVERTED = {
     "vvea_design.identification.identify",
     "vvea_design.identification.testbench",
     "vvea_design.materials.silicones",
-    "vvea_design.messages",
     "vvea_design.materials.structural",
     "vvea_design.parallel",
     "vvea_design.spring.design_file",

@@ -44,6 +44,7 @@ __all__ = [
     "OptimisationResult",
     "LayoutSearch",
     "Infeasible",
+    "NoBuildableDesign",
     "optimise",
     "pareto_front",
     "linearity_map",
@@ -60,6 +61,20 @@ class Infeasible(RuntimeError):
     def __init__(self, result: "OptimisationResult"):
         self.result = result
         super().__init__(result.infeasibility_message())
+
+
+class NoBuildableDesign(ValueError):
+    """No point inside the search bounds can even be drawn; the message names why and the bounds."""
+
+
+def _unbuildable_message(req: Requirements, x, layout: str, layouts, reason: Exception) -> str:
+    names = get_layout(layout).decision_variables
+    point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(names, x))
+    box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(names, req.search_bounds(layout)))
+    tried = f" (layouts tried: {', '.join(layouts)})" if len(layouts) > 1 else ""
+    return (f"the search found no buildable design inside the search bounds{tried}: {box}; outer_diameter_mm is capped at "
+            f"max_outer_diameter_mm = {req.max_outer_diameter_mm:.4g}. The best point found ({layout} layout: "
+            f"{point}) cannot be drawn: {reason}; widen [bounds] or the envelope in the requirements file")
 
 
 @dataclass(frozen=True)
@@ -310,6 +325,10 @@ def optimise(
 
     found.sort(key=rank)
     lay, best_x, info, prob, polished = found[0]
+    try:  # every point the search tried may be unbuildable: name why and the bounds (issue 11 item 8)
+        design_from_vector(best_x, req, lay)
+    except DesignError as exc:
+        raise NoBuildableDesign(_unbuildable_message(req, best_x, lay, layouts, exc)) from None
     strain_fe = strain_sur = None
     if req.max_bladder_strain is not None:
         best_x, strain_fe, strain_sur, extra = _fe_correct(req, lay, best_x, bladder_strain_fn, prob)
