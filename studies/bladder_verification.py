@@ -291,8 +291,9 @@ def paper(out: Path, n: int = 96) -> dict:
     }
     res["free_length_sensitivity"] = _paper_sensitivity(out, dv, n)
     (out / "paper.json").write_text(json.dumps(res, indent=2))
-    plot_bladder(relaxed, out / "paper.png", title="paper's bladder reconstructed (tension field)")
-    plot_bladder(stiff, out / "paper_no_wrinkling.png", title="paper's bladder, compression carried (no wrinkling)")
+    plot_bladder(relaxed, title="paper's bladder reconstructed (tension field)").savefig(out / "paper.png", dpi=120)
+    plot_bladder(stiff, title="paper's bladder, compression carried (no wrinkling)").savefig(
+        out / "paper_no_wrinkling.png", dpi=120)
     return {
         "ours_expanded_max_principal_strain": relaxed.ends["expanded"].max_principal_strain,
         "ours_expanded_strain_bound": relaxed.ends["expanded"].strain_bound,

@@ -21,8 +21,9 @@ Scores, per effect:
   be modelled by an accepted ``"catalogue": false`` effect whose id names it
   (:data:`SIGNATURE_WORDS`), and is *misnamed* when a catalogue effect is
   accepted instead.
-- **precision** (catalogue ids): of all campaigns in which the id was
-  accepted, the share in which it was really present.
+- **precision**: of all campaigns in which the id was accepted (for an
+  effect outside the catalogue: a discovered id naming it), the share in
+  which it was really present.
 - **false positives on nulls**: effects accepted on null campaigns.
 - **held-out RMS after / noise**: ``heldout_rmse_N.final`` over the bench's
   true noise RMS (target <= 2) and over the tool's own ``noise_floor_N``.
@@ -61,7 +62,7 @@ from vvea_design.identification import physbench as pb  # noqa: E402
 #: Words an accepted non-catalogue effect id must contain to count as naming
 #: the out-of-catalogue physics (lower case, any one suffices).
 SIGNATURE_WORDS: dict[str, tuple[str, ...]] = {
-    "force_lag": ("lag", "filter", "memory", "delay"),
+    "force_lag": ("lag", "filter", "delay"),
     "position_ripple": ("position", "spindle", "pitch", "displacement_periodic"),
     "time_ripple": ("time_ripple", "time_periodic", "frequency", "temporal"),
     "hysteresis": ("hysteresis", "presliding", "pre_sliding", "play", "backlash"),
@@ -218,6 +219,10 @@ def summarise(results: list[dict]) -> dict:
             d["accepted_in_campaigns"] = len(acc)
             d["other_catalogue_ids_accepted"] = sorted({i for r in rows for i in r["false_positive_catalogue"]})
         else:
+            words = SIGNATURE_WORDS[e]
+            acc = [r for r in results if any(any(w in i.lower() for w in words) for i in r["accepted_discovered"])]
+            d["precision"] = _rate([r["effect"] == e for r in acc])
+            d["accepted_in_campaigns"] = len(acc)
             d["misnamed_as_catalogue_rate"] = _rate([r["misnamed_as_catalogue"] for r in rows])
             d["catalogue_ids_accepted"] = sorted({i for r in rows for i in r["accepted_catalogue"]})
             d["discovered_ids_accepted"] = sorted({i for r in rows for i in r["accepted_discovered"]})
@@ -257,7 +262,7 @@ def plot(summary: dict):
     mis = [pe[n].get("misnamed_as_catalogue_rate") for n in names]
     lab = lambda vals: ["" if v is None else f"{v:.2f}" for v in vals]  # noqa: E731
     c1 = ax.bar(xs - 0.25, rec, 0.25, label="recall (found / named right)", color="C0")
-    c2 = ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision (catalogue ids)", color="C2")
+    c2 = ax.bar(xs, [p if p is not None else 0 for p in prec], 0.25, label="precision", color="C2")
     c3 = ax.bar(xs + 0.25, [m if m is not None else 0 for m in mis], 0.25, label="named as a catalogue effect (wrong)",
                 color="C3")
     for c, vals in ((c1, rec), (c2, prec), (c3, mis)):
@@ -298,6 +303,24 @@ def cases_frame(results: list[dict]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def results_from_cases(path: Path) -> list[dict]:
+    """Read back ``cases.csv`` (to re-summarise and re-plot without re-running)."""
+    f = pd.read_csv(path, keep_default_na=False)
+    out = []
+    for r in f.to_dict("records"):
+        for k in ("accepted_catalogue", "accepted_discovered", "false_positive_catalogue"):
+            r[k] = [i for i in str(r[k]).split("+") if i]
+        for k in ("found", "misnamed_as_catalogue", "unexplained_structure"):
+            r[k] = str(r[k]) == "True"
+        for k in ("heldout_baseline_N", "heldout_final_N", "noise_floor_N", "final_over_noise", "final_over_floor"):
+            r[k] = None if r[k] == "" else float(r[k])
+        r["effect"] = "" if r["kind"] == "null" else r["effect"]
+        r["error"] = str(r["error"])
+        r["effect_parameters"] = json.loads(r["effect_parameters"])
+        out.append(r)
+    return out
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=HERE / "results" / "diagnosis_benchmark")
@@ -308,6 +331,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--effects", default=None, help="comma-separated subset of effects")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--scheduler", default=None)
+    ap.add_argument("--from-cases", type=Path, default=None, help="re-summarise and re-plot an earlier cases.csv")
     args = ap.parse_args(argv)
     import matplotlib
 
@@ -321,9 +345,16 @@ def main(argv=None) -> dict:
     else:
         cases = make_cases(args.per_effect, args.null, args.seed, None, effects)
     t0 = time.perf_counter()
-    results = parallel_map(run_case, cases, workers=args.workers, scheduler=args.scheduler, description="diagnosis benchmark")
+    if args.from_cases:
+        results = results_from_cases(args.from_cases)
+        prev = args.from_cases.parent / "summary.json"
+        wall = json.loads(prev.read_text()).get("wall_s") if prev.exists() else None
+    else:
+        results = parallel_map(run_case, cases, workers=args.workers, scheduler=args.scheduler,
+                               description="diagnosis benchmark")
+        wall = time.perf_counter() - t0
     summary = summarise(results)
-    summary["wall_s"] = time.perf_counter() - t0
+    summary["wall_s"] = wall
     summary["grid"] = cases[0].grid.to_dict()
     args.out.mkdir(parents=True, exist_ok=True)
     cases_frame(results).to_csv(args.out / "cases.csv", index=False)
@@ -331,13 +362,14 @@ def main(argv=None) -> dict:
     fig = plot(summary)
     fig.savefig(args.out / "benchmark.png", dpi=110)
     console.print(f"[bold]diagnosis benchmark[/bold] (independent physics bench): {len(results)} campaigns, "
-                  f"{summary['wall_s']:.0f} s -> {args.out}")
+                  f"{summary['wall_s'] or 0:.0f} s -> {args.out}")
     for e, d in summary["per_effect"].items():
         pr = d.get("precision")
-        extra = (f"precision {'n/a' if pr is None else f'{pr:.2f}'}" if d["catalogue"]
-                 else f"named as catalogue {d['misnamed_as_catalogue_rate']:.2f}")
+        extra = f"precision {'n/a' if pr is None else f'{pr:.2f}'}"
+        if not d["catalogue"]:
+            extra += f"  named as catalogue {d['misnamed_as_catalogue_rate']:.2f}"
         r2 = d["heldout_final_over_noise_median"]
-        console.print(f"  {e:<20} recall {d['recall']:.2f}  {extra:<26} held-out/noise "
+        console.print(f"  {e:<20} recall {d['recall']:.2f}  {extra:<44} held-out/noise "
                       f"{'n/a' if r2 is None else f'{r2:6.2f}'}  errors {d['errors']}")
     if "null" in summary:
         n = summary["null"]

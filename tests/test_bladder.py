@@ -259,3 +259,30 @@ def test_cli_allowable_override_decides_the_verdict(tmp_path):
     d = json.loads((tmp_path / "b" / "bladder.json").read_text())
     assert d["allowable_strain"] == 0.01 and not d["passes_strain"] and not d["passes"]
     assert d["material"]["key"] == "dragon-skin-30" and d["criterion"]["name"] == "given"
+
+
+def test_plot_bladder_returns_a_figure_with_verdict_and_allowable():
+    """Both wall surfaces, the allowable strain line and the verdict; no backend switch, nothing saved."""
+    import matplotlib
+
+    from vvea_design.bladder.check import check_bladder, plot_bladder
+    from vvea_design.spring.design import Design
+
+    backend = matplotlib.get_backend()
+    res = check_bladder(Design(35.18, 59.5, 47107.0, 99735.0), n_elements=24)
+    fig = plot_bladder(res, title="t")
+    assert matplotlib.get_backend() == backend
+    strain_ax = fig.axes[2]
+    assert any(abs(line.get_xdata()[0] - 100 * res.allowable_strain) < 1e-9 for line in strain_ax.lines
+               if len(line.get_xdata()) == 2 and line.get_xdata()[0] == line.get_xdata()[1])
+    verdict = "PASS" if res.passes else "FAIL"
+    assert strain_ax.get_title().startswith(verdict) and verdict in fig._suptitle.get_text()
+    gaps = [t.get_text() for ax in fig.axes[:2] for t in ax.texts if t.get_text().startswith("gap")]
+    e = res.ends["compressed"]
+    assert f"gap {e.gap_inner_tube_mm:.2f} mm" in gaps
+    # the drawn inner wall surface sits exactly the reported gap from the inner tube
+    from vvea_design.bladder.check import _surfaces
+
+    inner, outer = _surfaces(e.solution)
+    assert inner[:, 0].min() - res.inner_tube_outer_radius_mm == pytest.approx(e.gap_inner_tube_mm, abs=0.02)
+    assert (outer[:, 0] - inner[:, 0]).min() > 0

@@ -80,7 +80,7 @@ def test_registry_drives_build_and_files(built):
     _, d, model, _, manifest = built
     assert list(model.solids) == [p.name for p in cadpkg.PARTS]
     expected = {f"{p.name}.{ext}" for p in cadpkg.PARTS for ext in p.files} | {"assembly.step"}
-    assert {f for f, i in manifest["files"].items() if i["kind"] != "render"} == expected
+    assert {f for f, i in manifest["files"].items() if i["kind"] not in ("render", "glb")} == expected
     for p in cadpkg.PARTS:
         s = model.solids[p.name]
         assert s.label == p.name
@@ -274,7 +274,7 @@ def test_mould_shrinkage_scales_the_cavity():
 def test_files_written(built):
     name, _, _, out, manifest = built
     names = {f"{p}.{ext}" for p in EXPORTED for ext in ("step", "stl")}
-    names |= {"assembly.step", "gas_chamber_1.stl", "gas_chamber_2.stl"}
+    names |= {"assembly.step", "gas_chamber_1.stl", "gas_chamber_2.stl", "assembly.glb", "mould.glb"}
     if name == "reference":
         names |= {"assembly_cutaway.png", "mould_open.png"}
     assert set(manifest["files"]) == names
@@ -282,7 +282,7 @@ def test_files_written(built):
     for fname, info in manifest["files"].items():
         data = (out / fname).read_bytes()
         assert hashlib.sha256(data).hexdigest() == info["sha256"], fname
-        if info["kind"] != "render":
+        if info["kind"] not in ("render", "glb"):
             assert {"volume_mm3", "bbox_mm", "material"} <= set(info), fname
         if fname.endswith(".stl"):
             assert len(data) < 2_000_000, fname
@@ -322,6 +322,26 @@ def test_assembly_step_has_named_parts(built):
         assert v == pytest.approx(model.parts[k].volume, rel=1e-6)
 
 
+def test_glb_scenes(built):
+    """The GLBs load, hold one named node per part (colour from the table), are small and in metres."""
+    _, d, model, out, manifest = built
+    for fname, names in (("assembly.glb", [p.name for p in cadpkg.parts_in("assembly", "gas")]),
+                         ("mould.glb", ["mould_half_a", "mould_half_b", "mould_core", "bladder"])):
+        assert manifest["files"][fname]["bytes"] < 2_000_000
+        scene = trimesh.load(out / fname, file_type="glb")
+        assert sorted(scene.geometry) == sorted(names), fname
+        for name, geom in scene.geometry.items():
+            rgba = np.asarray(geom.visual.material.baseColorFactor, dtype=float)
+            rgba = rgba / 255.0 if rgba.max() > 1.0 else rgba
+            assert rgba[:3] == pytest.approx(cadpkg.get_part(name).colour, abs=0.01), (fname, name)
+    scene = trimesh.load(out / "assembly.glb", file_type="glb")
+    lo, hi = scene.bounds
+    # +Y up, metres: the housing spans its length along Y; cut open: nothing at glTF z > 0 (CAD y < 0)
+    assert hi[1] == pytest.approx(d.housing_length_mm * 1e-3, abs=1e-6)
+    assert hi[2] <= 1e-9  # tessellation: the rim within the STL chord tolerance (0.05 mm)
+    assert lo[2] == pytest.approx(-d.outer_diameter_mm / 2 * 1e-3, abs=model.layout.cad.stl_tolerance_mm * 1e-3)
+
+
 def test_exports_are_byte_stable(built, tmp_path):
     """A second export of the same design, in the same process, gives identical bytes."""
     _, d, _, out, manifest = built
@@ -340,10 +360,29 @@ def test_renders(built):
 
     from vvea_design.cad.render import WINDOW_SIZE
 
-    for fname in ("assembly_cutaway.png", "mould_open.png"):
-        img = np.asarray(Image.open(out / fname).convert("RGB"), dtype=float)
-        assert img.shape[:2] == (WINDOW_SIZE[1], WINDOW_SIZE[0])
-        assert img.std() > 5.0, f"{fname} is blank"
+    img = np.asarray(Image.open(out / "mould_open.png").convert("RGB"), dtype=float)
+    assert img.shape[:2] == (WINDOW_SIZE[1], WINDOW_SIZE[0])
+    assert img.std() > 5.0, "mould_open.png is blank"
+    # the cut-away is cropped to the part: the drawing spans most of the frame both ways
+    img = np.asarray(Image.open(out / "assembly_cutaway.png").convert("RGB"), dtype=float)
+    ink = img.min(axis=2) < 200
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    assert (rows[-1] - rows[0]) / ink.shape[0] > 0.85 and (cols[-1] - cols[0]) / ink.shape[1] > 0.85
+    assert ink.mean() > 0.2, "assembly_cutaway.png is mostly empty"
+
+
+def test_deformed_bladder_is_volume_consistent(built):
+    """The pictures' chamber-2 gas at x holds V2 - A2 x; the bladder moves inwards at 0, outwards at travel."""
+    from vvea_design.cad.bladder import bladder_deformed, bladder_shift_at_mm
+
+    _, d, model, _, _ = built
+    lay = model.layout
+    for x in (0.0, d.fixed.travel_mm):
+        _, gas = bladder_deformed(lay, x)
+        assert gas.volume == pytest.approx(d.V2_annulus_mm3 - d.A2_mm2 * x, rel=1e-9)  # + V2_top above a bulkhead
+    assert bladder_shift_at_mm(lay, 0.0) < 0 < bladder_shift_at_mm(lay, d.fixed.travel_mm)
+    cast = d.fixed.bladder_cast_fill * d.fixed.travel_mm
+    assert bladder_shift_at_mm(lay, cast) == pytest.approx(0.0, abs=1e-9)
 
 
 # ------------------------------------------------------------------ errors

@@ -54,6 +54,28 @@ def test_files_are_current(fresh):
             assert committed["files"][fname].get(k) == info.get(k), f"cad/{fname} {k} is stale; {REGEN}"
 
 
+def test_drawings_and_bom_are_current(tmp_path):
+    """cad/drawing_*.svg and cad/bom.csv are what `vvea cad` writes today (SVG text is byte-stable)."""
+    if not (CAD / "design.json").exists():
+        pytest.skip("no cad/design.json")
+    import hashlib
+
+    from vvea_design.cad import build_cad
+    from vvea_design.report.bom import write_bom
+    from vvea_design.report.drawing import write_drawings
+    from vvea_design.spring.design_file import load_design
+
+    model = build_cad(load_design(CAD / "design.json"))
+    ds = write_drawings(model, tmp_path)
+    write_bom(model, tmp_path)
+    for path in [*ds.svg, tmp_path / "bom.csv"]:
+        committed = CAD / path.name
+        assert committed.is_file(), f"cad/{path.name} missing; {REGEN}"
+        assert hashlib.sha256(committed.read_bytes()).hexdigest() == hashlib.sha256(path.read_bytes()).hexdigest(), \
+            f"cad/{path.name} is stale; {REGEN}"
+    assert (CAD / "drawings.pdf").is_file()
+
+
 def test_renders_exist(fresh):
     committed, _ = fresh
     for fname in ("assembly_cutaway.png", "mould_open.png"):

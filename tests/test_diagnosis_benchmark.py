@@ -65,3 +65,6 @@ def test_one_small_campaign_end_to_end(tmp_path):
     assert (tmp_path / "b.png").stat().st_size > 10000
     frame = bench.cases_frame([r])
     assert list(frame["effect"]) == ["thermal"]
+    frame.to_csv(tmp_path / "cases.csv", index=False)
+    back = bench.results_from_cases(tmp_path / "cases.csv")
+    assert bench.summarise(back)["per_effect"] == summ["per_effect"]

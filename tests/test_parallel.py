@@ -41,3 +41,82 @@ def test_empty_and_worker_settings(monkeypatch):
         default_workers()
     with pytest.raises(ValueError, match="workers must be >= 1"):
         parallel_map(square, [1, 2], workers=0, progress=False)
+
+
+# -- workers end with their parent (issue 11 item 6) ---------------------------------------------------
+import os  # noqa: E402
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import textwrap  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+ROOT = str(Path(__file__).resolve().parents[1])
+
+
+def _children(pid: int) -> list[int]:
+    """Live (non-zombie) child processes of ``pid``, from /proc."""
+    out = []
+    for d in Path("/proc").iterdir():
+        if d.name.isdigit():
+            try:
+                fields = (d / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                out.append(int(d.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _wait(cond, timeout: float) -> bool:
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        if cond():
+            return True
+        time.sleep(0.2)
+    return cond()
+
+
+def _start_parent(tmp_path) -> tuple[subprocess.Popen, list[int]]:
+    script = tmp_path / "parent.py"
+    script.write_text(textwrap.dedent(f"""
+        import sys, time
+        sys.path.insert(0, {ROOT!r})
+        from vvea_design.parallel import parallel_map
+
+        def work(i):
+            time.sleep(300)
+            return i
+
+        if __name__ == "__main__":
+            parallel_map(work, range(6), workers=2, progress=False)
+    """))
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert _wait(lambda: len(_children(proc.pid)) >= 2, 60), "workers did not start"
+    return proc, _children(proc.pid)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL, signal.SIGINT])
+def test_killing_the_parent_ends_its_workers(tmp_path, sig):
+    proc, workers = _start_parent(tmp_path)
+    try:
+        os.kill(proc.pid, sig)
+        proc.wait(timeout=30)
+        assert _wait(lambda: not any(_alive(w) for w in workers), 15), \
+            f"workers {[w for w in workers if _alive(w)]} outlived their parent ({sig.name})"
+    finally:
+        for w in workers + [proc.pid]:
+            if _alive(w):
+                os.kill(w, signal.SIGKILL)
+    if sig == signal.SIGTERM:
+        assert b"Terminated" in proc.stderr.read()

@@ -281,3 +281,112 @@ def test_cli_fine_mesh_option(tmp_path):
     assert res.exit_code == 0, res.output + str(res.exception)
     df = pd.read_csv(tmp_path / "results.csv")
     assert (df.mesh_N == 24).all() and (df.coarse_mesh_N == 16).all()
+
+
+# -- reliability of the sweep (issue 11 items 6, 7, 9, 11) ---------------------------------------------------
+@pytest.mark.parametrize("args, option", [
+    (["--mesh-n", "5"], "--mesh-n"),
+    (["--mesh-n", "-4"], "--mesh-n"),
+    (["--fine-mesh-n", "6"], "--fine-mesh-n"),
+    (["--workers", "0"], "--workers"),
+    (["--p2-mpa", "3"], "--design only"),
+    (["--grid", "0.2,x:0.4"], "--grid"),
+    (["--grid", "0.2,-1:0.4"], "--grid"),
+])
+def test_cli_bad_options_are_rejected_before_the_sweep(tmp_path, monkeypatch, args, option):
+    def never(case):  # pragma: no cover - must not be reached
+        raise AssertionError("a case was solved")
+
+    monkeypatch.setattr(sa, "solve_case", never)
+    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--out", str(tmp_path / "o"), "--no-progress", *args])
+    assert res.exit_code == 2, res.output
+    assert option in res.output
+    assert not (tmp_path / "o" / "results.csv").exists()
+
+
+def test_library_rejects_a_bad_mesh_before_touching_files(tmp_path):
+    with pytest.raises(ValueError, match="multiple of 4"):
+        run_rest_to_rest(tmp_path / "o", grid=TINY, mesh=Mesh(18, 3), workers=1, progress=False, figures=False)
+    with pytest.raises(ValueError, match="starts"):
+        run_rest_to_rest(tmp_path / "o", grid=TINY, mesh=SMALL_MESH, starts=("warm",), workers=1, progress=False)
+    assert not (tmp_path / "o").exists()
+
+
+def test_repeated_grid_values_are_solved_once_and_resume(tmp_path):
+    out = tmp_path / "rep"
+    args = ["study", "rest-to-rest", "--grid", "0.2,0.2:0.4,0.4000000001", "--mesh-n", "16", "--workers", "1",
+            "--out", str(out), "--no-progress"]
+    res = CliRunner().invoke(_app(), args)
+    assert res.exit_code == 0, res.output + str(res.exception)
+    assert "repeats" in res.output and "solved once" in " ".join(res.output.split())
+    df = pd.read_csv(out / "results.csv")
+    assert len(df) == len(SETTINGS) and df.case_id.nunique() == 1
+    s = json.loads((out / "summary.json").read_text())
+    assert s["n_cases"] == 1 and s["run"]["cases"] == 1
+    res = CliRunner().invoke(_app(), args)  # the same command again: nothing left to solve
+    assert res.exit_code == 0, res.output
+    assert json.loads((out / "summary.json").read_text())["run"]["cases_solved_this_run"] == 0
+    assert len(pd.read_csv(out / "results.csv")) == len(SETTINGS)
+
+
+def test_grid_repeated_and_unique():
+    g = Grid((0.2, 0.4, 0.2), (1.0, 1.0))
+    assert g.repeated() == {"A_rad": [0.2], "T_s": [1.0]}
+    assert g.unique() == Grid((0.2, 0.4), (1.0,))
+    assert Grid((0.2,), (1.0,)).repeated() == {}
+
+
+def test_resume_hint_names_the_cli_flag(tmp_path):
+    grid = Grid((0.4,), (0.8,))
+    run_rest_to_rest(tmp_path, grid=grid, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
+    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--grid", "0.4:0.8", "--mesh-n", "20", "--workers", "1",
+                                      "--out", str(tmp_path), "--no-progress"])
+    assert res.exit_code == 2
+    assert "--restart" in res.output and "restart=True" not in res.output.replace("(restart=True in Python)", "")
+
+
+def test_ctrl_c_says_how_to_resume(tmp_path, monkeypatch):
+    calls = {"n": 0}
+    real = sa.solve_case
+
+    def interrupted_second(case):
+        calls["n"] += 1
+        if calls["n"] == 2:
+            raise KeyboardInterrupt
+        return real(case)
+
+    monkeypatch.setattr(sa, "solve_case", interrupted_second)
+    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--grid", "0.4:0.4,0.8", "--mesh-n", "16",
+                                      "--workers", "1", "--out", str(tmp_path), "--no-progress"])
+    assert res.exit_code == 130, res.output
+    text = " ".join(res.output.split())
+    assert "1 finished case(s) are saved" in text
+    assert "Run the same command again to resume" in text and "--restart" in text
+
+
+@pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="reads /proc")
+def test_sigterm_to_vvea_study_ends_workers_and_says_how_to_resume(tmp_path):
+    """A real `vvea study rest-to-rest` process, its two workers, SIGTERM to the parent."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    from test_parallel import _alive, _children, _wait
+
+    env = dict(os.environ, COLUMNS="200")
+    proc = subprocess.Popen([sys.executable, "-c", "from vvea_design.cli.main import main; main()", "study", "rest-to-rest", "--grid", "paper",
+                             "--workers", "2", "--out", str(tmp_path), "--no-progress"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env,
+                            cwd=str(__import__("pathlib").Path(__file__).resolve().parents[1]))
+    try:
+        assert _wait(lambda: len(_children(proc.pid)) >= 2, 120), "workers did not start"
+        workers = _children(proc.pid)
+        os.kill(proc.pid, signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode == 143, err.decode()
+        assert _wait(lambda: not any(_alive(w) for w in workers), 15)
+        assert b"Run the same command again to resume" in err
+    finally:
+        if proc.poll() is None:
+            proc.kill()

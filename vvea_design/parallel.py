@@ -5,6 +5,14 @@ scheduler address is given, or serial in-process for ``workers=1``.  Results
 are handed to ``on_result`` as they complete so callers can write them case
 by case (resumable sweeps); the returned list is always in input order.
 
+Worker processes end with their parent: each worker asks the kernel for
+SIGTERM when its parent dies (Linux ``PR_SET_PDEATHSIG``; elsewhere a
+watchdog thread polls the parent id), so even ``kill -9`` of the parent leaves
+no orphan computing. While a map runs, SIGTERM to the parent raises
+:class:`Terminated` in it (the finished results are already handed over);
+on Ctrl-C or SIGTERM the parent cancels the queued items and stops the running
+ones at once.
+
 Example
 -------
 >>> from vvea_design.parallel import parallel_map
@@ -14,8 +22,13 @@ Example
 
 from __future__ import annotations
 
+import contextlib
 import os
-from collections.abc import Callable, Iterable, Sequence
+import signal
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, TypeVar
 
@@ -24,7 +37,68 @@ from .progress import progress_bar
 T = TypeVar("T")
 R = TypeVar("R")
 
-__all__ = ["parallel_map", "default_workers"]
+__all__ = ["parallel_map", "default_workers", "Terminated"]
+
+
+class Terminated(BaseException):
+    """Raised in the parent when it receives SIGTERM during :func:`parallel_map`.
+
+    A BaseException (like KeyboardInterrupt), so ``except Exception`` blocks
+    do not swallow it; the exit status for it is 143 (128 + SIGTERM).
+    """
+
+
+def _die_with_parent(parent_pid: int) -> None:
+    """Worker initializer: end this worker when the parent process dies."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL("libc.so.6", use_errno=True)
+            PR_SET_PDEATHSIG = 1
+            libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+        except OSError:  # pragma: no cover - no libc: the watchdog below still works
+            pass
+    if os.getppid() != parent_pid:  # the parent died before we got here
+        os._exit(1)
+
+    def watchdog() -> None:
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watchdog, name="vvea-parent-watchdog", daemon=True).start()
+
+
+@contextlib.contextmanager
+def _sigterm_raises() -> Iterator[None]:
+    """While active (main thread only), SIGTERM raises :class:`Terminated` in the parent."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated(f"received signal {signum}")
+
+    old = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def _stop_now(pool: ProcessPoolExecutor) -> None:
+    """Cancel queued items and end the running workers without waiting for them."""
+    procs = list(getattr(pool, "_processes", {}).values())  # no public API for the worker processes
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=5)
+        if p.is_alive():  # pragma: no cover - a worker that ignores SIGTERM
+            p.kill()
 
 
 def default_workers() -> int:
@@ -111,14 +185,20 @@ def parallel_map(
                 for i, item in enumerate(work):
                     _done(i, func(item))
             else:
-                pool = ProcessPoolExecutor(max_workers=min(n, len(work)))
-                try:
-                    futs = {pool.submit(func, item): i for i, item in enumerate(work)}
-                    for fut in as_completed(futs):
-                        _done(futs[fut], fut.result())
-                except BaseException:
-                    # an error or Ctrl-C: do not run (and then throw away) the queued items
-                    pool.shutdown(wait=True, cancel_futures=True)
-                    raise
+                pool = ProcessPoolExecutor(max_workers=min(n, len(work)), initializer=_die_with_parent,
+                                           initargs=(os.getpid(),))
+                with _sigterm_raises():
+                    try:
+                        futs = {pool.submit(func, item): i for i, item in enumerate(work)}
+                        for fut in as_completed(futs):
+                            _done(futs[fut], fut.result())
+                    except (KeyboardInterrupt, Terminated):
+                        # Ctrl-C or SIGTERM: stop everything now (finished results are already handed over)
+                        _stop_now(pool)
+                        raise
+                    except BaseException:
+                        # an error in one item: do not run (and then throw away) the queued items
+                        pool.shutdown(wait=True, cancel_futures=True)
+                        raise
                 pool.shutdown(wait=True)
     return results

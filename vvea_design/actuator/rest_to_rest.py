@@ -46,6 +46,28 @@ class Grid:
         """All (A, T) pairs, A-major."""
         return [(A, T) for A in self.A_rad for T in self.T_s]
 
+    def repeated(self) -> dict[str, list[float]]:
+        """Values that occur more than once (equal to the 6 significant digits of a case id), per axis."""
+        out = {}
+        for name in ("A_rad", "T_s"):
+            seen: dict[str, int] = {}
+            for x in getattr(self, name):
+                seen[f"{x:.6g}"] = seen.get(f"{x:.6g}", 0) + 1
+            rep = [float(k) for k, n in seen.items() if n > 1]
+            if rep:
+                out[name] = rep
+        return out
+
+    def unique(self) -> "Grid":
+        """The grid with every repeated value kept once (first occurrence, order kept)."""
+        def once(v):
+            keep: dict[str, float] = {}
+            for x in v:
+                keep.setdefault(f"{x:.6g}", x)
+            return tuple(keep.values())
+
+        return Grid(once(self.A_rad), once(self.T_s))
+
 
 #: Named grids: the paper's (10 A x 15 T) and a coarse 3 x 3 one.
 GRIDS: dict[str, Grid] = {
@@ -77,17 +99,16 @@ def _read_done(path: Path, settings: Sequence[Actuator]) -> list[dict]:
     if not path.exists():
         return []
     names = {a.name for a in settings}
-    by_case: dict[str, list[dict]] = {}
+    by_case: dict[str, dict[str, dict]] = {}
     with path.open(newline="") as fh:
         for row in csv.DictReader(fh):
             if None in row or any(row.get(c) is None for c in RESULT_COLUMNS):
                 continue  # torn / malformed line
-            by_case.setdefault(row["case_id"], []).append(row)
+            by_case.setdefault(row["case_id"], {})[row["setting"]] = row  # a repeated row: the last one counts
     keep = []
     for cid, rs in by_case.items():
-        got = {r["setting"] for r in rs}
-        if got == names and len(rs) == len(names):
-            keep.extend(rs)
+        if set(rs) == names:
+            keep.extend(rs.values())
     return keep
 
 
@@ -157,10 +178,24 @@ def run_rest_to_rest(
         grid_name, grid = grid, GRIDS[grid]
     else:
         grid_name = "custom"
+    rep = grid.repeated()
+    if rep:
+        grid = grid.unique()
+        console.print(f"[bold yellow]note[/]: the grid repeats {rep}; each case is solved once "
+                      f"({len(grid.A_rad)} amplitudes x {len(grid.T_s)} periods)", soft_wrap=True)
     settings = tuple(PAPER_SETTINGS.values()) if settings is None else tuple(settings)
     names = [a.name for a in settings]
     if len(set(names)) != len(names):
         raise ValueError(f"setting names must be unique, got {names}")
+    # every option is checked here, before any file is touched or any case is solved
+    if mesh.n_intervals % 4:
+        raise ValueError(f"the mesh must have a multiple of 4 intervals (the reference switches at T/2, T, 3T/2), "
+                         f"got {mesh.n_intervals}")
+    unknown = set(starts) - set(DEFAULT_STARTS)
+    if unknown or not starts:
+        raise ValueError(f"starts must be a non-empty selection of {list(DEFAULT_STARTS)}, got {list(starts)}")
+    if workers is not None and (int(workers) != workers or workers < 1):
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     ipo = tuple(sorted((ipopt_options or {}).items()))
     if isinstance(fine_mesh, str):
         if fine_mesh != "auto":
@@ -169,7 +204,7 @@ def run_rest_to_rest(
     if fine_mesh is not None and fine_mesh == mesh:
         fine_mesh = None
     if fine_mesh is not None and fine_mesh.n_intervals % 4:
-        raise ValueError(f"fine_mesh.n_intervals must be a multiple of 4, got {fine_mesh.n_intervals}")
+        raise ValueError(f"the fine mesh must have a multiple of 4 intervals, got {fine_mesh.n_intervals}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     res_path, meta_path = out / "results.csv", out / "meta.json"
@@ -179,8 +214,8 @@ def run_rest_to_rest(
         old = json.loads(meta_path.read_text()) if meta_path.exists() else None
         if old != meta_json:
             raise ValueError(
-                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts differ from "
-                f"{meta_path}); use another --out folder or restart=True"
+                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts/regularisation differ from "
+                f"{meta_path}); use another output folder, or discard it with --restart (restart=True in Python)"
             )
     if restart and res_path.exists():
         res_path.unlink()
@@ -195,7 +230,7 @@ def run_rest_to_rest(
     cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation) for A, T in grid.cases()]
     todo = [c for c in cases if c.case_id not in done]
     if done:
-        console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}")
+        console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}", soft_wrap=True)
 
     fh = res_path.open("a", newline="")
     wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)

@@ -460,61 +460,130 @@ def strain_bound(design, material: str | Silicone = DEFAULT_MATERIAL, *,
 
 
 # -------------------------------------------------------------------- report
-def plot_bladder(result: BladderResult, path: str | Path, title: str = "") -> Path:
-    """Deformed meridians at both stroke ends coloured by strain (PNG)."""
+def _surfaces(sol: MembraneSolution) -> tuple[np.ndarray, np.ndarray]:
+    """Inner and outer wall surfaces (r, z) of the deformed membrane: the mid-surface offset by
+    -/+ half the deformed thickness along its normal, mm."""
+    pts = np.column_stack([sol.r_mm, sol.z_mm])
+    h = np.asarray(sol.fields.get("thickness_mm", np.full(len(pts) - 1, sol.meridian.thickness_mm)), dtype=float)
+    hn = np.concatenate([[h[0]], 0.5 * (h[1:] + h[:-1]), [h[-1]]])
+    t = np.gradient(pts, axis=0)
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    n = np.column_stack([t[:, 1], -t[:, 0]])  # points to +r for a meridian running up in z
+    n *= np.sign(n[:, :1] + 1e-300)
+    return pts - 0.5 * hn[:, None] * n, pts + 0.5 * hn[:, None] * n
+
+
+def plot_bladder(result: BladderResult, fig=None, title: str = ""):
+    """The bladder at both stroke ends and its strain against the allowable, with the verdict.
+
+    Left two panels: the deformed wall (both surfaces, so the drawn gap is the
+    reported one) coloured by the element's max principal strain, the cast
+    wall dashed, the inner tube and the outer bore, the smallest gap marked.
+    Right panel: max principal strain along the wall at both ends, the clamp
+    strain bound and the allowable strain; the title gives PASS or FAIL.
+
+    Parameters
+    ----------
+    result : BladderResult
+        The check.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (a new 12 x 6.5 in one by default).
+    title : str
+        Prefix of the figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Not saved (no backend is selected here).
+    """
     import matplotlib
+    from matplotlib.collections import PolyCollection
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import LineCollection
-
-    fig, axes = plt.subplots(1, 2, figsize=(9, 6), sharey=True, constrained_layout=True)
+    if fig is None:
+        fig = Figure(figsize=(12, 6.5), layout="constrained")
+    axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1, 1.15]})
     strains = [result.ends[k].solution.element_max_principal_strain for k in ENDS]
-    vmax = max(max(float(s.max()) for s in strains), 1e-6)
+    vmax = max(max(float(s.max()) for s in strains), result.allowable_strain, 1e-6)
     norm = matplotlib.colors.Normalize(0.0, vmax)
-    lc = None
-    for ax, k in zip(axes, ENDS):
+    cmap = matplotlib.colormaps["viridis"]
+    r_it, r_bo = result.inner_tube_outer_radius_mm, result.outer_bore_radius_mm
+    pc = None
+    for ax, k in zip(axes[:2], ENDS):
         e = result.ends[k]
         sol = e.solution
         ref = sol.meridian
-        ax.plot(ref.r_mm, ref.z_mm, "k--", lw=0.8, label="cast")
-        pts = np.column_stack([sol.r_mm, sol.z_mm])
-        segs = np.stack([pts[:-1], pts[1:]], axis=1)
-        lc = LineCollection(segs, cmap="viridis", norm=norm, linewidths=4)
-        lc.set_array(sol.element_max_principal_strain)
-        ax.add_collection(lc)
+        inner, outer = _surfaces(sol)
+        quads = [np.array([inner[i], inner[i + 1], outer[i + 1], outer[i]]) for i in range(len(inner) - 1)]
+        pc = PolyCollection(quads, array=sol.element_max_principal_strain, cmap=cmap, norm=norm,
+                            edgecolors="face", linewidths=0.2)
+        ax.add_collection(pc)
+        ax.plot(inner[:, 0], inner[:, 1], color="black", lw=0.6)
+        ax.plot(outer[:, 0], outer[:, 1], color="black", lw=0.6)
+        t0 = ref.thickness_mm
+        for sgn in (-1, 1):
+            ax.plot(ref.r_mm + sgn * t0 / 2, ref.z_mm, "--", color="0.45", lw=0.8,
+                    label="cast wall" if sgn < 0 else None)
+        z0, z1 = float(min(ref.z_mm.min(), sol.z_mm.min())), float(max(ref.z_mm.max(), sol.z_mm.max()))
+        lo = min(r_it if r_it is not None else inner[:, 0].min(), inner[:, 0].min()) - 1.0
+        hi = max(r_bo if r_bo is not None else outer[:, 0].max(), outer[:, 0].max()) + 1.0
+        if r_it is not None:
+            ax.axvspan(lo, r_it, color="0.75", label="inner tube")
+        if r_bo is not None:
+            ax.axvspan(r_bo, hi, color="0.55", label="outer tube")
         wr = sol.state != TAUT
         if np.any(wr):
-            mid = 0.5 * (pts[:-1] + pts[1:])
-            sl = sol.state == SLACK
+            mid = 0.5 * (sol.r_mm[:-1] + sol.r_mm[1:]), 0.5 * (sol.z_mm[:-1] + sol.z_mm[1:])
             every = np.zeros(wr.size, bool)
             every[:: max(1, wr.size // 25)] = True
-            ax.plot(mid[wr & ~sl & every, 0], mid[wr & ~sl & every, 1], "x", color="tab:red", ms=4,
-                    label="wrinkled (hoop slack)")
-            if np.any(sl):
-                ax.plot(mid[sl, 0], mid[sl, 1], "o", mfc="none", color="tab:orange", ms=4, label="slack")
-        if result.inner_tube_outer_radius_mm is not None:
-            ax.axvline(result.inner_tube_outer_radius_mm, color="0.5", lw=3, label="inner tube")
-        if result.outer_bore_radius_mm is not None:
-            ax.axvline(result.outer_bore_radius_mm, color="0.3", lw=3, label="outer bore")
+            sel = wr & every
+            ax.plot(mid[0][sel], mid[1][sel], "x", color="tab:red", ms=4, label="wrinkled / slack")
+        # smallest gaps, drawn where they occur
+        for gap, rad, surf in ((e.gap_inner_tube_mm, r_it, inner), (e.gap_outer_bore_mm, r_bo, outer)):
+            if gap is None or rad is None:
+                continue
+            i = int(np.argmin(np.abs(surf[:, 0] - rad)))
+            ax.annotate("", (rad, surf[i, 1]), (surf[i, 0], surf[i, 1]),
+                        arrowprops=dict(arrowstyle="<->", color="tab:red", lw=1.0, shrinkA=0, shrinkB=0))
+            ax.annotate(f"gap {gap:.2f} mm", (0.5 * (rad + surf[i, 0]), surf[i, 1]),
+                        xytext=(0, -14 if surf[i, 1] > 0.5 * (z0 + z1) else 14), textcoords="offset points",
+                        ha="center", va="center",
+                        fontsize=8, color="tab:red", bbox=dict(facecolor="white", edgecolor="none", pad=0.5))
         touch = [n for n, t in e.touches.items() if t]
-        ax.set_title(f"{k}: dV = {result.volume_change_mm3[k]:+.0f} mm³\n"
-                     f"p = {e.pressure_MPa:+.3g} MPa, max strain {100 * e.max_principal_strain:.1f} %, "
-                     f"bound {100 * e.strain_bound:.1f} %" + (f"\nTOUCHES {', '.join(touch)}" if touch else ""),
-                     fontsize=9)
-        ax.set_xlabel("radius r (mm)")
-        lo = min(result.inner_tube_outer_radius_mm or sol.r_mm.min(), sol.r_mm.min()) - 1
-        hi = max(result.outer_bore_radius_mm or sol.r_mm.max(), sol.r_mm.max()) + 1
+        ax.set_title(f"{k} (x = {'travel' if k == 'expanded' else '0'}): dV = {result.volume_change_mm3[k]:+.0f} mm³\n"
+                     f"Δp = {e.pressure_MPa:+.3g} MPa, bound {100 * e.strain_bound:.1f} %"
+                     + (f"\nTOUCHES {', '.join(touch)}" if touch else ""), fontsize=9)
         ax.set_xlim(lo, hi)
-        ax.legend(fontsize=7, loc="upper left")
+        ax.set_ylim(z0 - 1.0, z1 + 1.0)
+        ax.set_xlabel("radius r (mm; radial scale exaggerated)")
+        ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
     axes[0].set_ylabel("axial position z from the lower clamp (mm)")
-    fig.colorbar(lc, ax=axes, label="max principal strain (-)")
-    if title:
-        fig.suptitle(title)
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    axes[1].sharey(axes[0])
+    fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)
+    # strain along the wall against the allowable
+    ax = axes[2]
+    for k, style in zip(ENDS, ("-", "--")):
+        e = result.ends[k]
+        sol = e.solution
+        zm = 0.5 * (sol.meridian.z_mm[:-1] + sol.meridian.z_mm[1:])
+        ax.plot(100 * sol.element_max_principal_strain, zm, style, color="tab:blue" if k == "expanded" else
+                "tab:green", label=f"{k}: membrane max {100 * e.max_principal_strain:.1f} %")
+        ax.plot([100 * e.clamp_strain] * 2, [zm[0], zm[-1]], ":", color="tab:blue" if k == "expanded" else
+                "tab:green", lw=1.0, label=f"{k}: clamp + bending {100 * e.clamp_strain:.1f} %")
+    ax.axvline(100 * result.allowable_strain, color="tab:red", lw=2,
+               label=f"allowable {100 * result.allowable_strain:.1f} %")
+    ax.set_xlim(0, 100 * vmax * 1.15)
+    ax.set_xlabel("max principal strain (%)")
+    ax.set_ylabel("reference z from the lower clamp (mm)")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1, frameon=False)
+    ok = result.passes
+    verdict = "PASS" if ok else "FAIL"
+    why = (f"bound {100 * result.strain_bound:.1f} % {'<=' if result.passes_strain else '>'} allowable "
+           f"{100 * result.allowable_strain:.1f} %\n{'no contact with tube or bore' if result.passes_room else 'CONTACT'}")
+    ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold")
+    fig.suptitle(f"{title + ': ' if title else ''}{result.silicone.name}, wall {result.thickness_mm:g} mm "
+                 f"-> {verdict}", fontsize=11, color="black")
+    return fig
 
 
 def _profile_rows(result: BladderResult) -> list[dict]:
@@ -557,7 +626,8 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
     res = check_bladder(design, material, criterion, n_elements=n_elements)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    png = plot_bladder(res, out / "bladder.png", title=f"bladder check ({res.silicone.name})")
+    png = out / "bladder.png"
+    plot_bladder(res, title="bladder check").savefig(png, dpi=120)
     rows = _profile_rows(res)
     csv_path = out / "bladder_profile.csv"
     with csv_path.open("w", newline="") as fh:

@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from build123d import Solid
 
 from ._shapes import cut, cylinder, revolved, ring
 from .layout import Layout
 
-__all__ = ["bladder", "bladder_profile", "bladder_volume_mm3", "support_ring", "support_ring_volume_mm3"]
+__all__ = ["bladder", "bladder_profile", "bladder_volume_mm3", "support_ring", "support_ring_volume_mm3",
+           "bladder_shift_at_mm", "bladder_deformed"]
 
 
 def bladder_profile(lay: Layout) -> list[tuple[float, float]]:
@@ -80,3 +83,58 @@ def support_ring_volume_mm3(lay: Layout) -> float:
     v -= lay.cad.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
     v -= math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
     return v
+
+
+def _free_profile(lay: Layout, a_mm: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Outer-surface radius of the free length with a parabolic shift of mean ``a_mm``: (z, r), mm."""
+    z = np.linspace(lay.z_free0, lay.z_free1, n + 1)
+    zeta = (z - lay.z_free0) / (lay.z_free1 - lay.z_free0)
+    return z, lay.r_bladder_out + a_mm * 6.0 * zeta * (1.0 - zeta)
+
+
+def _annulus_volume(z: np.ndarray, r_in: np.ndarray, r_out: float) -> float:
+    """Volume between the bore ``r_out`` and the revolved polyline (z, r_in), exact for the polygon, mm³."""
+    dz = np.diff(z)
+    ra, rb = r_in[:-1], r_in[1:]
+    cone = math.pi * dz * (ra**2 + ra * rb + rb**2) / 3.0  # frustum under each segment
+    return float(math.pi * r_out**2 * (z[-1] - z[0]) - cone.sum())
+
+
+def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
+    """Mean radial shift of the bladder's outer surface from the cast one at displacement ``x_mm``
+    (parabolic between the clamps, peak = 1.5 x mean, as the FE check finds), such that the
+    drawn chamber-2 gas (polygon of ``n`` segments) holds exactly ``V2 - A2 x`` (dead volume and,
+    in the bulkhead layout, the gas above the bulkhead excluded), mm. Positive: outwards."""
+    from scipy.optimize import brentq
+
+    d = lay.design
+    target = d.V2_annulus_mm3 - d.A2_mm2 * x_mm  # the annulus's share of chamber 2 (V2_top is above the bulkhead)
+
+    def f(a: float) -> float:
+        z, r = _free_profile(lay, a, n)
+        return _annulus_volume(z, r, lay.r_bore) - target
+
+    lo, hi = -(lay.r_bladder_out - lay.r_inner_tube), lay.r_bore - lay.r_bladder_out
+    return float(brentq(f, lo / 1.5, hi / 1.5, xtol=1e-12))
+
+
+def bladder_deformed(lay: Layout, x_mm: float, n: int = 32) -> tuple[Solid, Solid]:
+    """The bladder and the chamber-2 gas at displacement ``x_mm`` in a volume-consistent shape:
+    cuffs as cast, the free length shifted parabolically (wall thickness kept), so the gas
+    solid holds exactly ``V2 - A2 x``. For pictures; the exported bladder is the cast one."""
+    a = bladder_shift_at_mm(lay, x_mm, n)
+    z, r = _free_profile(lay, a, n)
+    t = lay.r_bladder_out - lay.r_bladder_in
+    ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
+    za, zb = lay.z_bladder0, lay.z_bladder1
+    outer = [(float(rr), float(zz)) for zz, rr in zip(z, r)]
+    inner = [(float(rr - t), float(zz)) for zz, rr in zip(z[::-1], r[::-1])]
+    prof = [(ri - e, za), (ro + e, za), (ro + e, za + lb), (ro, za + lb), *outer,
+            (ro, zb - lb), (ro + e, zb - lb), (ro + e, zb), (ri - e, zb), (ri - e, zb - lb), (ri, zb - lb), *inner,
+            (ri, za + lb), (ri - e, za + lb)]
+    clean = [prof[0]]
+    for p in prof[1:]:
+        if math.dist(p, clean[-1]) > 1e-9:
+            clean.append(p)
+    gas = [(float(rr), float(zz)) for zz, rr in zip(z, r)] + [(lay.r_bore, lay.z_free1), (lay.r_bore, lay.z_free0)]
+    return revolved(clean), revolved(gas)

@@ -32,8 +32,10 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
     housing_outer_tube, housing_inner_tube, housing_top_cap (its machined
     pieces), piston, bladder, support_ring, mould_half_a, mould_half_b,
     mould_core; ``gas_chamber_1.stl``, ``gas_chamber_2.stl`` (x = 0);
-    ``assembly.step`` (named parts, x = 0); ``assembly_cutaway.png`` and
-    ``mould_open.png`` (if ``renders``); ``manifest.json``.
+    ``assembly.step`` (named parts, x = 0); ``assembly.glb`` and
+    ``mould.glb`` (compact 3-D scenes for a viewer, see :mod:`.gltf`);
+    ``assembly_cutaway.png`` and ``mould_open.png`` (if ``renders``);
+    ``manifest.json``.
 
     Parameters
     ----------
@@ -67,11 +69,13 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     n_build = 0 if model is not None else len(PARTS) + 1
-    n_steps = n_build + export_steps() + (len(RENDERS) if renders else 0)
+    n_steps = n_build + export_steps() + 1 + (len(RENDERS) if renders else 0)
     with progress_bar("CAD: build, check, export", n_steps, enabled=show_progress) as advance:
         if model is None:
             model = build_cad(design, cad, progress=advance)
         manifest, meshes = export_files(model, out, advance)
+        manifest["files"].update(_write_glb(model, meshes, out))
+        advance()
         if renders:
             from . import render
 
@@ -82,3 +86,24 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
     manifest["files"] = dict(sorted(manifest["files"].items()))
     (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=False) + "\n")
     return manifest
+
+
+def _write_glb(model: CadModel, meshes: dict, out: Path) -> dict:
+    """``assembly.glb`` (assembly + gas parts, cut open) and ``mould.glb`` (opened mould), manifest entries."""
+    from .gltf import assembly_scene, glb_bytes, mould_scene
+    from .mesh import to_mesh
+
+    cad = model.layout.cad
+    asm = glb_bytes(assembly_scene(model.group("assembly", "gas"), cad.stl_tolerance_mm,
+                                   cad.stl_angular_tolerance_rad))
+    x0, x1, y0, y1, _, _ = model.mould.block_mm
+    cavity = to_mesh(model.mould.cavity, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
+    mould = glb_bytes(mould_scene(meshes, cavity, gap_mm=0.6 * (y1 - y0)))
+    return {
+        "assembly.glb": {**write_file(out / "assembly.glb", asm), "kind": "glb",
+                         "parts": list(model.group("assembly", "gas")),
+                         "about": "x = 0, cut open on y = 0 (y >= 0 kept), metres, +Y up"},
+        "mould.glb": {**write_file(out / "mould.glb", mould), "kind": "glb",
+                      "parts": ["mould_half_a", "mould_half_b", "mould_core", "bladder"],
+                      "about": "mould frame opened along y, metres, +Y up"},
+    }

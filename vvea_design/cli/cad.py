@@ -40,24 +40,41 @@ def cad(
     design_json: Path = typer.Argument(..., help="design JSON (from `vvea optimise` / `vvea design`)"),
     out: Path = typer.Option(Path("cad_out"), "--out", "-o", help="folder for STEP, STL, PNG and manifest.json"),
     renders: bool = typer.Option(True, "--renders/--no-renders", help="write the off-screen PNG renders"),
+    drawings: bool = typer.Option(True, "--drawings/--no-drawings",
+                                  help="write the dimensioned drawings (SVG per sheet, drawings.pdf) and bom.csv"),
+    silicone: str = typer.Option("dragon-skin-20", "--silicone", help="bladder casting silicone for the bill of materials"),
 ) -> None:
-    """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL, checked."""
-    from ..cad import CadError, write_cad
+    """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL/GLB, checked;
+    dimensioned drawings and the bill of materials."""
+    from ..cad import CadError, build_cad, write_cad
+    from ..materials.silicones import SILICONES
     from .common import fail, load_design_or_exit
     from ..progress import console
 
+    if silicone not in SILICONES:
+        fail(f"unknown --silicone {silicone!r}; known: {', '.join(sorted(SILICONES))}")
     design = load_design_or_exit(design_json)
     try:
-        manifest = write_cad(design, out, renders=renders)
+        model = build_cad(design)
     except CadError as exc:
         fail(f"{design_json}: {exc}")
+    manifest = write_cad(design, out, renders=renders, model=model)
     print_manifest(manifest)
     console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")
+    if drawings:
+        from ..report.bom import write_bom
+        from ..report.drawing import write_drawings
+
+        ds = write_drawings(model, out)
+        bom = write_bom(model, out, silicone)
+        console.print(f"drawings: {len(ds.sheets)} sheets ({', '.join(ds.sheets)}) as SVG and {ds.pdf.name}; "
+                      f"bom.csv: {len(bom.lines)} lines, unit mass {bom.unit_mass_g:.1f} g, "
+                      f"silicone to mix {bom.silicone_to_mix_g:.1f} g ({bom.silicone})")
 
 
 def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
     """Step of ``vvea design``: the CAD set into ``out/cad``."""
-    cad(design_json, out=Path(out) / "cad", renders=renders)
+    cad(design_json, out=Path(out) / "cad", renders=renders, drawings=True, silicone="dragon-skin-20")
 
 
 def register(app: typer.Typer) -> None:

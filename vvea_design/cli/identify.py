@@ -27,13 +27,39 @@ def _read(file: Path):
         fail(str(exc))
 
 
+def _reference(design: Path | None):
+    """The unit's gas spring from ``--design``, or the paper's Fig. 5 unit (said on stdout)."""
+    from ..identification.effects import REFERENCE_NOTE
+    from ..spring.design_file import DesignFileError, spring_from_json
+    from ..spring.paper import PAPER_FIG5
+
+    if design is None:
+        typer.echo(f"note: {REFERENCE_NOTE}", err=True)
+        return PAPER_FIG5
+    try:
+        ref = spring_from_json(design)
+    except DesignFileError as exc:
+        fail(str(exc))
+    typer.echo(
+        f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, "
+        f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm",
+        err=True,
+    )
+    return ref
+
+
+_DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 and travel shape the gas terms); default: the paper's Fig. 5 unit"
+
+
 def identify_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet, shared/specs/recordings.md)"),
     out: Path = typer.Option(Path("identification"), "--out", "-o", help="output folder"),
+    design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
+    _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
     rec = _read(file)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None):
         summary = write_identification(rec, out)
@@ -65,10 +91,15 @@ def diagnose_cmd(
     out: Path = typer.Option(Path("diagnosis"), "--out", "-o", help="output folder"),
     seed: int = typer.Option(0, help="seed of the held-out and cross-validation splits"),
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
+    design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
     from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
 
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command draws into files
+    reference = _reference(design)
     rec = _read(file)
     msgs = []
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -80,15 +111,16 @@ def diagnose_cmd(
             msgs.append(msg)
             prog.update(task, description=f"diagnosing: {msg}")
 
-        diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say)
+        diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
         files = write_diagnosis(diag, out)
     summary_text = format_summary(diag.report)
     typer.echo(summary_text)
     from ..report.html import write_folder_report
 
-    report = write_folder_report(f"vvea diagnose: {file.name}", out, summary_text=summary_text, data=diag.report,
-                                 provenance={"recordings": file, "seed": seed, "learner": learner})
-    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report['runtime_s']:.1f} s)")
+    report = write_folder_report(f"vvea diagnose: {file.name}", out, summary_text=summary_text,
+                                 data=diag.report.to_dict(),
+                                 provenance={"recordings": file, "design": design, "seed": seed, "learner": learner})
+    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report.runtime_s:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:

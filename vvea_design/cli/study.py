@@ -33,6 +33,34 @@ def _grid(spec: str):
         ) from exc
 
 
+def _check_mesh_n(option: str, n: int, allow_off: bool = False) -> None:
+    if n == 0 or (allow_off and n == -1):
+        return
+    if n < 4 or n % 4:
+        off = ", -1 = none" if allow_off else ""
+        raise typer.BadParameter(f"{option} must be a multiple of 4 (>= 4; 0 = study default{off}), got {n}")
+
+
+def _cases_saved(out: Path) -> int:
+    """Number of complete cases in ``out/results.csv`` (0 if none)."""
+    import csv
+
+    res = out / "results.csv"
+    if not res.exists():
+        return 0
+    from ..actuator.multistart import RESULT_COLUMNS
+
+    by_case: dict[str, set] = {}
+    settings: set = set()
+    with res.open(newline="") as fh:
+        for row in csv.DictReader(fh):
+            if None in row or any(row.get(c) is None for c in RESULT_COLUMNS):
+                continue
+            by_case.setdefault(row["case_id"], set()).add(row["setting"])
+            settings.add(row["setting"])
+    return sum(1 for s in by_case.values() if s == settings)
+
+
 @study_app.command("rest-to-rest")
 def rest_to_rest(
     out: Path = typer.Option(..., "--out", "-o", help="Output folder (results.csv, summary.json, PNGs)."),
@@ -57,11 +85,20 @@ def rest_to_rest(
     Resumes an interrupted sweep in the same --out folder.
     """
     from ..actuator.model import PAPER_SETTINGS, from_design_json
-    from ..actuator.ocp import Mesh
-    from ..progress import console
     from ..actuator.multistart import DEFAULT_MESH
+    from ..actuator.ocp import Mesh
     from ..actuator.rest_to_rest import run_rest_to_rest
+    from ..parallel import Terminated
+    from ..progress import console
 
+    # every option is checked before anything is solved
+    _check_mesh_n("--mesh-n", mesh_n)
+    _check_mesh_n("--fine-mesh-n", fine_mesh_n, allow_off=True)
+    if workers is not None and workers < 1:
+        raise typer.BadParameter(f"--workers must be >= 1, got {workers}")
+    if design is None and (pulley_radius_m is not None or p2_mpa is not None):
+        raise typer.BadParameter("--pulley-radius-m and --p2-mpa apply to --design only")
+    grid_spec = _grid(grid)
     settings = list(PAPER_SETTINGS.values())
     if design is not None:
         if not design.exists():
@@ -73,13 +110,19 @@ def rest_to_rest(
             settings.append(from_design_json(design, **kw))
         except ValueError as exc:
             raise typer.BadParameter(f"--design {design}: {exc}") from exc
+    mesh = DEFAULT_MESH if mesh_n == 0 else Mesh(mesh_n, DEFAULT_MESH.degree)
+    fine = "auto" if fine_mesh_n == 0 else (None if fine_mesh_n < 0 else Mesh(fine_mesh_n, DEFAULT_MESH.degree))
     try:
-        mesh = DEFAULT_MESH if mesh_n == 0 else Mesh(mesh_n, DEFAULT_MESH.degree)
-        fine = "auto" if fine_mesh_n == 0 else (None if fine_mesh_n < 0 else Mesh(fine_mesh_n, DEFAULT_MESH.degree))
-        summary = run_rest_to_rest(out, grid=_grid(grid), settings=settings, mesh=mesh, fine_mesh=fine, workers=workers,
+        summary = run_rest_to_rest(out, grid=grid_spec, settings=settings, mesh=mesh, fine_mesh=fine, workers=workers,
                                    scheduler=scheduler, restart=restart, progress=not no_progress)
     except ValueError as exc:
         raise typer.BadParameter(str(exc)) from exc
+    except (KeyboardInterrupt, Terminated) as exc:
+        code = 130 if isinstance(exc, KeyboardInterrupt) else 143
+        console.print(f"\n[bold yellow]interrupted[/]: {_cases_saved(out)} finished case(s) are saved in "
+                      f"{out / 'results.csv'}. Run the same command again to resume the sweep "
+                      f"(add --restart to start over).", soft_wrap=True)
+        raise typer.Exit(code) from None
     from ..report.html import recorded_text, write_folder_report
 
     text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
@@ -93,8 +136,8 @@ def rest_to_rest(
 def _print_summary(summary: dict, console) -> None:
     from rich.table import Table
 
-    tab = Table(title="Table 5: ours (all solved cases / cases with a valid setting) vs paper")
-    for c in ("statistic", "ours (all)", "ours (valid)", "paper"):
+    tab = Table(title="Table 5: ours (all solved cases / cases where both trajectories are valid) vs paper")
+    for c in ("statistic", "ours (all)", "ours (both valid)", "paper"):
         tab.add_column(c)
     paper = summary["paper_table5"]
     p = summary["pairs"]
@@ -119,6 +162,12 @@ def _print_summary(summary: dict, console) -> None:
         console.print(f"iVVEA worse than SEA in {g['iVVEA_worse_than_SEA_cases']} of {g['n_cases']} cases")
     console.print(f"winning starts: {json.dumps(summary['winning_starts'])}")
     console.print(f"solver failures: {summary['solver_failures']['count']}")
+    unv = summary.get("unverified", {})
+    if unv.get("count"):
+        console.print(f"left out of every statistic, trajectory not reproduced by re-simulation: {unv['count']} "
+                      f"({', '.join(unv['cases'][:8])}{' ...' if unv['count'] > 8 else ''})")
+    else:
+        console.print("every solved trajectory was reproduced by re-simulation")
 
 
 @study_app.command("safety")
@@ -129,10 +178,18 @@ def safety(
     link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
 ) -> None:
     """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
-    from ..actuator.ocp import Mesh
-    from ..progress import console
-    from ..actuator.safety import run_safety
+    import math
 
+    from ..actuator.ocp import Mesh
+    from ..actuator.safety import run_safety
+    from ..progress import console
+
+    if mesh_n < 4:
+        raise typer.BadParameter(f"--mesh-n must be >= 4 intervals, got {mesh_n}")
+    if not (math.isfinite(tau_ref_nm) and tau_ref_nm != 0):
+        raise typer.BadParameter(f"--tau-ref-nm must be a non-zero torque in N m, got {tau_ref_nm}")
+    if not (math.isfinite(link_inertia_kgm2) and link_inertia_kgm2 > 0):
+        raise typer.BadParameter(f"--link-inertia-kgm2 must be > 0, got {link_inertia_kgm2}")
     try:
         s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
     except ValueError as exc:

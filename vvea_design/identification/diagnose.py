@@ -1,31 +1,39 @@
-"""Discrepancy diagnosis: where eq. 14 and the bench disagree, and why.
+"""Discrepancy diagnosis: where eq. 14 and the bench disagree, what was left out, its model, the held-out gain.
 
-Answers the four questions of ``shared/specs/diagnosis-report.md``:
+Answers the four questions of ``shared/specs/diagnosis-report.md`` in named
+stages (:func:`diagnose` only chains them):
 
-1. **Where** — residuals of the baseline (eq. 14) organised by displacement,
-   speed, direction, time since reversal, pressure, valve and campaign time,
-   against the measurement-noise level (:func:`residual_map`).
-2. **What was left out** — forward selection over the catalogue of
-   :mod:`vvea_design.identification.effects`. Samples within one run are correlated, so a
-   sample-wise AIC/BIC would accept false terms; instead a candidate is
-   accepted only if, in *grouped* cross-validation (whole experiments held
-   out), it lowers the held-out error
-   (a) by at least ``min_gain`` of the mean square,
-   (b) consistently: a paired t statistic over held-out experiments of at
-   least ``min_t`` -- or, for an effect confined to a few experiments (a
-   relief valve that opens only at the highest damping forces), at least
-   ``min_halved`` badly fit held-out experiments (RMS above twice the
-   noise) whose squared error it halves,
-   (c) by a physically meaningful amount: its fitted force contribution has
-   an RMS of at least ``min_snr`` times the residual RMS,
-   with every amplitude constrained to its physical sign.
-3. **Its model** — the fitted parameters with cluster-robust standard errors
-   (experiments as clusters) and, for shape parameters, a fold jackknife.
-4. **Did it improve** — RMS error on an outer set of experiments that took no
-   part in the selection or the fit, before and after. A flexible learner
-   (gradient-boosted trees, grouped CV) is then trained on the final
-   residuals; where it still predicts them beyond the noise,
-   ``unexplained_structure`` is set and the place is named.
+1. **Plan** (:func:`plan_split`) -- experiments held out of everything
+   (stratified by valve) and grouped-CV folds over the rest; with few
+   experiments the plan says what cannot be assessed instead of failing.
+2. **Noise floor** (:func:`noise_floor_N`) -- what no smooth model of the
+   cycle can explain: per ramp, the periodogram of the residual with spectral
+   lines removed by a running median and the lowest bins (slow misfit)
+   excluded, fitted by an AR(1) spectrum whose integral is the noise
+   variance. Periodic (lines) and slow structure cannot inflate it.
+3. **Selection** (:func:`select_effects`) -- forward selection over the
+   registry of :mod:`~vvea_design.identification.effects`: catalogue effects
+   and discovery operators compete in grouped cross-validation (whole
+   experiments held out). A term is accepted when it lowers the held-out
+   error (a) by at least ``min_gain`` of the mean square, (b) consistently
+   (paired t over held-out experiments >= ``min_t``, or at least
+   ``min_halved`` badly fit experiments with their error halved), (c) stably
+   (improves at least ``min_folds`` of the folds), (d) by a meaningful force
+   (its RMS >= ``min_snr`` x the residual RMS). **Naming discipline**: a
+   catalogue effect is accepted only if it passes its physical signature
+   checks and the best passing discovery operator is not significantly
+   better on held-out experiments (paired t <= ``name_t``); otherwise the
+   discovery operator is accepted and reported with ``catalogue: false``.
+4. **Final fits** (:func:`final_fits`) -- all experiments, cluster-robust
+   errors, fold jackknife for shape parameters, held-out RMS after each
+   accepted term (fitted without the held-out experiments).
+5. **Leftover check** (:func:`learner_check`) -- gradient-boosted trees on the
+   final residuals (grouped CV); ``unexplained_structure`` when they still
+   predict them beyond the noise floor, or the held-out error stays above
+   twice the floor; the report then says where.
+
+Residual sign: residual = measurement − model (N), on every axis and in
+every table.
 """
 
 from __future__ import annotations
@@ -37,19 +45,40 @@ from pathlib import Path
 
 import numpy as np
 
-from .effects import CATALOGUE, EFFECT_IDS, FitData
-from .identify import ModelFit, assemble, blocks, fit_model, relief_context, solve_bounded
+from ..spring.gas_spring import GasSpring
+from ..spring.paper import PAPER_FIG5
+from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Check, Effect, FitData
+from .identify import ModelFit, assemble, blocks, extend_blocks, fit_model, relief_context, solve_bounded
 from .recordings import Recordings
 
 __all__ = [
     "DiagnoseSettings",
+    "ParamEstimate",
+    "Evidence",
+    "EffectReport",
+    "ResidualBin",
+    "ResidualFeature",
+    "ExperimentError",
+    "HeldOutStep",
+    "HeldOut",
+    "LearnerCheck",
+    "FinalModel",
+    "DiagnosisReport",
     "Diagnosis",
+    "Plan",
     "diagnose",
+    "plan_split",
+    "noise_floor_N",
+    "select_effects",
+    "final_fits",
+    "learner_check",
     "residual_map",
-    "noise_level_N",
     "write_diagnosis",
     "format_summary",
+    "load_final_model",
 ]
+
+RESIDUAL_SIGN = "residual = measurement − model"
 
 
 @dataclass(frozen=True)
@@ -61,47 +90,440 @@ class DiagnoseSettings:
     min_gain: float = 0.02  #: minimum relative reduction of the CV mean square
     min_t: float = 3.0  #: minimum paired t over held-out experiments
     min_halved: int = 1  #: ... or at least this many badly fit (RMS > 2 x noise) held-out experiments with their squared error halved
+    min_folds: int = 4  #: stability: the term improves at least this many folds (of n_folds)
     min_snr: float = 0.25  #: minimum effect RMS / residual RMS
-    max_effects: int = 4  #: at most this many accepted effects
+    name_t: float = 2.0  #: a catalogue effect loses its name when a discovery operator is better by this paired t
+    max_effects: int = 6  #: at most this many accepted terms
     seed: int = 0  #: seed of the experiment splits
     learner: bool = True  #: run the flexible-learner check
     learner_min_gain: float = 0.10  #: learner must explain this share of residual variance ...
     learner_min_ratio: float = 1.0  #: ... and an RMS of at least this times the noise
     learner_rows: int = 12000  #: rows sub-sampled for the learner
-    candidates: tuple = EFFECT_IDS  #: effect ids to test
+    candidates: tuple = EFFECT_IDS  #: catalogue effect ids to test
+    discovery: tuple = DISCOVERY_IDS  #: discovery operators to test (empty: catalogue only)
+    min_experiments_cv: int = 6  #: fewer experiments than this: no selection (nothing can be cross-validated)
+
+
+# ================================================================== typed report
+@dataclass(frozen=True)
+class ParamEstimate:
+    """A fitted parameter in physical units."""
+
+    name: str
+    value: float
+    std_error: float
+    unit: str
+    meaning: str = ""
+
+    def to_dict(self) -> dict:
+        return dict(value=_f(self.value), std_error=_f(self.std_error), unit=self.unit, meaning=self.meaning)
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """Why a term was (not) accepted: grouped-CV statistics over held-out experiments."""
+
+    round: int
+    cv_gain: float  #: relative reduction of the held-out mean square
+    paired_t: float  #: paired t of the per-experiment squared-error reduction
+    folds_improved: int
+    n_folds: int
+    experiments_halved: int
+    snr: float  #: effect RMS / residual RMS
+    effect_rms_N: float
+    residual_rms_N: float
+    signature_ok: bool
+    vs_best_discovered_t: float | None  #: paired t by which the best discovery operator beats this catalogue effect
+    passes: bool
+    reasons: tuple = ()
+
+    def to_dict(self) -> dict:
+        d = {k: _j(v) for k, v in asdict(self).items()}
+        d["reasons"] = list(self.reasons)
+        return d
+
+
+@dataclass(frozen=True)
+class EffectReport:
+    """One tested term (catalogue effect or discovery operator)."""
+
+    id: str
+    catalogue: bool
+    accepted: bool
+    title: str
+    explanation: str
+    physics: str
+    equation: str
+    parameters: tuple = ()  #: ParamEstimate entries (amplitudes and the shape parameter)
+    evidence: Evidence | None = None
+    signature: tuple = ()  #: Check entries
+    heldout_rmse_removed_N: float | None = None  #: held-out RMS before minus after adding this term
+
+    def to_dict(self) -> dict:
+        return dict(
+            id=self.id,
+            catalogue=self.catalogue,
+            accepted=self.accepted,
+            title=self.title,
+            explanation=self.explanation,
+            physics=self.physics,
+            equation=self.equation,
+            parameters={p.name: p.to_dict() for p in self.parameters},
+            evidence=self.evidence.to_dict() if self.evidence else {},
+            signature=[c.to_dict() for c in self.signature],
+            heldout_rmse_removed_N=_f(self.heldout_rmse_removed_N),
+        )
+
+
+@dataclass(frozen=True)
+class ResidualBin:
+    bin: str
+    n: int
+    mean_N: float
+    mean_along_motion_N: float
+    rms_N: float
+    rms_over_noise: float
+
+
+@dataclass(frozen=True)
+class ResidualFeature:
+    """Residual statistics along one feature (displacement, speed, ...)."""
+
+    name: str
+    unit: str
+    bins: tuple
+
+    def worst(self) -> ResidualBin:
+        return max(self.bins, key=lambda b: b.rms_N)
+
+
+@dataclass(frozen=True)
+class ExperimentError:
+    exp_index: int
+    experiment: str
+    p2_MPa: float
+    valve_deg: float
+    speed_mm_s: float
+    rms_baseline_N: float
+    rms_final_N: float
+
+
+@dataclass(frozen=True)
+class HeldOutStep:
+    """Held-out RMS after adding one more term (fitted without the held-out experiments)."""
+
+    label: str
+    effects: tuple
+    rmse_N: float | None
+
+
+@dataclass(frozen=True)
+class HeldOut:
+    assessable: bool
+    baseline_N: float | None
+    final_N: float | None
+    steps: tuple
+    test_experiments: tuple
+    method: str
+
+
+@dataclass(frozen=True)
+class StructureWhere:
+    feature: str
+    importance_share: float
+    largest_structure_rms_N: float
+    range: tuple
+
+
+@dataclass(frozen=True)
+class LearnerCheck:
+    ran: bool
+    flag: bool
+    heldout_variance_explained: float | None = None
+    explained_rms_N: float | None = None
+    rows: int = 0
+    where: tuple = ()
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class FinalModel:
+    """The fitted final model (eq. 14 + accepted terms), evaluable on new motions.
+
+    ``predict(D)`` rebuilds the design of the same terms on any
+    :class:`FitData` whose valve positions were in the fit (``reference``
+    is the unit the gas terms were shaped with).
+    """
+
+    effects: tuple
+    shapes: dict
+    parameters: tuple  #: ParamEstimate in column order (eq. 14 first)
+    valves: tuple
+    reference: GasSpring
+    rmse_N: float
+
+    @property
+    def model(self) -> str:
+        return "eq14" + "".join(f" + {e}" for e in self.effects)
+
+    def predict(self, D: FitData) -> np.ndarray:
+        """Force (N) of the final model at the samples of ``D`` (new motions of the same unit)."""
+        missing = sorted(set(D.valves) - set(self.valves))
+        if missing:
+            raise ValueError(f"valve position(s) {missing} deg were not in the fitted campaign (fitted: {list(self.valves)})")
+        byname = {p.name: p.value for p in self.parameters}
+        _, params, groups = assemble(D, self.effects, self.shapes, {"damping_force_N": np.zeros(D.n)})
+        theta = np.zeros(len(params))
+        for gname, sl in groups.items():
+            prefix = "" if gname == "eq14" else f"{gname}."
+            for i in range(sl.start, sl.stop):
+                theta[i] = byname[prefix + params[i].name]
+        fit = ModelFit(self.effects, dict(self.shapes), params, theta, np.zeros_like(theta), 0.0, 0, groups)
+        return fit.predict(D)
+
+    def to_dict(self) -> dict:
+        return dict(
+            format="vvea-final-model",
+            version=1,
+            model=self.model,
+            effects=list(self.effects),
+            shapes={k: _f(v) for k, v in self.shapes.items()},
+            parameters={p.name: p.to_dict() for p in self.parameters},
+            valves_deg=[float(v) for v in self.valves],
+            reference={k: float(getattr(self.reference, k)) for k in ("A1_mm2", "A2_mm2", "V1_mm3", "V2_mm3", "p1_MPa", "p2_MPa", "travel_mm", "n_polytropic")},
+            rmse_N=_f(self.rmse_N),
+            residual_sign=RESIDUAL_SIGN,
+            equations={e: REGISTRY[e].equation for e in self.effects},
+        )
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "FinalModel":
+        if d.get("format") != "vvea-final-model":
+            raise ValueError("not a vvea final-model file (format must be 'vvea-final-model')")
+        unknown = [e for e in d["effects"] if e not in REGISTRY]
+        if unknown:
+            raise ValueError(f"final model names unknown effect(s) {unknown}")
+        params = tuple(
+            ParamEstimate(k, float(v["value"]), float(v["std_error"]) if v["std_error"] is not None else float("nan"), v["unit"], v.get("meaning", ""))
+            for k, v in d["parameters"].items()
+        )
+        return cls(tuple(d["effects"]), {k: (np.nan if v is None else float(v)) for k, v in d["shapes"].items()}, params,
+                   tuple(d["valves_deg"]), GasSpring(**d["reference"]), float(d["rmse_N"] or np.nan))
+
+
+def load_final_model(path: str | Path) -> FinalModel:
+    """Read ``final_model.json`` written by :func:`write_diagnosis`."""
+    return FinalModel.from_dict(json.loads(Path(path).read_text()))
+
+
+@dataclass(frozen=True)
+class DiagnosisReport:
+    """Everything :func:`diagnose` found; :meth:`to_dict` is the JSON report of the spec."""
+
+    source: str
+    reference: str
+    n_experiments: int
+    rows_read: int
+    rows_used: int
+    rows_left_out: int
+    rows_left_out_reason: str
+    noise_floor_N: float
+    noise_method: str
+    baseline_parameters: tuple
+    baseline_rmse_N: float
+    final_model: FinalModel
+    heldout: HeldOut
+    effects: tuple  #: EffectReport, every tested term
+    unexplained_structure: bool
+    unexplained_where: tuple  #: sentences
+    learner: LearnerCheck
+    where_baseline: tuple  #: ResidualFeature
+    where_final: tuple
+    worst_experiments: tuple  #: ExperimentError
+    notes: tuple  #: what could not be assessed, and other caveats
+    settings: DiagnoseSettings
+    runtime_s: float
+
+    @property
+    def accepted(self) -> tuple:
+        """The accepted terms, in the order they were accepted."""
+        acc = {e.id: e for e in self.effects if e.accepted}
+        return tuple(acc[i] for i in self.final_model.effects if i in acc)
+
+    @property
+    def accepted_catalogue_ids(self) -> tuple:
+        return tuple(e.id for e in self.accepted if e.catalogue)
+
+    def to_dict(self) -> dict:
+        """The JSON report (contract keys of ``shared/specs/diagnosis-report.md`` plus the evidence)."""
+        fm = self.final_model
+        return dict(
+            source=self.source,
+            reference=self.reference,
+            residual_sign=RESIDUAL_SIGN,
+            n_experiments=self.n_experiments,
+            rows_read=self.rows_read,
+            rows_used=self.rows_used,
+            rows_left_out=self.rows_left_out,
+            rows_left_out_reason=self.rows_left_out_reason,
+            noise_floor_N=_f(self.noise_floor_N),
+            noise_method=self.noise_method,
+            baseline=dict(
+                model="eq14: f = g p2 x + L(gamma) xdot + C sign(xdot)",
+                parameters={p.name: p.to_dict() for p in self.baseline_parameters},
+                rmse_N=_f(self.baseline_rmse_N),
+            ),
+            final_model=dict(fm.to_dict(), file="final_model.json"),
+            heldout_rmse_N=dict(baseline=_f(self.heldout.baseline_N), final=_f(self.heldout.final_N)),
+            heldout=dict(
+                assessable=self.heldout.assessable,
+                method=self.heldout.method,
+                test_experiments=list(self.heldout.test_experiments),
+                steps=[dict(label=s.label, effects=list(s.effects), rmse_N=_f(s.rmse_N)) for s in self.heldout.steps],
+            ),
+            effects=[e.to_dict() for e in self.effects],
+            unexplained_structure=self.unexplained_structure,
+            unexplained_where=list(self.unexplained_where),
+            learner=_j(asdict(self.learner)),
+            where=dict(
+                baseline=_map_dict(self.where_baseline),
+                final=_map_dict(self.where_final),
+                worst_experiments=[_j(asdict(w)) for w in self.worst_experiments],
+            ),
+            notes=list(self.notes),
+            settings=_j(asdict(self.settings)),
+            runtime_s=self.runtime_s,
+        )
 
 
 @dataclass(frozen=True)
 class Diagnosis:
-    """Result of :func:`diagnose`: the report plus the fitted models."""
+    """Result of :func:`diagnose`: the typed report plus the fitted models."""
 
-    report: dict
+    report: DiagnosisReport
     baseline: ModelFit  #: eq. 14 fitted on all experiments
-    final: ModelFit  #: eq. 14 + accepted effects fitted on all experiments
+    final: ModelFit  #: eq. 14 + accepted terms fitted on all experiments
     data: FitData = field(repr=False)
+    steps: tuple = field(default=(), repr=False)  #: ModelFit after each accepted term, fitted on the training experiments
 
 
-# ------------------------------------------------------------------ noise & maps
-def noise_level_N(D: FitData, residual_N: np.ndarray) -> float:
-    """High-frequency noise level (N): robust std of sample-to-sample residual differences / √2.
+def _f(v):
+    if v is None:
+        return None
+    v = float(v)
+    return v if np.isfinite(v) else None
 
-    Model misfit is smooth within an experiment and cancels in the
-    differences; white measurement noise does not. (For positively
-    correlated noise this is a lower bound of the noise RMS.)
+
+def _j(o):
+    if isinstance(o, dict):
+        return {str(k): _j(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_j(v) for v in o]
+    if isinstance(o, (np.floating, float)):
+        return _f(o)
+    if isinstance(o, np.integer):
+        return int(o)
+    if isinstance(o, np.bool_):
+        return bool(o)
+    if isinstance(o, np.ndarray):
+        return _j(o.tolist())
+    return o
+
+
+def _map_dict(feats) -> dict:
+    return {f.name: dict(unit=f.unit, bins=[_j(asdict(b)) for b in f.bins]) for f in feats}
+
+
+# ================================================================== stage: noise floor
+def _ar1_rho(segs) -> float:
+    """rho of the AR(1) spectrum shape 1/(1+ρ²-2ρ cos 2πf) best fitting segment spectra in log space (levels free per segment)."""
+    f = np.concatenate([q[0] for q in segs])
+    lp = np.log(np.concatenate([q[1] for q in segs]))
+    sid = np.repeat(np.arange(len(segs)), [len(q[0]) for q in segs])
+    cnt = np.bincount(sid)
+    c = np.cos(2 * np.pi * f)
+    best = (np.inf, 0.0)
+    for rho in np.linspace(-0.6, 0.985, 64):
+        z = lp + np.log(1 + rho**2 - 2 * rho * c)
+        zm = np.bincount(sid, weights=z) / cnt
+        cost = float(np.sum((z - zm[sid]) ** 2))
+        if cost < best[0]:
+            best = (cost, float(rho))
+    return best[1]
+
+
+#: E[9-bin running median of a Hann-windowed periodogram of white noise] / variance
+#: (neighbouring Hann bins are correlated, so it lies between ln 2 and the
+#: order-statistic value 0.746; calibrated by simulation of white noise).
+_MEDIAN_GAIN = 0.80
+
+
+def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins: int = 9) -> float:
+    """Measurement noise (N RMS) from what no smooth model of the cycle explains.
+
+    Per ramp (monotone half of an experiment) the residual's Hann-windowed
+    periodogram is taken; a running median over ``med_bins`` frequency bins
+    removes spectral lines (periodic structure in time or position), the
+    lowest ``min_bin`` bins (slow structure, model misfit) are left out. An
+    AR(1) spectrum shape (correlated sensor noise) is fitted per group of
+    similar sample spacing, its level per ramp (noise may differ between
+    experiments); the integral, the marginal variance, averaged over samples,
+    is the noise floor. White noise gives its RMS, AR(1) noise its marginal
+    RMS; a ripple or a slow misfit does not raise it.
     """
-    d = []
+    from scipy.ndimage import median_filter
+
+    dts = D.per_exp_dt()
+    groups: dict[int, list] = {}
     for e in range(D.n_exp):
-        r = residual_N[D.bounds[e] : D.bounds[e + 1]]
-        d.append(np.diff(r))
-    d = np.concatenate(d)
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0))
+        a, b = D.bounds[e], D.bounds[e + 1]
+        s = D.s[a:b]
+        cuts = np.flatnonzero(np.diff(s) != 0) + 1
+        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
+            r = residual_N[a + lo : a + hi]
+            n = len(r)
+            if n < 4 * min_bin + 8:
+                continue
+            k = np.arange(n)
+            r = r - np.polyval(np.polyfit(k, r, 2), k)
+            w = np.hanning(n)
+            P = np.abs(np.fft.rfft(r * w)) ** 2 / np.sum(w**2)
+            fk = np.fft.rfftfreq(n)
+            Pm = median_filter(P, size=med_bins, mode="nearest") / _MEDIAN_GAIN
+            sel = slice(min_bin, len(P))
+            if np.all(Pm[sel] > 0):
+                groups.setdefault(int(np.round(4 * np.log10(dts[e]))), []).append((fk, Pm, n))
+    if not groups:
+        return float(np.std(np.diff(residual_N)) / np.sqrt(2)) if len(residual_N) > 2 else float("nan")
+    var, wsum = 0.0, 0
+    for segs in groups.values():
+        rho = _ar1_rho([(f[min_bin:], P[min_bin:]) for f, P, _ in segs])
+        for f, P, n in segs:
+            shape = 1.0 / (1 + rho**2 - 2 * rho * np.cos(2 * np.pi * f))
+            sw = float(np.mean(P[min_bin:] / shape[min_bin:]))
+            S = np.r_[sw * shape[:min_bin], P[min_bin:]]  # measured spectrum; the AR(1) model fills the slow bins only
+            wk = np.full(len(S), 2.0)
+            wk[0] = 1.0
+            if n % 2 == 0:
+                wk[-1] = 1.0
+            var += n * float(np.sum(wk * S) / n)
+            wsum += n
+    return float(np.sqrt(var / wsum))
 
 
+NOISE_METHOD = (
+    "per ramp: Hann periodogram of the residual, spectral lines removed by a 9-bin running median, the 4 lowest bins "
+    "(slow misfit) left out, AR(1) spectrum shape fitted per sample-spacing group, its level per ramp; noise floor = sample-weighted RMS of those AR(1) processes"
+)
+
+
+# ================================================================== stage: residual map
 def _bins(D: FitData):
     """(feature name, unit, labels per sample) for the residual map."""
     out = []
-    xb = np.clip(np.digitize(D.x, np.linspace(0, 40, 9)[1:-1]), 0, 7)
-    edges = np.linspace(0, 40, 9)
+    xmax = float(max(np.max(D.x), 1e-9)) if D.n else 1.0
+    edges = np.linspace(0, xmax, 9)
+    xb = np.clip(np.digitize(D.x, edges[1:-1]), 0, 7)
     out.append(("displacement", "mm", np.array([f"{edges[i]:.0f}-{edges[i + 1]:.0f}" for i in range(8)])[xb]))
     sp = D.speed if D.speed is not None else np.round(np.abs(D.v), 1)
     out.append(("speed", "mm/s", np.array([f"{s:g}" for s in sp])))
@@ -111,37 +533,8 @@ def _bins(D: FitData):
     out.append(("time_since_reversal", "s", np.array(tl)[np.clip(np.digitize(D.tsr, te[1:-1]), 0, 4)]))
     out.append(("p2", "MPa", np.array([f"{p:g}" for p in D.p2])))
     out.append(("valve", "deg", np.array([f"{v:g}" for v in D.valve])))
-    q = np.quantile(D.ctime, [0.2, 0.4, 0.6, 0.8])
+    q = np.quantile(D.ctime, [0.2, 0.4, 0.6, 0.8]) if D.n else np.zeros(4)
     out.append(("campaign_time", "quintile", np.array(["Q1", "Q2", "Q3", "Q4", "Q5"])[np.digitize(D.ctime, q)]))
-    return out
-
-
-def residual_map(D: FitData, residual_N: np.ndarray, noise_N: float) -> dict:
-    """Residuals organised by where they occur.
-
-    Returns ``{feature: [{"bin", "n", "mean_N", "rms_N", "rms_over_noise"}]}``
-    for displacement, speed, direction, time since reversal, pressure, valve
-    and campaign time.
-    """
-    out = {}
-    for name, unit, lab in _bins(D):
-        rows = []
-        for b in _ordered(np.unique(lab)):
-            m = lab == b
-            r = residual_N[m]
-            rms = float(np.sqrt(np.mean(r**2)))
-            # signed by direction of motion so friction-like residuals do not cancel
-            rows.append(
-                dict(
-                    bin=str(b),
-                    n=int(m.sum()),
-                    mean_N=float(np.mean(r)),
-                    mean_along_motion_N=float(np.mean(r * np.sign(D.v[m]))),
-                    rms_N=rms,
-                    rms_over_noise=rms / noise_N if noise_N > 0 else float("inf"),
-                )
-            )
-        out[name] = dict(unit=unit, bins=rows)
     return out
 
 
@@ -155,31 +548,125 @@ def _ordered(labels):
     return sorted(labels, key=key)
 
 
-# ------------------------------------------------------------------ CV machinery
-def _cv_sse(D, effects, shapes, ctx, new_effect, train, folds, fallback=None):
-    """Held-out SSE per experiment (grouped CV over ``train``) for eq.14 + effects (+ new_effect).
+def residual_map(D: FitData, residual_N: np.ndarray, noise_N: float) -> tuple:
+    """Residuals (measurement − model) organised by where they occur.
 
-    Shapes of ``effects`` are fixed; the new effect's shape is chosen on each
-    fold's training part from the effect's grid.
+    Returns a tuple of :class:`ResidualFeature` (displacement, speed,
+    direction, time since reversal, pressure, valve, campaign time), each
+    with one :class:`ResidualBin` per bin: samples, mean, mean along the
+    motion (so friction-like residuals do not cancel), RMS and RMS / noise.
     """
-    effs = tuple(effects) + ((new_effect,) if new_effect else ())
-    grid = [np.nan]
-    if new_effect and CATALOGUE[new_effect].shape is not None:
-        grid = list(CATALOGUE[new_effect].grid(D, ctx))
-        if not grid:
-            return None
+    out = []
+    for name, unit, lab in _bins(D):
+        rows = []
+        for b in _ordered(np.unique(lab)):
+            m = lab == b
+            r = residual_N[m]
+            rms = float(np.sqrt(np.mean(r**2)))
+            rows.append(ResidualBin(str(b), int(m.sum()), float(np.mean(r)), float(np.mean(r * np.sign(D.v[m]))), rms,
+                                    rms / noise_N if noise_N > 0 else float("inf")))
+        out.append(ResidualFeature(name, unit, tuple(rows)))
+    return tuple(out)
+
+
+# ================================================================== stage: plan
+@dataclass(frozen=True)
+class Plan:
+    """Which experiments train, which are held out, the CV folds, and what cannot be assessed."""
+
+    train: np.ndarray
+    test: np.ndarray
+    folds: np.ndarray  #: fold per experiment (-1: test)
+    n_folds: int
+    can_select: bool
+    notes: tuple
+
+
+def plan_split(D: FitData, settings: DiagnoseSettings) -> Plan:
+    """Held-out test experiments and CV folds, stratified by valve position.
+
+    Every valve keeps about ``1 - test_fraction`` of its experiments for
+    training and each CV fold's training part holds ``(k-1)/k`` of them, so
+    no fold has to predict a valve whose damping it never saw. Small
+    campaigns: fewer folds; no held-out set when a valve cannot spare an
+    experiment; no selection below ``min_experiments_cv`` experiments.
+    """
+    rng = np.random.default_rng(settings.seed)
+    valve_of = D.valve[D.bounds[:-1]]
+    notes = []
+    k = int(min(settings.n_folds, max(2, D.n_exp // 2)))
+    test, folds = [], np.full(D.n_exp, -1)
+    for v in np.unique(valve_of):
+        exps = rng.permutation(np.flatnonzero(valve_of == v))
+        n_test = int(np.floor(settings.test_fraction * len(exps) + rng.uniform()))
+        n_test = min(n_test, max(len(exps) - k, 0))
+        test += list(exps[:n_test])
+        rest = exps[n_test:]
+        folds[rest] = (rng.integers(k) + np.arange(len(rest))) % k
+    test = np.sort(np.array(test, dtype=int))
+    train = np.sort(np.setdiff1d(np.arange(D.n_exp), test))
+    can_select = D.n_exp >= settings.min_experiments_cv and len(np.unique(folds[train])) >= 2
+    if len(test) == 0:
+        notes.append(
+            f"held-out error cannot be assessed: {D.n_exp} experiment(s) over {len(np.unique(valve_of))} valve position(s) "
+            "leave none to hold out (each valve keeps enough experiments to fit its damping)"
+        )
+    if not can_select:
+        notes.append(
+            f"no effect can be tested: {D.n_exp} experiment(s) < {settings.min_experiments_cv} needed for a cross-validated "
+            "selection over whole experiments; the report gives eq. 14 and the residual map only"
+        )
+    elif k < settings.n_folds:
+        notes.append(f"small campaign: {k} cross-validation folds instead of {settings.n_folds}")
+    return Plan(train, test, folds, k, bool(can_select), tuple(notes))
+
+
+# ================================================================== stage: selection
+@dataclass(frozen=True)
+class _Trial:
+    """One candidate's cross-validated score in one round."""
+
+    id: str
+    sse: np.ndarray | None
+    shape: float
+    evidence: Evidence | None
+    fit: ModelFit | None
+    signature: tuple = ()
+
+
+def _has_mask(eff: Effect) -> bool:
+    return not eff.nested
+
+
+def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
+    """Held-out SSE per experiment (grouped CV over the training experiments) with ``cand`` added.
+
+    The candidate's shape is chosen on each fold's training part from its
+    grid. Returns (sse per experiment, shape value best on all training experiments).
+    """
+    eff = REGISTRY[cand]
+    grid = np.asarray(eff.grid(D, ctx), float) if eff.shape is not None else np.array([np.nan])
+    if len(grid) == 0:
+        return None, np.nan
+    train, folds = plan.train, plan.folds
     blks = []
     for gval in grid:
-        sh = dict(shapes)
-        if new_effect:
-            sh[new_effect] = float(gval)
-        X, params, groups = assemble(D, effs, sh, ctx)
-        blks.append((blocks(X, D.y, D.bounds, params), groups.get(new_effect)))
-    if new_effect and CATALOGUE[new_effect].damping_mask is not None:
-        # the relief valve replaces damping columns, so "no valve" is not nested in
-        # its grid: offer it explicitly, each fold keeps whichever trains better
-        X, params, _ = assemble(D, tuple(effects), shapes, ctx)
-        blks.append((blocks(X, D.y, D.bounds, params), None))
+        sh = dict(cur.shapes)
+        sh[cand] = float(gval)
+        if _has_mask(eff):
+            X, params, groups = assemble(D, cur.effects + (cand,), sh, ctx)
+            Bk = blocks(X, D.y, D.bounds, params)
+            sl = groups[cand]
+        else:
+            Xn = eff.columns(D, float(gval), ctx)
+            for o in cur.effects:  # sensor dynamics already in the model act on the new columns too
+                if REGISTRY[o].transforms_design:
+                    Xn = REGISTRY[o].transform(D, Xn, cur.shapes.get(o, np.nan), ctx)
+            Bk = extend_blocks(base_blk, X0, Xn, D.y, D.bounds, eff.params(D))
+            sl = slice(X0.shape[1], X0.shape[1] + Xn.shape[1])
+        blks.append((Bk, sl))
+    if _has_mask(eff):
+        blks.append((base_blk, None))  # "valve closed" is not nested in the relief grid: offer it
     sse = np.full(D.n_exp, np.nan)
     for f in np.unique(folds[train]):
         tr = train[folds[train] != f]
@@ -188,73 +675,222 @@ def _cv_sse(D, effects, shapes, ctx, new_effect, train, folds, fallback=None):
         for Bk, sl in blks:
             Gtr = Bk.G[tr].sum(0)
             if sl is not None and not np.all(np.diag(Gtr)[sl] > 0):
-                continue  # the effect leaves no trace in this fold's training part
+                continue  # the term leaves no trace in this fold's training part
             th = solve_bounded(Gtr, Bk.b[tr].sum(0), Bk.lower, Bk.upper)
             c = Bk.sse(th, tr).sum()
             if best is None or c < best[0]:
                 best = (c, th, Bk)
-        if best is None:
-            sse[te] = fallback[te]  # not identifiable here: predict as without the effect
-        else:
-            sse[te] = best[2].sse(best[1], te)
-    return sse
+        sse[te] = fallback[te] if best is None else best[2].sse(best[1], te)
+    # shape best on all training experiments (for the trial fit)
+    costs = []
+    for Bk, sl in blks[: len(grid)]:
+        th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
+        costs.append(Bk.sse(th, train).sum())
+    return sse, float(grid[int(np.argmin(costs))])
 
 
-def _params_json(fit: ModelFit, effect_id: str | None, jack: dict | None = None) -> dict:
-    sl = fit.groups["eq14" if effect_id is None else effect_id]
-    out = {}
-    for q, v, s in zip(fit.params[sl], fit.theta[sl], fit.se[sl]):
-        out[q.name] = dict(value=float(v), std_error=float(s), unit=q.unit, meaning=q.meaning)
-    if effect_id is not None:
-        eff = CATALOGUE[effect_id]
+def _round_context(D, cur: ModelFit, plan: Plan) -> dict:
+    ctx = cur.context(D)
+    pred = cur.predict(D)
+    ctx["model_force_N"] = pred
+    mtrain = np.isin(D.exp, plan.train)
+    ctx["residual_N"] = np.where(mtrain, D.y - pred, 0.0)  # for grids: training experiments only
+    ctx.setdefault("residual_all_N", D.y - pred)  # for per-experiment nuisance parameters (kept once a nuisance term is in)
+    return ctx
+
+
+def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
+    eff = REGISTRY[cand]
+    ctx_c = relief_context(D, cur.effects + (cand,), plan.train, cur.shapes, start=ctx) if eff.replaces_damping else ctx
+    new_sse, shape = _cv_sse(D, cur, base_blk, X0, ctx_c, cand, plan, base_sse)
+    if new_sse is None:
+        return _Trial(cand, None, np.nan, None, None)
+    tr = plan.train
+    if eff.nuisance_per_experiment:  # parameters fitted on the held-out experiment itself: charge their expected gain on noise
+        new_sse = new_sse + eff.nuisance_per_experiment * noise**2
+    d = base_sse[tr] - new_sse[tr]
+    gain = float(d.sum() / max(base_sse[tr].sum(), 1e-300))
+    sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
+    t = float(np.mean(d) / sd * np.sqrt(len(d))) if sd > 0 else 0.0
+    fold_ids = np.unique(plan.folds[tr])
+    fold_gain = [float(d[plan.folds[tr] == f].sum()) for f in fold_ids]
+    n_improved = int(sum(g > 0 for g in fold_gain))
+    ratio = new_sse[tr] / np.maximum(base_sse[tr], 1e-300)
+    badly = base_sse[tr] / D.n_per_exp[tr] > (2.0 * noise) ** 2
+    n_halved = int(np.sum((ratio < 0.5) & badly))
+    consistent = t >= settings.min_t or n_halved >= settings.min_halved
+    need_folds = min(settings.min_folds, len(fold_ids))
+    stable = n_improved >= need_folds
+    fit_c, snr, eff_rms, res_rms, sig = None, 0.0, 0.0, float(np.sqrt(np.nansum(base_sse[tr]) / max(D.n_per_exp[tr].sum(), 1))), ()
+    if gain >= settings.min_gain and consistent:
+        sh = dict(cur.shapes)
         if eff.shape is not None:
-            sv = fit.shapes.get(effect_id, np.nan)
-            se = (jack or {}).get(effect_id, np.nan)
-            out[eff.shape.name] = dict(
-                value=float(sv), std_error=float(se), unit=eff.shape.unit, meaning=eff.shape.meaning + " (fold jackknife s.e.)"
-            )
-    return out
+            sh[cand] = shape
+        fit_c = fit_model(D, cur.effects + (cand,), experiments=tr, shapes=sh, ctx=ctx_c)
+        contrib = fit_c.contribution(D, cand)
+        mtr = np.isin(D.exp, tr)
+        res_c = D.y[mtr] - fit_c.predict(D)[mtr]
+        eff_rms = float(np.sqrt(np.mean(contrib[mtr] ** 2)))
+        res_rms = float(np.sqrt(np.mean(res_c**2)))
+        snr = eff_rms / max(res_rms, 1e-300)
+        if eff.catalogue:
+            sig = tuple(eff.signature(D, fit_c.effect_values(cand), fit_c.shapes.get(cand, np.nan), contrib))
+    sig_ok = all(c.passed for c in sig)
+    reasons = []
+    if gain < settings.min_gain:
+        reasons.append(f"held-out error falls by {100 * gain:.2f} % < {100 * settings.min_gain:.1f} %")
+    if not consistent:
+        reasons.append(f"paired t over held-out experiments {t:.1f} < {settings.min_t:g} and {n_halved} badly fit experiments halved (< {settings.min_halved})")
+    if not stable:
+        reasons.append(f"improves only {n_improved} of {len(fold_ids)} folds (< {need_folds}): not stable across folds")
+    if fit_c is not None and snr < settings.min_snr:
+        reasons.append(f"effect RMS {snr:.2f} x residual < {settings.min_snr:g}")
+    if fit_c is not None and not sig_ok:
+        reasons.append("fails its physical signature: " + "; ".join(c.detail for c in sig if not c.passed))
+    passes = gain >= settings.min_gain and consistent and stable and fit_c is not None and snr >= settings.min_snr and sig_ok
+    ev = Evidence(rnd, gain, t, n_improved, len(fold_ids), n_halved, snr, eff_rms, res_rms, sig_ok, None, bool(passes), tuple(reasons))
+    return _Trial(cand, new_sse, shape, ev, fit_c, sig)
 
 
-def _split(D: FitData, settings: DiagnoseSettings):
-    """Held-out test experiments and CV folds, stratified by valve position.
+def _paired_t(a: np.ndarray, b: np.ndarray) -> float:
+    """Paired t by which ``b`` has smaller squared error than ``a``."""
+    d = a - b
+    sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
+    return float(np.mean(d) / sd * np.sqrt(len(d))) if sd > 0 else 0.0
 
-    Every valve keeps about ``1 - test_fraction`` of its experiments for
-    training and each CV fold's training part holds ``(k-1)/k`` of them, so
-    no fold has to predict a valve whose damping it never saw.
+
+def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSettings, say=lambda m: None):
+    """Forward selection over catalogue effects and discovery operators (grouped CV, naming discipline).
+
+    Returns ``(selected ids, shapes, trials per id (last round tested), rounds log)``.
     """
-    rng = np.random.default_rng(settings.seed)
-    valve_of = D.valve[D.bounds[:-1]]
-    test, folds = [], np.full(D.n_exp, -1)
-    for v in np.unique(valve_of):
-        exps = rng.permutation(np.flatnonzero(valve_of == v))
-        n_test = int(np.floor(settings.test_fraction * len(exps) + rng.uniform()))
-        n_test = min(n_test, max(len(exps) - settings.n_folds, 0))
-        test += list(exps[:n_test])
-        rest = exps[n_test:]
-        folds[rest] = (rng.integers(settings.n_folds) + np.arange(len(rest))) % settings.n_folds
-    test = np.sort(np.array(test, dtype=int))
-    train = np.sort(np.setdiff1d(np.arange(D.n_exp), test))
-    return train, test, folds
+    cands = [c for c in settings.candidates if c in REGISTRY] + [c for c in settings.discovery if c in REGISTRY]
+    sel: list[str] = []
+    trials: dict[str, _Trial] = {}
+    cur = fit_model(D, (), experiments=plan.train)
+    if not plan.can_select:
+        return sel, {}, trials
+    for rnd in range(1, settings.max_effects + 1):
+        ctx = _round_context(D, cur, plan)
+        X0, params0, _ = assemble(D, cur.effects, cur.shapes, ctx)
+        base_blk = blocks(X0, D.y, D.bounds, params0)
+        base_sse = np.full(D.n_exp, np.nan)
+        # current model's CV error (shapes fixed)
+        for f in np.unique(plan.folds[plan.train]):
+            tr = plan.train[plan.folds[plan.train] != f]
+            te = plan.train[plan.folds[plan.train] == f]
+            th = solve_bounded(base_blk.G[tr].sum(0), base_blk.b[tr].sum(0), base_blk.lower, base_blk.upper)
+            base_sse[te] = base_blk.sse(th, te)
+        round_trials = []
+        for c in cands:
+            if c in sel:
+                continue
+            say(f"round {rnd}: testing {c}")
+            tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
+            trials[c] = tri
+            round_trials.append(tri)
+        passing = [t for t in round_trials if t.evidence is not None and t.evidence.passes]
+        disc = [t for t in passing if not REGISTRY[t.id].catalogue]
+        cat = [t for t in passing if REGISTRY[t.id].catalogue]
+        best_disc = max(disc, key=lambda t: t.evidence.cv_gain) if disc else None
+        named = []
+        for t in cat:
+            vt = _paired_t(t.sse[plan.train], best_disc.sse[plan.train]) if best_disc is not None else None
+            ok = vt is None or vt <= settings.name_t
+            ev = t.evidence
+            reasons = ev.reasons + (() if ok else (f"a discovered explanation ({best_disc.id}) fits held-out experiments better (paired t {vt:.1f} > {settings.name_t:g})",))
+            trials[t.id] = _Trial(t.id, t.sse, t.shape, Evidence(**{**asdict(ev), "vs_best_discovered_t": vt, "passes": ok, "reasons": reasons}), t.fit, t.signature)
+            if ok:
+                named.append(trials[t.id])
+        if named:
+            best = max(named, key=lambda t: t.evidence.cv_gain)
+        elif best_disc is not None:
+            best = best_disc
+        else:
+            break
+        sel.append(best.id)
+        cur = best.fit
+    return sel, dict(cur.shapes), trials
 
 
-def _rmse(D, fit, exps) -> float:
+# ================================================================== stage: final fits
+def _rmse(D, fit: ModelFit, exps) -> float | None:
+    if len(exps) == 0:
+        return None
     pred = fit.predict(D)
     m = np.isin(D.exp, exps)
     return float(np.sqrt(np.mean((D.y[m] - pred[m]) ** 2)))
 
 
-# ------------------------------------------------------------------ learner check
-def _learner_check(D: FitData, residual: np.ndarray, noise_N: float, settings: DiagnoseSettings) -> dict:
+def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSettings):
+    """Baseline and final model on all experiments; held-out RMS after each accepted term; fold jackknife of shapes.
+
+    Returns ``(baseline, final, steps, heldout_steps, shape_se)``.
+    """
+    sel = tuple(sel)
+    steps, hsteps = [], []
+    for k in range(len(sel) + 1):
+        eff = sel[:k]
+        f = fit_model(D, eff, experiments=plan.train, shapes={e: shapes[e] for e in eff if e in shapes})
+        steps.append(f)
+        hsteps.append(HeldOutStep("eq. 14" if k == 0 else f"+ {sel[k - 1]}", eff, _rmse(D, f, plan.test)))
+    baseline = fit_model(D, ())
+    final = fit_model(D, sel, shapes={e: shapes[e] for e in sel if e in shapes}) if sel else baseline
+    shape_se: dict[str, float] = {}
+    shaped = [e for e in sel if REGISTRY[e].shape is not None]
+    if shaped and plan.can_select:
+        allx = np.arange(D.n_exp)
+        fold_ids = np.unique(plan.folds[plan.folds >= 0])
+        vals = {e: [] for e in shaped}
+        for f in fold_ids:
+            ff = fit_model(D, sel, experiments=np.setdiff1d(allx, allx[plan.folds == f]), ctx=final.ctx)
+            for e in shaped:
+                vals[e].append(ff.shapes[e])
+        k = len(fold_ids)
+        for e in shaped:
+            z = np.asarray(vals[e], float)
+            if REGISTRY[e].log_shape:
+                z = np.log(np.clip(z, 1e-300, None))
+                shape_se[e] = float(final.shapes[e] * np.sqrt((k - 1) / k * np.sum((z - z.mean()) ** 2)))
+            else:
+                shape_se[e] = float(np.sqrt((k - 1) / k * np.sum((z - z.mean()) ** 2)))
+    return baseline, final, tuple(steps), tuple(hsteps), shape_se
+
+
+def _param_estimates(fit: ModelFit, group: str, shape_se: dict | None = None, prefix: str = "") -> tuple:
+    sl = fit.groups[group]
+    out = [ParamEstimate(prefix + q.name, float(v), float(s), q.unit, q.meaning) for q, v, s in zip(fit.params[sl], fit.theta[sl], fit.se[sl])]
+    if group != "eq14":
+        eff = REGISTRY[group]
+        if eff.shape is not None:
+            out.append(ParamEstimate(prefix + eff.shape.name, float(fit.shapes.get(group, np.nan)), float((shape_se or {}).get(group, np.nan)),
+                                     eff.shape.unit, eff.shape.meaning + " (fold-jackknife s.e.)"))
+    return tuple(out)
+
+
+def _final_model(final: ModelFit, D: FitData, shape_se: dict) -> FinalModel:
+    params = list(_param_estimates(final, "eq14"))
+    for e in final.effects:
+        sl = final.groups[e]
+        params += [ParamEstimate(f"{e}.{q.name}", float(v), float(s), q.unit, q.meaning) for q, v, s in zip(final.params[sl], final.theta[sl], final.se[sl])]
+    shapes = {e: float(final.shapes.get(e, np.nan)) for e in final.effects}
+    return FinalModel(tuple(final.effects), shapes, tuple(params), tuple(D.valves), D.reference, final.rmse_N)
+
+
+# ================================================================== stage: learner check
+def learner_check(D: FitData, residual: np.ndarray, noise_N: float, settings: DiagnoseSettings) -> LearnerCheck:
+    """Gradient-boosted trees (grouped CV by experiment) on the final residuals: is structure left, and where?"""
+    if D.n_exp < 2:
+        return LearnerCheck(False, False, note=f"skipped: {D.n_exp} experiment(s) cannot be split into groups")
     from sklearn.ensemble import HistGradientBoostingRegressor
     from sklearn.model_selection import GroupKFold
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1):  # one thread: predictable on a shared 2-core machine and inside parallel_map
-        return _learner_check_inner(D, residual, noise_N, settings, HistGradientBoostingRegressor, GroupKFold)
+        return _learner_inner(D, residual, noise_N, settings, HistGradientBoostingRegressor, GroupKFold)
 
 
-def _learner_check_inner(D, residual, noise_N, settings, HistGradientBoostingRegressor, GroupKFold) -> dict:
+def _learner_inner(D, residual, noise_N, settings, HistGradientBoostingRegressor, GroupKFold) -> LearnerCheck:
     feats = np.column_stack([D.x, D.v, np.abs(D.v), np.sign(D.v), np.log10(D.tsr + 1e-3), D.p2, D.valve, D.ctime])
     names = ["displacement", "velocity", "speed", "direction", "time_since_reversal", "p2", "valve", "campaign_time"]
     rng = np.random.default_rng(settings.seed + 1)
@@ -280,14 +916,12 @@ def _learner_check_inner(D, residual, noise_N, settings, HistGradientBoostingReg
     gain = 1.0 - mse1 / mse0 if mse0 > 0 else 0.0
     explained_rms = float(np.sqrt(max(mse0 - mse1, 0.0)))
     flag = bool(gain >= settings.learner_min_gain and explained_rms >= settings.learner_min_ratio * noise_N)
-    # where: the features the learner relies on (permutation importance) and,
-    # along each, the bin where its held-out prediction is largest (RMS)
     where = []
     for j in np.argsort(-importance):
         col = Xf[:, j]
         uq = np.unique(col)
         lab = col if len(uq) <= 12 else np.digitize(col, np.quantile(col, np.linspace(0, 1, 9)[1:-1]))
-        best = (0.0, None)
+        best = (0.0, (float("nan"), float("nan")))
         for b in np.unique(lab):
             mm = lab == b
             rms = float(np.sqrt(np.mean(pred[mm] ** 2)))
@@ -296,384 +930,343 @@ def _learner_check_inner(D, residual, noise_N, settings, HistGradientBoostingReg
                 if names[j] == "time_since_reversal":
                     lo, hi = 10**lo - 1e-3, 10**hi - 1e-3
                 best = (rms, (lo, hi))
-        where.append(
-            dict(
-                feature=names[j],
-                importance_share=float(importance[j] / mse0) if mse0 > 0 else 0.0,
-                largest_structure_rms_N=best[0],
-                range=best[1],
-            )
-        )
-    return dict(
-        model="HistGradientBoostingRegressor on residuals, 5-fold GroupKFold by experiment",
-        rows=int(len(idx)),
-        heldout_variance_explained=gain,
-        explained_rms_N=explained_rms,
-        noise_N=noise_N,
-        flag=flag,
-        where=[w for k, w in enumerate(where) if k == 0 or w["importance_share"] >= 0.05][:3],
-    )
+        share = float(importance[j] / mse0) if mse0 > 0 else 0.0
+        where.append(StructureWhere(names[j], share, best[0], best[1]))
+    where = tuple(w for k, w in enumerate(where) if k == 0 or w.importance_share >= 0.05)[:3]
+    return LearnerCheck(True, flag, gain, explained_rms, int(len(idx)), where,
+                        "HistGradientBoostingRegressor on residuals, GroupKFold by experiment")
 
 
-# ------------------------------------------------------------------ main entry
-def diagnose(rec: Recordings | FitData, settings: DiagnoseSettings = DiagnoseSettings(), progress=None) -> Diagnosis:
+# ================================================================== stage: assemble the report
+def _experiment_errors(D, rec, res_b, res_f) -> tuple:
+    names = getattr(rec, "experiments", None)
+    labels = [str(n) for n in names["experiment"]] if names is not None and len(names) == D.n_exp else [str(e) for e in range(D.n_exp)]
+    rows = []
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        rows.append(ExperimentError(
+            e, labels[e], float(D.p2[a]), float(D.valve[a]),
+            float(D.speed[a]) if D.speed is not None else float(np.max(np.abs(D.v[a:b]))),
+            float(np.sqrt(np.mean(res_b[a:b] ** 2))), float(np.sqrt(np.mean(res_f[a:b] ** 2))),
+        ))
+    return tuple(sorted(rows, key=lambda r: -r.rms_baseline_N)[:8])
+
+
+def _effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings) -> tuple:
+    out = []
+    removed = {}
+    for k, eid in enumerate(sel):
+        a, b = hsteps[k].rmse_N, hsteps[k + 1].rmse_N
+        removed[eid] = None if a is None or b is None else a - b
+    for eid in list(settings.candidates) + [d for d in settings.discovery if d in sel or d in trials]:
+        if eid not in REGISTRY:
+            continue
+        eff = REGISTRY[eid]
+        acc = eid in sel
+        tri = trials.get(eid)
+        ev = tri.evidence if tri else None
+        if acc:
+            vals, errs = final.effect_values(eid), final.effect_errors(eid)
+            sh = final.shapes.get(eid, np.nan)
+            expl = "Accepted: " + eff.describe(vals, errs, sh, shape_se.get(eid, np.nan))
+            params = _param_estimates(final, eid, shape_se)
+            sig = tuple(eff.signature(D, vals, sh, final.contribution(D, eid))) if eff.catalogue else ()
+        else:
+            if ev is None:
+                why = "not tested: " + ("too few experiments for a cross-validated test" if not plan.can_select else "not applicable to this campaign")
+            else:
+                why = "; ".join(ev.reasons) or "a better term was accepted for the same structure"
+            expl = f"Not accepted: {why}."
+            fitc = tri.fit if tri else None
+            params = _param_estimates(fitc, eid) if fitc is not None and eid in fitc.groups else ()
+            sig = tri.signature if tri else ()
+        out.append(EffectReport(eid, eff.catalogue, acc, eff.title, expl, eff.physics, eff.equation, params, ev, sig, removed.get(eid)))
+    return tuple(out)
+
+
+def _where_sentences(learner: LearnerCheck, where_final, noise: float, held: HeldOut) -> tuple:
+    out = []
+    for w in learner.where if learner.flag else ():
+        out.append(f"along {w.feature} ({100 * w.importance_share:.0f} % of residual variance; largest at "
+                   f"{w.range[0]:.3g}..{w.range[1]:.3g}: {w.largest_structure_rms_N:.1f} N RMS)")
+    for f in where_final:
+        b = f.worst()
+        if b.rms_over_noise > 2.0 and b.n >= 0.05 * sum(x.n for x in f.bins):
+            out.append(f"{f.name} {b.bin} {f.unit}: residual RMS {b.rms_N:.1f} N = {b.rms_over_noise:.1f} x noise (mean {b.mean_N:+.1f} N, measurement − model)")
+    if held.assessable and held.final_N is not None and held.final_N > 2.0 * noise:
+        out.append(f"held-out RMS after the fit {held.final_N:.1f} N > 2 x noise floor {noise:.1f} N")
+    return tuple(out)
+
+
+# ================================================================== main entry
+def diagnose(
+    rec: Recordings | FitData,
+    settings: DiagnoseSettings = DiagnoseSettings(),
+    progress=None,
+    reference: GasSpring | None = None,
+) -> Diagnosis:
     """Diagnose the discrepancy between eq. 14 and a campaign.
 
     Parameters
     ----------
     rec : Recordings or FitData
-        The campaign (a :class:`FitData` skips the reader).
+        The campaign (a :class:`FitData` skips the reader and carries its own reference).
     settings : DiagnoseSettings
     progress : callable, optional
         ``progress(message)`` called at each step (e.g. to update a spinner).
+    reference : GasSpring, optional
+        The unit's gas spring (from its design file): its areas, V1, V2 and
+        travel shape the gas terms. Default: the paper's Fig. 5 unit.
 
     Returns
     -------
     Diagnosis
-        ``report`` holds the contract keys of the spec (``baseline``,
-        ``heldout_rmse_N``, ``effects``, ``unexplained_structure``) and the
-        evidence behind them.
+        ``report`` is a :class:`DiagnosisReport` (``to_dict()`` is the JSON of
+        the spec); ``baseline`` and ``final`` the fitted models.
     """
     t0 = time.perf_counter()
     say = progress or (lambda msg: None)
-    D = rec if isinstance(rec, FitData) else FitData.from_recordings(rec)
-    train, test, folds = _split(D, settings)
-    cands = [c for c in settings.candidates if c in CATALOGUE]
-
-    say("baseline eq. 14")
-    base_train = fit_model(D, (), experiments=train)
-    sel: list[str] = []
-    cur = base_train
-    evidence: dict[str, dict] = {}
-    trial_fits: dict[str, ModelFit] = {}
-    rounds = []
-    for rnd in range(settings.max_effects):
-        ctx = cur._ctx_for(D) if "relief_valve" in cur.effects else {"damping_force_N": cur.damping_force(D)}
-        base_sse = _cv_sse(D, cur.effects, cur.shapes, ctx, None, train, folds)
-        noise_round = noise_level_N(D, D.y - cur.predict(D))
-        resid_rms = float(np.sqrt(np.nansum(base_sse) / D.bounds[-1]))
-        cand_rows = []
-        for c in cands:
-            if c in sel:
-                continue
-            say(f"round {rnd + 1}: testing {c}")
-            ctx_c = relief_context(D, cur.effects + (c,), train, cur.shapes, start=ctx) if c == "relief_valve" else ctx
-            new_sse = _cv_sse(D, cur.effects, cur.shapes, ctx_c, c, train, folds, fallback=base_sse)
-            if new_sse is None:
-                ev = dict(cv_gain=0.0, paired_t=0.0, folds_improved=0, snr=0.0, note="not applicable to this campaign")
-                evidence[c] = dict(ev, round=rnd + 1)
-                continue
-            d = base_sse[train] - new_sse[train]
-            gain = float(d.sum() / base_sse[train].sum())
-            sd = float(np.std(d, ddof=1))
-            t = float(np.mean(d) / sd * np.sqrt(len(d))) if sd > 0 else 0.0
-            fold_gain = [float((base_sse[train][folds[train] == f] - new_sse[train][folds[train] == f]).sum()) for f in range(settings.n_folds)]
-            fit_c = fit_model(D, cur.effects + (c,), experiments=train, shapes=cur.shapes, ctx=ctx_c)
-            contrib = fit_c.contribution(D, c)
-            mtr = np.isin(D.exp, train)
-            res_c = D.y[mtr] - fit_c.predict(D)[mtr]
-            snr = float(np.sqrt(np.mean(contrib[mtr] ** 2)) / np.sqrt(np.mean(res_c**2)))
-            ratio = new_sse[train] / np.maximum(base_sse[train], 1e-300)
-            badly_fit = base_sse[train] / D.n_per_exp[train] > (2.0 * noise_round) ** 2
-            n_halved = int(np.sum((ratio < 0.5) & badly_fit))
-            ev = dict(
-                cv_gain=gain,
-                paired_t=t,
-                experiments_halved=n_halved,
-                folds_improved=int(sum(g > 0 for g in fold_gain)),
-                snr=snr,
-                effect_rms_N=float(np.sqrt(np.mean(contrib[mtr] ** 2))),
-                residual_rms_N=float(np.sqrt(np.mean(res_c**2))),
-            )
-            consistent = t >= settings.min_t or n_halved >= settings.min_halved
-            ok = gain >= settings.min_gain and consistent and snr >= settings.min_snr
-            reasons = []
-            if gain < settings.min_gain:
-                reasons.append(f"held-out error falls by {100 * gain:.2f} % < {100 * settings.min_gain:.1f} %")
-            if not consistent:
-                reasons.append(
-                    f"paired t over held-out experiments {t:.1f} < {settings.min_t:g} and only {n_halved} "
-                    f"badly fit held-out experiments have their error halved (< {settings.min_halved})"
-                )
-            if snr < settings.min_snr:
-                reasons.append(f"effect RMS {snr:.2f} x residual < {settings.min_snr:g}")
-            ev["passes"] = bool(ok)
-            ev["reasons"] = reasons
-            evidence[c] = dict(ev, round=rnd + 1)
-            trial_fits[c] = fit_c
-            cand_rows.append((c, ok, gain))
-        passing = [(c, g) for c, ok, g in cand_rows if ok]
-        rounds.append(dict(round=rnd + 1, selected=list(sel), cv_rmse_N=resid_rms, candidates={c: evidence[c] for c, _, _ in cand_rows}))
-        if not passing:
-            break
-        best = max(passing, key=lambda z: z[1])[0]
-        sel.append(best)
-        evidence[best]["accepted_in_round"] = rnd + 1
-        cur = fit_model(D, tuple(sel), experiments=train)
-        rounds[-1]["accepted"] = best
-
+    if isinstance(rec, FitData):
+        D = rec
+    else:
+        D = FitData.from_recordings(rec, reference=reference or PAPER_FIG5)
+    ref_note = REFERENCE_NOTE if (reference is None and D.reference == PAPER_FIG5) else (
+        f"the unit's design: A1 = {D.reference.A1_mm2:.0f} mm^2, A2 = {D.reference.A2_mm2:.0f} mm^2, V1 = {D.reference.V1_mm3:.4g} mm^3, "
+        f"V2 = {D.reference.V2_mm3:.4g} mm^3, travel {D.reference.travel_mm:g} mm")
+    plan = plan_split(D, settings)
+    say("baseline eq. 14 and noise floor")
+    base_train = fit_model(D, (), experiments=plan.train)
+    noise0 = noise_floor_N(D, D.y - base_train.predict(D))
+    say("selection")
+    sel, shapes, trials = select_effects(D, plan, noise0, settings, say)
     say("final fits")
-    final_train = fit_model(D, tuple(sel), experiments=train) if sel else base_train
-    heldout = dict(baseline=_rmse(D, base_train, test), final=_rmse(D, final_train, test))
-    allx = np.arange(D.n_exp)
-    baseline = fit_model(D, ())
-    final = fit_model(D, tuple(sel)) if sel else baseline
-    # fold jackknife for shape parameters
-    jack: dict[str, float] = {}
-    shaped = [e for e in sel if CATALOGUE[e].shape is not None]
-    if shaped:
-        vals = {e: [] for e in shaped}
-        for f in range(settings.n_folds):
-            ff = fit_model(D, tuple(sel), experiments=np.setdiff1d(allx, allx[folds == f]))
-            for e in shaped:
-                vals[e].append(ff.shapes[e])
-        k = settings.n_folds
-        for e in shaped:
-            z = np.log(vals[e])
-            jack[e] = float(final.shapes[e] * np.sqrt((k - 1) / k * np.sum((z - z.mean()) ** 2)))
+    baseline, final, steps, hsteps, shape_se = final_fits(D, plan, sel, shapes, settings)
     res_b = D.y - baseline.predict(D)
     res_f = D.y - final.predict(D)
-    noise = noise_level_N(D, res_f)
+    noise = noise_floor_N(D, res_f)
+    held = HeldOut(
+        len(plan.test) > 0, hsteps[0].rmse_N, hsteps[-1].rmse_N, hsteps, tuple(int(e) for e in plan.test),
+        f"{len(plan.test)} experiments (~{100 * settings.test_fraction:.0f} % of each valve, seed {settings.seed}) held out of selection and fitting"
+        if len(plan.test) else "no experiment could be held out",
+    )
     say("flexible-learner check")
-    learner = _learner_check(D, res_f, noise, settings) if settings.learner else dict(flag=False, note="skipped")
-
-    # worst experiments (baseline) and their state after
-    per_exp = []
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        per_exp.append(
-            dict(
-                exp_index=e,
-                p2_MPa=float(D.p2[a]),
-                valve_deg=float(D.valve[a]),
-                speed_mm_s=float(D.speed[a]) if D.speed is not None else float(np.max(np.abs(D.v[a:b]))),
-                rms_baseline_N=float(np.sqrt(np.mean(res_b[a:b] ** 2))),
-                rms_final_N=float(np.sqrt(np.mean(res_f[a:b] ** 2))),
-            )
-        )
-    names = getattr(rec, "experiments", None)
-    if names is not None:
-        for row, nm in zip(per_exp, names["experiment"]):
-            row["experiment"] = str(nm)
-    worst = sorted(per_exp, key=lambda r: -r["rms_baseline_N"])[:8]
-
-    effects = []
-    for c in cands:
-        eff = CATALOGUE[c]
-        acc = c in sel
-        fitc = final if acc else trial_fits.get(c)
-        ev = evidence.get(c, {})
-        if acc:
-            expl = f"Accepted: {eff.physics}"
-        else:
-            expl = "Not accepted: " + ("; ".join(ev.get("reasons", [])) or ev.get("note", "not tested")) + "."
-        effects.append(
-            dict(
-                id=c,
-                accepted=acc,
-                title=eff.title,
-                explanation=expl,
-                physics=eff.physics,
-                equation=eff.equation,
-                parameters=_params_json(fitc, c, jack if acc else None) if fitc is not None and c in fitc.groups else {},
-                evidence=ev,
-            )
-        )
-    report = dict(
+    learner = learner_check(D, res_f, noise, settings) if settings.learner else LearnerCheck(False, False, note="skipped (--no-learner)")
+    where_b, where_f = residual_map(D, res_b, noise), residual_map(D, res_f, noise)
+    effects = _effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings)
+    where_txt = _where_sentences(learner, where_f, noise, held)
+    unexplained = bool(learner.flag or (held.assessable and held.final_N is not None and held.final_N > 2.0 * noise))
+    report = DiagnosisReport(
         source=getattr(rec, "source", "<data>"),
+        reference=ref_note,
+        n_experiments=int(D.n_exp),
         rows_read=int(D.n + D.rows_left_out),
         rows_used=int(D.n),
         rows_left_out=int(D.rows_left_out),
         rows_left_out_reason="samples at rest (start, turning point, end): friction is set-valued there",
-        n_experiments=int(D.n_exp),
-        noise_N=dict(value=noise, method="robust std of sample-to-sample differences of the final residuals / sqrt(2)"),
-        baseline=dict(
-            model="eq14: f = g p2 x + L(gamma) xdot + C sign(xdot)",
-            parameters=_params_json(baseline, None),
-            rmse_N=baseline.rmse_N,
-        ),
-        final_model=dict(
-            model="eq14 + " + " + ".join(sel) if sel else "eq14",
-            effects=list(sel),
-            parameters={k: v for e in ("eq14",) + tuple(sel) for k, v in _params_json(final, None if e == "eq14" else e, jack).items()},
-            rmse_N=final.rmse_N,
-        ),
-        heldout_rmse_N=heldout,
-        heldout=dict(
-            method=f"{len(test)} experiments (~{100 * settings.test_fraction:.0f} % of each valve, seed {settings.seed}) held out of selection and fitting",
-            test_experiments=[int(e) for e in test],
-        ),
+        noise_floor_N=noise,
+        noise_method=NOISE_METHOD,
+        baseline_parameters=_param_estimates(baseline, "eq14"),
+        baseline_rmse_N=baseline.rmse_N,
+        final_model=_final_model(final, D, shape_se),
+        heldout=held,
         effects=effects,
-        unexplained_structure=bool(learner.get("flag", False)),
-        unexplained_where=learner.get("where", []) if learner.get("flag", False) else [],
+        unexplained_structure=unexplained,
+        unexplained_where=where_txt if unexplained else (),
         learner=learner,
-        where=dict(baseline=residual_map(D, res_b, noise), final=residual_map(D, res_f, noise), worst_experiments=worst),
-        selection=dict(settings=asdict(settings), rounds=rounds),
+        where_baseline=where_b,
+        where_final=where_f,
+        worst_experiments=_experiment_errors(D, rec, res_b, res_f),
+        notes=plan.notes,
+        settings=settings,
         runtime_s=time.perf_counter() - t0,
     )
-    return Diagnosis(report=_jsonable(report), baseline=baseline, final=final, data=D)
+    return Diagnosis(report, baseline, final, D, steps)
 
 
-def _jsonable(o):
-    if isinstance(o, dict):
-        return {str(k): _jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_jsonable(v) for v in o]
-    if isinstance(o, (np.floating, float)):
-        v = float(o)
-        return v if np.isfinite(v) else None
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    if isinstance(o, np.bool_):
-        return bool(o)
-    if isinstance(o, np.ndarray):
-        return _jsonable(o.tolist())
-    return o
-
-
-# ------------------------------------------------------------------ output
-def format_summary(report: dict) -> str:
+# ================================================================== output
+def format_summary(r: DiagnosisReport) -> str:
     """A summary an engineer can read (Markdown)."""
     L = []
-    noise = report["noise_N"]["value"] or 0.0
-    L.append(f"# Diagnosis of {report['source']}")
+    noise = r.noise_floor_N if np.isfinite(r.noise_floor_N) else 0.0
+    L.append(f"# Diagnosis of {r.source}")
     L.append("")
     L.append(
-        f"{report['n_experiments']} experiments, {report['rows_used']} samples used, "
-        f"{report['rows_left_out']} left out ({report['rows_left_out_reason']}). Noise level {noise:.1f} N."
+        f"{r.n_experiments} experiments, {r.rows_used} samples used, {r.rows_left_out} left out ({r.rows_left_out_reason}). "
+        f"Noise floor {noise:.1f} N. Gas terms shaped by {r.reference}. Residual sign: {RESIDUAL_SIGN}."
     )
+    for n in r.notes:
+        L.append(f"- **Note:** {n}.")
     L.append("")
     L.append("## Where eq. 14 and the bench disagree")
-    wm = report["where"]["baseline"]
-    L.append(f"Baseline RMS residual {report['baseline']['rmse_N']:.1f} N = {report['baseline']['rmse_N'] / max(noise, 1e-9):.1f} x noise.")
-    for feat, block in wm.items():
-        bins = block["bins"]
-        worst = max(bins, key=lambda b: b["rms_N"])
-        L.append(f"- by {feat}: largest in {worst['bin']} {block['unit']} (RMS {worst['rms_N']:.1f} N, mean along motion {worst['mean_along_motion_N']:+.1f} N)")
-    w = report["where"]["worst_experiments"][:3]
-    L.append("- worst experiments: " + "; ".join(
-        f"{r.get('experiment', r['exp_index'])} (p2 {r['p2_MPa']:g} MPa, valve {r['valve_deg']:g} deg, {r['speed_mm_s']:g} mm/s): "
-        f"{r['rms_baseline_N']:.0f} -> {r['rms_final_N']:.0f} N" for r in w))
+    L.append(f"Baseline RMS residual {r.baseline_rmse_N:.1f} N = {r.baseline_rmse_N / max(noise, 1e-9):.1f} x noise floor.")
+    for f in r.where_baseline:
+        w = f.worst()
+        L.append(f"- by {f.name}: largest in {w.bin} {f.unit} (RMS {w.rms_N:.1f} N, mean along motion {w.mean_along_motion_N:+.1f} N)")
+    if r.worst_experiments:
+        L.append("- worst experiments: " + "; ".join(
+            f"{w.experiment} (p2 {w.p2_MPa:g} MPa, valve {w.valve_deg:g} deg, {w.speed_mm_s:g} mm/s): {w.rms_baseline_N:.0f} -> {w.rms_final_N:.0f} N"
+            for w in r.worst_experiments[:3]))
     L.append("")
     L.append("## What was left out")
-    acc = [e for e in report["effects"] if e["accepted"]]
+    acc = r.accepted
     if not acc:
-        L.append("No candidate effect passed grouped cross-validation: eq. 14 explains the recordings to within the noise it can resolve.")
+        L.append("No candidate passed grouped cross-validation: eq. 14 explains the recordings to within the noise it can resolve."
+                 if not r.notes else "No effect accepted (see the notes above).")
     for e in acc:
-        ev = e["evidence"]
-        L.append(f"### {e['id']} — {e['title']}")
-        L.append(e["physics"])
-        L.append(f"Model: `{e['equation']}`")
-        for k, v in e["parameters"].items():
-            L.append(f"- {k} = {v['value']:.4g} ± {v['std_error'] if v['std_error'] is not None else float('nan'):.2g} {v['unit']}")
-        L.append(
-            f"Evidence: held-out mean square -{100 * ev['cv_gain']:.1f} %, paired t = {ev['paired_t']:.1f}, "
-            f"improves {ev['folds_improved']} of {report['selection']['settings']['n_folds']} folds, effect RMS = {ev['snr']:.2f} x residual."
-        )
-    rej = [e for e in report["effects"] if not e["accepted"]]
+        ev = e.evidence
+        kind = "catalogue effect" if e.catalogue else "found beyond the catalogue"
+        L.append(f"### {e.id} — {e.title} ({kind})")
+        L.append(e.explanation[len("Accepted: "):])
+        L.append(f"Model: `{e.equation}`")
+        for p in e.parameters:
+            L.append(f"- {p.name} = {p.value:.4g} ± {p.std_error:.2g} {p.unit}")
+        if ev is not None:
+            L.append(
+                f"Evidence: held-out mean square -{100 * ev.cv_gain:.1f} %, paired t = {ev.paired_t:.1f}, improves {ev.folds_improved} of "
+                f"{ev.n_folds} folds, effect RMS = {ev.snr:.2f} x residual"
+                + (f"; held-out RMS -{e.heldout_rmse_removed_N:.1f} N." if e.heldout_rmse_removed_N is not None else ".")
+            )
+        for c in e.signature:
+            L.append(f"- signature {c.name}: {'ok' if c.passed else 'FAILED'} ({c.detail})")
+    rej = [e for e in r.effects if not e.accepted and e.catalogue]
     if rej:
         L.append("")
-        L.append("Tested and rejected: " + "; ".join(f"{e['id']} ({e['explanation'][len('Not accepted: '):].rstrip('.')})" for e in rej))
+        L.append("Catalogue effects tested and rejected: " + "; ".join(f"{e.id} ({e.explanation[len('Not accepted: '):].rstrip('.')})" for e in rej))
     L.append("")
     L.append("## Did the fit improve where it was not trained?")
-    h = report["heldout_rmse_N"]
-    L.append(f"Held-out RMS error: {h['baseline']:.1f} N (eq. 14) -> {h['final']:.1f} N ({report['heldout']['method']}).")
-    if report["unexplained_structure"]:
-        w = report["unexplained_where"]
-        L.append(
-            "**Structure remains** that no candidate explains: a flexible learner predicts "
-            f"{100 * report['learner']['heldout_variance_explained']:.0f} % of the held-out residual variance, mostly along "
-            + ", ".join(
-                f"{x['feature']} ({100 * x['importance_share']:.0f} % of residual variance; largest at "
-                f"{x['range'][0]:.3g}..{x['range'][1]:.3g}: {x['largest_structure_rms_N']:.1f} N RMS)"
-                for x in w
-            )
-            + ".\n  Eq. 14 with the accepted effects is not the whole story there: add physics before trusting the model in that region."
-        )
+    h = r.heldout
+    if h.assessable:
+        L.append(f"Held-out RMS error: {h.baseline_N:.1f} N (eq. 14) -> {h.final_N:.1f} N ({h.method}); noise floor {noise:.1f} N.")
+        if len(h.steps) > 1:
+            L.append("Per accepted term: " + " -> ".join(f"{s.label} {s.rmse_N:.1f} N" for s in h.steps) + ".")
     else:
-        lv = report["learner"].get("heldout_variance_explained")
-        L.append(
-            "No structure remains beyond noise"
-            + (f" (a flexible learner explains {100 * lv:.1f} % of held-out residual variance)." if lv is not None else ".")
-        )
+        L.append(f"Not assessable: {h.method}.")
+    if r.unexplained_structure:
+        L.append("**Structure remains** that no accepted term explains: " + "; ".join(r.unexplained_where) + ".")
+        L.append("  Eq. 14 with the accepted terms is not the whole story there: add physics before trusting the model in that region.")
+    else:
+        lv = r.learner.heldout_variance_explained
+        L.append("No structure remains beyond noise" + (f" (a flexible learner explains {100 * lv:.1f} % of held-out residual variance)." if lv is not None else "."))
+    L.append("")
+    L.append(f"The final model ({r.final_model.model}) is in `final_model.json`; `vvea_design.identification.diagnose.load_final_model` evaluates it on new motions.")
     return "\n".join(L) + "\n"
 
 
-def _plot_maps(report: dict, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
+def plot_residual_maps(r: DiagnosisReport, fig=None):
+    """Residual RMS per bin of each feature, eq. 14 against the final model, with the noise floor. Returns the Figure."""
     import matplotlib.pyplot as plt
 
-    mb, mf = report["where"]["baseline"], report["where"]["final"]
-    noise = report["noise_N"]["value"] or 0.0
-    feats = list(mb)
-    fig, axes = plt.subplots(2, 4, figsize=(15, 6.5))
-    for ax, feat in zip(axes.flat, feats):
-        bb, bf = mb[feat]["bins"], mf[feat]["bins"]
-        lab = [b["bin"] for b in bb]
+    noise = r.noise_floor_N
+    fig = fig or plt.figure(figsize=(15, 7.5))
+    axes = fig.subplots(2, 4)
+    for ax, fb, ff in zip(axes.flat, r.where_baseline, r.where_final):
+        lab = [b.bin for b in fb.bins]
         xi = np.arange(len(lab))
-        ax.bar(xi - 0.2, [b["rms_N"] for b in bb], 0.4, label="eq. 14", color="C3")
-        ax.bar(xi + 0.2, [b["rms_N"] for b in bf], 0.4, label="final", color="C2")
-        ax.axhline(noise, color="k", ls="--", lw=0.8, label="noise")
+        ax.bar(xi - 0.2, [b.rms_N for b in fb.bins], 0.4, color="C3")
+        ax.bar(xi + 0.2, [b.rms_N for b in ff.bins], 0.4, color="C2")
+        ax.axhline(noise, color="k", ls="--", lw=0.8)
         ax.set_xticks(xi, lab, rotation=45, fontsize=7)
-        ax.set_title(f"{feat} [{mb[feat]['unit']}]", fontsize=9)
-        ax.set_ylabel("RMS residual [N]", fontsize=8)
+        ax.set_title(f"{fb.name}" + (f" [{fb.unit}]" if fb.unit else ""), fontsize=9)
+        ax.set_ylabel("RMS of measurement − model [N]", fontsize=7)
         ax.set_yscale("log")
-    axes.flat[0].legend(fontsize=7)
+        ax.tick_params(labelsize=7)
     ax = axes.flat[-1]
     ax.axis("off")
-    acc = [e["id"] for e in report["effects"] if e["accepted"]]
-    h = report["heldout_rmse_N"]
-    ax.text(0, 0.9, "accepted: " + (", ".join(acc) or "none"), fontsize=9, transform=ax.transAxes)
-    ax.text(0, 0.75, f"held-out RMS: {h['baseline']:.1f} N -> {h['final']:.1f} N", fontsize=9, transform=ax.transAxes)
-    ax.text(0, 0.6, f"unexplained structure: {report['unexplained_structure']}", fontsize=9, transform=ax.transAxes)
-    fig.suptitle("Where the model and the recordings disagree: residual RMS before (eq. 14) and after")
+    from matplotlib.patches import Patch
+    from matplotlib.lines import Line2D
+
+    ax.legend(handles=[Patch(color="C3", label="eq. 14"), Patch(color="C2", label="final model"),
+                       Line2D([], [], color="k", ls="--", lw=0.8, label=f"noise floor {noise:.1f} N")],
+              loc="upper left", fontsize=8, frameon=False)
+    acc = [e.id for e in r.accepted]
+    h = r.heldout
+    ax.text(0, 0.55, "accepted: " + (", ".join(acc) or "none"), fontsize=8, transform=ax.transAxes, wrap=True)
+    if h.assessable:
+        ax.text(0, 0.42, f"held-out RMS: {h.baseline_N:.1f} N -> {h.final_N:.1f} N", fontsize=8, transform=ax.transAxes)
+    ax.text(0, 0.30, f"unexplained structure: {r.unexplained_structure}", fontsize=8, transform=ax.transAxes)
+    fig.suptitle("Where the model and the recordings disagree: RMS of (measurement − model) per bin, before (eq. 14) and after")
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    return fig
 
 
-def _plot_worst(diag: Diagnosis, path: Path) -> None:
-    import matplotlib
+def plot_heldout_steps(r: DiagnosisReport, fig=None):
+    """Held-out RMS after each accepted term (fitted without those experiments), against the noise floor. Returns the Figure."""
+    import matplotlib.pyplot as plt
 
-    matplotlib.use("Agg")
+    fig = fig or plt.figure(figsize=(7, 4.2))
+    ax = fig.subplots()
+    steps = [s for s in r.heldout.steps if s.rmse_N is not None]
+    if steps:
+        xi = np.arange(len(steps))
+        cols = ["C3"] + ["C0" if REGISTRY[s.effects[-1]].catalogue else "C1" for s in steps[1:]]
+        ax.bar(xi, [s.rmse_N for s in steps], color=cols)
+        for x, s in zip(xi, steps):
+            ax.text(x, s.rmse_N, f"{s.rmse_N:.1f}", ha="center", va="bottom", fontsize=8)
+        ax.set_xticks(xi, [s.label for s in steps], rotation=20, ha="right", fontsize=8)
+        ax.set_yscale("log")
+        top = max(s.rmse_N for s in steps)
+        ax.set_ylim(min(min(s.rmse_N for s in steps), r.noise_floor_N) * 0.6, top * 2.2)
+    else:
+        ax.text(0.5, 0.5, "held-out error not assessable\n(too few experiments)", ha="center", va="center", transform=ax.transAxes)
+    ax.axhline(r.noise_floor_N, color="k", ls="--", lw=0.8)
+    ax.axhline(2 * r.noise_floor_N, color="k", ls=":", lw=0.8)
+    from matplotlib.patches import Patch
+    from matplotlib.lines import Line2D
+
+    ax.legend(handles=[Patch(color="C3", label="eq. 14"), Patch(color="C0", label="+ catalogue effect"), Patch(color="C1", label="+ discovered term"),
+                       Line2D([], [], color="k", ls="--", lw=0.8, label="noise floor"), Line2D([], [], color="k", ls=":", lw=0.8, label="2 x noise floor")],
+              fontsize=7, loc="upper right", ncol=2)
+    ax.set_ylabel("held-out RMS of measurement − model [N]")
+    ax.set_title("Held-out error as terms are added (experiments not used in selection or fit)", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_worst(diag: Diagnosis, fig=None):
+    """The worst experiments of eq. 14: force and residual (measurement − model) against x. Returns the Figure."""
     import matplotlib.pyplot as plt
 
     D = diag.data
     fb, ff = diag.baseline.predict(D), diag.final.predict(D)
-    worst = diag.report["where"]["worst_experiments"][:4]
-    fig, axes = plt.subplots(2, len(worst), figsize=(4 * len(worst), 6), squeeze=False, gridspec_kw={"height_ratios": [2, 1]})
+    worst = diag.report.worst_experiments[:4]
+    fig = fig or plt.figure(figsize=(4 * max(len(worst), 1), 6))
+    axes = fig.subplots(2, max(len(worst), 1), squeeze=False, gridspec_kw={"height_ratios": [2, 1]})
     for j, w in enumerate(worst):
-        e = w["exp_index"]
+        e = w.exp_index
         a, b = D.bounds[e], D.bounds[e + 1]
         ax, axr = axes[0, j], axes[1, j]
         ax.plot(D.x[a:b], D.y[a:b], ".", ms=2, color="0.4", label="measured")
         ax.plot(D.x[a:b], fb[a:b], "-", color="C3", lw=1, label="eq. 14")
-        ax.plot(D.x[a:b], ff[a:b], "-", color="C2", lw=1, label="final")
-        ax.set_title(f"{w.get('experiment', e)}: p2 {w['p2_MPa']:g} MPa, γ {w['valve_deg']:g}°, {w['speed_mm_s']:g} mm/s", fontsize=8)
+        ax.plot(D.x[a:b], ff[a:b], "-", color="C2", lw=1, label="final model")
+        ax.set_title(f"{w.experiment}: p2 {w.p2_MPa:g} MPa, γ {w.valve_deg:g}°, {w.speed_mm_s:g} mm/s", fontsize=8)
         axr.plot(D.x[a:b], D.y[a:b] - fb[a:b], color="C3", lw=0.8)
         axr.plot(D.x[a:b], D.y[a:b] - ff[a:b], color="C2", lw=0.8)
-        axr.set_xlabel("x [mm]")
+        axr.axhline(0, color="k", lw=0.5)
+        axr.set_xlabel("displacement x [mm]")
         if j == 0:
-            ax.set_ylabel("force [N]")
-            axr.set_ylabel("residual [N]")
+            ax.set_ylabel("force (+ = tension) [N]")
+            axr.set_ylabel("measurement − model [N]")
             ax.legend(fontsize=7)
-    fig.suptitle("Worst experiments of eq. 14, before and after the accepted effects")
+    fig.suptitle("Worst experiments of eq. 14, before and after the accepted terms")
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    return fig
 
 
 def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> list[str]:
-    """Write ``report.json``, ``summary.md``, ``residual_maps.png``, ``worst_experiments.png``.
+    """Write ``report.json``, ``final_model.json``, ``summary.md`` and the figures.
 
-    Returns the list of file names written.
+    Figures: ``residual_maps.png``, ``heldout_per_effect.png``,
+    ``worst_experiments.png``. Returns the list of file names written.
     """
+    import matplotlib.pyplot as plt
+
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "report.json").write_text(json.dumps(diag.report, indent=1))
-    (out / "summary.md").write_text(format_summary(diag.report))
-    _plot_maps(diag.report, out / "residual_maps.png")
-    _plot_worst(diag, out / "worst_experiments.png")
-    return ["report.json", "summary.md", "residual_maps.png", "worst_experiments.png"]
+    r = diag.report
+    (out / "report.json").write_text(json.dumps(r.to_dict(), indent=1))
+    (out / "final_model.json").write_text(json.dumps(r.final_model.to_dict(), indent=1))
+    (out / "summary.md").write_text(format_summary(r))
+    for name, fig in (("residual_maps.png", plot_residual_maps(r)), ("heldout_per_effect.png", plot_heldout_steps(r)), ("worst_experiments.png", plot_worst(diag))):
+        fig.savefig(out / name, dpi=80)
+        plt.close(fig)
+    return ["report.json", "final_model.json", "summary.md", "residual_maps.png", "heldout_per_effect.png", "worst_experiments.png"]

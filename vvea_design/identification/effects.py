@@ -1,55 +1,88 @@
-"""Catalogue of candidate effects that the paper's eq. 14 leaves out.
+"""Registry of effects that the paper's eq. 14 leaves out: one object per effect.
 
 The baseline is the paper's identification model (eq. 14)::
 
     f = g p2 x + L(γ) ẋ + C sign(ẋ)
 
-Each candidate effect adds physically grounded terms. Every term is linear
-in its amplitude parameters once at most one *shape* parameter is fixed
-(a chamber volume, a time constant, a Stribeck velocity, a relief force);
-the shape parameter is searched on a grid and refined, the amplitudes are
-found by bounded linear least squares. Bounds carry the physical sign: a
-friction cannot pull with the motion, a leak cannot raise the pressure.
+An :class:`Effect` is everything the tool knows about one piece of physics:
+its fit columns (linear amplitudes with physical bounds, at most one *shape*
+parameter searched on a grid), the context it needs from the current model,
+its equation and an engineer's sentence, its physical signature checks and,
+for the unit-test bench :mod:`~vvea_design.identification.testbench`, the
+force it adds to a simulated bench. Every effect is registered once, in
+:data:`REGISTRY`; identification, diagnosis and the unit-test bench only
+call its methods, so adding an effect touches this file only.
 
-===================  ==========================================================
-id                   added force (N)
-===================  ==========================================================
-gas_nonlinearity     p2 (a2 r2(x; V2) + a1 r1(x)): the two chamber forces of the
-                     isothermal antagonistic law (eq. 5) per MPa of p2, each
-                     minus its least-squares line through the origin
-thermal              k p2 h_τ(t),  ḣ = ẋ - h/τ   (heat exchange, polytropic gas)
-quadratic_damping    K(γ) ẋ|ẋ|   (turbulent orifice flow)
-relief_valve         damping force L(γ)ẋ capped at ±F_r (blow-off valve)
-stiction             S sign(ẋ) exp(-(|ẋ|/v_s)²)   (Stribeck breakaway)
-pressure_friction    c_p p2 sign(ẋ)   (seal friction grows with charge)
-leakage              -q p2 x t_c   (charge drifts down with campaign time t_c)
-===================  ==========================================================
+Two kinds of effects live in the registry:
+
+- **catalogue** effects (``catalogue=True``): named physics of the unit
+  (``shared/specs/diagnosis-report.md``). Each fits a *family* of physical
+  forms, not one formula, so that the real form of the effect is followed:
+
+  ===================  ======================================================
+  id                   added force (N)
+  ===================  ======================================================
+  gas_nonlinearity     p2 (a2 r2(x; V2) + a1 r1(x)): eq. 5's two chamber
+                       forces of the unit's geometry, each minus its straight
+                       line; V2 free (an effective, polytropic volume)
+  thermal              p2 (k + k_x x/s) h_τ,  ḣ = ẋ - h/τ  (wall heat exchange)
+  quadratic_damping    K(γ) ẋ|ẋ|^(m-1)   (orifice flow, exponent m fitted)
+  relief_valve         soft knee: above F_open the throttle force follows
+                       F_r + r (L ẋ - F_open)
+  stiction             sign(ẋ) (S1 e^(-|ẋ|/v_s) + S2 e^(-(|ẋ|/v_s)²))  (Stribeck
+                       shape between exponential and Gaussian)
+  pressure_friction    c_p p2 sign(ẋ)
+  leakage              -p2 x (q1 t_c - q2 t_c²)  (charge decays over campaign time)
+  ===================  ======================================================
+
+- **discovery operators** (``catalogue=False``): interpretable operators on the
+  measured signals for physics nobody listed (memory: first-order lags of
+  the model force, of the damping force and of the motion; play/stop
+  hysteresis operators; Fourier terms in displacement and in time, pitch or
+  frequency found by a periodogram of the residual; direction-dependent
+  stiffness; state polynomials; campaign-time trends). Each translates its
+  fitted parameters into a physical signature and a sentence.
+
+Residual sign convention everywhere: residual = measurement − model (N).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 from scipy.signal import lfilter
 
 from ..spring import gas_spring
-from ..spring.gas_spring import GasSpring, PAPER_FIG5
+from ..spring.gas_spring import GasSpring
+from ..spring.paper import PAPER_FIG5
 from .recordings import Recordings
 
 __all__ = [
     "FitData",
     "Param",
+    "Check",
     "Effect",
+    "REGISTRY",
     "CATALOGUE",
+    "DISCOVERY",
     "EFFECT_IDS",
+    "DISCOVERY_IDS",
+    "register",
     "baseline_columns",
-    "effect_params",
-    "gas_remainder",
     "chamber_remainders",
     "thermal_state",
+    "lowpass",
+    "stop_operator",
+    "REFERENCE_NOTE",
 ]
+
+#: What the tool assumes when no design file is given.
+REFERENCE_NOTE = (
+    "no --design given: the gas terms use the paper's Fig. 5 unit (vvea_design.spring.paper.PAPER_FIG5: "
+    f"A1 = {PAPER_FIG5.A1_mm2:.0f} mm^2, A2 = {PAPER_FIG5.A2_mm2:.0f} mm^2, V1 = {PAPER_FIG5.V1_mm3:.3g} mm^3, "
+    f"V2 = {PAPER_FIG5.V2_mm3:.3g} mm^3, travel {PAPER_FIG5.travel_mm:g} mm)"
+)
 
 
 @dataclass(frozen=True)
@@ -61,7 +94,8 @@ class FitData:
     experiment, ``tsr`` s since last reversal, ``ctime`` s of campaign time,
     ``exp`` experiment index (0..n_exp-1, run order), ``y`` measured force N,
     ``bounds`` row offsets of the experiments, ``reference`` the unit's gas
-    spring geometry (areas and V1 used by ``gas_nonlinearity``).
+    spring (areas, V1, V2 and travel used by the gas terms; the design
+    file's, or the paper's Fig. 5 unit).
     """
 
     x: np.ndarray
@@ -99,18 +133,26 @@ class FitData:
         """sign(ẋ)."""
         return np.sign(self.v)
 
+    @property
+    def travel_mm(self) -> float:
+        """The unit's travel (from the reference design)."""
+        return float(self.reference.travel_mm)
+
     @classmethod
     def from_recordings(cls, rec: Recordings, reference: GasSpring = PAPER_FIG5, drop_rest: bool = True) -> "FitData":
         """Arrays of a :class:`~vvea_design.identification.recordings.Recordings` campaign.
 
         With ``drop_rest`` the samples at rest (start, turning point, end:
         ``at_rest``) are left out, because friction is set-valued there;
-        :attr:`rows_left_out` counts them.
+        :attr:`rows_left_out` counts them. ``reference`` is the unit's gas
+        spring (its chamber areas, V1, V2 and travel shape the gas terms).
         """
         d = rec.data[~rec.data["at_rest"].to_numpy()] if drop_rest else rec.data
         valve = d["valve_deg"].to_numpy(float)
         valves = tuple(np.unique(valve))
         exp = d["exp_index"].to_numpy(int)
+        # renumber experiments 0..n-1 in run order (an experiment can lose all rows only if it never moves)
+        _, exp = np.unique(exp, return_inverse=True)
         starts = np.flatnonzero(np.r_[True, exp[1:] != exp[:-1]])
         return cls(
             x=d["displacement_mm"].to_numpy(float),
@@ -130,6 +172,18 @@ class FitData:
             speed=d["speed_mm_s"].to_numpy(float),
         )
 
+    def per_exp_dt(self) -> np.ndarray:
+        """Median sample spacing (s) of each experiment."""
+        key = ("dt",)
+        if key not in self._cache:
+            dt = np.ones(self.n_exp)
+            for e in range(self.n_exp):
+                t = self.t[self.bounds[e] : self.bounds[e + 1]]
+                if len(t) > 1:
+                    dt[e] = float(np.median(np.diff(t)))
+            self._cache[key] = dt
+        return self._cache[key]
+
 
 @dataclass(frozen=True)
 class Param:
@@ -142,8 +196,22 @@ class Param:
     meaning: str = ""
 
 
+@dataclass(frozen=True)
+class Check:
+    """One physical signature check of a fitted effect."""
+
+    name: str
+    passed: bool
+    detail: str
+
+    def to_dict(self) -> dict:
+        return dict(name=self.name, passed=bool(self.passed), detail=self.detail)
+
+
 def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
-    """Design matrix of eq. 14: ``[p2 x, sign(ẋ), ẋ·1{γ=γ_j} ...]``."""
+    """Design matrix of eq. 14: ``[p2 x, sign(ẋ), ẋ·1{γ=γ_j} ...]`` (cached: do not modify it in place)."""
+    if ("eq14",) in D._cache:
+        return D._cache[("eq14",)]
     cols = [D.p2 * D.x, D.s]
     params = [
         Param("g", "N/mm/MPa", 0.0, np.inf, "spring stiffness per MPa of p2"),
@@ -152,53 +220,22 @@ def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
     for j, val in enumerate(D.valves):
         cols.append(D.v * (D.valve_idx == j))
         params.append(Param(f"L({val:g})", "N s/mm", 0.0, np.inf, f"linear damping at valve {val:g} deg"))
-    return np.column_stack(cols), params
+    D._cache[("eq14",)] = (np.column_stack(cols), params)
+    return D._cache[("eq14",)]
 
 
-# ------------------------------------------------------------------ physics
-_XX = np.linspace(0.0, 40.0, 401)
-
-
-def gas_remainder(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPER_FIG5, travel_mm: float = 40.0) -> np.ndarray:
-    """Nonlinear part of the antagonistic isothermal law per MPa of p2 (N/MPa).
-
-    Paper eq. 5 with the reference areas and V1, chamber volume ``V2`` and
-    p1 from eq. 7 (zero force at x = 0), minus its least-squares line through
-    the origin over ``0..travel``; what a straight ``g p2 x`` cannot follow.
-    """
-    A1, A2, V1 = reference.A1_mm2, reference.A2_mm2, reference.V1_mm3
-    p1 = A2 / A1
-
-    def F(z):
-        return gas_spring.force_N(z, A1, A2, V1, V2_mm3, p1, 1.0)
-
-    xx = np.linspace(0.0, travel_mm, 401)
-    k = float((F(xx) * xx).sum() / (xx * xx).sum())
-    xc = np.clip(x, None, 0.999 * V2_mm3 / A2)
-    return F(xc) - k * xc
-
-
-def _remainder(f, travel_mm: float = 40.0):
-    xx = np.linspace(0.0, travel_mm, 401)
-    f0 = float(f(np.array(0.0)))
-    k = float(((f(xx) - f0) * xx).sum() / (xx * xx).sum())
-    return lambda z: f(z) - f0 - k * z
-
-
-def chamber_remainders(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPER_FIG5, travel_mm: float = 40.0):
-    """Nonlinear parts (N per MPa of p2) of the two chamber forces of eq. 5.
-
-    Returns ``(r2, r1)``: chamber 2 ``A2 V2/(V2 - A2 x)`` (progressive) and
-    chamber 1 ``-A2 V1/(V1 + A1 x)`` (p1 = A2/A1 p2, eq. 7; regressive),
-    each minus its value at x = 0 and its least-squares line through the
-    origin over the travel.
-    Their sum is :func:`gas_remainder`.
-    """
-    A1, A2, V1 = reference.A1_mm2, reference.A2_mm2, reference.V1_mm3
-    xc = np.clip(x, None, 0.999 * V2_mm3 / A2)
-    r2 = _remainder(lambda z: A2 * V2_mm3 / (V2_mm3 - A2 * np.clip(z, None, 0.999 * V2_mm3 / A2)), travel_mm)(xc)
-    r1 = _remainder(lambda z: -A2 * V1 / (V1 + A1 * z), travel_mm)(x)
-    return r2, r1
+# ------------------------------------------------------------------ signal operators
+def lowpass(D: FitData, u: np.ndarray, tau_s: float) -> np.ndarray:
+    """First-order low-pass ``τ ẏ = u - y`` per experiment, started in steady state (y = u at the first sample)."""
+    out = np.empty_like(u, dtype=float)
+    dt = D.per_exp_dt()
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        q = np.exp(-dt[e] / tau_s)
+        seg = u[a:b]
+        zi = np.array([q * seg[0]])
+        out[a:b] = lfilter([1.0 - q], [1.0, -q], seg, zi=zi)[0]
+    return out
 
 
 def thermal_state(D: FitData, tau_s: float) -> np.ndarray:
@@ -211,217 +248,886 @@ def thermal_state(D: FitData, tau_s: float) -> np.ndarray:
     if key in D._cache:
         return D._cache[key]
     h = np.zeros(D.n)
+    dts = D.per_exp_dt()
     for e in range(D.n_exp):
         a, b = D.bounds[e], D.bounds[e + 1]
-        t = D.t[a:b]
         dx = np.diff(D.x[a:b], prepend=D.x[a])
-        dt = float(np.median(np.diff(t))) if b - a > 1 else 1.0
-        q = np.exp(-dt / tau_s)
-        gain = tau_s * (1 - q) / dt
+        q = np.exp(-dts[e] / tau_s)
+        gain = tau_s * (1 - q) / dts[e]
         h[a:b] = lfilter([gain], [1.0, -q], dx)
     D._cache[key] = h
     return h
 
 
-# ------------------------------------------------------------------ effects
+def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
+    """Prandtl stop operator of width ``r`` on x (mm, in [-r, r]), relaxed (0) at each experiment's start.
+
+    ``x - play_r(x)``: follows x for the first ``r`` after a reversal, then
+    saturates at ±r -- elastic-plastic (pre-sliding) memory of the motion.
+    Each ramp is monotone, so the play operator is a running max/min.
+    """
+    key = ("stop", float(r_mm))
+    if key in D._cache:
+        return D._cache[key]
+    z = np.zeros(D.n)
+    s = D.s
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        x = D.x[a:b]
+        ss = s[a:b]
+        p = x[0]
+        cuts = np.flatnonzero(np.diff(ss) != 0) + 1
+        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
+            xs = x[lo:hi]
+            if ss[lo] >= 0:
+                pp = np.maximum(p, np.maximum.accumulate(xs - r_mm))
+            else:
+                pp = np.minimum(p, np.minimum.accumulate(xs + r_mm))
+            z[a + lo : a + hi] = xs - pp
+            p = pp[-1]
+    D._cache[key] = z
+    return z
+
+
+def _periodogram_peaks(u: np.ndarray, y: np.ndarray, periods: np.ndarray, n_peaks: int = 3) -> np.ndarray:
+    """Periods (units of ``u``) of the highest periodogram peaks of ``y`` against ``u``.
+
+    ``y`` is averaged on a uniform grid of ``u`` (a fifth of the shortest
+    period; empty cells count as zero after the mean is removed) and
+    Fourier-transformed; the power is read at ``periods``.
+    """
+    y = y - (y.mean() if len(y) else 0.0)
+    if not np.any(y):
+        return periods[[len(periods) // 2]]
+    h = float(periods.min()) / 5.0
+    k = np.floor((u - u.min()) / h).astype(int)
+    m = int(k.max()) + 1
+    cnt = np.bincount(k, minlength=m)
+    avg = np.bincount(k, weights=y, minlength=m) / np.maximum(cnt, 1)
+    nfft = int(2 ** np.ceil(np.log2(max(4 * m, 64))))
+    spec = np.abs(np.fft.rfft(avg, nfft)) ** 2
+    freqs = np.fft.rfftfreq(nfft, d=h)
+    pw = np.interp(1.0 / periods, freqs, spec)
+    loc = np.flatnonzero((pw[1:-1] >= pw[:-2]) & (pw[1:-1] >= pw[2:])) + 1
+    if len(loc) == 0:
+        loc = np.array([int(np.argmax(pw))])
+    best = loc[np.argsort(-pw[loc])][:n_peaks]
+    return np.sort(periods[best])
+
+
+# ------------------------------------------------------------------ the Effect object
+_NAN = np.array([np.nan])
+
+
 @dataclass(frozen=True)
 class Effect:
-    """One candidate effect of the catalogue.
+    """One effect: fit columns, context, equation and sentence, signature checks, bench force.
+
+    Subclasses override :meth:`columns` (always), and where needed
+    :meth:`params`, :meth:`grid`, :meth:`damping_mask`, :meth:`signature`,
+    :meth:`describe` and the ``bench_*`` methods.
 
     Attributes
     ----------
     id : str
-        Identifier (``shared/specs/diagnosis-report.md``).
-    title : str
-        Short name.
-    physics : str
-        A sentence a mechanical engineer would accept.
-    equation : str
-        The added term.
-    params : tuple[Param]
-        Amplitude parameters (linear, bounded).
+        Identifier (``shared/specs/diagnosis-report.md``; discovery operators
+        name what they are, e.g. ``force_lag``).
+    title, physics, equation : str
+        Short name; a sentence a mechanical engineer would accept; the added term.
+    amplitudes : tuple[Param]
+        Linear amplitude parameters (bounds carry the physical sign).
     shape : Param or None
-        The one shape parameter searched on ``grid`` (None: purely linear).
-    grid : callable
-        ``grid(D, context) -> array`` of shape-parameter values to search.
-    columns : callable
-        ``columns(D, shape_value, context) -> (n, k)`` design columns.
-    damping_mask : callable or None
-        ``mask(D, shape_value, context) -> bool (n,)`` samples whose linear
-        damping column is replaced (relief valve only).
+        The one shape parameter searched on :meth:`grid` and refined.
+    catalogue : bool
+        Named physics of the unit (True) or a discovery operator (False).
+    needs : tuple[str]
+        Context keys the columns need from the current model:
+        ``damping_force_N`` (L(γ)ẋ), ``model_force_N`` (the current model's
+        force), ``residual_N`` (measurement − current model).
+    log_shape : bool
+        Refine the shape in log space.
     """
 
     id: str
     title: str
     physics: str
     equation: str
-    params: tuple
-    shape: Param | None
-    grid: Callable
-    columns: Callable
-    damping_mask: Callable | None = None
+    amplitudes: tuple = ()
+    shape: Param | None = None
+    catalogue: bool = True
+    needs: tuple = ()
     log_shape: bool = True
+    shape_xtol: float = 1e-3  #: tolerance of the shape refinement (log units when log_shape)
+    #: parameters fitted per experiment on that experiment's own data (held-out error is charged for them)
+    nuisance_per_experiment: int = 0
+
+    # -- fitting ---------------------------------------------------------
+    def params(self, D: FitData) -> tuple:
+        """Amplitude parameters for campaign ``D`` (per valve for some effects)."""
+        return self.amplitudes
+
+    def grid(self, D: FitData, ctx: dict) -> np.ndarray:
+        """Shape-parameter values to search (``[nan]`` without a shape)."""
+        return _NAN
+
+    def columns(self, D: FitData, shape: float, ctx: dict) -> np.ndarray:
+        """Design columns ``(n, k)`` of the amplitudes at shape value ``shape``."""
+        raise NotImplementedError
+
+    def damping_mask(self, D: FitData, shape: float, ctx: dict) -> np.ndarray | None:
+        """Samples whose linear damping column this effect replaces (None: none)."""
+        return None
+
+    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict) -> np.ndarray:
+        """The whole design matrix as the effect changes it (sensor dynamics); identity by default."""
+        return X
+
+    @property
+    def replaces_damping(self) -> bool:
+        """True when the effect replaces linear damping columns (not nested in eq. 14)."""
+        return type(self).damping_mask is not Effect.damping_mask
+
+    @property
+    def transforms_design(self) -> bool:
+        """True when the effect acts on the whole design (e.g. a lag of the force reading)."""
+        return type(self).transform is not Effect.transform
+
+    @property
+    def nested(self) -> bool:
+        """True when the effect only adds columns (eq. 14 + others is the effect at zero amplitude)."""
+        return not (self.replaces_damping or self.transforms_design)
+
+    # -- meaning -----------------------------------------------------------
+    def signature(self, D: FitData, values: dict, shape: float, contribution: np.ndarray) -> list[Check]:
+        """Physical signature checks of a fitted instance (catalogue effects)."""
+        return []
+
+    def describe(self, values: dict, errors: dict, shape: float, shape_se: float) -> str:
+        """The fitted effect in one sentence with its numbers."""
+        return self.physics
+
+    # -- unit-test bench ---------------------------------------------------
+    #: key of the strength parameter in :meth:`bench_random`'s params, and how SNR follows it
+    bench_strength: str = ""
+    bench_snr_rises: bool = True
+    bench_linear: bool = True
+
+    def bench_force(self, P: dict, cols: dict, spec) -> np.ndarray:
+        """Force (N) this effect adds to eq. 14 on the unit-test bench (``cols``: x, v, p2, valve, ctime_h, exp, t)."""
+        raise NotImplementedError(f"{self.id} has no bench force")
+
+    def bench_random(self, rng: np.random.Generator, spec) -> dict:
+        """Random bench parameters of strength 1."""
+        raise NotImplementedError(f"{self.id} has no bench force")
+
+    def bench_strength_range(self, cols: dict, spec) -> tuple[float, float]:
+        """Bisection range of the strength (effects not linear in strength)."""
+        return (1e-6, 10.0)
+
+    def bench_with_strength(self, P: dict, s: float) -> dict:
+        P = dict(P)
+        P[self.bench_strength] = s
+        return P
 
 
-def _gas_grid(D, ctx):
-    A2 = D.reference.A2_mm2
-    return A2 * np.geomspace(42.0, 400.0, 14)
+#: Every effect (catalogue and discovery operators), by id.
+REGISTRY: dict[str, Effect] = {}
 
 
-def _gas_cols(D, V2, ctx):
-    key = ("gas", float(V2))
-    if key not in D._cache:
-        c2, c1 = chamber_remainders(D.x, V2, D.reference)
-        D._cache[key] = np.column_stack([D.p2 * c2, D.p2 * c1])
-    return D._cache[key]
+def register(effect: Effect) -> Effect:
+    """Add ``effect`` to :data:`REGISTRY` (ids are unique)."""
+    if effect.id in REGISTRY:
+        raise ValueError(f"effect id {effect.id!r} registered twice")
+    REGISTRY[effect.id] = effect
+    return effect
 
 
-def _thermal_cols(D, tau, ctx):
-    return (D.p2 * thermal_state(D, tau))[:, None]
+def _fmt(v: float, se: float | None = None, unit: str = "") -> str:
+    s = f"{v:.3g}"
+    if se is not None and np.isfinite(se):
+        s += f" ± {se:.2g}"
+    return s + (f" {unit}" if unit else "")
 
 
-def _quad_cols(D, _, ctx):
-    q = D.v * np.abs(D.v)
-    return np.column_stack([q * (D.valve_idx == j) for j in range(len(D.valves))])
+# ================================================================== catalogue
+def _remainder(f, travel_mm: float):
+    xx = np.linspace(0.0, travel_mm, 401)
+    f0 = float(f(np.array(0.0)))
+    k = float(((f(xx) - f0) * xx).sum() / (xx * xx).sum())
+    return lambda z: f(z) - f0 - k * z
 
 
-def _relief_grid(D, ctx):
-    damp = ctx.get("damping_force_N")
-    if damp is None:
-        return np.array([])
-    # the damping force plateaus of the experiments: the valve opens either
-    # between two plateaus or just below the highest one
-    peaks = np.array([np.max(np.abs(damp[D.bounds[e] : D.bounds[e + 1]])) for e in range(D.n_exp)])
-    levels = np.sort(peaks[peaks > 50.0])
-    if len(levels) == 0:
-        return np.array([])
-    # plateaus within 3 % of each other are one level (same valve and speed, other pressure)
-    groups = np.split(levels, np.flatnonzero(levels[1:] > 1.03 * levels[:-1]) + 1)
-    mids = [np.sqrt(lo[-1] * hi[0]) for lo, hi in zip(groups[:-1], groups[1:])]
-    grid = np.r_[mids[-11:], 0.97 * groups[-1][0]]
-    return np.unique(grid)
+def chamber_remainders(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPER_FIG5):
+    """Nonlinear parts (N per MPa of p2) of the two chamber forces of eq. 5 for the unit ``reference``.
+
+    Returns ``(r2, r1)``: chamber 2 ``A2 V2/(V2 - A2 x)`` (progressive) and
+    chamber 1 ``-(p1/p2) A1 V1/(V1 + A1 x)`` (regressive; p1/p2 of the
+    design, A2/A1 for eq. 7's zero force at x = 0), each minus its value at
+    x = 0 and its least-squares line through the origin over the unit's travel.
+    """
+    A1, A2, V1 = reference.A1_mm2, reference.A2_mm2, reference.V1_mm3
+    ratio = reference.p1_MPa / reference.p2_MPa if reference.p2_MPa > 0 else A2 / A1
+    travel = reference.travel_mm
+    xmax = 0.999 * V2_mm3 / A2
+    r2 = _remainder(lambda z: A2 * V2_mm3 / (V2_mm3 - A2 * np.clip(z, None, xmax)), travel)(np.clip(x, None, xmax))
+    r1 = _remainder(lambda z: -ratio * A1 * V1 / (V1 + A1 * np.clip(z, -0.999 * V1 / A1, None)), travel)(x)
+    return r2, r1
 
 
-def _relief_mask(D, F_r, ctx):
-    damp = ctx.get("damping_force_N")
-    return np.abs(damp) > F_r
+@dataclass(frozen=True)
+class GasNonlinearity(Effect):
+    def grid(self, D, ctx):
+        # effective chamber-2 volume: from just above the swept volume to 10 x it
+        A2, travel = D.reference.A2_mm2, D.travel_mm
+        return A2 * travel * np.geomspace(1.08, 10.0, 14)
 
+    def columns(self, D, V2, ctx):
+        key = ("gas", float(V2))
+        if key not in D._cache:
+            c2, c1 = chamber_remainders(D.x, V2, D.reference)
+            D._cache[key] = np.column_stack([D.p2 * c2, D.p2 * c1])
+        return D._cache[key]
 
-def _relief_cols(D, F_r, ctx):
-    return (D.s * _relief_mask(D, F_r, ctx))[:, None]
-
-
-def _stiction_cols(D, vs, ctx):
-    return (D.s * np.exp(-((np.abs(D.v) / vs) ** 2)))[:, None]
-
-
-def _pfric_cols(D, _, ctx):
-    return (D.p2 * D.s)[:, None]
-
-
-def _leak_cols(D, _, ctx):
-    return (-D.p2 * D.x * D.ctime / 3600.0)[:, None]
-
-
-_NOGRID = lambda D, ctx: np.array([np.nan])  # noqa: E731
-
-
-def _catalogue() -> dict[str, Effect]:
-    effs = [
-        Effect(
-            "gas_nonlinearity",
-            "antagonistic isothermal gas spring",
-            "The two gas chambers follow Boyle's law (paper eq. 5): the compressed chamber stiffens as its volume "
-            "shrinks, so the spring is progressive, not the straight line g p2 x.",
-            "f += p2 * (a2 * r2(x; V2) + a1 * r1(x)),  r2 = A2 V2/(V2 - A2 x) - k2 x,  r1 = -A2 V1/(V1 + A1 x) - k1 x "
-            "(eq. 5 per MPa of p2, p1 = A2/A1 p2, each chamber minus its straight line)",
-            (
-                Param("a2", "1", 0.0, 5.0, "chamber-2 (compressed, progressive) amplitude; 1 = reference area A2"),
-                Param("a1", "1", 0.0, 5.0, "chamber-1 (expanding, regressive) amplitude; 1 = reference V1, A1"),
+    def signature(self, D, values, V2, contribution):
+        ref = D.reference
+        ratio = V2 / ref.V2_mm3
+        swept = ref.A2_mm2 * D.travel_mm
+        return [
+            Check("progressive", values.get("a2", 0.0) > 0.0, f"chamber-2 amplitude a2 = {values.get('a2', 0.0):.3g} (> 0: the compressed chamber stiffens)"),
+            Check(
+                "chamber volume near the design",
+                V2 > swept and 0.25 <= ratio <= 4.0,
+                f"effective V2 = {V2:.3g} mm^3 = {ratio:.2f} x the design's {ref.V2_mm3:.3g} mm^3 (swept {swept:.3g} mm^3; must lie within 0.25..4 x)",
             ),
-            Param("V2", "mm^3", 0.0, np.inf, "chamber-2 gas volume at x = 0"),
-            _gas_grid,
-            _gas_cols,
-        ),
-        Effect(
-            "thermal",
-            "non-isothermal gas (heat exchange)",
-            "Fast compression heats the gas, which then cools through the walls with a time constant tau: "
-            "the spring is stiffer while moving and relaxes at rest, a speed-dependent force proportional to p2.",
-            "f += k * p2 * h,  dh/dt = xdot - h/tau",
-            (Param("k", "N/mm/MPa", 0.0, np.inf, "excess (adiabatic minus isothermal) stiffness per MPa"),),
-            Param("tau", "s", 0.0, np.inf, "thermal time constant"),
-            lambda D, ctx: np.geomspace(0.1, 50.0, 10),
-            _thermal_cols,
-        ),
-        Effect(
-            "quadratic_damping",
-            "turbulent throttle flow",
-            "Flow through a sharp-edged orifice is turbulent: the pressure drop, and hence the throttle force, "
-            "grows with the square of the flow rate, i.e. with xdot|xdot|.",
-            "f += K(gamma) * xdot * |xdot|",
-            None,  # filled below (one per valve)
-            None,
-            _NOGRID,
-            _quad_cols,
-        ),
-        Effect(
-            "relief_valve",
-            "pressure relief valve",
-            "The blow-off valve opens at a set pressure difference and caps the throttle force at +-F_r, "
-            "however fast the piston is pushed.",
-            "f = g p2 x + sat(L(gamma) xdot, F_r) + C sign(xdot)",
-            (Param("F_r", "N", 0.0, np.inf, "relief (cap) force of the throttle"),),
-            Param("F_open", "N", 0.0, np.inf, "damping force above which the valve is open"),
-            _relief_grid,
-            _relief_cols,
-            _relief_mask,
-        ),
-        Effect(
-            "stiction",
-            "Stribeck breakaway friction",
-            "Seals stick at rest: breaking away at start and at reversal needs more force than the Coulomb level, "
-            "which decays as the sliding speed rises (Stribeck curve).",
-            "f += S * sign(xdot) * exp(-(|xdot|/v_s)^2)",
-            (Param("S", "N", 0.0, np.inf, "breakaway force above Coulomb"),),
-            Param("v_s", "mm/s", 0.0, np.inf, "Stribeck velocity"),
-            lambda D, ctx: np.geomspace(0.02, 3.0, 9),
-            _stiction_cols,
-        ),
-        Effect(
-            "pressure_friction",
-            "pressure-loaded seal friction",
-            "Seal lips are pressed onto the rod by the gas charge, so seal friction grows in proportion to p2.",
-            "f += c_p * p2 * sign(xdot)",
-            (Param("c_p", "N/MPa", 0.0, np.inf, "seal friction per MPa of charge"),),
-            None,
-            _NOGRID,
-            _pfric_cols,
-        ),
-        Effect(
-            "leakage",
-            "charge leakage",
-            "Gas leaks past the seals, so the charge pressure, and with it the stiffness, drifts down over the campaign.",
-            "f += -q * p2 * x * t_c   (t_c in h: g p2(t_c) = g p2 (1 - q t_c / g))",
-            (Param("q", "N/mm/MPa/h", 0.0, np.inf, "stiffness loss per MPa per hour of campaign"),),
-            None,
-            _NOGRID,
-            _leak_cols,
-        ),
-    ]
-    out = {e.id: e for e in effs}
-    return out
+        ]
 
-
-CATALOGUE: dict[str, Effect] = _catalogue()
-#: The effect ids, in catalogue order.
-EFFECT_IDS: tuple[str, ...] = tuple(CATALOGUE)
-
-
-def effect_params(effect: Effect, D: FitData) -> tuple:
-    """Amplitude parameters of ``effect`` for campaign ``D`` (per-valve for quadratic damping)."""
-    if effect.id == "quadratic_damping":
-        return tuple(
-            Param(f"K({v:g})", "N s^2/mm^2", 0.0, np.inf, f"quadratic damping at valve {v:g} deg") for v in D.valves
+    def describe(self, values, errors, V2, V2_se):
+        return (
+            f"{self.physics} Effective chamber-2 volume V2 = {_fmt(V2, V2_se, 'mm^3')}, chamber amplitudes "
+            f"a2 = {_fmt(values['a2'], errors.get('a2'))}, a1 = {_fmt(values['a1'], errors.get('a1'))} (1 = the unit's areas)."
         )
-    return effect.params
+
+    bench_strength: str = "amp"
+
+    def bench_random(self, rng, spec):
+        A2 = spec.reference.A2_mm2
+        return dict(V1_mm3=float(rng.uniform(0.8e5, 3e5)), V2_mm3=float(A2 * spec.travel_mm * rng.uniform(1.4, 4.0)), amp=1.0)
+
+    def bench_force(self, P, cols, spec):
+        ref = spec.reference
+        A1, A2 = ref.A1_mm2, ref.A2_mm2
+        F = lambda z: gas_spring.force_N(z, A1, A2, P["V1_mm3"], P["V2_mm3"], A2 / A1, 1.0)  # noqa: E731
+        xx = np.linspace(0, spec.travel_mm, 401)
+        k = float((F(xx) * xx).sum() / (xx * xx).sum())
+        return P["amp"] * cols["p2"] * (F(cols["x"]) - k * cols["x"])
+
+
+@dataclass(frozen=True)
+class Thermal(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.1, 50.0, 10)
+
+    def columns(self, D, tau, ctx):
+        h = thermal_state(D, tau)
+        return np.column_stack([D.p2 * h, D.p2 * h * (D.x / D.travel_mm)])
+
+    def signature(self, D, values, tau, contribution):
+        spd = np.abs(D.v)
+        slow = spd < np.quantile(spd, 0.3)
+        fast = spd > np.quantile(spd, 0.7)
+        r_slow = float(np.sqrt(np.mean(contribution[slow] ** 2))) if slow.any() else 0.0
+        r_fast = float(np.sqrt(np.mean(contribution[fast] ** 2))) if fast.any() else 0.0
+        dur = float(np.median(np.diff(D.t[D.bounds[:-1]], prepend=0))) if D.n_exp else 0.0
+        tmax = float(np.max(D.t)) if D.n else 0.0
+        return [
+            Check("speed-dependent", r_fast > 1.5 * r_slow, f"thermal force RMS {r_fast:.3g} N in the fastest 30 % of samples vs {r_slow:.3g} N in the slowest 30 % (must be > 1.5 x)"),
+            Check("time constant inside the campaign's time scales", 0.05 <= tau <= 2.0 * max(tmax, dur), f"tau = {tau:.3g} s (longest experiment {tmax:.3g} s)"),
+        ]
+
+    def describe(self, values, errors, tau, tau_se):
+        return (
+            f"{self.physics} Excess stiffness k = {_fmt(values['k'], errors.get('k'), 'N/mm/MPa')} (+ {_fmt(values['k_x'], errors.get('k_x'))} "
+            f"at full travel), relaxing with tau = {_fmt(tau, tau_se, 's')}."
+        )
+
+    bench_strength: str = "k_N_per_mm_MPa"
+
+    def bench_random(self, rng, spec):
+        return dict(k_N_per_mm_MPa=1.0, tau_s=float(np.exp(rng.uniform(np.log(0.3), np.log(20)))))
+
+    def bench_force(self, P, cols, spec):
+        x, v = cols["x"], cols["v"]
+        h = np.zeros_like(x)
+        for e in np.unique(cols["exp"]):
+            m = cols["exp"] == e
+            t, ve = cols["t"][m], v[m]
+            n_sub = 20
+            tf = np.linspace(t[0], t[-1], (len(t) - 1) * n_sub + 1)
+            vf = np.interp(tf, t, ve)
+            q = np.exp(-(tf[1] - tf[0]) / P["tau_s"])
+            h[m] = lfilter([P["tau_s"] * (1 - q)], [1.0, -q], vf)[::n_sub]
+        return P["k_N_per_mm_MPa"] * cols["p2"] * h
+
+
+@dataclass(frozen=True)
+class QuadraticDamping(Effect):
+    def params(self, D):
+        return tuple(Param(f"K({v:g})", "N s^m/mm^m", 0.0, np.inf, f"orifice damping at valve {v:g} deg") for v in D.valves)
+
+    def grid(self, D, ctx):
+        return np.array([1.4, 1.6, 1.8, 2.0, 2.25])
+
+    def columns(self, D, m, ctx):
+        q = D.v * np.abs(D.v) ** (m - 1.0)
+        return np.column_stack([q * (D.valve_idx == j) for j in range(len(D.valves))])
+
+    def signature(self, D, values, m, contribution):
+        spd = np.abs(D.v)
+        fast = spd >= np.quantile(spd, 0.8)
+        grows = float(np.mean(contribution[fast] * D.s[fast])) if fast.any() else 0.0
+        return [
+            Check("exponent of orifice flow", 1.3 <= m <= 2.3, f"force ~ |xdot|^{m:.2f} (turbulent 2, transitional 1.3-2)"),
+            Check("adds force along the motion at speed", grows > 0, f"mean added force along the motion in the fastest 20 % of samples {grows:.3g} N (> 0)"),
+        ]
+
+    def describe(self, values, errors, m, m_se):
+        big = sorted(values.items(), key=lambda kv: -kv[1])[:2]
+        return f"{self.physics} Exponent m = {_fmt(m, m_se)}; largest coefficients " + ", ".join(f"{k} = {v:.3g}" for k, v in big) + " N s^m/mm^m."
+
+    bench_strength: str = "scale"
+
+    def bench_random(self, rng, spec):
+        w = np.exp(rng.normal(0, 0.3, len(spec.valves_deg)))
+        return dict(K_N_s2_per_mm2={float(g): float(spec.L_N_s_per_mm[float(g)] * wi + 1.0) for g, wi in zip(spec.valves_deg, w)}, scale=1.0)
+
+    def bench_with_strength(self, P, s):
+        P = dict(P)
+        P["K_N_s2_per_mm2"] = {g: K * s / P["scale"] for g, K in P["K_N_s2_per_mm2"].items()}
+        P["scale"] = s
+        return P
+
+    def bench_force(self, P, cols, spec):
+        K = np.array([P["K_N_s2_per_mm2"][float(g)] for g in cols["valve"]])
+        return K * cols["v"] * np.abs(cols["v"])
+
+
+@dataclass(frozen=True)
+class ReliefValve(Effect):
+    def grid(self, D, ctx):
+        damp = ctx.get("damping_force_N")
+        if damp is None or D.n_exp == 0:
+            return np.array([])
+        # the damping force plateaus of the experiments: the valve opens either
+        # between two plateaus or just below the highest one
+        peaks = np.array([np.max(np.abs(damp[D.bounds[e] : D.bounds[e + 1]])) for e in range(D.n_exp)])
+        levels = np.sort(peaks[peaks > 50.0])
+        if len(levels) == 0:
+            return np.array([])
+        # plateaus within 3 % of each other are one level (same valve and speed, other pressure)
+        groups = np.split(levels, np.flatnonzero(levels[1:] > 1.03 * levels[:-1]) + 1)
+        mids = [np.sqrt(lo[-1] * hi[0]) for lo, hi in zip(groups[:-1], groups[1:])]
+        return np.unique(np.r_[mids[-11:], 0.97 * groups[-1][0]])
+
+    def damping_mask(self, D, F_open, ctx):
+        return np.abs(ctx["damping_force_N"]) > F_open
+
+    def columns(self, D, F_open, ctx):
+        m = self.damping_mask(D, F_open, ctx)
+        damp = ctx["damping_force_N"]
+        return np.column_stack([D.s * m, m * (damp - D.s * F_open)])
+
+    def signature(self, D, values, F_open, contribution):
+        return [
+            Check("opens far above friction", F_open > 300.0, f"opening force {F_open:.3g} N (a relief valve opens at kN level, not at friction level)"),
+            Check("caps the force", values.get("r", 1.0) < 0.7, f"force slope above opening r = {values.get('r', 1.0):.2f} of the throttle's (< 0.7: the valve relieves)"),
+        ]
+
+    def describe(self, values, errors, F_open, se):
+        return (
+            f"{self.physics} Opens at F_open = {_fmt(F_open, se, 'N')}; above it the throttle force is "
+            f"F_r = {_fmt(values['F_r'], errors.get('F_r'), 'N')} plus r = {_fmt(values['r'], errors.get('r'))} of the further rise."
+        )
+
+    bench_strength: str = "F_r_N"
+    bench_snr_rises: bool = False
+    bench_linear: bool = False
+
+    def bench_random(self, rng, spec):
+        return dict(F_r_N=1.0)
+
+    def bench_strength_range(self, cols, spec):
+        L = np.array([spec.L_N_s_per_mm[float(g)] for g in cols["valve"]])
+        # a blow-off valve protects the unit: it opens above 1 kN, never at friction level
+        return (1000.0, float(np.max(np.abs(L * cols["v"]))))
+
+    def bench_force(self, P, cols, spec):
+        L = np.array([spec.L_N_s_per_mm[float(g)] for g in cols["valve"]])
+        damp = L * cols["v"]
+        return np.clip(damp, -P["F_r_N"], P["F_r_N"]) - damp
+
+
+@dataclass(frozen=True)
+class Stiction(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.02, 3.0, 9)
+
+    def columns(self, D, vs, ctx):
+        a = np.abs(D.v) / vs
+        return np.column_stack([D.s * np.exp(-a), D.s * np.exp(-(a**2))])
+
+    def signature(self, D, values, vs, contribution):
+        spd = np.abs(D.v)
+        vmax = float(np.max(spd)) if D.n else 0.0
+        slow = spd <= np.quantile(spd, 0.2)
+        fast = spd >= np.quantile(spd, 0.5)
+        a_slow = float(np.mean(np.abs(contribution[slow]))) if slow.any() else 0.0
+        a_fast = float(np.mean(np.abs(contribution[fast]))) if fast.any() else 0.0
+        return [
+            Check("breakaway at low speed", vs < 0.5 * vmax, f"Stribeck velocity {vs:.3g} mm/s < half the top speed {vmax:.3g} mm/s"),
+            Check("decays with sliding speed", a_slow > 2.0 * a_fast, f"mean |force| {a_slow:.3g} N in the slowest 20 % of samples vs {a_fast:.3g} N in the fastest half (must be > 2 x)"),
+        ]
+
+    def describe(self, values, errors, vs, se):
+        S = values["S1"] + values["S2"]
+        return f"{self.physics} Breakaway {S:.3g} N above Coulomb (S1 = {_fmt(values['S1'], errors.get('S1'), 'N')}, S2 = {_fmt(values['S2'], errors.get('S2'), 'N')}), Stribeck velocity v_s = {_fmt(vs, se, 'mm/s')}."
+
+    bench_strength: str = "S_N"
+
+    def bench_random(self, rng, spec):
+        return dict(S_N=1.0, v_s_mm_s=float(np.exp(rng.uniform(np.log(0.05), np.log(1.5)))), delta=float(rng.uniform(1.5, 2.5)))
+
+    def bench_force(self, P, cols, spec):
+        v = cols["v"]
+        return P["S_N"] * np.sign(v) * np.exp(-((np.abs(v) / P["v_s_mm_s"]) ** P["delta"]))
+
+
+@dataclass(frozen=True)
+class PressureFriction(Effect):
+    def columns(self, D, _, ctx):
+        return (D.p2 * D.s)[:, None]
+
+    def signature(self, D, values, _, contribution):
+        ps = np.unique(D.p2)
+        return [Check("several charge pressures", len(ps) >= 2, f"{len(ps)} pressure preset(s) in the campaign (needs >= 2 to tell pressure from Coulomb friction)")]
+
+    def describe(self, values, errors, _, __):
+        return f"{self.physics} c_p = {_fmt(values['c_p'], errors.get('c_p'), 'N/MPa')}."
+
+    bench_strength: str = "c_p_N_per_MPa"
+
+    def bench_random(self, rng, spec):
+        return dict(c_p_N_per_MPa=1.0)
+
+    def bench_force(self, P, cols, spec):
+        return P["c_p_N_per_MPa"] * cols["p2"] * np.sign(cols["v"])
+
+
+@dataclass(frozen=True)
+class Leakage(Effect):
+    def columns(self, D, _, ctx):
+        th = D.ctime / 3600.0
+        return np.column_stack([-D.p2 * D.x * th, D.p2 * D.x * th**2])
+
+    def signature(self, D, values, _, contribution):
+        th = float(np.max(D.ctime) / 3600.0) if D.n else 0.0
+        loss = values.get("q1", 0.0) * th - values.get("q2", 0.0) * th**2
+        return [Check("stiffness falls over the campaign", loss > 0, f"stiffness loss at the end of the campaign {loss:.3g} N/mm/MPa (> 0)")]
+
+    def describe(self, values, errors, _, __):
+        return f"{self.physics} Stiffness loss q1 = {_fmt(values['q1'], errors.get('q1'), 'N/mm/MPa/h')} (curvature q2 = {_fmt(values['q2'], errors.get('q2'), 'N/mm/MPa/h^2')})."
+
+    bench_strength: str = "rate_per_h"
+    bench_linear: bool = False
+
+    def bench_random(self, rng, spec):
+        return dict(rate_per_h=1.0)
+
+    def bench_force(self, P, cols, spec):
+        return spec.g_N_per_mm_MPa * cols["p2"] * cols["x"] * (np.exp(-P["rate_per_h"] * cols["ctime_h"]) - 1.0)
+
+
+register(GasNonlinearity(
+    "gas_nonlinearity",
+    "antagonistic gas spring (eq. 5)",
+    "The two gas chambers follow the gas law of paper eq. 5 with the unit's own areas and volumes: the compressed "
+    "chamber stiffens as its volume shrinks, so the spring is progressive, not the straight line g p2 x.",
+    "f += p2 (a2 r2(x; V2) + a1 r1(x)),  r2 = A2 V2/(V2 - A2 x) - line,  r1 = -(p1/p2) A1 V1/(V1 + A1 x) - line "
+    "(eq. 5 per MPa of p2 with the design's A1, A2, V1 and travel; each chamber minus its straight line)",
+    (
+        Param("a2", "1", 0.0, 5.0, "chamber-2 (compressed, progressive) amplitude; 1 = the unit's area A2"),
+        Param("a1", "1", 0.0, 5.0, "chamber-1 (expanding, regressive) amplitude; 1 = the unit's V1, A1"),
+    ),
+    Param("V2", "mm^3", 0.0, np.inf, "effective chamber-2 gas volume at x = 0 (isothermal: the real one; polytropic: smaller)"),
+))
+register(Thermal(
+    "thermal",
+    "non-isothermal gas (heat exchange)",
+    "Fast compression heats the gas, which then cools through the walls with a time constant tau: "
+    "the spring is stiffer while moving and relaxes at rest, a speed-dependent force proportional to p2.",
+    "f += p2 (k + k_x x/travel) h,  dh/dt = xdot - h/tau",
+    (
+        Param("k", "N/mm/MPa", 0.0, np.inf, "excess (adiabatic minus isothermal) stiffness per MPa"),
+        Param("k_x", "N/mm/MPa", 0.0, np.inf, "its rise towards full travel (smaller compressed volume)"),
+    ),
+    Param("tau", "s", 0.0, np.inf, "thermal time constant"),
+))
+register(QuadraticDamping(
+    "quadratic_damping",
+    "turbulent throttle flow",
+    "Flow through a sharp-edged orifice is turbulent: the pressure drop, and hence the throttle force, "
+    "grows with the square of the flow rate (exponent m between 1.3 and 2 in the transition), not linearly.",
+    "f += K(gamma) xdot |xdot|^(m-1)",
+    (),
+    Param("m", "1", 1.0, 3.0, "velocity exponent of the orifice force (2 = fully turbulent)"),
+    log_shape=False,
+))
+register(ReliefValve(
+    "relief_valve",
+    "pressure relief valve",
+    "The blow-off valve opens at a set pressure difference and caps the throttle force, "
+    "however fast the piston is pushed (soft knee: the valve spring lets the force rise a little further).",
+    "f = g p2 x + d(L(gamma) xdot) + C sign(xdot),  d(F) = F for |F| <= F_open, else sign(F) F_r + r (F - sign(F) F_open)",
+    (
+        Param("F_r", "N", 0.0, np.inf, "throttle force at opening"),
+        Param("r", "1", 0.0, 1.0, "slope of the throttle force above opening, relative to the closed valve"),
+    ),
+    Param("F_open", "N", 0.0, np.inf, "damping force above which the valve is open"),
+    needs=("damping_force_N",),
+))
+register(Stiction(
+    "stiction",
+    "Stribeck breakaway friction",
+    "Seals stick at rest: breaking away at start and at reversal needs more force than the Coulomb level, "
+    "which decays as the sliding speed rises (Stribeck curve).",
+    "f += sign(xdot) (S1 exp(-|xdot|/v_s) + S2 exp(-(|xdot|/v_s)^2))",
+    (
+        Param("S1", "N", 0.0, np.inf, "breakaway above Coulomb, exponential Stribeck part"),
+        Param("S2", "N", 0.0, np.inf, "breakaway above Coulomb, Gaussian Stribeck part"),
+    ),
+    Param("v_s", "mm/s", 0.0, np.inf, "Stribeck velocity"),
+))
+register(PressureFriction(
+    "pressure_friction",
+    "pressure-loaded seal friction",
+    "Seal lips are pressed onto the rod by the gas charge, so seal friction grows in proportion to p2.",
+    "f += c_p p2 sign(xdot)",
+    (Param("c_p", "N/MPa", 0.0, np.inf, "seal friction per MPa of charge"),),
+))
+register(Leakage(
+    "leakage",
+    "charge leakage",
+    "Gas leaks past the seals, so the charge pressure, and with it the stiffness, drifts down over the campaign.",
+    "f += -p2 x (q1 t_c - q2 t_c^2)   (t_c campaign time in h)",
+    (
+        Param("q1", "N/mm/MPa/h", 0.0, np.inf, "initial stiffness loss rate per MPa"),
+        Param("q2", "N/mm/MPa/h^2", 0.0, np.inf, "slowing of the loss (exponential decay of the charge)"),
+    ),
+))
+
+
+# ================================================================== discovery operators
+@dataclass(frozen=True)
+class ForceLag(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.003, 3.0, 13)
+
+    def columns(self, D, tau, ctx):
+        return np.zeros((D.n, 0))
+
+    def transform(self, D, X, tau, ctx):
+        # the reading is the unit's force through a first-order lag: every column of the model is lagged
+        # (exact and still linear in the amplitudes)
+        out = np.empty_like(X)
+        dt = D.per_exp_dt()
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            q = np.exp(-dt[e] / tau)
+            seg = X[a:b]
+            # the sensor starts from the unit at rest before the motion (zero force state): every
+            # column of the model vanishes at rest at x = 0
+            out[a:b] = lfilter([1.0 - q], [1.0, -q], seg, axis=0)
+        return out
+
+    def describe(self, values, errors, tau, se):
+        return (
+            f"The force reading lags the motion by tau = {_fmt(tau, se, 's')} (first-order lag of the whole force): "
+            "sensor or amplifier dynamics, not the spring or damper."
+        )
+
+
+@dataclass(frozen=True)
+class ForceFilter(ForceLag):
+    """Second-order (Butterworth, zeta = 1/sqrt 2) low-pass of the force reading; shape = its lag 2 zeta / omega_n."""
+
+    def transform(self, D, X, lag, ctx):
+        from scipy.signal import bilinear
+
+        wn = 2 * 0.7071 / lag
+        out = np.empty_like(X)
+        dt = D.per_exp_dt()
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            bz, az = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt[e])
+            out[a:b] = lfilter(bz, az, X[a:b], axis=0)  # from rest (see ForceLag)
+        return out
+
+    def describe(self, values, errors, lag, se):
+        fn = 2 * 0.7071 / lag / (2 * np.pi)
+        return (
+            f"The force reading passes a second-order filter (natural frequency {fn:.3g} Hz, lag {_fmt(lag, se, 's')}): "
+            "sensor or amplifier dynamics, not the spring or damper."
+        )
+
+
+@dataclass(frozen=True)
+class DampingLag(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.003, 3.0, 13)
+
+    def columns(self, D, tau, ctx):
+        f = ctx["damping_force_N"]
+        return (lowpass(D, f, tau) - f)[:, None]
+
+    def describe(self, values, errors, tau, se):
+        return (
+            f"The throttle force builds up with a time constant tau = {_fmt(tau, se, 's')} (gain {values['a']:.2f}): compliance "
+            "in the hydraulic path (bladder, trapped gas) or fluid inertia delays the damping force."
+        )
+
+
+@dataclass(frozen=True)
+class MotionMemory(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.03, 100.0, 12)
+
+    def columns(self, D, tau, ctx):
+        return thermal_state(D, tau)[:, None]
+
+    def describe(self, values, errors, tau, se):
+        return (
+            f"A force of {_fmt(values['k'], errors.get('k'), 'N/mm')} per mm of recent motion that relaxes with tau = {_fmt(tau, se, 's')}, "
+            "independent of the charge pressure: viscoelastic relaxation of elastomer parts (bladder, seals)."
+        )
+
+
+@dataclass(frozen=True)
+class PreSliding(Effect):
+    def grid(self, D, ctx):
+        return np.geomspace(0.01, 4.0, 12)
+
+    def columns(self, D, r, ctx):
+        z = stop_operator(D, r)
+        return np.column_stack([z / r - D.s, D.p2 * (z / r - D.s)])
+
+    def describe(self, values, errors, r, se):
+        F = values["F_h"]
+        return (
+            f"Hysteresis with memory of the motion: after each start or reversal the force needs {_fmt(r, se, 'mm')} of travel to reach "
+            f"its sliding level (loop width {2 * F:.3g} N + {2 * values['F_hp']:.3g} N per MPa across the loop): pre-sliding "
+            "(elastic seal/bladder deformation before gross sliding), not a speed effect."
+        )
+
+
+@dataclass(frozen=True)
+class PositionRipple(Effect):
+    def grid(self, D, ctx):
+        periods = np.geomspace(0.3, max(D.travel_mm / 2.5, 0.6), 400)
+        return _periodogram_peaks(D.x, ctx["residual_N"], periods)
+
+    def columns(self, D, pitch, ctx):
+        w = 2 * np.pi * D.x / pitch
+        return np.column_stack([np.sin(w), np.cos(w)])
+
+    def describe(self, values, errors, pitch, se):
+        A = float(np.hypot(values["a_s"], values["a_c"]))
+        return (
+            f"A {A:.3g} N periodic force with {_fmt(pitch, se, 'mm')} pitch in displacement, the same in every experiment: "
+            "spindle or lead-screw ripple of the drive (or a periodic bore/seal track), not the gas spring."
+        )
+
+
+@dataclass(frozen=True)
+class TimeRipple(Effect):
+    """A force periodic in time whose phase is not tied to the motion: the phase is fitted per experiment.
+
+    The period and the amplitude are shared by all experiments; each
+    experiment's phase is a nuisance parameter set from its own residual
+    (``residual_all_N``), so the term cannot be predicted for a new motion
+    without measuring it (:meth:`columns` gives zeros without a residual).
+    """
+
+    nuisance_per_experiment: int = 2
+    shape_xtol: float = 1e-7
+
+    def _fast_rows(self, D):
+        dts = D.per_exp_dt()
+        keep = dts <= np.median(dts) + 1e-12
+        return np.repeat(keep, D.n_per_exp), float(np.max(dts[keep])) if keep.any() else 1.0
+
+    def _power(self, D, r, periods, rows):
+        """Per-experiment-phase periodogram: sum over experiments of the power at each period."""
+        pw = np.zeros(len(periods))
+        w = 2 * np.pi / periods
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            if not rows[a]:
+                continue
+            ph = np.outer(D.t[a:b], w)
+            re = r[a:b] - r[a:b].mean()
+            pw += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
+        return pw
+
+    def grid(self, D, ctx):
+        rows, dt = self._fast_rows(D)
+        r = ctx["residual_N"]
+        periods = np.geomspace(3 * dt, 20.0, 300)
+        pw = self._power(D, r, periods, rows & (r != 0))
+        if not np.any(pw):
+            return np.array([])
+        k = int(np.argmax(pw))
+        if pw[k] < 5.0 * np.median(pw):  # no line stands out of the noise: nothing periodic to test
+            return np.array([])
+        fine = periods[k] * np.linspace(0.97, 1.03, 301)
+        best = float(fine[int(np.argmax(self._power(D, r, fine, rows & (r != 0))))])
+        # and the longest experiments resolve it further
+        tmax = float(np.max(D.t)) if D.n else 1.0
+        step = 0.25 * best / max(tmax, best)
+        finer = best + step * np.linspace(-2, 2, 41) * best / best
+        best = float(finer[int(np.argmax(self._power(D, r, finer, np.ones(D.n, bool) & (r != 0))))])
+        return np.array([best * (1 - step / best), best, best * (1 + step / best)])
+
+    def columns(self, D, period, ctx):
+        r = ctx.get("residual_all_N")
+        if r is None:
+            return np.zeros((D.n, 1))
+        col = np.zeros(D.n)
+        w = 2 * np.pi / period
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            c, s_ = np.cos(w * D.t[a:b]), np.sin(w * D.t[a:b])
+            re = r[a:b] - r[a:b].mean()
+            phi = np.arctan2(re @ c, re @ s_)
+            col[a:b] = np.sin(w * D.t[a:b] + phi)
+        return col[:, None]
+
+    def describe(self, values, errors, period, se):
+        return (
+            f"A {_fmt(values['A'], errors.get('A'), 'N')} periodic force at {1 / period:.4g} Hz (period {_fmt(period, se, 's')}), "
+            "independent of position and speed, its phase not tied to the start of the motion: vibration of the "
+            "test machine or a periodic disturbance in the force chain (phase fitted per experiment)."
+        )
+
+
+@dataclass(frozen=True)
+class DirectionStiffness(Effect):
+    def columns(self, D, _, ctx):
+        return np.column_stack([D.x * D.s, D.p2 * D.x * D.s])
+
+    def describe(self, values, errors, _, __):
+        return (
+            f"The stiffness differs between extension and retraction by 2 x ({_fmt(values['dk'], errors.get('dk'), 'N/mm')} + "
+            f"{_fmt(values['dk_p'], errors.get('dk_p'), 'N/mm/MPa')} p2): a direction-dependent spring (friction growing with "
+            "load along the stroke, a check valve between chambers) -- not a gas law, not plain friction."
+        )
+
+
+@dataclass(frozen=True)
+class SpringPolynomial(Effect):
+    def columns(self, D, _, ctx):
+        u = D.x / D.travel_mm
+        return np.column_stack([D.p2 * (u**2 - u), D.p2 * (u**3 - u), u**2 - u, u**3 - u])
+
+    def describe(self, values, errors, _, __):
+        return (
+            "The force-displacement curve bends in a way the unit's gas law does not explain: a polynomial in x "
+            f"(per MPa: {values['b2p']:.3g} N u^2 {values['b3p']:+.3g} N u^3; charge-independent {values['b2']:.3g} N u^2 {values['b3']:+.3g} N u^3, "
+            "u = x/travel): a spring element outside the gas chambers (bladder, end stop) or a geometry other than the design's."
+        )
+
+
+@dataclass(frozen=True)
+class PressureDamping(Effect):
+    def columns(self, D, _, ctx):
+        return (ctx["damping_force_N"] * (D.p2 - np.mean(D.p2)))[:, None]
+
+    def describe(self, values, errors, _, __):
+        return f"The throttle force changes by {_fmt(100 * values['c'], 100 * errors.get('c', np.nan), '%')} per MPa of charge: fluid properties or valve behaviour that depend on pressure."
+
+
+@dataclass(frozen=True)
+class FrictionAlongStroke(Effect):
+    def columns(self, D, _, ctx):
+        u = D.x / D.travel_mm
+        return np.column_stack([D.s * u, D.s * u**2])
+
+    def describe(self, values, errors, _, __):
+        return (
+            f"Friction changes along the stroke by {values['c1'] + values['c2']:.3g} N from x = 0 to full travel: a tapered or "
+            "misaligned bore, or seal load growing with the stroke."
+        )
+
+
+@dataclass(frozen=True)
+class CampaignTrend(Effect):
+    def columns(self, D, _, ctx):
+        th = D.ctime / 3600.0
+        return np.column_stack([th, D.s * th])
+
+    def describe(self, values, errors, _, __):
+        return (
+            f"A drift over the campaign: force offset {_fmt(values['d0'], errors.get('d0'), 'N/h')} and friction "
+            f"{_fmt(values['d1'], errors.get('d1'), 'N/h')}: sensor zero drift, warming up or seal wear."
+        )
+
+
+_FREE = (-np.inf, np.inf)
+register(ForceLag("force_lag", "force-reading lag", "The measured force is a lagged copy of the force the unit makes.",
+                  "f_meas = lowpass_tau(f),  tau df_meas/dt = f - f_meas   (the whole model lagged)", (),
+                  Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False))
+register(ForceFilter("force_filter_lag", "second-order force-reading filter", "The measured force is the unit's force through a second-order filter.",
+                     "f_meas = H(s) f,  H = wn^2/(s^2 + sqrt(2) wn s + wn^2),  lag = sqrt(2)/wn", (),
+                     Param("lag", "s", 0.0, np.inf, "filter lag sqrt(2)/omega_n"), catalogue=False))
+register(DampingLag("damping_lag", "lagging throttle force", "The throttle force builds up with a time constant.",
+                    "f += a (lowpass_tau(L xdot) - L xdot)", (Param("a", "1", 0.0, 1.5, "share of a first-order lag of the damping force"),),
+                    Param("tau", "s", 0.0, np.inf, "time constant"), catalogue=False, needs=("damping_force_N",)))
+register(MotionMemory("motion_memory", "relaxing memory of the motion", "A force proportional to recent motion that relaxes.",
+                      "f += k h,  dh/dt = xdot - h/tau", (Param("k", "N/mm", 0.0, np.inf, "relaxing stiffness"),),
+                      Param("tau", "s", 0.0, np.inf, "relaxation time constant"), catalogue=False))
+register(PreSliding("presliding_hysteresis", "pre-sliding hysteresis (stop operator)", "Friction builds up over a travel after reversal.",
+                    "f += (F_h + F_hp p2) (stop_r(x)/r - sign(xdot))",
+                    (Param("F_h", "N", 0.0, np.inf, "friction deficit right after reversal"), Param("F_hp", "N/MPa", 0.0, np.inf, "its growth per MPa")),
+                    Param("r", "mm", 0.0, np.inf, "pre-sliding travel (half loop width in x)"), catalogue=False))
+register(PositionRipple("position_ripple", "periodic force in displacement", "A force periodic in x.",
+                        "f += a_s sin(2 pi x/P) + a_c cos(2 pi x/P)",
+                        (Param("a_s", "N", *_FREE, "sine amplitude"), Param("a_c", "N", *_FREE, "cosine amplitude")),
+                        Param("P", "mm", 0.0, np.inf, "pitch"), catalogue=False, needs=("residual_N",)))
+register(TimeRipple("time_ripple", "periodic force in time", "A force periodic in time.",
+                    "f += A sin(2 pi t/T + phi_e)   (phi_e fitted per experiment from its residual)",
+                    (Param("A", "N", 0.0, np.inf, "amplitude"),),
+                    Param("T", "s", 0.0, np.inf, "period"), catalogue=False, needs=("residual_N",)))
+register(DirectionStiffness("direction_stiffness", "direction-dependent stiffness", "The stiffness differs between the two directions.",
+                            "f += (dk + dk_p p2) x sign(xdot)",
+                            (Param("dk", "N/mm", *_FREE, "half the stiffness difference"), Param("dk_p", "N/mm/MPa", *_FREE, "its share per MPa")),
+                            catalogue=False))
+register(SpringPolynomial("spring_polynomial", "non-gas spring curvature", "The spring curve bends beyond the gas law.",
+                          "f += p2 (b2p (u^2-u) + b3p (u^3-u)) + b2 (u^2-u) + b3 (u^3-u),  u = x/travel",
+                          (Param("b2p", "N/MPa", *_FREE), Param("b3p", "N/MPa", *_FREE), Param("b2", "N", *_FREE), Param("b3", "N", *_FREE)),
+                          catalogue=False))
+register(PressureDamping("pressure_damping", "pressure-dependent damping", "The throttle force depends on the charge.",
+                         "f += c (p2 - mean p2) L(gamma) xdot", (Param("c", "1/MPa", *_FREE, "relative change of damping per MPa"),),
+                         catalogue=False, needs=("damping_force_N",)))
+register(FrictionAlongStroke("friction_along_stroke", "friction varying along the stroke", "Friction changes with x.",
+                             "f += sign(xdot) (c1 u + c2 u^2),  u = x/travel",
+                             (Param("c1", "N", *_FREE), Param("c2", "N", *_FREE)), catalogue=False))
+register(CampaignTrend("campaign_trend", "drift over the campaign", "Offset and friction drift over campaign time.",
+                       "f += d0 t_c + d1 t_c sign(xdot)   (t_c in h)",
+                       (Param("d0", "N/h", *_FREE, "offset drift"), Param("d1", "N/h", *_FREE, "friction drift")), catalogue=False))
+
+#: Catalogue effects (named physics of the unit), in registry order.
+CATALOGUE: dict[str, Effect] = {k: e for k, e in REGISTRY.items() if e.catalogue}
+#: Discovery operators, in registry order.
+DISCOVERY: dict[str, Effect] = {k: e for k, e in REGISTRY.items() if not e.catalogue}
+#: The catalogue's effect ids.
+EFFECT_IDS: tuple[str, ...] = tuple(CATALOGUE)
+#: The discovery operators' ids.
+DISCOVERY_IDS: tuple[str, ...] = tuple(DISCOVERY)

@@ -31,7 +31,7 @@ import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from .effects import CATALOGUE, FitData, baseline_columns, effect_params
+from .effects import REGISTRY, FitData, baseline_columns
 from .recordings import Recordings
 
 __all__ = [
@@ -41,7 +41,9 @@ __all__ = [
     "ModelFit",
     "assemble",
     "blocks",
+    "extend_blocks",
     "solve_bounded",
+    "auto_context",
     "fit_model",
     "relief_context",
     "fit_eq14",
@@ -81,12 +83,12 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     ----------
     D : FitData
     effects : sequence of str
-        Effect ids from :data:`vvea_design.identification.effects.CATALOGUE`.
+        Effect ids from :data:`vvea_design.identification.effects.REGISTRY`.
     shapes : dict
         Shape-parameter value per effect id (ignored for effects without one).
     ctx : dict
-        Context for effects that need the current model (relief valve:
-        ``damping_force_N``).
+        Context for effects that need the current model (``damping_force_N``,
+        ``model_force_N``, ``residual_N``; see :class:`~vvea_design.identification.effects.Effect`).
 
     Returns
     -------
@@ -98,21 +100,27 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     shapes = shapes or {}
     ctx = ctx or {}
     X0, params = baseline_columns(D)
+    X0 = X0.copy()
     cols = [X0]
     groups = {"eq14": slice(0, X0.shape[1])}
     p = X0.shape[1]
     for eid in effects:
-        eff = CATALOGUE[eid]
+        eff = REGISTRY[eid]
         sv = shapes.get(eid, np.nan)
-        if eff.damping_mask is not None:
-            m = eff.damping_mask(D, sv, ctx)
+        m = eff.damping_mask(D, sv, ctx)
+        if m is not None:
             X0[m, 2:] = 0.0
         c = eff.columns(D, sv, ctx)
         cols.append(c)
-        params = params + list(effect_params(eff, D))
+        params = params + list(eff.params(D))
         groups[eid] = slice(p, p + c.shape[1])
         p += c.shape[1]
-    return np.column_stack(cols), params, groups
+    X = np.column_stack(cols)
+    for eid in effects:
+        eff = REGISTRY[eid]
+        if eff.transforms_design:
+            X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
+    return X, params, groups
 
 
 @dataclass(frozen=True)
@@ -150,6 +158,26 @@ def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
     return Blocks(G, b, yy, np.diff(bounds), lo, hi)
 
 
+def extend_blocks(base: Blocks, X0: np.ndarray, Xn: np.ndarray, y: np.ndarray, bounds: np.ndarray, params_new) -> Blocks:
+    """Blocks of ``[X0, Xn]`` from the blocks of ``X0``: only the new columns' products are computed."""
+    ne, p0, k = len(bounds) - 1, X0.shape[1], Xn.shape[1]
+    G = np.empty((ne, p0 + k, p0 + k))
+    G[:, :p0, :p0] = base.G
+    b = np.empty((ne, p0 + k))
+    b[:, :p0] = base.b
+    for e in range(ne):
+        sl = slice(bounds[e], bounds[e + 1])
+        Xe = Xn[sl]
+        c = X0[sl].T @ Xe
+        G[e, :p0, p0:] = c
+        G[e, p0:, :p0] = c.T
+        G[e, p0:, p0:] = Xe.T @ Xe
+        b[e, p0:] = Xe.T @ y[sl]
+    lo = np.r_[base.lower, [q.lower for q in params_new]]
+    hi = np.r_[base.upper, [q.upper for q in params_new]]
+    return Blocks(G, b, base.yy, base.n, lo, hi)
+
+
 def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     """Minimise ``θᵀGθ - 2bᵀθ`` subject to ``lower <= θ <= upper``.
 
@@ -177,7 +205,7 @@ class ModelFit:
     Attributes
     ----------
     effects : tuple[str]
-        Effect ids included.
+        Effect ids included (keys of :data:`~vvea_design.identification.effects.REGISTRY`).
     shapes : dict
         Fitted shape parameter per effect id (NaN when the effect has none).
     params : list[Param]
@@ -193,7 +221,7 @@ class ModelFit:
     groups : dict
         Column slice per effect (``"eq14"`` for the baseline).
     ctx : dict
-        Context used (relief valve).
+        Context the model was fitted with.
     """
 
     effects: tuple
@@ -217,12 +245,32 @@ class ModelFit:
         """Parameter name -> standard error."""
         return {q.name: float(v) for q, v in zip(self.params, self.se)}
 
+    def effect_values(self, effect_id: str) -> dict[str, float]:
+        """Amplitude name -> value of one effect (``"eq14"`` for the baseline)."""
+        sl = self.groups[effect_id]
+        return {q.name: float(v) for q, v in zip(self.params[sl], self.theta[sl])}
+
+    def effect_errors(self, effect_id: str) -> dict[str, float]:
+        """Amplitude name -> cluster-robust standard error of one effect."""
+        sl = self.groups[effect_id]
+        return {q.name: float(v) for q, v in zip(self.params[sl], self.se[sl])}
+
     def _ctx_for(self, D: FitData) -> dict:
         """The context the model was fitted with, when it belongs to ``D``; else rebuilt from this fit."""
-        damp = self.ctx.get("damping_force_N")
-        if damp is not None and len(damp) == D.n:
+        if self.ctx and all(len(v) == D.n for v in self.ctx.values() if isinstance(v, np.ndarray)):
             return self.ctx
-        return _relief_ctx(self, D) if "relief_valve" in self.effects else {}
+        return self.context(D)
+
+    def context(self, D: FitData) -> dict:
+        """Context rebuilt from this fit on ``D``: its damping force and its force without model-force terms."""
+        ctx = {"damping_force_N": self.damping_force(D)}
+        keep = self.ctx.get("residual_all_N")  # per-experiment nuisance terms keep the residual they were fitted with
+        if keep is not None and len(keep) == D.n:
+            ctx["residual_all_N"] = keep
+        if any("model_force_N" in REGISTRY[e].needs for e in self.effects):
+            X = assemble(D, self.effects, self.shapes, ctx)[0]  # model-force terms give zero columns here
+            ctx["model_force_N"] = X @ self.theta
+        return ctx
 
     def design(self, D: FitData) -> np.ndarray:
         """Design matrix of this model on ``D``."""
@@ -233,24 +281,19 @@ class ModelFit:
         return self.design(D) @ self.theta
 
     def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
-        """Force (N) the effect adds relative to the same model without it."""
-        X = self.design(D)
-        sl = self.groups[effect_id]
-        f = X[:, sl] @ self.theta[sl]
-        if effect_id == "relief_valve":
-            m = CATALOGUE["relief_valve"].damping_mask(D, self.shapes["relief_valve"], self._ctx_for(D))
-            X0, _ = baseline_columns(D)
-            f = f - np.where(m, X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop], 0.0)
-        return f
+        """Force (N) the effect adds relative to the same model (same amplitudes) without it."""
+        ctx = self._ctx_for(D)
+        X = assemble(D, self.effects, self.shapes, ctx)[0]
+        others = tuple(e for e in self.effects if e != effect_id)
+        Xo, _, go = assemble(D, others, self.shapes, ctx)
+        keep = np.ones(len(self.theta), bool)
+        keep[self.groups[effect_id]] = False
+        return X @ self.theta - Xo @ self.theta[keep]
 
     def damping_force(self, D: FitData) -> np.ndarray:
         """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
         X0, _ = baseline_columns(D)
         return X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop]
-
-
-def _relief_ctx(fit: ModelFit, D: FitData) -> dict:
-    return {"damping_force_N": fit.damping_force(D)}
 
 
 def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -262,6 +305,10 @@ def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
     Gi = np.linalg.pinv(G / np.outer(d, d)) / np.outer(d, d)
     cov = Gi @ meat @ Gi * (ne / max(ne - 1, 1))
     return np.sqrt(np.clip(np.diag(cov), 0, None))
+
+
+def _needs(effects, key: str) -> bool:
+    return any(key in REGISTRY[e].needs for e in effects)
 
 
 def fit_model(
@@ -277,7 +324,7 @@ def fit_model(
 
     Shape parameters not given in ``shapes`` are searched on the effect's
     grid one effect at a time (two sweeps), then refined by a bounded scalar
-    search in log space when ``refine``.
+    search (in log space for ``log_shape`` effects) when ``refine``.
 
     Parameters
     ----------
@@ -288,8 +335,8 @@ def fit_model(
     shapes : dict, optional
         Fixed shape values per effect id.
     ctx : dict, optional
-        Context (relief valve ``damping_force_N``); computed from the eq.-14
-        fit when needed and not given.
+        Context (damping force, model force, residual); built from simpler
+        fits when needed and not given.
     refine : bool
         Refine grid-searched shape parameters.
 
@@ -300,13 +347,12 @@ def fit_model(
     effects = tuple(effects)
     rows = np.arange(D.n_exp) if experiments is None else np.asarray(experiments, int)
     shapes = dict(shapes or {})
-    if ctx is None and "relief_valve" in effects:
-        ctx = relief_context(D, effects, rows, shapes)
-    ctx = ctx or {}
-    free = [e for e in effects if CATALOGUE[e].shape is not None and e not in shapes]
-    # start values: the middle of each grid
-    for e in free:
-        g = CATALOGUE[e].grid(D, ctx)
+    if ctx is None:
+        ctx = auto_context(D, effects, rows, shapes)
+    free = [e for e in effects if REGISTRY[e].shape is not None and e not in shapes]
+    grids = {e: np.asarray(REGISTRY[e].grid(D, ctx), float) for e in free}
+    for e in free:  # start values: the middle of each grid
+        g = grids[e]
         shapes[e] = float(g[len(g) // 2]) if len(g) else np.nan
 
     def train_sse(sh):
@@ -315,54 +361,94 @@ def fit_model(
         th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
         return float(Bk.sse(th, rows).sum()), th, Bk, params
 
-    for _sweep in range(2 if len(free) > 1 else 1):
+    def cost_fn(e):
+        """SSE as a function of effect e's shape, others fixed (blocks of the rest computed once)."""
+        eff = REGISTRY[e]
+        if not all(REGISTRY[o].nested for o in effects):
+            return lambda val: train_sse(dict(shapes, **{e: float(val)}))[0]
+        rest = tuple(o for o in effects if o != e)
+        X0, p0, _ = assemble(D, rest, shapes, ctx)
+        B0 = blocks(X0, D.y, D.bounds, p0)
+        pe = eff.params(D)
+
+        def cost(val):
+            Bk = extend_blocks(B0, X0, eff.columns(D, float(val), ctx), D.y, D.bounds, pe)
+            th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
+            return float(Bk.sse(th, rows).sum())
+
+        return cost
+
+    n_sweeps = 2 if len(free) > 1 else 1
+    for sweep in range(n_sweeps):
         for e in free:
-            g = CATALOGUE[e].grid(D, ctx)
+            g = grids[e]
             if len(g) == 0:
                 continue
-            costs = []
-            for val in g:
-                sh = dict(shapes)
-                sh[e] = float(val)
-                costs.append(train_sse(sh)[0])
+            cost = cost_fn(e)
+            costs = [cost(val) for val in g]
             k = int(np.argmin(costs))
             shapes[e] = float(g[k])
-            if refine and len(g) > 1 and _sweep == (1 if len(free) > 1 else 0):
+            if refine and len(g) > 1 and sweep == n_sweeps - 1:
                 lo, hi = g[max(k - 1, 0)], g[min(k + 1, len(g) - 1)]
                 if hi > lo:
-
-                    def f(z, e=e):
-                        sh = dict(shapes)
-                        sh[e] = float(np.exp(z))
-                        return train_sse(sh)[0]
-
-                    r = minimize_scalar(f, bounds=(np.log(lo), np.log(hi)), method="bounded", options={"xatol": 1e-3})
+                    lg = REGISTRY[e].log_shape
+                    fwd, back = (np.log, np.exp) if lg else (float, float)
+                    r = minimize_scalar(lambda z, back=back, cost=cost: cost(back(z)), bounds=(fwd(lo), fwd(hi)), method="bounded", options={"xatol": REGISTRY[e].shape_xtol})
                     if r.fun <= costs[k]:
-                        shapes[e] = float(np.exp(r.x))
+                        shapes[e] = float(back(r.x))
     sse, th, Bk, params = train_sse(shapes)
     X, params, groups = assemble(D, effects, shapes, ctx)
     se = _cluster_se(Bk, th, rows)
     n_rows = int(Bk.n[rows].sum())
-    return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / n_rows)), n_rows, groups, ctx)
+    return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / max(n_rows, 1))), n_rows, groups, ctx)
+
+
+def auto_context(D: FitData, effects, experiments, shapes: dict | None = None, iters: int = 2) -> dict:
+    """Context for ``effects`` built from simpler fits on ``experiments``.
+
+    ``damping_force_N``: the linear damping of eq. 14 with the other effects
+    (refitted ``iters`` times with the effects that replace damping columns,
+    whose eq.-14 estimate is biased low where the relief valve caps the
+    force); ``model_force_N``: the force of the model without the terms
+    that need it (refitted ``iters`` times); ``residual_N``: measurement −
+    that model.
+    """
+    effects = tuple(effects)
+    rows = np.asarray(experiments, int)
+    if not effects or not any(REGISTRY[e].needs for e in effects):
+        return {}
+    shapes = dict(shapes or {})
+    plain = tuple(e for e in effects if not REGISTRY[e].needs)
+    fit = fit_model(D, plain, experiments=rows, shapes={k: v for k, v in shapes.items() if k in plain}, ctx={})
+    ctx = fit.context(D)
+    ctx["model_force_N"] = fit.predict(D)
+    ctx["residual_N"] = D.y - ctx["model_force_N"]
+    ctx["residual_all_N"] = ctx["residual_N"]
+    needy = tuple(e for e in effects if REGISTRY[e].needs)
+    if _needs(needy, "damping_force_N") or _needs(needy, "model_force_N"):
+        for _ in range(iters):
+            sh = {k: v for k, v in shapes.items()}
+            f = fit_model(D, effects, experiments=rows, shapes=sh, ctx=ctx, refine=False)
+            new = f.context(D)
+            ctx = dict(ctx, damping_force_N=new["damping_force_N"])
+            if "model_force_N" in new:
+                ctx["model_force_N"] = new["model_force_N"]
+    return ctx
 
 
 def relief_context(D: FitData, effects, experiments, shapes: dict | None = None, start: dict | None = None, iters: int = 3) -> dict:
-    """Context of the relief valve: the linear damping force L(γ)ẋ to compare with the opening force.
+    """Context of effects that replace damping columns (the relief valve): the unbiased damping force.
 
-    Starting from eq. 14 (whose L is biased low where the valve caps the
-    force), the model with the relief valve is refitted ``iters`` times,
-    each time with the damping force of the previous fit, so that the
-    samples deemed capped follow from an unbiased L.
+    Starting from ``start`` (or eq. 14 with the other effects, whose L is
+    biased low where the valve caps the force), the model is refitted
+    ``iters`` times, each time with the damping force of the previous fit,
+    so that the samples deemed capped follow from an unbiased L.
     """
     rows = np.asarray(experiments, int)
-    others = tuple(e for e in effects if e != "relief_valve")
-    if start is None:
-        start = _relief_ctx(fit_model(D, others, experiments=rows, shapes=shapes), D)
-    ctx = start
+    ctx = dict(start) if start is not None else auto_context(D, effects, rows, shapes, iters=0)
     for _ in range(iters):
-        sh = {k: v for k, v in (shapes or {}).items() if k != "relief_valve"}
-        f = fit_model(D, others + ("relief_valve",), experiments=rows, shapes=sh, ctx=ctx, refine=False)
-        ctx = _relief_ctx(f, D)
+        f = fit_model(D, effects, experiments=rows, shapes=dict(shapes or {}), ctx=ctx, refine=False)
+        ctx = dict(ctx, damping_force_N=f.damping_force(D))
     return ctx
 
 

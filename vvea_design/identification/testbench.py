@@ -28,8 +28,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
-from ..spring.gas_spring import PAPER_FIG5, GasSpring
-from ..spring.gas_spring import force_N as gas_force_N
+from ..spring.gas_spring import GasSpring
+from ..spring.paper import PAPER_FIG5
+from .effects import REGISTRY
 from .recordings import trapezoid_profile
 
 __all__ = [
@@ -79,7 +80,7 @@ class CampaignSpec:
     pressures_MPa: tuple = (1.0, 2.0, 4.0)
     valves_deg: tuple = (50.0, 80.0, 100.0, 104.0, 106.0, 108.0, 109.0, 110.0, 120.0)
     speeds_mm_s: tuple = (0.1, 1.0, 4.0, 8.0, 12.0)
-    travel_mm: float = 40.0
+    travel_mm: float = PAPER_FIG5.travel_mm
     samples: int = 301  #: samples per experiment
     accel_time_s: float = 0.2  #: time to reach the cruise speed
     g_N_per_mm_MPa: float = 23.31
@@ -109,54 +110,14 @@ class Campaign:
 
 
 # ------------------------------------------------------------------ physics of the bench
-def _thermal_state_true(t, v, tau):
-    """h with ḣ = v - h/τ, integrated on a fine grid of the true velocity."""
-    n_sub = 20
-    tf = np.linspace(t[0], t[-1], (len(t) - 1) * n_sub + 1)
-    vf = np.interp(tf, t, v)
-    dt = tf[1] - tf[0]
-    q = np.exp(-dt / tau)
-    h = np.zeros_like(tf)
-    from scipy.signal import lfilter
-
-    h = lfilter([tau * (1 - q)], [1.0, -q], vf)
-    return h[::n_sub]
-
-
 def effect_force_N(eff: TruthEffect, cols: dict, spec: CampaignSpec) -> np.ndarray:
-    """Force (N) the effect adds to eq. 14 at the samples in ``cols``.
+    """Force (N) the effect adds to eq. 14 at the samples in ``cols`` (the registry's bench force).
 
     ``cols`` holds arrays ``x, v, p2, valve, ctime_h, exp, t`` (true kinematics).
     """
-    x, v, p2, valve = cols["x"], cols["v"], cols["p2"], cols["valve"]
-    P = eff.params
-    ref = spec.reference
-    if eff.id == "gas_nonlinearity":
-        A1, A2 = ref.A1_mm2, ref.A2_mm2
-        F = lambda z: gas_force_N(z, A1, A2, P["V1_mm3"], P["V2_mm3"], A2 / A1, 1.0)  # noqa: E731
-        xx = np.linspace(0, spec.travel_mm, 401)
-        k = float((F(xx) * xx).sum() / (xx * xx).sum())
-        return P["amp"] * p2 * (F(x) - k * x)
-    if eff.id == "thermal":
-        h = np.zeros_like(x)
-        for e in np.unique(cols["exp"]):
-            m = cols["exp"] == e
-            h[m] = _thermal_state_true(cols["t"][m], v[m], P["tau_s"])
-        return P["k_N_per_mm_MPa"] * p2 * h
-    if eff.id == "quadratic_damping":
-        K = np.array([P["K_N_s2_per_mm2"][float(g)] for g in valve])
-        return K * v * np.abs(v)
-    if eff.id == "relief_valve":
-        L = np.array([spec.L_N_s_per_mm[float(g)] for g in valve])
-        damp = L * v
-        return np.clip(damp, -P["F_r_N"], P["F_r_N"]) - damp
-    if eff.id == "stiction":
-        return P["S_N"] * np.sign(v) * np.exp(-((np.abs(v) / P["v_s_mm_s"]) ** P["delta"]))
-    if eff.id == "pressure_friction":
-        return P["c_p_N_per_MPa"] * p2 * np.sign(v)
-    if eff.id == "leakage":
-        return spec.g_N_per_mm_MPa * p2 * x * (np.exp(-P["rate_per_h"] * cols["ctime_h"]) - 1.0)
-    raise ValueError(f"unknown effect id {eff.id!r}")
+    if eff.id not in REGISTRY:
+        raise ValueError(f"unknown effect id {eff.id!r}")
+    return REGISTRY[eff.id].bench_force(eff.params, cols, spec)
 
 
 def _eq14_columns(cols, valves):
@@ -241,67 +202,38 @@ def simulate(spec: CampaignSpec) -> Campaign:
 
 
 # ------------------------------------------------------------------ random effects
-def _unit_effect(eid: str, rng: np.random.Generator, spec: CampaignSpec) -> tuple[TruthEffect, str]:
-    """A random effect of strength 1 and the name of its strength parameter."""
-    if eid == "gas_nonlinearity":
-        A2 = spec.reference.A2_mm2
-        return TruthEffect(eid, dict(V1_mm3=float(rng.uniform(0.8e5, 3e5)), V2_mm3=float(A2 * rng.uniform(55, 160)), amp=1.0)), "amp"
-    if eid == "thermal":
-        return TruthEffect(eid, dict(k_N_per_mm_MPa=1.0, tau_s=float(np.exp(rng.uniform(np.log(0.3), np.log(20)))))), "k_N_per_mm_MPa"
-    if eid == "quadratic_damping":
-        w = np.exp(rng.normal(0, 0.3, len(spec.valves_deg)))
-        return TruthEffect(eid, dict(K_N_s2_per_mm2={float(g): float(spec.L_N_s_per_mm[float(g)] * wi + 1.0) for g, wi in zip(spec.valves_deg, w)}, scale=1.0)), "scale"
-    if eid == "relief_valve":
-        return TruthEffect(eid, dict(F_r_N=1.0)), "F_r_N"
-    if eid == "stiction":
-        return TruthEffect(eid, dict(S_N=1.0, v_s_mm_s=float(np.exp(rng.uniform(np.log(0.05), np.log(1.5)))), delta=float(rng.uniform(1.5, 2.5)))), "S_N"
-    if eid == "pressure_friction":
-        return TruthEffect(eid, dict(c_p_N_per_MPa=1.0)), "c_p_N_per_MPa"
-    if eid == "leakage":
-        return TruthEffect(eid, dict(rate_per_h=1.0)), "rate_per_h"
-    raise ValueError(f"unknown effect id {eid!r}")
-
-
-def _with_strength(eff: TruthEffect, key: str, s: float) -> TruthEffect:
-    P = dict(eff.params)
-    if key == "scale":
-        P["K_N_s2_per_mm2"] = {g: K * s for g, K in eff.params["K_N_s2_per_mm2"].items()}
-        P["scale"] = s
-    else:
-        P[key] = s
-    return TruthEffect(eff.id, P)
-
-
 def random_effect(eid: str, target_snr: float, spec: CampaignSpec, rng: np.random.Generator) -> TruthEffect:
     """A random instance of effect ``eid`` whose SNR in ``spec``'s campaign is ``target_snr``.
 
-    Shape parameters are drawn at random; the strength (amplitude, or the
-    relief force / leak rate) is set by bisection on the SNR.
+    Shape parameters are drawn at random (the registry's ``bench_random``);
+    the strength (amplitude, or the relief force / leak rate) is set by
+    bisection on the SNR.
     """
-    base, key = _unit_effect(eid, rng, spec)
+    if eid not in REGISTRY:
+        raise ValueError(f"unknown effect id {eid!r}")
+    eff = REGISTRY[eid]
+    base = eff.bench_random(rng, spec)
     cols = _kinematics(replace(spec, effects=()), np.random.default_rng(spec.seed))
 
     def snr_of(s):
-        return snr(effect_force_N(_with_strength(base, key, s), cols, spec), cols, spec.valves_deg, spec.noise_N)[0]
+        return snr(eff.bench_force(eff.bench_with_strength(base, s), cols, spec), cols, spec.valves_deg, spec.noise_N)[0]
 
-    if eid == "relief_valve":  # SNR falls as the relief force rises
-        L = np.array([spec.L_N_s_per_mm[float(g)] for g in cols["valve"]])
-        # a blow-off valve protects the unit: it opens above 1 kN, never at friction level
-        lo, hi = np.log(1000.0), np.log(float(np.max(np.abs(L * cols["v"]))))
-        if snr_of(np.exp(lo)) < target_snr:
-            return _with_strength(base, key, float(np.exp(lo)))
-        for _ in range(40):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if snr_of(np.exp(mid)) > target_snr else (lo, mid)
-        return _with_strength(base, key, float(np.exp(0.5 * (lo + hi))))
-    s1 = snr_of(1.0)
-    if eid != "leakage":
-        return _with_strength(base, key, target_snr / s1)  # linear in strength
-    lo, hi = np.log(1e-6), np.log(10.0)
+    def make(s):
+        return TruthEffect(eid, eff.bench_with_strength(base, float(s)))
+
+    if eff.bench_linear:
+        return make(target_snr / snr_of(1.0))
+    lo, hi = np.log(np.array(eff.bench_strength_range(cols, spec)))
+    if not eff.bench_snr_rises and snr_of(np.exp(lo)) < target_snr:
+        return make(np.exp(lo))
     for _ in range(50):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if snr_of(np.exp(mid)) < target_snr else (lo, mid)
-    return _with_strength(base, key, float(np.exp(0.5 * (lo + hi))))
+        above = snr_of(np.exp(mid)) > target_snr
+        if eff.bench_snr_rises:
+            lo, hi = (lo, mid) if above else (mid, hi)
+        else:
+            lo, hi = (mid, hi) if above else (lo, mid)
+    return make(np.exp(0.5 * (lo + hi)))
 
 
 # ------------------------------------------------------------------ benchmark
@@ -404,12 +336,12 @@ def run_case(case: BenchmarkCase) -> dict:
     diag = diagnose(rec, DiagnoseSettings(learner=case.learner))
     t2 = time.perf_counter()
     rep = diag.report
-    accepted = [e["id"] for e in rep["effects"] if e["accepted"]]
+    accepted = list(rep.accepted_catalogue_ids)
     # the true model's held-out error: measured minus the noise-free force on the same samples
     D = diag.data
     keep = ~rec.data["at_rest"].to_numpy()
     ftrue = camp.frame["force_true_N"].to_numpy()[keep]
-    m = np.isin(D.exp, rep["heldout"]["test_experiments"])
+    m = np.isin(D.exp, rep.heldout.test_experiments)
     true_rmse = float(np.sqrt(np.mean((D.y[m] - ftrue[m]) ** 2)))
     return dict(
         kind=case.kind,
@@ -417,14 +349,16 @@ def run_case(case: BenchmarkCase) -> dict:
         effects=list(case.effects),
         snr={k: float(v) for k, v in camp.snr.items()},
         accepted=accepted,
+        discovered=[e.id for e in rep.accepted if not e.catalogue],
         detected={e: (e in accepted) for e in case.effects},
         false_positives=[e for e in accepted if e not in case.effects],
-        heldout_baseline_N=rep["heldout_rmse_N"]["baseline"],
-        heldout_final_N=rep["heldout_rmse_N"]["final"],
+        heldout_baseline_N=rep.heldout.baseline_N,
+        heldout_final_N=rep.heldout.final_N,
         heldout_true_N=true_rmse,
+        noise_floor_N=rep.noise_floor_N,
         noise_N=spec.noise_N,
         noise_rho=spec.noise_rho,
-        unexplained_structure=rep["unexplained_structure"],
+        unexplained_structure=rep.unexplained_structure,
         simulate_read_s=t1 - t0,
         diagnose_s=t2 - t1,
     )

@@ -1,0 +1,87 @@
+"""Compact binary glTF (GLB) scenes of the CAD set for an interactive 3-D view.
+
+* ``assembly.glb`` -- the unit at x = 0 cut open on the meridian plane
+  (the half y < 0 removed, cut faces capped and facing glTF +Z) so the chambers, piston and
+  bladder are visible; gas chambers translucent. One node per part, named
+  after it, coloured from the part table.
+* ``mould.glb`` -- the mould opened along y (half A +y, half B -y) with the
+  core and the cast bladder between.
+
+glTF is metres and +Y up: the CAD's mm are scaled by 1e-3 and its +Z axis
+turned to +Y. The meshes are the export tessellation (STL), so the view is
+what the files hold; the bytes depend on the design only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+
+from .mesh import to_mesh
+from .registry import get_part
+
+__all__ = ["glb_bytes", "assembly_scene", "mould_scene", "GLB_TO_METRES"]
+
+#: mm -> m and CAD +Z up -> glTF +Y up.
+GLB_TO_METRES = np.array([[1e-3, 0, 0, 0], [0, 0, 1e-3, 0], [0, -1e-3, 0, 0], [0, 0, 0, 1]], dtype=float)
+
+
+def _material(rgb, alpha: float = 1.0):
+    from trimesh.visual.material import PBRMaterial
+
+    return PBRMaterial(baseColorFactor=[*(float(c) for c in rgb), float(alpha)], metallicFactor=0.1,
+                       roughnessFactor=0.7, alphaMode="BLEND" if alpha < 1 else "OPAQUE", doubleSided=True)
+
+
+def _half(solid, tolerance_mm: float, angular_tolerance_rad: float) -> trimesh.Trimesh:
+    """Keep y >= 0 of ``solid`` (exact boolean, so the cut is capped; its face looks along glTF +Z,
+    towards a default camera) and tessellate it (mm)."""
+    from .mould import box
+
+    bb = solid.bounding_box()
+    if bb.min.Y >= -1e-9:
+        half = solid
+    else:
+        # not _shapes.cut: a gas domain may be several solids (the bulkhead layout's chamber 2)
+        half = solid.cut(box(bb.min.X - 1, bb.max.X + 1, bb.min.Y - 1, 0.0, bb.min.Z - 1, bb.max.Z + 1))
+    return to_mesh(half, tolerance_mm, angular_tolerance_rad)
+
+
+def _scene(nodes: list[tuple[str, trimesh.Trimesh, tuple, float]]) -> trimesh.Scene:
+    scene = trimesh.Scene()
+    for name, mesh, rgb, alpha in nodes:
+        m = trimesh.Trimesh(np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces, dtype=np.int64),
+                            process=False)
+        m.apply_transform(GLB_TO_METRES)
+        m.visual = trimesh.visual.TextureVisuals(material=_material(rgb, alpha))
+        scene.add_geometry(m, node_name=name, geom_name=name)
+    return scene
+
+
+def assembly_scene(solids: dict, tolerance_mm: float = 0.05, angular_tolerance_rad: float = 0.1) -> trimesh.Scene:
+    """Part solids by name (assembly frame, mm) cut open on y = 0, as a glTF scene (m, +Y up).
+
+    Gas parts are translucent (alpha 0.35); colours from the part table."""
+    nodes = []
+    for name, solid in solids.items():
+        part = get_part(name)
+        alpha = 0.35 if part.group == "gas" else 1.0
+        nodes.append((name, _half(solid, tolerance_mm, angular_tolerance_rad), part.colour, alpha))
+    return _scene(nodes)
+
+
+def mould_scene(meshes: dict[str, trimesh.Trimesh], cavity: trimesh.Trimesh, gap_mm: float) -> trimesh.Scene:
+    """The mould opened by ``gap_mm`` along y, core and cast bladder between, as a glTF scene (m, +Y up)."""
+    a = meshes["mould_half_a"].copy()
+    a.apply_translation([0, gap_mm, 0])
+    b = meshes["mould_half_b"].copy()
+    b.apply_translation([0, -gap_mm, 0])
+    return _scene([("mould_half_a", a, get_part("mould_half_a").colour, 1.0),
+                   ("mould_half_b", b, get_part("mould_half_b").colour, 1.0),
+                   ("mould_core", meshes["mould_core"], get_part("mould_core").colour, 1.0),
+                   ("bladder", cavity, get_part("bladder").colour, 1.0)])
+
+
+def glb_bytes(scene: trimesh.Scene) -> bytes:
+    """The scene as binary glTF 2.0 bytes."""
+    return trimesh.exchange.gltf.export_glb(scene, include_normals=True)
