@@ -49,6 +49,13 @@ def main() -> None:
             t = time.perf_counter()
             _, meshes = export_files(model, Path(tmp))
             t_export = time.perf_counter() - t
+            t, c = time.perf_counter(), time.process_time()
+            from vvea_design.report.bom import bill_of_materials
+            from vvea_design.report.drawing import write_drawings
+
+            write_drawings(model, Path(tmp) / "drw")
+            bill_of_materials(model)
+            t_draw, c_draw = time.perf_counter() - t, time.process_time() - c
             t = time.perf_counter()
             if not args.no_renders:
                 render_assembly_cutaway(model, meshes)
@@ -59,7 +66,8 @@ def main() -> None:
             t_all, c_all = time.perf_counter() - t, time.process_time() - c
         totals.append(t_all)
         print(f"run {k + 1}: build {t_build:.2f} s | checks + STEP/STL/manifest {t_export:.2f} s | renders "
-              f"{t_render:.2f} s | write_cad end to end {t_all:.2f} s wall, {c_all:.2f} s CPU")
+              f"{t_render:.2f} s | write_cad end to end {t_all:.2f} s wall, {c_all:.2f} s CPU | drawings + BOM "
+              f"{t_draw:.2f} s wall, {c_draw:.2f} s CPU")
     import os
 
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores (wall time grows with other jobs)")

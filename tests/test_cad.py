@@ -463,3 +463,30 @@ def test_random_drawable_designs():
             assert s.is_valid and len(s.solids()) == 1
 
     check()
+
+
+def test_a_new_part_is_one_table_entry(monkeypatch, tmp_path):
+    """Adding one entry to the table (nothing else) gives a built, named, coloured part with its
+    closed-form volume checked and its STEP/STL files written and counted (issue 9 item 4)."""
+    import math
+
+    from build123d import import_step
+
+    from vvea_design.cad import registry
+    from vvea_design.cad._shapes import cylinder
+
+    def plug(ctx):  # a fill-port plug sitting on the top cap
+        lay = ctx.lay
+        return cylinder(2.0, lay.z_top, lay.z_top + 3.0, y=lay.r_port1)
+
+    extra = registry.Part("fill_plug", "fill-port plug", "assembly", plug,
+                          registry._fixed("al-6061-t6", "turned"), (0.9, 0.1, 0.9),
+                          volume_mm3=lambda lay: math.pi * 4.0 * 3.0)
+    monkeypatch.setattr(registry, "PARTS", registry.PARTS + (extra,))
+    manifest = write_cad(REFERENCE, tmp_path, renders=False, show_progress=False)
+    assert {"fill_plug.step", "fill_plug.stl"} <= set(manifest["files"])
+    assert manifest["parts"]["fill_plug"]["closed_form_volume_mm3"] == pytest.approx(12 * math.pi, abs=1e-3)
+    assert manifest["parts"]["fill_plug"]["volume_mm3"] == pytest.approx(12 * math.pi, abs=1e-3)
+    assert import_step(tmp_path / "fill_plug.step").label == "fill_plug"
+    assert "fill_plug" in manifest["files"]["assembly.step"]["parts"]
+    assert "housing/fill_plug" in manifest["interference_mm3"]["x_0_mm"]

@@ -556,7 +556,7 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
         ax.set_xlim(lo, hi)
         ax.set_ylim(z0 - 1.0, z1 + 1.0)
         ax.set_xlabel("radius r (mm; radial scale exaggerated)")
-        ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     axes[0].set_ylabel("axial position z from the lower clamp (mm)")
     axes[1].sharey(axes[0])
     fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)

@@ -20,7 +20,7 @@ from .bladder import bladder_volume_mm3
 from .layout import CadParameters, Layout
 from .mould import Mould, box
 from .parts import piston_faces_mm2
-from .registry import MOULD_MATERIAL, PARTS, SILICONE, PartContext, get_part, parts_in
+from .registry import MOULD_MATERIAL, PARTS, SILICONE, PartContext, all_parts, get_part, parts_in
 
 __all__ = ["CadModel", "build_cad", "assembly", "interference_mm3", "mould_void", "part_materials",
            "SILICONE", "MOULD_MATERIAL", "COLOURS"]
@@ -31,7 +31,7 @@ COLOURS = {p.name: p.colour for p in PARTS}
 
 def part_materials(design: Design) -> dict[str, str]:
     """Material name of every part in the table (design's fixed materials)."""
-    return {p.name: p.material(design).name for p in PARTS}
+    return {p.name: p.material(design).name for p in all_parts()}
 
 
 @dataclass
@@ -93,7 +93,7 @@ class CadModel:
 
     def export_solids(self) -> dict[str, Solid]:
         """Every solid written as its own STEP, by file stem."""
-        return {p.name: self.solids[p.name] for p in PARTS if "step" in p.files}
+        return {p.name: self.solids[p.name] for p in all_parts() if "step" in p.files}
 
     def measured(self) -> dict[str, float]:
         """CAD-measured chamber volumes (mm³) and piston areas (mm²)."""
@@ -142,7 +142,7 @@ def build_cad(design: Design, cad: CadParameters | None = None, progress=None) -
     solids: dict[str, Solid] = {}
     at_travel: dict[str, Solid] = {}
     closed: dict[str, float] = {}
-    for part in PARTS:
+    for part in all_parts():
         solids[part.name] = _named(part, part.build(ctx))
         if part.moves:
             at_travel[part.name] = _named(part, part.build(ctx_travel))

@@ -31,7 +31,7 @@ from build123d import Shape, export_step
 from ..spring.design import Design
 from .assembly import CadModel, assembly, interference_mm3, mould_void
 from .mesh import to_mesh
-from .registry import PARTS
+from .registry import all_parts
 
 __all__ = ["STEP_TIMESTAMP", "step_bytes", "to_mesh", "stl_bytes", "bbox_mm", "export_files", "export_steps",
            "write_file"]
@@ -86,7 +86,7 @@ def write_file(path: Path, data: bytes) -> dict:
 
 def export_steps() -> int:
     """Number of progress steps :func:`export_files` takes (one per part, assembly, checks, mould)."""
-    return len(PARTS) + 3
+    return len(all_parts()) + 3
 
 
 def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[str, trimesh.Trimesh]]:
@@ -112,7 +112,7 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[s
     files: dict[str, dict] = {}
     meshes: dict[str, trimesh.Trimesh] = {}
     parts: dict[str, dict] = {}
-    for part in PARTS:
+    for part in all_parts():
         solid = model.solids[part.name]
         mesh = to_mesh(solid, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
         meshes[part.name] = mesh

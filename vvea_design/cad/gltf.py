@@ -35,15 +35,15 @@ def _material(rgb, alpha: float = 1.0):
 
 def _half(solid, tolerance_mm: float, angular_tolerance_rad: float) -> trimesh.Trimesh:
     """Keep y >= 0 of ``solid`` (exact boolean, so the cut is capped; its face looks along glTF +Z,
-    towards a default camera) and tessellate it (mm)."""
+    towards a default camera) and tessellate it (mm). The half may fall apart into several
+    solids (a chamber ported through a riser off the meridian plane): all of them are kept."""
     from .mould import box
 
     bb = solid.bounding_box()
     if bb.min.Y >= -1e-9:
         half = solid
     else:
-        # not _shapes.cut: a gas domain may be several solids (the bulkhead layout's chamber 2)
-        half = solid.cut(box(bb.min.X - 1, bb.max.X + 1, bb.min.Y - 1, 0.0, bb.min.Z - 1, bb.max.Z + 1))
+        half = solid.cut(box(bb.min.X - 1, bb.max.X + 1, bb.min.Y - 1, 0.0, bb.min.Z - 1, bb.max.Z + 1)).clean()
     return to_mesh(half, tolerance_mm, angular_tolerance_rad)
 
 
@@ -61,7 +61,20 @@ def _scene(nodes: list[tuple[str, trimesh.Trimesh, tuple, float]]) -> trimesh.Sc
 def assembly_scene(solids: dict, tolerance_mm: float = 0.05, angular_tolerance_rad: float = 0.1) -> trimesh.Scene:
     """Part solids by name (assembly frame, mm) cut open on y = 0, as a glTF scene (m, +Y up).
 
-    Gas parts are translucent (alpha 0.35); colours from the part table."""
+    Parameters
+    ----------
+    solids : dict of str to Solid
+        Parts of the table by name, mm; gas parts become translucent (alpha 0.35).
+    tolerance_mm : float
+        Tessellation linear deflection, mm.
+    angular_tolerance_rad : float
+        Tessellation angular deflection, rad.
+
+    Returns
+    -------
+    trimesh.Scene
+        One named node per part, coloured from the part table, in metres.
+    """
     nodes = []
     for name, solid in solids.items():
         part = get_part(name)
@@ -71,7 +84,22 @@ def assembly_scene(solids: dict, tolerance_mm: float = 0.05, angular_tolerance_r
 
 
 def mould_scene(meshes: dict[str, trimesh.Trimesh], cavity: trimesh.Trimesh, gap_mm: float) -> trimesh.Scene:
-    """The mould opened by ``gap_mm`` along y, core and cast bladder between, as a glTF scene (m, +Y up)."""
+    """The mould opened along y, core and cast bladder between, as a glTF scene (m, +Y up).
+
+    Parameters
+    ----------
+    meshes : dict of str to trimesh.Trimesh
+        Tessellated mould parts (``mould_half_a``, ``mould_half_b``, ``mould_core``), mould frame, mm.
+    cavity : trimesh.Trimesh
+        The cavity (= cast bladder) mesh, mould frame, mm.
+    gap_mm : float
+        How far each half moves away from the parting plane, mm.
+
+    Returns
+    -------
+    trimesh.Scene
+        Nodes ``mould_half_a``, ``mould_half_b``, ``mould_core``, ``bladder`` in metres.
+    """
     a = meshes["mould_half_a"].copy()
     a.apply_translation([0, gap_mm, 0])
     b = meshes["mould_half_b"].copy()
@@ -83,5 +111,16 @@ def mould_scene(meshes: dict[str, trimesh.Trimesh], cavity: trimesh.Trimesh, gap
 
 
 def glb_bytes(scene: trimesh.Scene) -> bytes:
-    """The scene as binary glTF 2.0 bytes."""
+    """The scene as binary glTF 2.0.
+
+    Parameters
+    ----------
+    scene : trimesh.Scene
+        Scene to export (metres).
+
+    Returns
+    -------
+    bytes
+        GLB bytes (deterministic for a given scene).
+    """
     return trimesh.exchange.gltf.export_glb(scene, include_normals=True)

@@ -35,7 +35,7 @@ from .layout import Layout
 from .mould import Mould, mould, mould_core_volume_mm3
 from .parts import housing, housing_pieces, piston, piston_volume_mm3
 
-__all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "get_part", "parts_in", "SILICONE",
+__all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "all_parts", "get_part", "parts_in", "SILICONE",
            "MOULD_MATERIAL", "FLUID_COLOUR"]
 
 #: Material of the cast bladder when no silicone is named (the BOM names the chosen one).
@@ -177,17 +177,21 @@ PARTS: tuple[Part, ...] = (
          files=("stl",), moves=True, bom=False),
 )
 
-_BY_NAME = {p.name: p for p in PARTS}
-if len(_BY_NAME) != len(PARTS):  # pragma: no cover - table integrity
+if len({p.name for p in PARTS}) != len(PARTS):  # pragma: no cover - table integrity
     raise RuntimeError("duplicate part names in vvea_design.cad.registry.PARTS")
+
+
+def all_parts() -> tuple[Part, ...]:
+    """The part table, looked up at call time (every consumer goes through this or :func:`parts_in`)."""
+    return PARTS
 
 
 def get_part(name: str) -> Part:
     """The table entry of part ``name``; a clear error naming the known parts otherwise."""
-    try:
-        return _BY_NAME[name]
-    except KeyError:
-        raise KeyError(f"unknown CAD part {name!r}; known: {', '.join(_BY_NAME)}") from None
+    for p in PARTS:
+        if p.name == name:
+            return p
+    raise KeyError(f"unknown CAD part {name!r}; known: {', '.join(p.name for p in PARTS)}")
 
 
 def parts_in(*groups: str) -> tuple[Part, ...]:

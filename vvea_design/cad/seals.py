@@ -112,7 +112,23 @@ class Gland:
 
 
 def get_oring(code: str) -> ORing:
-    """The O-ring of size ``code`` (``"026"``, ``"-026"`` or ``"26"``)."""
+    """The O-ring of an ISO 3601-1 size.
+
+    Parameters
+    ----------
+    code : str
+        Size code (``"026"``, ``"-026"`` or ``"26"``).
+
+    Returns
+    -------
+    ORing
+        Inner diameter and cross-section in mm.
+
+    Raises
+    ------
+    SealError
+        For a code not in the table.
+    """
     key = str(code).strip().lstrip("-").zfill(3)
     if key not in ORING_SIZES:
         raise SealError(f"unknown O-ring size {code!r}; known: {min(ORING_SIZES)} ... {max(ORING_SIZES)}")
@@ -128,11 +144,28 @@ def _series(preferred_mm: float) -> list[float]:
 
 
 def piston_gland(bore_mm: float, cross_section_mm: float = 1.78) -> Gland:
-    """Piston seal groove for bore ``bore_mm`` (male dynamic gland), mm.
+    """Piston seal groove (male dynamic gland) and its O-ring.
 
     Takes the ring and groove root with the gland depth closest to the
     recommended one, inside the squeeze window, and 0 ... 5 % stretch (closest
     to 2 %); the preferred cross-section first, the other series if none fits.
+
+    Parameters
+    ----------
+    bore_mm : float
+        Bore the piston runs in, mm.
+    cross_section_mm : float
+        Preferred O-ring cross-section, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    Gland
+        Ring, groove depth and width, root diameter (mm), stretch and squeeze.
+
+    Raises
+    ------
+    SealError
+        When no ring of either series fits.
     """
     for w in _series(cross_section_mm):
         dmin, dmax, width, sq_lo, sq_hi = DYNAMIC_GLANDS[w]
@@ -157,10 +190,27 @@ def piston_gland(bore_mm: float, cross_section_mm: float = 1.78) -> Gland:
 
 
 def rod_gland(rod_mm: float, cross_section_mm: float = 1.78) -> Gland:
-    """Rod seal groove in the housing for rod ``rod_mm`` (female dynamic gland), mm.
+    """Rod seal groove in the housing (female dynamic gland) and its O-ring.
 
     The ring's inner diameter sits on the rod with 0 ... 5 % stretch (closest
     to 1 %); the groove depth is the recommended one.
+
+    Parameters
+    ----------
+    rod_mm : float
+        Rod diameter, mm.
+    cross_section_mm : float
+        Preferred O-ring cross-section, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    Gland
+        Ring, groove depth and width, groove outer diameter (mm), stretch and squeeze.
+
+    Raises
+    ------
+    SealError
+        When no ring of either series seats on the rod.
     """
     for w in _series(cross_section_mm):
         dmin, dmax, width, _, _ = DYNAMIC_GLANDS[w]

@@ -15,7 +15,7 @@ from ..spring.design import Design
 from .assembly import CadModel, build_cad
 from .export import export_files, export_steps, write_file
 from .layout import CadParameters, Layout
-from .registry import PARTS
+from .registry import all_parts
 
 __all__ = ["write_cad", "RENDERS"]
 
@@ -68,7 +68,7 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
     Layout(design, cad)  # validate first: a clear error before any file or solid
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    n_build = 0 if model is not None else len(PARTS) + 1
+    n_build = 0 if model is not None else len(all_parts()) + 1
     n_steps = n_build + export_steps() + 1 + (len(RENDERS) if renders else 0)
     with progress_bar("CAD: build, check, export", n_steps, enabled=show_progress) as advance:
         if model is None:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..cad.assembly import CadModel, mould_void
-from ..cad.registry import PARTS
+from ..cad.registry import all_parts
 from ..materials.silicones import get_silicone
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3
 
@@ -129,7 +129,7 @@ def bill_of_materials(model: CadModel, silicone: str = "dragon-skin-20") -> Bill
     def add(**kw) -> None:
         lines.append(BomLine(item=len(lines) + 1, **kw))
 
-    for part in PARTS:
+    for part in all_parts():
         if not part.bom or part.group == "mould":
             continue
         mat = part.material(d)
@@ -168,7 +168,7 @@ def bill_of_materials(model: CadModel, silicone: str = "dragon-skin-20") -> Bill
         material="hydraulic oil", standard="ISO 6743-4 HM", size="ISO VG 32", quantity=1, unit_volume_mm3=fluid,
         unit_mass_g=fluid * DENSITY_HYDRAULIC_OIL_g_per_mm3, in_unit=True,
         note=f"mass = volume x {DENSITY_HYDRAULIC_OIL_g_per_mm3:g} g/mm³")
-    for part in PARTS:
+    for part in all_parts():
         if part.group != "mould":
             continue
         mat = part.material(d)

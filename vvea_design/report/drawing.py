@@ -55,7 +55,25 @@ _ISO286 = (  # (over, up to, IT7, IT8, es of f)
 
 
 def fit_deviations_um(nominal_mm: float, fit: str) -> tuple[float, float]:
-    """Upper and lower deviation (µm) of an ISO 286 ``"H8"`` hole or ``"f7"`` shaft of size ``nominal_mm``."""
+    """ISO 286 deviations of an H8 hole or an f7 shaft.
+
+    Parameters
+    ----------
+    nominal_mm : float
+        Nominal size, mm (3 ... 120).
+    fit : str
+        ``"H8"`` or ``"f7"``.
+
+    Returns
+    -------
+    (float, float)
+        Upper and lower deviation, µm.
+
+    Raises
+    ------
+    ValueError
+        For another fit or a size outside the table.
+    """
     for lo, hi, it7, it8, es_f in _ISO286:
         if lo < nominal_mm <= hi:
             if fit == "H8":
@@ -73,11 +91,25 @@ def _fit_text(d_mm: float, fit: str) -> str:
 
 # --------------------------------------------------------------------------- geometry
 def section_loops(solid, plane: str, u_min: float, u_max: float) -> list[np.ndarray]:
-    """Closed outlines (u, z) of ``solid`` cut by the meridian half-plane ``plane``, mm.
+    """Closed outlines of a solid cut by a meridian plane.
 
-    ``plane`` is ``"xz"`` (u = x, at y = 0) or ``"yz"`` (u = y, at x = 0);
-    only ``u_min <= u <= u_max`` is kept. Straight edges give their end points,
-    curved ones 24 points.
+    Straight edges give their end points, curved ones 24 points; the loops are
+    sorted and canonicalised (start vertex, counter-clockwise) so the output
+    does not depend on OCCT's result order.
+
+    Parameters
+    ----------
+    solid : build123d.Solid
+        Solid in the assembly frame, mm.
+    plane : str
+        ``"xz"`` (u = x, at y = 0) or ``"yz"`` (u = y, at x = 0).
+    u_min, u_max : float
+        Part of the plane kept, mm.
+
+    Returns
+    -------
+    list of ndarray
+        Closed loops of (u, z) points, mm.
     """
     from build123d import Face, Wire
 
@@ -412,10 +444,21 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
 
 
 def sheet_specs(model: CadModel) -> list[SheetSpec]:
-    """The sheets of ``model``: the unit's section, then every part the table marks for a drawing."""
-    from ..cad.registry import PARTS
+    """The sheets of a CAD model, before layout.
 
-    return [_unit_spec(model)] + [_piece_spec(model, p.name) for p in PARTS if p.drawing]
+    Parameters
+    ----------
+    model : CadModel
+        The built CAD set.
+
+    Returns
+    -------
+    list of SheetSpec
+        The unit's section A-A, then every part the table marks ``drawing=True`` (model mm).
+    """
+    from ..cad.registry import all_parts
+
+    return [_unit_spec(model)] + [_piece_spec(model, p.name) for p in all_parts() if p.drawing]
 
 
 def _dist_to_loops(p: tuple[float, float], loops: Sequence[np.ndarray]) -> float:
@@ -431,7 +474,20 @@ def _dist_to_loops(p: tuple[float, float], loops: Sequence[np.ndarray]) -> float
 
 
 def check_anchors(spec: SheetSpec, tol_mm: float = 1e-6) -> list[str]:
-    """Anchors of ``spec``'s dimensions that do not lie on a drawn outline (empty: all do)."""
+    """Dimension anchors that do not lie on a drawn outline.
+
+    Parameters
+    ----------
+    spec : SheetSpec
+        The sheet (its detail view included).
+    tol_mm : float
+        Distance to the outline accepted, mm.
+
+    Returns
+    -------
+    list of str
+        One message per stray anchor (empty: every anchor lies on the outline; feature axes skipped).
+    """
     bad = []
     for dim in [*spec.dims, *(spec.detail.dims if spec.detail else [])]:
         if dim.on_axis:
