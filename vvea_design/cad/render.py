@@ -139,7 +139,7 @@ def render_assembly_cutaway(model, meshes: dict | None = None) -> bytes:
     # part names (left view)
     zm = 0.5 * (lay.z_free0 + lay.z_free1)
     labels = [
-        ("housing (Al)", (-R + 0.5 * d.fixed.outer_wall_mm, lay.z_top - 3.0)),
+        ("housing (Al)", (-R + 0.5 * d.outer_wall_mm, lay.z_top - 3.0)),
         ("gas chamber 2", (-(lay.r_bore - 0.6), zm + 18.0)),
         ("bladder (silicone)", (-0.5 * (lay.r_bladder_in + lay.r_bladder_out) + 0.3, zm)),
         ("gas chamber 1", (-0.5 * lay.r_piston, 0.5 * (lay.z_piston_top(0.0) + lay.z_cap))),

@@ -312,10 +312,10 @@ def _unit_spec(model: CadModel) -> SheetSpec:
     ps, rs = lay.piston_seal, lay.rod_seal
     g_z = lay.z_piston_bottom(0.0) + 0.73 * d.fixed.piston_height_mm
     leaders = [
-        Leader((-lay.r_bore - 0.5 * d.fixed.outer_wall_mm, zm + 20), f"outer tube wall {d.fixed.outer_wall_mm:.2f}",
+        Leader((-lay.r_bore - 0.5 * d.outer_wall_mm, zm + 20), f"outer tube wall {d.outer_wall_mm:.2f}",
                "left"),
-        Leader((-lay.r_inner_tube + 0.5 * d.fixed.inner_tube_wall_mm, zm - 20),
-               f"inner tube wall {d.fixed.inner_tube_wall_mm:.2f}", "left"),
+        Leader((-lay.r_inner_tube + 0.5 * d.inner_tube_wall_mm, zm - 20),
+               f"inner tube wall {d.inner_tube_wall_mm:.2f}", "left"),
         Leader((-(lay.r_outer - 1.0), lay.z_valve), f"relief valve bore Ø{lay.relief_d:g}, seat Ø{c.relief_seat_mm:g}",
                "left"),
         Leader((-lay.r_ring_channel, zb0 - 1.0), f"fluid channels Ø{lay.ring_channel_d:.2f} / "
@@ -363,13 +363,13 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
         dims = [Dim("z", (-R, z0), (-R, z1), "left"),
                 Dim("u", (-R, z1), (R, z1), "top", f"Ø{2 * R:.2f}"),
                 Dim("u", (-lay.r_bore, z1), (lay.r_bore, z1), "top", f"Ø{2 * lay.r_bore:.2f}")]
-        leaders = [Leader((R - 0.5 * d.fixed.outer_wall_mm, 0.5 * (z0 + z1)), f"wall {d.fixed.outer_wall_mm:.2f}")]
+        leaders = [Leader((R - 0.5 * d.outer_wall_mm, 0.5 * (z0 + z1)), f"wall {d.outer_wall_mm:.2f}")]
     elif name == "housing_inner_tube":
         dims = [Dim("z", (-R, z0), (-R, z1), "left"),
                 Dim("u", (-R, z1), (R, z1), "top", f"Ø{2 * R:.2f}"),
                 Dim("u", (-lay.r_piston, z0), (lay.r_piston, z0), "bottom", _fit_text(2 * lay.r_piston, "H8"))]
-        leaders = [Leader((R - 0.5 * d.fixed.inner_tube_wall_mm, 0.5 * (z0 + z1)),
-                          f"wall {d.fixed.inner_tube_wall_mm:.2f}; bore Ra 0.4")]
+        leaders = [Leader((R - 0.5 * d.inner_tube_wall_mm, 0.5 * (z0 + z1)),
+                          f"wall {d.inner_tube_wall_mm:.2f}; bore Ra 0.4")]
         notes.append(_general_notes(model)[1])
     elif name == "housing_base":
         zv = lay.z_valve
@@ -641,11 +641,11 @@ def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_i
     ax.add_patch(Rectangle((bx, by), bw, bh, fill=False, lw=0.7, color="black"))
     rows = [
         (spec.title, 11.0, "bold"),
-        (f"Material: {spec.material}" + (f"   Mass: {spec.mass_g:.1f} g" if spec.mass_g else ""), _SMALL_PT, "normal"),
-        (f"Scale {_scale_text(scale)}   Sheet {sheet_no}/{n_sheets}   A3   Dimensions in mm   ISO 2768-m",
+        (f"Material: {spec.material}" + (f" | Mass: {spec.mass_g:.1f} g" if spec.mass_g else ""), _SMALL_PT, "normal"),
+        (f"Scale {_scale_text(scale)} | Sheet {sheet_no}/{n_sheets} | A3 | Dimensions in mm | ISO 2768-m",
          _SMALL_PT, "normal"),
         (spec.view_note, _SMALL_PT, "normal"),
-        (f"vvea_design, design {design_id}   section views", _SMALL_PT, "normal"),
+        (f"vvea_design, design {design_id} | section views", _SMALL_PT, "normal"),
     ]
     for i, (t, pt, wgt) in enumerate(rows):
         ax.text(bx + 3, by + bh - 5 - 6.5 * i, t, fontsize=pt, weight=wgt, va="center", family="DejaVu Sans")
