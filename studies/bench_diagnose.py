@@ -53,6 +53,7 @@ def _one(path: str, copies: int, learner: bool) -> dict:
             frames.append(f)
         rec = recordings_from_frame(pd.concat(frames, ignore_index=True), f"{copies} x {Path(path).name}")
     t1 = time.perf_counter()
+    rss_read = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     D = FitData.from_recordings(rec)
     fit_model(D, ())
     t2 = time.perf_counter()
@@ -65,6 +66,7 @@ def _one(path: str, copies: int, learner: bool) -> dict:
         read_s=t1 - t0,
         table3_fit_s=t2 - t1,
         diagnose_s=t3 - t2,
+        peak_rss_after_read_MB=rss_read,
         peak_rss_MB=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         accepted=[e.id for e in d.report.accepted],
         heldout_rmse_N=[d.report.heldout.baseline_N, d.report.heldout.final_N],
@@ -87,7 +89,9 @@ def main(argv=None) -> dict:
     res = {"cpu_count": os.cpu_count(), "load_avg_1min_before": os.getloadavg()[0]}
     for n in (1, args.copies):
         cmd = [sys.executable, __file__, "--child", str(n), "--recordings", str(args.recordings)] + (["--no-learner"] if args.no_learner else [])
-        out = subprocess.run(cmd, capture_output=True, text=True, check=True)
+        out = subprocess.run(cmd, capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"the {n}-campaign run failed:\n{out.stderr}")
         res[f"x{n}"] = json.loads(out.stdout.strip().splitlines()[-1])
     res["load_avg_1min_after"] = os.getloadavg()[0]
     one, ten = res["x1"], res[f"x{args.copies}"]
@@ -98,7 +102,8 @@ def main(argv=None) -> dict:
     for r in (one, ten):
         print(
             f"{r['copies']:>2} x campaign_c: {r['n_experiments']} experiments / {r['rows']} rows: read {r['read_s']:.1f} s, "
-            f"Table 3 fit {r['table3_fit_s']:.2f} s, diagnose {r['diagnose_s']:.1f} s, peak RSS {r['peak_rss_MB']:.0f} MB "
+            f"Table 3 fit {r['table3_fit_s']:.2f} s, diagnose {r['diagnose_s']:.1f} s, peak RSS {r['peak_rss_after_read_MB']:.0f} MB "
+            f"after reading, {r['peak_rss_MB']:.0f} MB in all "
             f"-> {', '.join(r['accepted']) or 'none'}"
         )
     print(

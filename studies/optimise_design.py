@@ -29,8 +29,10 @@ HERE = Path(__file__).resolve().parent
 SWEEPS = {
     "stiffness": [30.0, 50.0, 70.0, 93.2, 110.0, 130.0],
     "outer_diameter": [45.0, 50.0, 55.0, 59.5, 65.0, 70.0],
-    "mass": [350.0, 400.0, 450.0, 500.0, 600.0],
+    "mass": [450.0, 480.0, 500.0, 550.0, 600.0],
 }
+#: Caps on the adiabatic (n = 1.4) linearity: the isothermal vs adiabatic Pareto front.
+ADIABATIC_CAPS = [0.0208, 0.0215, 0.0225, 0.0240, 0.0255, 0.0270]
 MAPS = [("outer_diameter_mm", "V2_mm3"), ("piston_diameter_mm", "V1_mm3")]
 
 
@@ -75,6 +77,44 @@ def cast_fill_tradeoff(out: Path, fills=(0.0, 0.25, 0.5, 0.75)) -> list[dict]:
     return rows
 
 
+def thermo_front(out: Path, res, quick: bool = False) -> dict:
+    """Isothermal against adiabatic linearity: the best isothermal design under caps on the n = 1.4 one,
+    the worst-of-both optimum and the isothermal optimum; CSV + PNG."""
+    from matplotlib.figure import Figure
+
+    caps = ADIABATIC_CAPS[::2] if quick else ADIABATIC_CAPS
+    rows = pareto_front(Requirements(), "adiabatic", caps, seed=0)
+    worst = optimise(Requirements(objective="worst"), seed=0, progress=False)
+    pts = [{"case": f"cap {c:g}", "feasible": r["feasible"], "isothermal": r["linearity_error_isothermal"],
+            "adiabatic": r["linearity_error_adiabatic"], "layout": r["layout"]} for c, r in zip(caps, rows)]
+    pts.append({"case": "worst of n = 1, 1.4", "feasible": True, "isothermal": worst.evaluation.linearity_isothermal,
+                "adiabatic": worst.evaluation.linearity_adiabatic, "layout": worst.layout})
+    pts.append({"case": "isothermal objective", "feasible": True, "isothermal": res.evaluation.linearity_isothermal,
+                "adiabatic": res.evaluation.linearity_adiabatic, "layout": res.layout})
+    with open(out / "pareto_isothermal_adiabatic.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(pts[0]))
+        w.writeheader()
+        w.writerows(pts)
+    fig = Figure(figsize=(7, 4.8))
+    ax = fig.subplots()
+    front = sorted([p for p in pts if p["feasible"]], key=lambda p: p["adiabatic"])
+    ax.plot([100 * p["adiabatic"] for p in front], [100 * p["isothermal"] for p in front], "o-", label="Pareto front")
+    ax.plot([100 * worst.evaluation.linearity_adiabatic], [100 * worst.evaluation.linearity_isothermal], "s", ms=10,
+            mfc="none", mec="C3", mew=2, label=f"objective = worst: {100 * worst.evaluation.objective:.2f} %")
+    ax.plot([100 * res.evaluation.linearity_adiabatic], [100 * res.evaluation.linearity_isothermal], "D", ms=9,
+            mfc="none", mec="C2", mew=2, label=f"isothermal objective: {100 * res.evaluation.linearity_isothermal:.2f} %")
+    lim = [min(100 * p["adiabatic"] for p in front) - 0.1, max(100 * p["adiabatic"] for p in front) + 0.1]
+    ax.plot(lim, lim, "k:", lw=0.8, label="equal")
+    ax.set(xlabel="linearity error at n = 1.4 (adiabatic, fast stroke) [%]",
+           ylabel="linearity error at n = 1 (isothermal, slow) [%]",
+           title="one unit, two gas laws: what adiabatic linearity costs isothermally")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_figure(fig, out / "pareto_isothermal_adiabatic.png")
+    return {"points": pts}
+
+
 def main(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     req = Requirements()
@@ -97,6 +137,7 @@ def main(out: Path, quick: bool = False) -> dict:
         save_figure(plot_linearity_map(m, optimum=(getattr(res.design, vx), getattr(res.design, vy))),
                     out / f"map_{vx}_{vy}.png")
         np.savez_compressed(out / f"map_{vx}_{vy}.npz", x=m["x"], y=m["y"], linearity=m["linearity"], feasible=m["feasible"])
+    summary["isothermal_vs_adiabatic"] = thermo_front(out, res, quick)
     summary["cast_fill"] = cast_fill_tradeoff(out)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True, default=float) + "\n")
     print(json.dumps(summary["optimum"], indent=2, default=float))

@@ -39,6 +39,9 @@ def main(argv=None) -> list[dict]:
     ap.add_argument("--out", type=Path, default=HERE / "results" / "shared_campaigns")
     ap.add_argument("--recordings", type=Path, default=HERE.parents[1] / "shared" / "recordings")
     args = ap.parse_args(argv)
+    import matplotlib
+
+    matplotlib.use("Agg")  # a study draws into files
     rows = []
     with progress_bar("shared campaigns", total=len(EXPECTED)) as advance:
         for name, expected in EXPECTED.items():
@@ -51,25 +54,25 @@ def main(argv=None) -> list[dict]:
             write_diagnosis(diag, args.out / name / "diagnose")
             t3 = time.perf_counter()
             rep = diag.report
-            accepted = [e["id"] for e in rep["effects"] if e["accepted"]]
-            fm = rep["final_model"]["parameters"]
+            accepted = [e.id for e in rep.accepted]
+            fm = {p.name: p.value for p in rep.final_model.parameters}
             rows.append(
                 dict(
                     campaign=name,
                     expected="+".join(expected) or "none",
                     accepted="+".join(accepted) or "none",
                     correct=sorted(accepted) == sorted(expected),
-                    heldout_baseline_N=rep["heldout_rmse_N"]["baseline"],
-                    heldout_final_N=rep["heldout_rmse_N"]["final"],
-                    noise_N=rep["noise_N"]["value"],
-                    unexplained_structure=rep["unexplained_structure"],
+                    heldout_baseline_N=rep.heldout.baseline_N,
+                    heldout_final_N=rep.heldout.final_N,
+                    noise_floor_N=rep.noise_floor_N,
+                    unexplained_structure=rep.unexplained_structure,
                     eq14_g=ident["parameters"]["g"]["value"],
                     eq14_C=ident["parameters"]["B (=C)"]["value"],
                     eq14_rmse_N=ident["rmse_N"],
                     eq14_error_band_lo_pct=ident["error_band_pct"]["ours"][0],
                     eq14_error_band_hi_pct=ident["error_band_pct"]["ours"][1],
-                    final_g=fm["g"]["value"],
-                    final_C=fm["C"]["value"],
+                    final_g=fm["g"],
+                    final_C=fm["C"],
                     read_s=t1 - t0,
                     identify_s=t2 - t1,
                     diagnose_s=t3 - t2,
@@ -82,7 +85,8 @@ def main(argv=None) -> list[dict]:
     for r in rows:
         console.print(
             f"{r['campaign']}: expected {r['expected']:<28} accepted {r['accepted']:<28} "
-            f"{'OK' if r['correct'] else 'WRONG'}  held-out {r['heldout_baseline_N']:.1f} -> {r['heldout_final_N']:.1f} N"
+            f"{'OK' if r['correct'] else 'WRONG'}  held-out {r['heldout_baseline_N']:.1f} -> {r['heldout_final_N']:.1f} N "
+            f"(noise floor {r['noise_floor_N']:.1f} N)"
         )
     return rows
 

@@ -209,3 +209,25 @@ def test_design_study_statistics_leave_out_invalid_design_cases(small_study):
 def test_design_study_rejects_unknown_reference():
     with pytest.raises(ValueError, match="references"):
         run_design_study(PAPER_FIG5, references=("SEA", "XYZ"), workers=1)
+
+
+def test_design_study_report_tables_and_files_iterate(small_study):
+    study, out, _ = small_study
+    tables = study.report_tables()
+    assert len(tables) == 3
+    for title, header, rows in tables:
+        assert title and rows and all(len(r) == len(header) for r in rows)
+    assert [r[0] for r in tables[0][2]] == ["VVEA", "SEA", "LWR"]
+    assert {p.name for p in study.files} == {"results.csv", "design_study.json", "design_map.png",
+                                            "design_trajectory.png", "design_safety.png"}
+
+
+def test_pipeline_calling_convention():
+    """pipeline.design_unit calls ``vvea_design.actuator.run_design_study(actuator, out_dir)``."""
+    import inspect
+
+    import vvea_design.actuator as actuator
+
+    params = list(inspect.signature(actuator.run_design_study).parameters.values())
+    assert [p.name for p in params[:2]] == ["design", "out_dir"]
+    assert all(p.kind is p.KEYWORD_ONLY for p in params[2:])

@@ -94,6 +94,15 @@ def test_worst_case_objective_trades_isothermal_for_adiabatic_linearity(result):
     assert custom.objective_exponents == (1.0, 1.2, 1.4)
 
 
+def test_a_cap_on_the_adiabatic_linearity_traces_the_pareto_front(result):
+    capped = optimise(Requirements(max_linearity_adiabatic=0.024), seed=0, progress=False)
+    ev = capped.evaluation
+    assert ev.feasible and ev.linearity_adiabatic <= 0.024 + 1e-9
+    assert ev.details["linearity_adiabatic"]["value"] == pytest.approx(ev.linearity_adiabatic)
+    # the cap costs isothermal linearity, and less than going all the way to the worst-case optimum
+    assert result.evaluation.linearity_isothermal < ev.linearity_isothermal
+
+
 def test_pareto_front_stiffness_trades_against_linearity():
     rows = pareto_front(Requirements(), "stiffness", [40.0, 93.2], workers=1, progress=False, popsize=10, maxiter=60)
     assert all(r["feasible"] for r in rows)
@@ -141,3 +150,17 @@ def test_bladder_strain_limit_in_the_global_search():
     assert ev.details["bladder_strain"]["value"] == pytest.approx(strain_bound(ev.design), rel=1e-9)
     assert ev.details["bladder_strain"]["value"] <= 0.12 + 1e-9
     assert r.bladder_strain_fe == ev.details["bladder_strain"]["value"] and r.bladder_strain_surrogate > 0
+
+
+def test_the_reference_design_is_drawn_exactly_in_its_layout():
+    """cad/design.json is the optimiser's reference design; its CAD measures the design's volumes."""
+    from pathlib import Path
+
+    from vvea_design.cad import build_cad
+    from vvea_design.spring.design_file import load_design
+
+    d = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
+    assert d.layout == "bulkhead" and d.V2_top_mm3 > 0
+    model = build_cad(d)
+    assert model.gas["gas_chamber_1"].volume == pytest.approx(d.V1_mm3 - d.fixed.dead_volume_1_mm3, rel=1e-6)
+    assert model.gas["gas_chamber_2"].volume == pytest.approx(d.V2_mm3 - d.fixed.dead_volume_2_mm3, rel=1e-6)

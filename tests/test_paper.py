@@ -14,7 +14,7 @@ from vvea_design.spring.gas_spring import PAPER_FIG5
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("num", [401, 4001])
+@pytest.mark.parametrize("num", [None, 401, 4001])
 def test_reference_reproduces_1_86_percent(num):
     ref = paper.reference_summary(num=num)
     assert abs(100 * ref["linearity_error"] - 1.86) <= 0.05

@@ -19,9 +19,11 @@ def ecoflex_run(tmp_path_factory):
     """`vvea design --spec F` with bladder_material = "ecoflex-00-30", no renders (the whole chain, ~20 s)."""
     tmp = tmp_path_factory.mktemp("design")
     spec = tmp / "req.toml"
-    spec.write_text('bladder_material = "ecoflex-00-30"\n')
+    # inner_tube layout: the bulkhead layout's CAD is not drawn yet (opt's follow-up)
+    spec.write_text('bladder_material = "ecoflex-00-30"\nlayouts = ["inner_tube"]\n')
     out = tmp / "out"
-    res = runner.invoke(app, ["design", "--spec", str(spec), "-o", str(out), "--no-renders"])
+    res = runner.invoke(app, ["design", "--spec", str(spec), "-o", str(out), "--no-renders",
+                              "--study-grid", "0.3:0.6", "--workers", "1"])  # the actuator study on one case
     return res, out, spec
 
 
@@ -34,6 +36,7 @@ def test_design_checks_the_requirements_silicone(ecoflex_run):
     assert bl["material"]["name"] == "Ecoflex 00-30"
     unit = json.loads((out / "unit.json").read_text())
     assert unit["bladder"]["material"]["key"] == "ecoflex-00-30"
+    assert unit["bom"]["silicone"].startswith("Ecoflex 00-30")  # the BOM casts the bladder in it too
     assert unit["requirements"]["bladder_material"] == "ecoflex-00-30"
     assert "Ecoflex 00-30" in res.stdout  # the verdict line names the silicone
 
@@ -44,7 +47,9 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     assert res.exit_code == 0, res.output
     for rel in ("design.json", "design_force.png", "spring/spring.csv", "spring/spring.png", "cad/manifest.json",
                 "cad/housing.step", "cad/assembly.step", "bladder/bladder.json", "bladder/bladder.png",
-                "actuator/actuator.json", "unit.json", "report.html"):
+                "actuator/actuator.json", "actuator/design_study.json", "actuator/results.csv",
+                "actuator/design_map.png", "actuator/design_safety.png", "cad/bom.csv", "cad/drawings.pdf",
+                "cad/drawing_unit_section.svg", "unit.json", "report.html"):
         assert (out / rel).is_file(), rel
     unit = json.loads((out / "unit.json").read_text())
     assert unit["spec"] == str(spec) and unit["seed"] == 0 and unit["version"]
@@ -60,6 +65,12 @@ def test_design_writes_the_whole_folder(ecoflex_run):
 
     k = design["performance"]["mean_stiffness_N_per_mm"]
     assert unit["actuator"]["K_Nm_per_rad"] == pytest.approx(2 * PAPER_PULLEY_RADIUS_M**2 * k * 1e3, rel=1e-6)
+    study = unit["actuator_study"]
+    assert [c["other"] for c in study["comparisons"]] == ["VVEA", "SEA", "LWR"]
+    assert all(c["n_cases"] + c["n_excluded"] == 1 for c in study["comparisons"])
+    assert study["settings"][0]["name"] == "design"
+    assert study["settings"][0]["K_Nm_per_rad"] == pytest.approx(unit["actuator"]["K_Nm_per_rad"])
+    assert "design vs SEA" in res.stdout
     size = (out / "report.html").stat().st_size
     assert 100_000 < size < 5_000_000
 
@@ -85,10 +96,13 @@ def test_spring_curve_matches_the_gas_law_by_hand():
         np.testing.assert_allclose(P2, p2, rtol=1e-12)
         # tension > 0 as x grows: the force rises from 0 at x = 0 (charged for F(0) = 0)
         assert abs(F[0]) < 1e-6 * abs(F).max() and F[-1] > 0
-        line = np.polyval(np.polyfit(x, F, 1), x)
-        dev = F - line
-        assert float(np.abs(dev).max() / (F.max() - F.min())) == pytest.approx(
-            c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-9)
+        # the reported linearity is the exact (continuous) metric: a fine sampled fit converges to it
+        xf = np.linspace(0.0, gs.travel_mm, 200001)
+        Ff = (700.0 * 3.857142857 * (90000.0 / (90000.0 - 700.0 * xf)) ** n
+              - 900.0 * 3.0 * (40000.0 / (40000.0 + 900.0 * xf)) ** n)
+        dev = Ff - np.polyval(np.polyfit(xf, Ff, 1), xf)
+        assert float(np.abs(dev).max() / (Ff.max() - Ff.min())) == pytest.approx(
+            c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-4)
     assert c.stiffness_adiabatic_N_per_mm > c.stiffness_isothermal_N_per_mm  # gas stiffens when it cannot cool
     assert replace(gs, n_polytropic=1.4).force_N(x[-1]) == pytest.approx(c.force_adiabatic_N[-1])
 
@@ -169,10 +183,11 @@ def test_report_renders_offline_with_no_console_error(browser_page):
     assert page.evaluate("window.vveaViewer.ready") is True
     titles = page.locator("h2").all_inner_texts()
     for t in ("Design and constraint margins", "Requirements", "Force curve", "3-D model", "Bladder", "Actuator",
-              "Bill of materials", "Provenance"):
+              "Drawings", "Bill of materials", "Provenance"):
         assert t in titles
     body = page.inner_text("body")
     assert "Ecoflex 00-30" in body and "adiabatic" in body and "PASS" in body
+    assert "Table 5 for the design" in body and "design vs LWR" in body and "torque step" in body
 
 
 @pytest.mark.xdist_group("design_run")

@@ -23,12 +23,15 @@ from typing import Any
 import numpy as np
 
 from . import __version__
+from .actuator.design_study import DesignStudy, run_design_study
 from .actuator.model import Actuator, actuator_from_spring
 from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
+from .report.bom import BillOfMaterials
+from .report.drawing import DrawingSet
 from .spring.design_file import save_design
-from .spring.gas_spring import GasSpring, least_squares_line, linearity_error
+from .spring.gas_spring import GasSpring
 from .spring.optimise import Infeasible, OptimisationResult, optimise
-from .spring.requirements import N_SAMPLES, Requirements
+from .spring.requirements import Requirements
 
 __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
            "Infeasible"]
@@ -73,7 +76,7 @@ class SpringCurve:
         return {k: (v.tolist() if isinstance(v, np.ndarray) else float(v)) for k, v in self.__dict__.items()}
 
 
-def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
+def spring_curve(spring: GasSpring, num: int = 401) -> SpringCurve:
     """The isothermal and adiabatic force curves of ``spring`` with deviations and pressures.
 
     Parameters
@@ -81,7 +84,8 @@ def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
     spring : GasSpring
         The unit's gas spring (mm, mm², mm³, MPa) as charged at x = 0.
     num : int
-        Samples over the travel (default: the 401 every linearity figure uses).
+        Samples over the travel for the curves (the linearity and stiffness are the exact,
+        continuous metric of :meth:`GasSpring.linearity`).
 
     Returns
     -------
@@ -94,12 +98,13 @@ def spring_curve(spring: GasSpring, num: int = N_SAMPLES) -> SpringCurve:
     out: dict[str, Any] = {"x_mm": x}
     for tag, gs in (("isothermal", iso), ("adiabatic", adi)):
         F = gs.force_N(x)
-        k, b = least_squares_line(x, F)
+        lin = gs.linearity()  # the exact (continuous) metric and its least-squares line
+        k, b = float(lin.mean_stiffness_N_per_mm), float(lin.intercept_N)
         P1, P2 = gs.pressures_MPa(x)
         out[f"force_{tag}_N"] = F
         out[f"deviation_{tag}_N"] = F - (k * x + b)
         out[f"stiffness_{tag}_N_per_mm"] = float(k)
-        out[f"linearity_{tag}"] = float(linearity_error(x, F))
+        out[f"linearity_{tag}"] = float(lin.linearity_error)
         out[f"P1_{tag}_MPa"] = np.asarray(P1, float)
         out[f"P2_{tag}_MPa"] = np.asarray(P2, float)
     return SpringCurve(**out)
@@ -160,7 +165,9 @@ class UnitDesign:
     bladder: BladderResult  #: the bladder check with the requirements' silicone
     actuator: Actuator  #: joint-level K, D range of the unit (section 3.4 mapping, SI)
     cad_manifest: dict | None  #: the CAD set's manifest (None when CAD was skipped)
-    actuator_study: Any | None  #: the design's actuator study (None when skipped or unavailable)
+    bom: BillOfMaterials | None  #: bill of materials, the bladder in the requirements' silicone (None: no CAD)
+    drawings: DrawingSet | None  #: dimensioned drawings (None: no CAD)
+    actuator_study: DesignStudy | None  #: the design's rest-to-rest and torque-step study (None when skipped)
     out_dir: Path  #: the folder written
     files: dict[str, Path]  #: what was written, by role
     seconds: dict[str, float]  #: wall time of each step (s)
@@ -196,7 +203,15 @@ class UnitDesign:
             "spring": {k: v for k, v in self.spring.to_dict().items() if not isinstance(v, list)},
             "bladder": self.bladder.to_dict(),
             "actuator": _actuator_dict(self.actuator),
-            "actuator_study": (study.to_dict() if hasattr(study, "to_dict") else study),
+            "bom": None if self.bom is None else self.bom.to_dict(),
+            "drawings": None if self.drawings is None else self.drawings.to_dict(),
+            "actuator_study": None if study is None else {
+                "comparisons": [c.to_dict() for c in study.comparisons],
+                "settings": [s.to_dict() for s in study.settings],
+                "n_left_out_unverified": study.n_left_out,
+                "safety_design": study.safety_design.to_dict(),
+                "timing": study.timing.to_dict(),
+                "files": study.files.to_dict()},
             "files": {k: str(v) for k, v in self.files.items()},
             "seconds": dict(self.seconds),
         }
@@ -215,6 +230,7 @@ def design_unit(
     actuator_study: bool = True,
     report: bool = True,
     bladder_elements: int = DEFAULT_ELEMENTS,
+    study_options: dict[str, Any] | None = None,
     spec_path: str | Path | None = None,
     progress: ProgressFn | None = None,
 ) -> UnitDesign:
@@ -226,19 +242,24 @@ def design_unit(
         What the unit must meet (mm, MPa, N/mm; ``bladder_material`` names the silicone checked).
     out_dir : path-like
         Folder for everything (created): ``design.json``, ``design_force.png``,
-        ``spring/``, ``cad/``, ``bladder/``, ``actuator/``, ``unit.json``, ``report.html``.
+        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``bladder/``, ``actuator/``,
+        ``unit.json``, ``report.html``.
     seed : int
         Seed of the optimiser's global search (same seed, same design).
     renders : bool
         Make the CAD PNG renders (off-screen pyvista).
     cad : bool
-        Build and export the CAD set (False skips it and the 3-D view of the report).
+        Build and export the CAD set, its drawings and bill of materials (False skips them and the
+        3-D view of the report).
     actuator_study : bool
-        Run the design's own actuator study when the library provides it.
+        Run the design's own actuator study (rest-to-rest against VVEA, SEA, LWR and the torque step,
+        :func:`vvea_design.actuator.design_study.run_design_study`) into ``actuator/``.
     report : bool
         Write ``report.html``.
     bladder_elements : int
         Finite elements along the bladder meridian.
+    study_options : dict, optional
+        Keyword arguments of ``run_design_study`` (``grid``, ``mesh``, ``workers``, ...).
     spec_path : path-like, optional
         Where ``requirements`` came from (recorded as provenance only).
     progress : callable, optional
@@ -293,12 +314,19 @@ def design_unit(
 
     # 3. CAD -----------------------------------------------------------------
     t = step("cad")
-    manifest = None
+    manifest = bom = drawings = None
     if cad:
-        from .cad import write_cad
+        from .cad import build_cad, write_cad
+        from .report.bom import write_bom
+        from .report.drawing import write_drawings
 
-        manifest = write_cad(res.design, out / "cad", renders=renders, show_progress=False)
+        model = build_cad(res.design)
+        manifest = write_cad(res.design, out / "cad", renders=renders, show_progress=False, model=model)
         files["cad"] = out / "cad"
+        drawings = write_drawings(model, out / "cad")
+        files["drawings_pdf"] = Path(drawings.pdf)
+        bom = write_bom(model, out / "cad", requirements.bladder_material)
+        files["bom_csv"] = out / "cad" / "bom.csv"
     seconds["cad"] = time.perf_counter() - t
 
     # 4. bladder, with the requirements' silicone ------------------------------
@@ -324,11 +352,14 @@ def design_unit(
 
     # 6. the design's actuator study -------------------------------------------
     t = step("actuator_study")
-    study = _run_actuator_study(act, act_dir) if actuator_study else None
+    study = None
+    if actuator_study:
+        study = run_design_study(res.design, out_dir=act_dir, **(study_options or {}))
+        files["actuator_study_json"] = Path(study.files.summary_json)
     seconds["actuator_study"] = time.perf_counter() - t
 
     unit = UnitDesign(requirements=requirements, optimisation=res, spring=curve, bladder=bl, actuator=act,
-                      cad_manifest=manifest, actuator_study=study, out_dir=out, files=dict(files),
+                      cad_manifest=manifest, bom=bom, drawings=drawings, actuator_study=study, out_dir=out, files=dict(files),
                       seconds=dict(seconds), seed=seed, version=__version__,
                       spec_path=None if spec_path is None else str(spec_path))
 
@@ -360,12 +391,3 @@ def _json_default(v: Any) -> Any:
     if isinstance(v, Path):
         return str(v)
     raise TypeError(f"not JSON-serialisable: {type(v).__name__}")
-
-
-def _run_actuator_study(act: Actuator, out_dir: Path):
-    """The design's own actuator study, when the actuator wing provides one (``run_design_study``)."""
-    try:
-        from .actuator import run_design_study  # type: ignore[attr-defined]
-    except ImportError:
-        return None
-    return run_design_study(act, out_dir)

@@ -31,6 +31,7 @@ Example
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import time
@@ -150,6 +151,7 @@ class StudyTiming:
     total_s: float  #: the whole call
     workers: int  #: worker processes used
     solver_seconds: float  #: sum of all IPOPT wall times (all processes)
+    rest_to_rest_cpu_seconds: float  #: CPU time of the rest-to-rest solves (all processes)
 
     def to_dict(self) -> dict:
         """Plain-JSON dictionary."""
@@ -169,6 +171,11 @@ class StudyFiles:
     def to_dict(self) -> dict:
         """Plain-JSON dictionary (paths as strings)."""
         return {k: (str(v) if v is not None else None) for k, v in asdict(self).items()}
+
+    def __iter__(self):
+        """The written files (paths), figures last."""
+        return iter([p for p in (self.results_csv, self.summary_json, self.map_png, self.trajectory_png,
+                                 self.safety_png) if p is not None])
 
 
 @dataclass
@@ -197,6 +204,34 @@ class DesignStudy:
             if c.other == other:
                 return c
         raise KeyError(f"no comparison with {other!r}; have {[c.other for c in self.comparisons]}")
+
+    def report_tables(self) -> list[tuple[str, tuple[str, ...], list[tuple]]]:
+        """Tables for a report: (title, header, rows) each; numbers rounded for reading."""
+        def f(x, fmt):
+            return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
+
+        n = len(self.grid.cases())
+        comp = [(c.other, f"{c.design_beats} of {c.n_cases}", f(c.fraction_design_beats, ".0%"),
+                 f(c.meanrmse_other_over_design, ".3f"), c.n_excluded,
+                 f(c.paper_vvea_beats, ".1%"), f(c.paper_meanrmse_other_over_vvea, ".3f")) for c in self.comparisons]
+        sets = [(s.name, f(s.K_Nm_per_rad, ".0f"), f"{s.D_min_Nms_per_rad:.3g}-{s.D_max_Nms_per_rad:.4g}",
+                 f"{s.n_valid} of {s.n_cases}", s.n_unverified, f(s.mean_rmse_rad, ".4f")) for s in self.settings]
+        steps = []
+        for st in (self.safety_design, self.safety_reference):
+            for c in st.cases:
+                steps.append((c.name, f(c.t95_s * 1e3, ".1f"), f(c.mean_D_Nms_per_rad, ".1f"),
+                              f(c.max_D_Nms_per_rad, ".1f"), c.status))
+        return [
+            (f"Rest-to-rest: the design against the paper's settings ({n} cases, only cases where both "
+             f"trajectories are valid and verified)",
+             ("other setting", "design better", "fraction", "mean rmse other / design", "cases left out",
+              "paper: VVEA better", "paper: mean rmse other / VVEA"), comp),
+            ("Settings over the grid", ("setting", "K (N m/rad)", "D (N m s/rad)", "valid cases",
+                                        "not verified (left out)", "mean rmse (rad), cases all valid"), sets),
+            (f"Torque step {self.safety_design.setup['tau_ref_Nm']:g} N m (M = "
+             f"{self.safety_design.setup['M_kgm2']:g} kg m²)",
+             ("case", "t95 (ms)", "mean D (N m s/rad)", "max D (N m s/rad)", "status"), steps),
+        ]
 
     @property
     def n_left_out(self) -> int:
@@ -236,6 +271,11 @@ def design_actuator(design, **mapping) -> Actuator:
     **mapping
         Keyword arguments of :func:`~vvea_design.actuator.model.actuator_from_spring`
         (``pulley_radius_m``, ``p2_MPa``, ``gamma_min_deg``, ``gamma_max_deg``, ``n_units``).
+
+    Returns
+    -------
+    Actuator
+        K (N m/rad) and damping range (N m s/rad) of the joint, named ``"design"``.
     """
     if isinstance(design, Actuator):
         if mapping:
@@ -263,8 +303,8 @@ def _work(item):
 
 def run_design_study(
     design,
-    *,
     out_dir: str | Path | None = None,
+    *,
     progress: Callable[[int, int, str], None] | None = None,
     workers: int | None = None,
     grid: Grid = DESIGN_GRID,
@@ -371,7 +411,8 @@ def run_design_study(
         cases=cases, settings=tuple(summaries), comparisons=tuple(comps), safety_design=safety_design,
         safety_reference=safety_ref,
         timing=StudyTiming(t_solved - t_start, 0.0, 0.0, used,
-                           float(df["seconds"].sum()) + safety_design.wall_seconds + safety_ref.wall_seconds),
+                           float(df["seconds"].sum()) + safety_design.wall_seconds + safety_ref.wall_seconds,
+                           float(df["cpu_seconds"].sum())),
         trajectory_case=(Aex, Tex), best=bests.get((Aex, Tex), {}),
     )
     if out_dir is not None:
@@ -381,7 +422,7 @@ def run_design_study(
     elif progress is not None:
         progress(total, total, "done")
     t_end = time.perf_counter()
-    study.timing = StudyTiming(t_solved - t_start, t_end - t_solved, t_end - t_start, used, study.timing.solver_seconds)
+    study.timing = dataclasses.replace(study.timing, figures_s=t_end - t_solved, total_s=t_end - t_start)
     if out_dir is not None:  # the JSON carries the final timing
         Path(study.files.summary_json).write_text(json.dumps(study.to_dict(), indent=2))
     return study

@@ -36,6 +36,17 @@ def expm_stack(A: np.ndarray) -> np.ndarray:
     < 1e-14 after scaling every matrix to norm <= 1/2), all in stacked numpy
     products: for thousands of 5 x 5 matrices far faster than one
     :func:`scipy.linalg.expm` call per matrix. Tested against scipy.
+
+    Parameters
+    ----------
+    A
+        Stack of square matrices, shape (..., n, n), dimensionless (a system
+        matrix times a time step).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``exp(A)`` for each matrix, same shape, dimensionless.
     """
     A = np.asarray(A, dtype=float)
     norm = np.max(np.sum(np.abs(A), axis=-2), axis=-1)  # 1-norm per matrix
@@ -155,11 +166,14 @@ def verify_rest_to_rest(
         Its setting, amplitude (rad) and period (s).
     substeps
         Sub-steps per collocation interval for the re-simulation.
-    rmse_rtol, abs_tol_rad
-        Agreement required between the reported and the re-simulated rmse:
-        ``|Δrmse| <= max(rmse_rtol · rmse, abs_tol_rad)``.
+    rmse_rtol
+        Relative agreement required between the reported and the re-simulated
+        rmse (fraction, dimensionless): ``|Δrmse| <= max(rmse_rtol · rmse, abs_tol_rad)``.
+    abs_tol_rad
+        Absolute agreement that always suffices, rad (near-perfect tracking).
     bound_rtol
-        Allowed bound excess relative to the bound's scale (τ_max, u_d_max, D range).
+        Allowed bound excess relative to the bound's scale (τ_max, u_d_max, D
+        range), fraction (dimensionless).
 
     Returns
     -------

@@ -150,7 +150,7 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[s
     void = mould_void(model.mould)
     advance()
     walls_min = d.minimum_walls_mm()
-    walls_drawn = {k: v for k, v in d.walls_mm().items() if k != "bulkhead"}
+    walls_drawn = d.walls_mm()
     manifest = {
         "generator": "vvea_design.cad.write_cad",
         "design": _design_dict(d),

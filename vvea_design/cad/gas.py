@@ -10,25 +10,38 @@
   is the cast sleeve deflated inwards (and bulging between its clamps); this
   domain has its volume, not its shape, and so overlaps the cast bladder drawing.
 
-The dead volumes (ports, default 0) are not drawn.
+In the ``bulkhead`` layout chamber 1 ends at the bulkhead and includes the
+fill tube's bore up to the top cap (it is charged through it); chamber 2
+also fills the inner-tube bore above the bulkhead, outside the fill tube
+(``V2_top_mm3``), so its domain is two solids (joined through the top cap's
+ports, which are not drawn). The dead volumes (ports, default 0) are not drawn.
 """
 
 from __future__ import annotations
 
 from build123d import Solid
 
-from ._shapes import cylinder, ring
+from build123d import Compound
+
+from ._shapes import cylinder, fuse, ring
 from .layout import Layout
 
 __all__ = ["gas_chamber_1", "gas_chamber_2"]
 
 
 def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
-    """Chamber-1 gas at displacement ``x_mm`` (the bore above the piston), mm."""
-    return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
+    """Chamber-1 gas at displacement ``x_mm`` (the bore above the piston; with a bulkhead, up to it
+    plus the fill tube's bore), mm."""
+    if not lay.has_bulkhead:
+        return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
+    return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_bulkhead0),
+                cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0, lay.z_cap))
 
 
 def gas_chamber_2(lay: Layout, x_mm: float = 0.0) -> Solid:
     """Chamber-2 gas at displacement ``x_mm`` (outside the equal-volume straight sleeve), mm."""
     r_in = lay.r_gas2_inner if x_mm == 0 else lay.design.bladder_equivalent_outer_radius_mm(x_mm)
-    return ring(r_in, lay.r_bore, lay.z_free0, lay.z_free1)
+    annulus = ring(r_in, lay.r_bore, lay.z_free0, lay.z_free1)
+    if not lay.has_bulkhead or lay.design.V2_top_mm3 <= 0:
+        return annulus
+    return Compound([annulus, ring(lay.r_fill_tube_out, lay.r_piston, lay.z_bulkhead1, lay.z_cap)])

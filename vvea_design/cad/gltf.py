@@ -35,15 +35,15 @@ def _material(rgb, alpha: float = 1.0):
 
 def _half(solid, tolerance_mm: float, angular_tolerance_rad: float) -> trimesh.Trimesh:
     """Keep y >= 0 of ``solid`` (exact boolean, so the cut is capped; its face looks along glTF +Z,
-    towards a default camera) and tessellate it (mm)."""
-    from ._shapes import cut
+    towards a default camera) and tessellate it (mm). The half may fall apart into several
+    solids (a chamber ported through a riser off the meridian plane): all of them are kept."""
     from .mould import box
 
     bb = solid.bounding_box()
     if bb.min.Y >= -1e-9:
         half = solid
     else:
-        half = cut(solid, box(bb.min.X - 1, bb.max.X + 1, bb.min.Y - 1, 0.0, bb.min.Z - 1, bb.max.Z + 1))
+        half = solid.cut(box(bb.min.X - 1, bb.max.X + 1, bb.min.Y - 1, 0.0, bb.min.Z - 1, bb.max.Z + 1)).clean()
     return to_mesh(half, tolerance_mm, angular_tolerance_rad)
 
 

@@ -248,6 +248,46 @@ class Layout:
     def z_piston_top(self, x_mm: float = 0.0) -> float:
         return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
 
+    # ----------------------------------------------------------- bulkhead layout
+    @property
+    def has_bulkhead(self) -> bool:
+        return self.design.variant.has_bulkhead
+
+    @property
+    def z_bulkhead0(self) -> float:
+        """Underside of the bulkhead (top of chamber 1 at x = 0); the top cap's underside without one."""
+        if not self.has_bulkhead:
+            return self.z_cap
+        return self.z_piston_top(0.0) + self.design.chamber1_length_mm
+
+    @property
+    def z_bulkhead1(self) -> float:
+        """Top of the bulkhead (bottom of the chamber-2 space above it)."""
+        return self.z_bulkhead0 + self.design.bulkhead_mm
+
+    @property
+    def r_fill_tube_out(self) -> float:
+        return self.design.fixed.fill_tube_outer_mm / 2
+
+    @property
+    def r_fill_tube_bore(self) -> float:
+        return self.design.fixed.fill_tube_bore_mm / 2
+
+    @property
+    def cross_port_d(self) -> float:
+        """Diameter of the top cap's cross port from the space above the bulkhead to the chamber-2 port."""
+        return min(self.fill_port_d, 1.5)
+
+    @property
+    def z_cross_port(self) -> float:
+        """Axis height of that cross port (inside the top cap)."""
+        return self.z_cap + 0.5 * (self.z_top - self.z_cap - self.cad.fill_port_counterbore_depth_mm)
+
+    @property
+    def y_cross_riser(self) -> float:
+        """Where the riser from the space above the bulkhead meets the cross port (+y)."""
+        return 0.5 * (self.r_fill_tube_out + self.r_piston)
+
     @property
     def clamp(self) -> float:
         return self.design.fixed.bladder_clamp_mm
@@ -322,5 +362,14 @@ class Layout:
             raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
         if self.design.fluid_column_mm - f.travel_mm < 0.5:
             raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
+        if self.has_bulkhead:
+            if self.y_cross_riser - self.cross_port_d / 2 < self.r_fill_tube_out + 0.5 \
+                    or self.y_cross_riser + self.cross_port_d / 2 > self.r_piston - 0.5:
+                raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
+                               "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
+            if self.z_cross_port - self.cross_port_d / 2 < self.z_cap + 0.8:
+                raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
+            if self.r_fill_tube_out >= 0.5 * self.r_piston:
+                raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
         if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
             raise CadError("bladder free length too short for its cuffs")

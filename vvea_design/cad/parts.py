@@ -46,14 +46,29 @@ def housing(lay: Layout) -> Solid:
         ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1),  # top bladder clamp
         cylinder(lay.r_outer, 0.0, z0),  # base
     )
+    if lay.has_bulkhead:  # bulkhead web and the chamber-1 fill tube (part of the inner tube)
+        body = fuse(body, cylinder(lay.r_piston + 0.01, lay.z_bulkhead0, lay.z_bulkhead1),
+                    ring(lay.r_fill_tube_bore, lay.r_fill_tube_out, lay.z_bulkhead1 - 0.01, z1 + 0.01))
     tools: list[Solid] = []
     # top clamp groove = the bladder's upper cuff (exact fit)
     tools.append(_bladder(lay))
-    # fill ports (chamber 1 at +y over the piston, chamber 2 at +y outside the bladder)
-    for r_port, z_start in ((lay.r_port1, z1 - 0.01), (lay.r_port2, lay.z_free1 - 0.01)):
+    ports = [(lay.r_port1, z1 - 0.01), (lay.r_port2, lay.z_free1 - 0.01)]
+    if lay.has_bulkhead:
+        # chamber 1 is charged through the fill tube's bore (on the axis, through bulkhead, tube and cap);
+        # the space above the bulkhead reaches the chamber-2 port through a riser and a cross port in the cap
+        # (drilled from the outside and plugged; the plug is not drawn)
+        ports = [(lay.r_port2, lay.z_free1 - 0.01)]
+        tools.append(cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0 - 0.01, zt + 1))
+        tools.append(cylinder(c.fill_port_counterbore_mm / 2, zt - c.fill_port_counterbore_depth_mm, zt + 1))
+        rc = lay.cross_port_d / 2
+        tools.append(cylinder(rc, z1 - 0.01, lay.z_cross_port, y=lay.y_cross_riser))
+        tools.append(bar(rc, (0, lay.y_cross_riser, lay.z_cross_port), (0, 1, 0), lay.r_port2 - lay.y_cross_riser))
+    # fill ports (chamber 1 at +y over the piston or on the axis, chamber 2 at +y outside the bladder)
+    for r_port, z_start in ports:
         tools.append(cylinder(lay.fill_port_d / 2, z_start, zt + 1, y=r_port))
         cb = c.fill_port_counterbore_mm / 2
-        if r_port + cb < lay.r_outer - 0.8 and (r_port - cb > lay.r_piston + 0.8 or r_port + cb < lay.r_piston - 0.8):
+        if r_port + cb < lay.r_outer - 0.8 and (r_port - cb > lay.r_piston + 0.8 or r_port + cb < lay.r_piston - 0.8) \
+                and not (lay.has_bulkhead and r_port > 0 and abs(r_port - lay.y_cross_riser) < cb + 0.8):
             tools.append(cylinder(cb, zt - c.fill_port_counterbore_depth_mm, zt + 1, y=r_port))
     # rod bore and rod seal groove
     tools.append(cylinder(lay.r_rod, -1.0, z0 + 0.01))

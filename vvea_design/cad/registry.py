@@ -131,7 +131,12 @@ def _outer_tube_mm3(lay: Layout) -> float:
 
 
 def _inner_tube_mm3(lay: Layout) -> float:
-    return math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * (lay.z_cap - lay.z_base_top)
+    v = math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * (lay.z_cap - lay.z_base_top)
+    if lay.has_bulkhead:  # + the bulkhead web and the fill tube, minus the tube's bore through the web
+        d = lay.design
+        v += math.pi * (lay.r_piston**2 - lay.r_fill_tube_bore**2) * d.bulkhead_mm
+        v += math.pi * (lay.r_fill_tube_out**2 - lay.r_fill_tube_bore**2) * d.top_space_length_mm
+    return v
 
 
 _HOUSING = _structural("housing_material", "machined")

@@ -245,7 +245,13 @@ def design(
     seed: int = typer.Option(0, "--seed", help="seed of the global search (same seed, same design)"),
     renders: bool = typer.Option(True, "--renders/--no-renders", help="make the CAD PNG renders"),
     actuator_study: bool = typer.Option(True, "--actuator-study/--no-actuator-study",
-                                        help="run the design's own actuator study"),
+                                        help="run the design's own actuator study (rest-to-rest vs VVEA, SEA, LWR; "
+                                             "torque step)"),
+    study_grid: Optional[str] = typer.Option(None, "--study-grid",
+                                             help="rest-to-rest grid of the actuator study: 'A1,A2,..:T1,T2,..' "
+                                                  "(rad:s); default 4 x 4 cases over the paper's grid"),
+    workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
+                                                                  "(default: all cores)"),
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
     from ..pipeline import STEPS, design_unit
@@ -257,12 +263,22 @@ def design(
     except SpecError as exc:
         _fail(str(exc))
 
+    study_options: dict = {"workers": workers}
+    if study_grid is not None:
+        from ..actuator.rest_to_rest import Grid
+
+        try:
+            a, t = study_grid.split(":")
+            study_options["grid"] = Grid(tuple(float(v) for v in a.split(",")), tuple(float(v) for v in t.split(",")))
+        except ValueError as exc:
+            _fail(f"--study-grid must be 'A1,A2,..:T1,T2,..' (rad:s), got {study_grid!r} ({exc})")
+
     def say(step: str, i: int, n: int) -> None:
         console.print(f"[{i + 1}/{n}] {step}")
 
     try:
         unit = design_unit(req, out, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
-                           progress=say)
+                           study_options=study_options, progress=say)
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
@@ -274,6 +290,12 @@ def design(
     a = unit.actuator
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
+    if unit.actuator_study is not None:
+        for c in unit.actuator_study.comparisons:
+            beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
+            ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
+            stdout.print(f"design vs {c.other}: design beats it in {beats} of {c.n_cases} cases "
+                         f"({c.n_excluded} left out), mean rmse {c.other}/design {ratio}")
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {unit.files.get('report', out / 'unit.json')})")
 

@@ -461,7 +461,8 @@ _MEDIAN_GAIN = 0.80
 def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins: int = 9) -> float:
     """Measurement noise (N RMS) from what no smooth model of the cycle explains.
 
-    Per ramp (monotone half of an experiment) the residual's Hann-windowed
+    Per ramp (monotone half of an experiment, without its first sixth where
+    transients after start and reversal live) the residual's Hann-windowed
     periodogram is taken; a running median over ``med_bins`` frequency bins
     removes spectral lines (periodic structure in time or position), the
     lowest ``min_bin`` bins (slow structure, model misfit) are left out. An
@@ -480,6 +481,7 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
         s = D.s[a:b]
         cuts = np.flatnonzero(np.diff(s) != 0) + 1
         for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
+            lo = lo + (hi - lo) // 6  # transients after start and reversal are misfit, not noise: skip a sixth of the ramp
             r = residual_N[a + lo : a + hi]
             n = len(r)
             if n < 4 * min_bin + 8:
@@ -512,7 +514,7 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
 
 
 NOISE_METHOD = (
-    "per ramp: Hann periodogram of the residual, spectral lines removed by a 9-bin running median, the 4 lowest bins "
+    "per ramp (first sixth after start/reversal skipped): Hann periodogram of the residual, spectral lines removed by a 9-bin running median, the 4 lowest bins "
     "(slow misfit) left out, AR(1) spectrum shape fitted per sample-spacing group, its level per ramp; noise floor = sample-weighted RMS of those AR(1) processes"
 )
 
@@ -1152,6 +1154,15 @@ def format_summary(r: DiagnosisReport) -> str:
     return "\n".join(L) + "\n"
 
 
+def _plain_log_ticks(ax) -> None:
+    """Log axis with plain numbers (4, 6, 10, 20 rather than 4x10^0)."""
+    from matplotlib.ticker import FuncFormatter
+
+    fmt = FuncFormatter(lambda v, _: f"{v:g}")
+    ax.yaxis.set_major_formatter(fmt)
+    ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if f"{v:.1e}"[0] in "2468" or f"{v:.1e}"[0] == "5" else ""))
+
+
 def plot_residual_maps(r: DiagnosisReport, fig=None):
     """Residual RMS per bin of each feature, eq. 14 against the final model, with the noise floor. Returns the Figure."""
     import matplotlib.pyplot as plt
@@ -1169,7 +1180,8 @@ def plot_residual_maps(r: DiagnosisReport, fig=None):
         ax.set_title(f"{fb.name}" + (f" [{fb.unit}]" if fb.unit else ""), fontsize=9)
         ax.set_ylabel("RMS of measurement − model [N]", fontsize=7)
         ax.set_yscale("log")
-        ax.tick_params(labelsize=7)
+        _plain_log_ticks(ax)
+        ax.tick_params(labelsize=7, which="both")
     ax = axes.flat[-1]
     ax.axis("off")
     from matplotlib.patches import Patch
@@ -1204,6 +1216,7 @@ def plot_heldout_steps(r: DiagnosisReport, fig=None):
             ax.text(x, s.rmse_N, f"{s.rmse_N:.1f}", ha="center", va="bottom", fontsize=8)
         ax.set_xticks(xi, [s.label for s in steps], rotation=20, ha="right", fontsize=8)
         ax.set_yscale("log")
+        _plain_log_ticks(ax)
         top = max(s.rmse_N for s in steps)
         ax.set_ylim(min(min(s.rmse_N for s in steps), r.noise_floor_N) * 0.6, top * 2.2)
     else:

@@ -208,10 +208,43 @@ class Check:
         return dict(name=self.name, passed=bool(self.passed), detail=self.detail)
 
 
+#: The column cache of a FitData holds at most this many arrays of its length, and at most
+#: CACHE_BYTES in all (memory stays bounded on large campaigns).
+CACHE_COLUMNS = 120
+CACHE_BYTES = 160e6
+
+
+def _nbytes(v) -> int:
+    if isinstance(v, np.ndarray):
+        return v.nbytes
+    if isinstance(v, (tuple, list)):
+        return sum(_nbytes(q) for q in v)
+    return 0
+
+
+def cached(D: FitData, key, make):
+    """``D._cache[key]``, computed by ``make()`` when missing; the oldest entries go when over :data:`CACHE_COLUMNS`."""
+    c = D._cache
+    if key in c:
+        return c[key]
+    val = make()
+    c[key] = val
+    limit = min(CACHE_COLUMNS * max(D.n, 1) * 8, CACHE_BYTES)
+    total = sum(_nbytes(v) for v in c.values())
+    while total > limit:
+        k0 = next(iter(c))
+        if k0 == key:
+            break
+        total -= _nbytes(c.pop(k0))
+    return val
+
+
 def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
     """Design matrix of eq. 14: ``[p2 x, sign(ẋ), ẋ·1{γ=γ_j} ...]`` (cached: do not modify it in place)."""
-    if ("eq14",) in D._cache:
-        return D._cache[("eq14",)]
+    return cached(D, ("eq14",), lambda: _baseline_columns(D))
+
+
+def _baseline_columns(D: FitData):
     cols = [D.p2 * D.x, D.s]
     params = [
         Param("g", "N/mm/MPa", 0.0, np.inf, "spring stiffness per MPa of p2"),
@@ -220,8 +253,7 @@ def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
     for j, val in enumerate(D.valves):
         cols.append(D.v * (D.valve_idx == j))
         params.append(Param(f"L({val:g})", "N s/mm", 0.0, np.inf, f"linear damping at valve {val:g} deg"))
-    D._cache[("eq14",)] = (np.column_stack(cols), params)
-    return D._cache[("eq14",)]
+    return np.column_stack(cols), params
 
 
 # ------------------------------------------------------------------ signal operators
@@ -238,24 +270,41 @@ def lowpass(D: FitData, u: np.ndarray, tau_s: float) -> np.ndarray:
     return out
 
 
-def thermal_state(D: FitData, tau_s: float) -> np.ndarray:
-    """Thermal state h (mm): ḣ = ẋ - h/τ per experiment, h = 0 at start.
+def _chamber_logs(D: FitData):
+    """Log volume changes and isothermal force factors of the two chambers (per MPa of p2), unit geometry.
 
-    Exact for piecewise-linear x between samples. ``k p2 h`` is the excess
+    Returns ``u2 = -ln(1 - A2 x/V2)``, ``u1 = ln(1 + A1 x/V1)``,
+    ``f2 = A2 V2/(V2 - A2 x)``, ``f1 = (p1/p2) A1 V1/(V1 + A1 x)``.
+    """
+    key = ("chambers",)
+    if key not in D._cache:
+        ref = D.reference
+        A1, A2, V1, V2 = ref.A1_mm2, ref.A2_mm2, ref.V1_mm3, ref.V2_mm3
+        ratio = ref.p1_MPa / ref.p2_MPa if ref.p2_MPa > 0 else A2 / A1
+        c2 = np.clip(1 - A2 * D.x / V2, 0.05, None)
+        c1 = np.clip(1 + A1 * D.x / V1, 0.05, None)
+        D._cache[key] = (-np.log(c2), np.log(c1), A2 / c2, ratio * A1 / c1)
+    return D._cache[key]
+
+
+def thermal_state(D: FitData, tau_s: float, u: np.ndarray | None = None, name: str = "x") -> np.ndarray:
+    """Thermal state h: ḣ = u̇ - h/τ per experiment, h = 0 at start (``u`` = x by default, mm; ``name`` keys the cache).
+
+    Exact for piecewise-linear u between samples. ``k p2 h`` is the excess
     gas force that heat exchange with the walls relaxes with time constant τ.
     """
-    key = ("thermal", float(tau_s))
-    if key in D._cache:
-        return D._cache[key]
+    return cached(D, ("thermal", float(tau_s), name), lambda: _thermal_state(D, tau_s, D.x if u is None else u))
+
+
+def _thermal_state(D: FitData, tau_s: float, u: np.ndarray) -> np.ndarray:
     h = np.zeros(D.n)
     dts = D.per_exp_dt()
     for e in range(D.n_exp):
         a, b = D.bounds[e], D.bounds[e + 1]
-        dx = np.diff(D.x[a:b], prepend=D.x[a])
+        dx = np.diff(u[a:b], prepend=u[a])
         q = np.exp(-dts[e] / tau_s)
         gain = tau_s * (1 - q) / dts[e]
         h[a:b] = lfilter([gain], [1.0, -q], dx)
-    D._cache[key] = h
     return h
 
 
@@ -266,9 +315,10 @@ def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
     saturates at ±r -- elastic-plastic (pre-sliding) memory of the motion.
     Each ramp is monotone, so the play operator is a running max/min.
     """
-    key = ("stop", float(r_mm))
-    if key in D._cache:
-        return D._cache[key]
+    return cached(D, ("stop", float(r_mm)), lambda: _stop_operator(D, r_mm))
+
+
+def _stop_operator(D: FitData, r_mm: float) -> np.ndarray:
     z = np.zeros(D.n)
     s = D.s
     for e in range(D.n_exp):
@@ -285,8 +335,24 @@ def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
                 pp = np.minimum(p, np.minimum.accumulate(xs + r_mm))
             z[a + lo : a + hi] = xs - pp
             p = pp[-1]
-    D._cache[key] = z
     return z
+
+
+def _travel_since_reversal(D: FitData) -> np.ndarray:
+    """|x - x at the last start or reversal| (mm), per experiment."""
+    key = ("travel_since_rev",)
+    if key not in D._cache:
+        d = np.zeros(D.n)
+        s = D.s
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            x = D.x[a:b]
+            cuts = np.flatnonzero(np.diff(s[a:b]) != 0) + 1
+            for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
+                x0 = x[0] if lo == 0 else x[lo - 1]
+                d[a + lo : a + hi] = np.abs(x[lo:hi] - x0)
+        D._cache[key] = d
+    return D._cache[key]
 
 
 def _periodogram_peaks(u: np.ndarray, y: np.ndarray, periods: np.ndarray, n_peaks: int = 3) -> np.ndarray:
@@ -482,11 +548,8 @@ class GasNonlinearity(Effect):
         return A2 * travel * np.geomspace(1.08, 10.0, 14)
 
     def columns(self, D, V2, ctx):
-        key = ("gas", float(V2))
-        if key not in D._cache:
-            c2, c1 = chamber_remainders(D.x, V2, D.reference)
-            D._cache[key] = np.column_stack([D.p2 * c2, D.p2 * c1])
-        return D._cache[key]
+        c2, c1 = chamber_remainders(D.x, V2, D.reference)
+        return np.column_stack([D.p2 * c2, D.p2 * c1])
 
     def signature(self, D, values, V2, contribution):
         ref = D.reference
@@ -496,8 +559,13 @@ class GasNonlinearity(Effect):
             Check("progressive", values.get("a2", 0.0) > 0.0, f"chamber-2 amplitude a2 = {values.get('a2', 0.0):.3g} (> 0: the compressed chamber stiffens)"),
             Check(
                 "chamber volume near the design",
-                V2 > swept and 0.25 <= ratio <= 4.0,
-                f"effective V2 = {V2:.3g} mm^3 = {ratio:.2f} x the design's {ref.V2_mm3:.3g} mm^3 (swept {swept:.3g} mm^3; must lie within 0.25..4 x)",
+                0.25 <= ratio <= 4.0,
+                f"effective V2 = {V2:.3g} mm^3 = {ratio:.2f} x the design's {ref.V2_mm3:.3g} mm^3 (must lie within 0.25..4 x)",
+            ),
+            Check(
+                "a compression a gas spring survives",
+                V2 >= 1.25 * swept,
+                f"compression ratio at full travel V2/(V2 - A2 travel) = {V2 / max(V2 - swept, 1e-9):.2g} (<= 5: the chamber does not bottom out)",
             ),
         ]
 
@@ -528,8 +596,13 @@ class Thermal(Effect):
         return np.geomspace(0.1, 50.0, 10)
 
     def columns(self, D, tau, ctx):
+        # per chamber: isothermal pressure x (kappa - 1) x the log volume change, relaxed with tau
+        # (linearised p V^kappa = const with heat exchange); plus a geometry-free p2 h term
+        u2, u1, f2, f1 = _chamber_logs(D)
+        h2 = thermal_state(D, tau, u2, "u2")
+        h1 = thermal_state(D, tau, u1, "u1")
         h = thermal_state(D, tau)
-        return np.column_stack([D.p2 * h, D.p2 * h * (D.x / D.travel_mm)])
+        return np.column_stack([D.p2 * f2 * h2, D.p2 * f1 * h1, D.p2 * h])
 
     def signature(self, D, values, tau, contribution):
         spd = np.abs(D.v)
@@ -546,8 +619,8 @@ class Thermal(Effect):
 
     def describe(self, values, errors, tau, tau_se):
         return (
-            f"{self.physics} Excess stiffness k = {_fmt(values['k'], errors.get('k'), 'N/mm/MPa')} (+ {_fmt(values['k_x'], errors.get('k_x'))} "
-            f"at full travel), relaxing with tau = {_fmt(tau, tau_se, 's')}."
+            f"{self.physics} Effective kappa - 1 = {_fmt(values['k2'], errors.get('k2'))} (chamber 2), {_fmt(values['k1'], errors.get('k1'))} "
+            f"(chamber 1), geometry-free part {_fmt(values['k'], errors.get('k'), 'N/mm/MPa')}; heat exchange time constant tau = {_fmt(tau, tau_se, 's')}."
         )
 
     bench_strength: str = "k_N_per_mm_MPa"
@@ -726,15 +799,22 @@ class PressureFriction(Effect):
 class Leakage(Effect):
     def columns(self, D, _, ctx):
         th = D.ctime / 3600.0
-        return np.column_stack([-D.p2 * D.x * th, D.p2 * D.x * th**2])
+        _, _, f2, f1 = _chamber_logs(D)
+        # chamber-2 charge falling (force down, offset included), chamber-1 charge falling (force up), plain stiffness loss
+        return np.column_stack([-D.p2 * th * f2, D.p2 * th * f1, -D.p2 * D.x * th])
 
     def signature(self, D, values, _, contribution):
         th = float(np.max(D.ctime) / 3600.0) if D.n else 0.0
-        loss = values.get("q1", 0.0) * th - values.get("q2", 0.0) * th**2
-        return [Check("stiffness falls over the campaign", loss > 0, f"stiffness loss at the end of the campaign {loss:.3g} N/mm/MPa (> 0)")]
+        late = D.ctime >= np.quantile(D.ctime, 0.8) if D.n else np.zeros(0, bool)
+        early = D.ctime <= np.quantile(D.ctime, 0.2) if D.n else np.zeros(0, bool)
+        drift = float(np.sqrt(np.mean(contribution[late] ** 2)) - np.sqrt(np.mean(contribution[early] ** 2))) if D.n else 0.0
+        return [Check("grows over the campaign", drift > 0, f"RMS of the leak force in the last fifth of the campaign minus the first fifth: {drift:.3g} N (> 0; campaign {th:.2g} h)")]
 
     def describe(self, values, errors, _, __):
-        return f"{self.physics} Stiffness loss q1 = {_fmt(values['q1'], errors.get('q1'), 'N/mm/MPa/h')} (curvature q2 = {_fmt(values['q2'], errors.get('q2'), 'N/mm/MPa/h^2')})."
+        return (
+            f"{self.physics} Charge loss q2 = {_fmt(values['q2'], errors.get('q2'), '1/h')} (chamber 2), q1 = {_fmt(values['q1'], errors.get('q1'), '1/h')} "
+            f"(chamber 1), stiffness loss {_fmt(values['q'], errors.get('q'), 'N/mm/MPa/h')}."
+        )
 
     bench_strength: str = "rate_per_h"
     bench_linear: bool = False
@@ -764,10 +844,12 @@ register(Thermal(
     "non-isothermal gas (heat exchange)",
     "Fast compression heats the gas, which then cools through the walls with a time constant tau: "
     "the spring is stiffer while moving and relaxes at rest, a speed-dependent force proportional to p2.",
-    "f += p2 (k + k_x x/travel) h,  dh/dt = xdot - h/tau",
+    "f += p2 (k2 A2 V2/(V2 - A2 x) h2 + k1 (p1/p2) A1 V1/(V1 + A1 x) h1 + k h),  dh_i/dt = du_i/dt - h_i/tau, "
+    "u2 = -ln(1 - A2 x/V2), u1 = ln(1 + A1 x/V1), u = x  (linearised p V^kappa with wall heat exchange)",
     (
-        Param("k", "N/mm/MPa", 0.0, np.inf, "excess (adiabatic minus isothermal) stiffness per MPa"),
-        Param("k_x", "N/mm/MPa", 0.0, np.inf, "its rise towards full travel (smaller compressed volume)"),
+        Param("k2", "1", 0.0, 1.0, "chamber 2: effective kappa - 1 of the fast compression (0.4 adiabatic air)"),
+        Param("k1", "1", 0.0, 1.0, "chamber 1: effective kappa - 1 of the fast expansion"),
+        Param("k", "N/mm/MPa", 0.0, np.inf, "geometry-free excess stiffness per MPa"),
     ),
     Param("tau", "s", 0.0, np.inf, "thermal time constant"),
 ))
@@ -817,10 +899,11 @@ register(Leakage(
     "leakage",
     "charge leakage",
     "Gas leaks past the seals, so the charge pressure, and with it the stiffness, drifts down over the campaign.",
-    "f += -p2 x (q1 t_c - q2 t_c^2)   (t_c campaign time in h)",
+    "f += p2 t_c (-q2 A2 V2/(V2 - A2 x) + q1 (p1/p2) A1 V1/(V1 + A1 x) - q x)   (t_c campaign time in h)",
     (
-        Param("q1", "N/mm/MPa/h", 0.0, np.inf, "initial stiffness loss rate per MPa"),
-        Param("q2", "N/mm/MPa/h^2", 0.0, np.inf, "slowing of the loss (exponential decay of the charge)"),
+        Param("q2", "1/h", 0.0, np.inf, "chamber-2 charge loss per hour"),
+        Param("q1", "1/h", 0.0, np.inf, "chamber-1 charge loss per hour"),
+        Param("q", "N/mm/MPa/h", 0.0, np.inf, "plain stiffness loss per MPa per hour"),
     ),
 ))
 
@@ -917,13 +1000,14 @@ class PreSliding(Effect):
 
     def columns(self, D, r, ctx):
         z = stop_operator(D, r)
-        return np.column_stack([z / r - D.s, D.p2 * (z / r - D.s)])
+        ex = -D.s * np.exp(-_travel_since_reversal(D) / r)  # exponential approach (bristle / Dahl-like)
+        return np.column_stack([z / r - D.s, D.p2 * (z / r - D.s), ex, D.p2 * ex])
 
     def describe(self, values, errors, r, se):
-        F = values["F_h"]
+        F = values["F_h"] + values["F_e"]
         return (
-            f"Hysteresis with memory of the motion: after each start or reversal the force needs {_fmt(r, se, 'mm')} of travel to reach "
-            f"its sliding level (loop width {2 * F:.3g} N + {2 * values['F_hp']:.3g} N per MPa across the loop): pre-sliding "
+            f"Hysteresis with memory of the motion: after each start or reversal the force needs about {_fmt(r, se, 'mm')} of travel to reach "
+            f"its sliding level (loop width {2 * F:.3g} N + {2 * (values['F_hp'] + values['F_ep']):.3g} N per MPa across the loop): pre-sliding "
             "(elastic seal/bladder deformation before gross sliding), not a speed effect."
         )
 
@@ -1021,13 +1105,15 @@ class TimeRipple(Effect):
 @dataclass(frozen=True)
 class DirectionStiffness(Effect):
     def columns(self, D, _, ctx):
-        return np.column_stack([D.x * D.s, D.p2 * D.x * D.s])
+        up = D.s > 0
+        return np.column_stack([D.x * up, D.x * ~up, D.p2 * D.x * D.s])
 
     def describe(self, values, errors, _, __):
         return (
-            f"The stiffness differs between extension and retraction by 2 x ({_fmt(values['dk'], errors.get('dk'), 'N/mm')} + "
-            f"{_fmt(values['dk_p'], errors.get('dk_p'), 'N/mm/MPa')} p2): a direction-dependent spring (friction growing with "
-            "load along the stroke, a check valve between chambers) -- not a gas law, not plain friction."
+            f"The stiffness differs between extension and retraction: {_fmt(values['k_ext'], errors.get('k_ext'), 'N/mm')} extra while "
+            f"extending, {_fmt(values['k_ret'], errors.get('k_ret'), 'N/mm')} while retracting (+ {_fmt(values['dk_p'], errors.get('dk_p'), 'N/mm/MPa')} "
+            "p2 x sign(xdot)): a spring that engages in one direction only (one-sided contact, a check valve, friction "
+            "growing with load) -- not a gas law, not plain friction."
         )
 
 
@@ -1094,8 +1180,9 @@ register(MotionMemory("motion_memory", "relaxing memory of the motion", "A force
                       "f += k h,  dh/dt = xdot - h/tau", (Param("k", "N/mm", 0.0, np.inf, "relaxing stiffness"),),
                       Param("tau", "s", 0.0, np.inf, "relaxation time constant"), catalogue=False))
 register(PreSliding("presliding_hysteresis", "pre-sliding hysteresis (stop operator)", "Friction builds up over a travel after reversal.",
-                    "f += (F_h + F_hp p2) (stop_r(x)/r - sign(xdot))",
-                    (Param("F_h", "N", 0.0, np.inf, "friction deficit right after reversal"), Param("F_hp", "N/MPa", 0.0, np.inf, "its growth per MPa")),
+                    "f += (F_h + F_hp p2) (stop_r(x)/r - sign(xdot)) - (F_e + F_ep p2) sign(xdot) exp(-d/r)   (d: travel since the last reversal)",
+                    (Param("F_h", "N", 0.0, np.inf, "friction deficit right after reversal (elastic-plastic)"), Param("F_hp", "N/MPa", 0.0, np.inf, "its growth per MPa"),
+                     Param("F_e", "N", 0.0, np.inf, "friction deficit right after reversal (exponential approach)"), Param("F_ep", "N/MPa", 0.0, np.inf, "its growth per MPa")),
                     Param("r", "mm", 0.0, np.inf, "pre-sliding travel (half loop width in x)"), catalogue=False))
 register(PositionRipple("position_ripple", "periodic force in displacement", "A force periodic in x.",
                         "f += a_s sin(2 pi x/P) + a_c cos(2 pi x/P)",
@@ -1106,8 +1193,9 @@ register(TimeRipple("time_ripple", "periodic force in time", "A force periodic i
                     (Param("A", "N", 0.0, np.inf, "amplitude"),),
                     Param("T", "s", 0.0, np.inf, "period"), catalogue=False, needs=("residual_N",)))
 register(DirectionStiffness("direction_stiffness", "direction-dependent stiffness", "The stiffness differs between the two directions.",
-                            "f += (dk + dk_p p2) x sign(xdot)",
-                            (Param("dk", "N/mm", *_FREE, "half the stiffness difference"), Param("dk_p", "N/mm/MPa", *_FREE, "its share per MPa")),
+                            "f += k_ext x 1{xdot > 0} + k_ret x 1{xdot < 0} + dk_p p2 x sign(xdot)",
+                            (Param("k_ext", "N/mm", *_FREE, "extra stiffness while extending"), Param("k_ret", "N/mm", *_FREE, "extra stiffness while retracting"),
+                             Param("dk_p", "N/mm/MPa", *_FREE, "direction-dependent stiffness per MPa")),
                             catalogue=False))
 register(SpringPolynomial("spring_polynomial", "non-gas spring curvature", "The spring curve bends beyond the gas law.",
                           "f += p2 (b2p (u^2-u) + b3p (u^3-u)) + b2 (u^2-u) + b3 (u^3-u),  u = x/travel",

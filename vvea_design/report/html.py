@@ -33,6 +33,7 @@ from .. import __version__
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from ..actuator.design_study import DesignStudy
     from ..pipeline import UnitDesign
 
 __all__ = [
@@ -143,8 +144,9 @@ main{padding:8px 28px 40px 28px;max-width:1250px}
 section{margin-top:22px;border-top:1px solid #dde3ea;padding-top:6px}
 h2{font-size:1.2em;color:#1f3a5f}
 table{border-collapse:collapse;margin:6px 0 12px 0;font-size:.9em}
-th,td{border:1px solid #d5dbe3;padding:3px 8px;text-align:left;white-space:nowrap}
-td.num{text-align:right;font-variant-numeric:tabular-nums}
+th,td{border:1px solid #d5dbe3;padding:3px 8px;text-align:left}
+td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
+.tw{max-width:100%;overflow-x:auto}
 th{background:#eef2f7;white-space:normal;vertical-align:bottom}
 .pass{color:#106b21;font-weight:600} .fail{color:#b00020;font-weight:600} .warn{color:#8a5a00;font-weight:600}
 .verdict{font-size:1.1em;padding:8px 12px;border-radius:4px;display:inline-block;margin:6px 0}
@@ -203,7 +205,7 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
             text = str(v) if i in raw_columns else html.escape(_fmt(v))
             cells.append(f'<td class="num">{text}</td>' if num else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+    return f'<div class="tw"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
 
 
 def paragraph(text: str, cls: str = "") -> str:
@@ -671,29 +673,47 @@ def _actuator_section(unit: "UnitDesign") -> Section:
     study = unit.actuator_study
     if study is None:
         body += paragraph("The design's own rest-to-rest and safety study was not run in this job "
-                          "(skipped, or not provided by this version of the actuator package); run "
-                          "`vvea study rest-to-rest --design design.json` for it.", "note")
+                          "(--no-actuator-study); `vvea study rest-to-rest --design design.json` runs it.", "note")
     else:
-        body += _study_blocks(study, unit.out_dir / "actuator")
+        body += _design_study_blocks(study)
     return Section("Actuator", body)
 
 
-def _study_blocks(study: Any, folder: Path) -> str:
-    """Blocks of an actuator-study result: its tables (``report_tables()``) and its figures (PNG files)."""
-    out = ""
-    tables = getattr(study, "report_tables", None)
-    if callable(tables):
-        for title, header, rows in tables():
-            out += f"<h3>{html.escape(title)}</h3>" + table(header, rows)
-    files = getattr(study, "files", None) or {}
-    pngs = [Path(p) for p in (files.values() if isinstance(files, dict) else files) if str(p).endswith(".png")]
-    if not pngs and folder.exists():
-        pngs = sorted(folder.rglob("*.png"))
-    for p in pngs:
-        if p.exists():
-            out += image(p, p.stem.replace("_", " "))
-    if not out and hasattr(study, "to_dict"):
-        out = preformatted(json.dumps(study.to_dict(), indent=2, default=str)[:20000])
+def _design_study_blocks(study: "DesignStudy") -> str:
+    """The design's actuator study (:class:`vvea_design.actuator.design_study.DesignStudy`): Table 5, map, safety."""
+    grid = study.grid
+    out = paragraph(f"Rest-to-rest optimal control (paper section 5) on {len(grid.A_rad)} × {len(grid.T_s)} cases "
+                    f"(A = {', '.join(f'{v:g}' for v in grid.A_rad)} rad; T = {', '.join(f'{v:g}' for v in grid.T_s)} s), "
+                    f"{study.mesh.n_intervals} collocation intervals (Radau degree {study.mesh.degree}); "
+                    "only trajectories that are valid (95 % of A reached) and verified by re-simulation count.")
+    rows = []
+    for c in study.comparisons:
+        rows.append((f"design vs {c.other}", c.n_cases, c.n_excluded,
+                     None if c.fraction_design_beats is None else 100 * c.fraction_design_beats,
+                     c.meanrmse_other_over_design,
+                     None if c.paper_vvea_beats is None else 100 * c.paper_vvea_beats,
+                     c.paper_meanrmse_other_over_vvea))
+    out += "<h3>Table 5 for the design</h3>" + table(
+        ("comparison", "cases compared", "cases left out", "design beats (%)", "mean rmse other / design",
+         "paper: VVEA beats (%)", "paper: rmse other / VVEA"), rows)
+    srows = [(s.name, s.K_Nm_per_rad, s.D_min_Nms_per_rad, s.D_max_Nms_per_rad, s.n_cases, s.n_solved, s.n_valid,
+              s.n_unverified, s.mean_rmse_rad) for s in study.settings]
+    out += table(("setting", "K (N m/rad)", "D_min (N m s/rad)", "D_max (N m s/rad)", "cases", "solved", "valid",
+                  "unverified (left out)", "mean rmse (rad)"), srows)
+    f = study.files
+    if getattr(f, "map_png", None) and Path(f.map_png).exists():
+        out += image(f.map_png, "Actuator comparison map: which setting tracks best in each (A, T) case.")
+    if getattr(f, "trajectory_png", None) and Path(f.trajectory_png).exists():
+        out += image(f.trajectory_png, "Optimal trajectories of one case.")
+    cases = list(study.safety_design.cases) + [study.safety_reference.variable]
+    out += "<h3>Safety: 50 N m torque step (paper section 6)</h3>" + table(
+        ("case", "mean D (N m s/rad)", "max D (N m s/rad)", "t95 (ms)", "status"),
+        [(c.name, c.mean_D_Nms_per_rad, c.max_D_Nms_per_rad, 1e3 * c.t95_s, c.status) for c in cases])
+    if getattr(f, "safety_png", None) and Path(f.safety_png).exists():
+        out += image(f.safety_png, "Torque step of the design and of the paper's VVEA.")
+    t = study.timing
+    out += paragraph(f"study time {t.total_s:.1f} s on {t.workers} worker(s); {study.n_left_out} result(s) left out "
+                     "because their trajectory did not verify.", "note")
     return out
 
 
@@ -714,23 +734,50 @@ def _cad_section(unit: "UnitDesign") -> tuple[Section, tuple[str, ...]] | None:
 
 
 def _bom_section(unit: "UnitDesign") -> Section | None:
-    m = unit.cad_manifest
-    if m is None:
+    bom = unit.bom
+    if bom is None:
         return None
-    from ..materials.structural import DENSITY_SILICONE_g_per_mm3, STRUCTURAL
+    rows = [(ln.item, ln.part, ln.description, ln.category, ln.material, ln.standard, ln.size, ln.quantity,
+             ln.unit_volume_mm3, ln.unit_mass_g, ln.total_mass_g, ln.in_unit) for ln in bom.lines]
+    body = (table(("item", "part", "description", "category", "material", "standard", "size", "qty",
+                   "volume each (mm³)", "mass each (g)", "mass (g)", "in the unit"), rows) +
+            table(("total", "value"), [("unit mass (g)", bom.unit_mass_g), ("bladder silicone", bom.silicone),
+                                       ("cured bladder volume (mm³)", bom.bladder_volume_mm3),
+                                       ("mould void incl. sprue, runner, vents (mm³)", bom.mould_void_mm3),
+                                       ("silicone to mix (mm³)", bom.silicone_to_mix_mm3),
+                                       ("silicone to mix (g)", bom.silicone_to_mix_g)]) +
+            paragraph("Also in cad/bom.csv. Made parts: CAD volume × density; bought parts as listed.", "note"))
+    return Section("Bill of materials", body)
 
-    density = {mat.name: mat.density_g_per_mm3 for mat in STRUCTURAL.values()}
-    rows = []
-    for fname, f in m["files"].items():
-        if f.get("kind") != "step" or f.get("part") in ("assembly", "housing"):
+
+#: Largest total size of drawing SVGs inlined in the report (bytes); beyond it only links are given.
+MAX_INLINE_DRAWINGS_BYTES = 1_500_000
+
+
+def _drawings_section(unit: "UnitDesign") -> Section | None:
+    ds = unit.drawings
+    if ds is None:
+        return None
+    body = paragraph("Dimensioned drawings made from the CAD solids (SVG per sheet and one PDF in cad/): "
+                     + ", ".join(ds.sheets) + ".")
+    used = 0
+    for name, svg_path, scale in zip(ds.sheets, ds.svg, ds.scales):
+        p = Path(svg_path)
+        if not p.exists():
             continue
-        mat = f.get("material", "")
-        rho = DENSITY_SILICONE_g_per_mm3 if mat.startswith("silicone") else density.get(mat)
-        mass = f["volume_mm3"] * rho if rho is not None else None
-        rows.append((f["part"], f.get("material", ""), f["volume_mm3"], mass, fname))
-    return Section("Bill of materials", table(("part", "material", "volume (mm³)", "mass (g)", "file"), rows) +
-                   paragraph("From the CAD set's manifest (solid volumes). Bought parts (O-rings, valves, fittings) "
-                             "are not listed yet.", "note"))
+        size = p.stat().st_size
+        if used + size > MAX_INLINE_DRAWINGS_BYTES:
+            body += paragraph(f"sheet {name}: cad/{p.name} (not inlined: the report stays small)", "note")
+            continue
+        used += size
+        svg = p.read_text(encoding="utf-8")
+        svg = svg[svg.index("<svg"):]
+        body += f"<figure>{svg}<figcaption>{html.escape(f'sheet {name}, scale {_scale(scale)}')}</figcaption></figure>"
+    return Section("Drawings", body)
+
+
+def _scale(s: float) -> str:
+    return f"{s:g}:1" if s >= 1 else f"1:{1 / s:g}"
 
 
 def _files_section(unit: "UnitDesign") -> Section:
@@ -790,9 +837,9 @@ def unit_report(unit: "UnitDesign") -> HtmlReport:
         sections.append(sec)
     sections.append(_bladder_section(unit))
     sections.append(_actuator_section(unit))
-    bom = _bom_section(unit)
-    if bom is not None:
-        sections.append(bom)
+    for extra in (_drawings_section(unit), _bom_section(unit)):
+        if extra is not None:
+            sections.append(extra)
     sections += [_files_section(unit), _provenance_section(unit)]
     ok = unit.passes
     sub = (f'linearity error {100 * ev.linearity_error:.2f} %, stiffness {ev.mean_stiffness_N_per_mm:.1f} N/mm, '

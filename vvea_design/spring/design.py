@@ -78,7 +78,23 @@ LAYOUTS: dict[str, LayoutVariant] = {
 
 
 def get_layout(name: str) -> LayoutVariant:
-    """The layout variant called ``name`` (clear error for unknown names)."""
+    """The layout variant called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`LAYOUTS` (``"inner_tube"`` or ``"bulkhead"``).
+
+    Returns
+    -------
+    LayoutVariant
+        Its name, summary, decision variables and whether it has a bulkhead.
+
+    Raises
+    ------
+    DesignError
+        For an unknown name (the message lists the known ones).
+    """
     try:
         return LAYOUTS[name]
     except (KeyError, TypeError):
@@ -195,6 +211,29 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     chamber 1 at its lowest inside); end caps and the
     bulkhead: simply supported circular plates. When no wall can carry the
     pressure the minimum is drawn and ``wall_capacity`` (value/limit) says so.
+
+    Parameters
+    ----------
+    piston_diameter_mm, outer_diameter_mm : float or array
+        Piston (= inner-tube bore) and outer diameter, mm.
+    V1_mm3, V2_mm3, V2_top_mm3 : float or array
+        Chamber gas volumes at x = 0 and the chamber-2 gas above the bulkhead, mm³.
+    p2_MPa : float or array
+        Chamber-2 charge, MPa.
+    setpoint_x0_mm : float or array
+        Displacement of zero force, mm.
+    fixed : FixedParameters
+        Everything the optimiser does not change (walls' minimums, safety factor, bladder, materials).
+    bulkhead : bool
+        The ``bulkhead`` layout (else ``inner_tube``).
+
+    Returns
+    -------
+    dict of str to ndarray
+        Areas (mm²), charges and peak pressures (MPa), sized walls and radii (mm),
+        lengths (mm), volumes (mm³), bladder clearances (mm), stresses (MPa) and
+        safety factors (dimensionless), masses (g, ``mass_*_g``), and the boolean
+        ``buildable``; arrays broadcast like the inputs.
     """
     f = fixed
     pi = math.pi

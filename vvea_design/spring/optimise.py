@@ -461,6 +461,7 @@ PARETO_AXES = {
     "stiffness": ("min_mean_stiffness_N_per_mm", "mean stiffness at max charge [N/mm]"),
     "outer_diameter": ("max_outer_diameter_mm", "max outer diameter [mm]"),
     "mass": ("max_mass_g", "max mass [g]"),
+    "adiabatic": ("max_linearity_adiabatic", "largest linearity error allowed at n = 1.4 [fraction]"),
 }
 
 
@@ -483,7 +484,7 @@ def _pareto_point(args) -> dict:
 
 def pareto_front(
     req: Requirements,
-    axis: Literal["stiffness", "outer_diameter", "mass"],
+    axis: Literal["stiffness", "outer_diameter", "mass", "adiabatic"],
     values,
     *,
     seed: int = 0,
@@ -496,8 +497,10 @@ def pareto_front(
     """Best linearity as one requirement is swept: one optimisation per value.
 
     ``axis`` names the swept requirement: ``stiffness`` (minimum mean
-    stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm) or ``mass``
-    (maximum mass, g). Returns one row per value with the optimum's
+    stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm), ``mass``
+    (maximum mass, g) or ``adiabatic`` (largest linearity error at n = 1.4,
+    fraction: with the nominal objective this traces the isothermal vs
+    adiabatic Pareto front). Returns one row per value with the optimum's
     linearity, mass, stiffness and decision variables; infeasible values are
     rows with ``feasible = False``.
     """
@@ -559,8 +562,9 @@ def linearity_map(
 
     Returns a dict with the axes (``x``, ``y``), ``linearity`` (nan where the
     design cannot be built) and ``feasible`` (all margins >= 0) grids of shape
-    ``(n, n)`` indexed ``[iy, ix]``, and the name of the most violated
-    constraint at every point (``worst``). The default ranges are ±40 % around
+    ``(n, n)`` indexed ``[iy, ix]``, the name of the most violated
+    constraint at every point (``worst``) and every constraint's margin grid
+    (``margins``: name -> grid, nan where unbuildable). The default ranges are ±40 % around
     the design, clipped to the search bounds.
     """
     names = design.variant.decision_variables
@@ -591,7 +595,9 @@ def linearity_map(
     worst_i = mar.argmin(axis=0)
     worst = np.array([("unbuildable" if not o else (cn[w] if mar[w, k] < 0 else ""))
                       for k, (o, w) in enumerate(zip(ok, worst_i))], dtype=object).reshape(n, n)
-    return {"var_x": var_x, "var_y": var_y, "x": xs, "y": ys, "linearity": lin, "feasible": feas, "worst": worst}
+    margins = {name: np.where(ok, mar[i], np.nan).reshape(n, n) for i, name in enumerate(cn)}
+    return {"var_x": var_x, "var_y": var_y, "x": xs, "y": ys, "linearity": lin, "feasible": feas, "worst": worst,
+            "margins": margins}
 
 
 # ---------------------------------------------------------------------------

@@ -79,9 +79,10 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
         P1, P2 = s.pressures_MPa(x)
         axes[1, 1].plot(x, P1, ls, color="C2", label=f"chamber 1 (expands), {lab}")
         axes[1, 1].plot(x, P2, ls, color="C3", label=f"chamber 2 (compressed), {lab}")
-    for p2 in extra_charges_MPa:
+    for p2, grey in zip(extra_charges_MPa, np.linspace(0.35, 0.65, max(len(extra_charges_MPa), 1))):
         s = spring.with_pressures(p2)
-        axes[0, 0].plot(x, s.force_N(x), lw=1, alpha=0.6, label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
+        axes[0, 0].plot(x, s.force_N(x), lw=1, color=str(grey),
+                        label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
     axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)",
                    title="force–displacement (dotted: least-squares lines)")
     axes[0, 1].axhline(0, color="k", lw=0.5)
@@ -120,9 +121,7 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
             ax.annotate(str(miss).split(",")[0][:28], (xv, 0.04), xycoords=trans, textcoords="offset points",
                         xytext=(0, 8), ha="center", fontsize=7, color="r")
     if np.isfinite(ys).any():
-        lo, hi = np.nanmin(ys), np.nanmax(ys)
-        pad = 0.15 * (hi - lo) + 0.05
-        ax.set_ylim(lo - 2.5 * pad, hi + pad)  # room for the infeasible strip at the bottom
+        ax.set_ylim(0.0, 1.1 * np.nanmax(ys))  # linearity >= 0; the infeasible strip sits at the bottom
     ax.set(xlabel=x_label, ylabel="best linearity error [%]", title=title or "Pareto front")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
@@ -137,26 +136,43 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
     marker is drawn unclipped, so it shows even on the edge of the map.
     Returns the Figure.
     """
-    fig, ax = _axes(ax, (7.8, 5.8))
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
+
+    fig, ax = _axes(ax, (8.2, 6.0))
     lx, sx = VARIABLE_LABELS.get(m["var_x"], (m["var_x"], 1.0))
     ly, sy = VARIABLE_LABELS.get(m["var_y"], (m["var_y"], 1.0))
     X, Y = np.meshgrid(np.asarray(m["x"]) * sx, np.asarray(m["y"]) * sy)
     lin = 100 * np.asarray(m["linearity"], dtype=float)
     finite = lin[np.isfinite(lin)]
-    top = float(np.nanpercentile(finite, 95)) if finite.size else 10.0
-    levels = np.linspace(float(finite.min()) if finite.size else 0.0, max(top, 1e-3 + (finite.min() if finite.size else 0)), 31)
+    lo = float(finite.min()) if finite.size else 0.0
+    top = float(np.nanpercentile(finite, 90)) if finite.size else 10.0
+    levels = MaxNLocator(nbins=24).tick_values(lo, max(top, lo + 1e-3))
     cs = ax.contourf(X, Y, np.clip(lin, levels[0], levels[-1]), levels=levels, cmap="viridis_r", extend="max")
     fig.colorbar(cs, ax=ax, label="linearity error [%]")
     infeas = (~np.asarray(m["feasible"], dtype=bool)).astype(float)
-    ax.contourf(X, Y, infeas, levels=[0.5, 1.5], colors="none", hatches=["//"])
-    ax.contour(X, Y, infeas, levels=[0.5], colors="r", linewidths=1)
+    ax.contourf(X, Y, infeas, levels=[0.5, 1.5], colors="none", hatches=["///"], alpha=0.3)
+    # where each constraint binds: its zero-margin line, labelled, on the side it is violated the hatching
+    styles = [("w", "-"), ("k", "--"), ("tab:red", "-."), ("tab:orange", ":"), ("w", ":"), ("k", "-.")]
+    handles = []
+    k = 0
+    for name, grid in (m.get("margins") or {}).items():
+        g = np.asarray(grid, dtype=float)
+        if not (np.nanmin(g) < 0 < np.nanmax(g)):
+            continue
+        col, ls = styles[k % len(styles)]
+        ax.contour(X, Y, g, levels=[0.0], colors=col, linewidths=1.8, linestyles=ls)
+        handles.append(Line2D([], [], color=col, ls=ls, lw=1.8, label=f"{name.replace('_', ' ')} binds"))
+        k += 1
     if optimum is not None:
-        ax.plot(optimum[0] * sx, optimum[1] * sy, "r*", ms=16, mec="w", mew=1.0, clip_on=False, zorder=10,
-                label="optimum")
-        ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+        handles += ax.plot(optimum[0] * sx, optimum[1] * sy, "r*", ms=16, mec="w", mew=1.0, clip_on=False, zorder=10,
+                           label="optimum")
+    if handles:
+        leg = ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
+        leg.get_frame().set_facecolor("0.85")
     ax.set_xmargin(0.03)
     ax.set_ymargin(0.03)
     ax.set(xlabel=lx, ylabel=ly, title="linearity over two design variables, the others at the optimum\n"
-                                       "(hatched, red edge: violates a requirement)")
+                                       "(hatched: violates a requirement; lines: where each one binds)")
     fig.tight_layout()
     return fig

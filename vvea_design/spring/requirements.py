@@ -72,7 +72,7 @@ REPORTED_N = {"isothermal": 1.0, "adiabatic": 1.4}
 
 
 #: Requirements that may be absent (``None``: no limit).
-_OPTIONAL = ("max_mass_g", "max_bladder_strain")
+_OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic")
 #: Top-level requirements that FixedParameters also carries (kept equal to the top level).
 _TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
 
@@ -100,6 +100,7 @@ class Requirements:
     objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
     objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead")  #: layout variants the optimiser chooses between
+    max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
     fixed: FixedParameters = field(default_factory=FixedParameters)
 
@@ -120,6 +121,8 @@ class Requirements:
             raise SpecError(f"bladder_material: {exc}") from None
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
             raise SpecError(f"max_mass_g must be > 0, got {show(self.max_mass_g)}")
+        if self.max_linearity_adiabatic is not None and not (0 < self.max_linearity_adiabatic < 1):
+            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got {show(self.max_linearity_adiabatic)}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):
             raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}")
         if not (abs(self.setpoint_x0_mm) < self.travel_mm):
@@ -282,6 +285,10 @@ def load_requirements(path: str | Path | None) -> Requirements:
 # Evaluation of one design against the requirements
 # ---------------------------------------------------------------------------
 
+#: Displacement samples of the curves that are drawn and written (the metric itself is exact, continuous).
+N_SAMPLES = 401
+
+
 @dataclass(frozen=True)
 class Evaluation:
     """A design's performance and its constraint margins (positive = satisfied)."""
@@ -340,7 +347,8 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
 
 def _exponents(req: Requirements, report: bool = True) -> list[float]:
     extra = REPORTED_N.values() if report else ()
-    return sorted({float(req.n_polytropic), *extra, *req.objective_exponents})
+    cap = (REPORTED_N["adiabatic"],) if req.max_linearity_adiabatic is not None else ()
+    return sorted({float(req.n_polytropic), *extra, *cap, *req.objective_exponents})
 
 
 def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[str, np.ndarray]:
@@ -351,7 +359,7 @@ def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[st
         r = linearity_exact(g["A1_mm2"], g["A2_mm2"], g["V1_mm3"], g["V2_mm3"], g["p1_MPa"], p2, T, n)
         out[f"lin_{n:g}"] = r.linearity_error
         out[f"k_{n:g}"] = r.mean_stiffness_N_per_mm
-        if n in req.objective_exponents:
+        if n in req.objective_exponents or (n == REPORTED_N["adiabatic"] and req.max_linearity_adiabatic is not None):
             with np.errstate(divide="ignore", invalid="ignore"):
                 out[f"ext_{n:g}"] = r.signed_extremes_N / r.force_span_N[..., None]
         if n == req.n_polytropic:
@@ -389,6 +397,9 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
         d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
+    if req.max_linearity_adiabatic is not None:
+        d["linearity_adiabatic"] = {"value": perf[f"lin_{REPORTED_N['adiabatic']:g}"],
+                                    "limit": req.max_linearity_adiabatic, "unit": "-", "kind": "max"}
     if req.max_bladder_strain is not None:
         if strain is None:
             raise ValueError("req.max_bladder_strain is set: pass the design's bladder_strain to evaluate_design")
@@ -466,8 +477,16 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
         details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
                            strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)))
-        keep = constraint_names(req, layout, search=True)
-        margins = np.array([np.broadcast_to(_margin(details[k]), (S,)) for k in keep], dtype=float)
+        rows = []
+        for k in constraint_names(req, layout, search=True):
+            if k.startswith("linearity_adiabatic["):  # smooth pieces of max |deviation| <= limit (no kinks)
+                i = int(k[len("linearity_adiabatic["):-1])
+                e = perf[f"ext_{REPORTED_N['adiabatic']:g}"][:, i % 4]
+                lim = req.max_linearity_adiabatic
+                rows.append((lim - e) / lim if i < 4 else (lim + e) / lim)
+            else:
+                rows.append(np.broadcast_to(_margin(details[k]), (S,)))
+        margins = np.array(rows, dtype=float)
     ok = g["buildable"] & np.all(np.isfinite(margins), axis=0) & np.isfinite(perf["objective"])
     obj = np.where(ok, perf["objective"], 1.0)
     margins = np.where(ok[None, :], margins, -1.0)
@@ -489,6 +508,8 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
         names += [f"wall_safety_{w}" for w in _walls(layout)]
     if req.max_mass_g is not None:
         names.append("mass")
+    if req.max_linearity_adiabatic is not None:
+        names += [f"linearity_adiabatic[{i}]" for i in range(8)] if search else ["linearity_adiabatic"]
     if req.max_bladder_strain is not None:
         names.append("bladder_strain")
     return names

@@ -36,7 +36,20 @@ _FLOOR = 1e-4  #: added to the hoop strains before the logarithm (a bladder cast
 
 
 def features(R, L, H, dv_expanded, dv_compressed) -> np.ndarray:
-    """The four log-groups, shape ``(S, 4)``: log e_exp, log e_com, log L/R, log H/R."""
+    """The four log-groups of the surrogate.
+
+    Parameters
+    ----------
+    R, L, H : float or array
+        Cast mid radius, free length and wall of the sleeve, mm.
+    dv_expanded, dv_compressed : float or array
+        Fluid volume relative to the cast shape at full stroke (>= 0) and at x = 0 (<= 0), mm³.
+
+    Returns
+    -------
+    ndarray
+        Shape ``(S, 4)``: log e_exp, log e_com, log L/R, log H/R (dimensionless).
+    """
     R, L, H = (np.asarray(v, dtype=float) for v in (R, L, H))
     base = 2 * math.pi * R**2 * L
     e_e = np.abs(np.asarray(dv_expanded, dtype=float)) / base
@@ -45,7 +58,20 @@ def features(R, L, H, dv_expanded, dv_compressed) -> np.ndarray:
 
 
 def poly_terms(Z: np.ndarray, degree: int) -> np.ndarray:
-    """All monomials of the columns of ``Z`` up to ``degree`` (with the constant), shape ``(S, P)``."""
+    """All monomials of the columns of ``Z`` up to ``degree``, with the constant.
+
+    Parameters
+    ----------
+    Z : ndarray
+        Shape ``(S, F)``, dimensionless features.
+    degree : int
+        Highest total degree.
+
+    Returns
+    -------
+    ndarray
+        Shape ``(S, P)``, dimensionless.
+    """
     Z = np.atleast_2d(Z)
     cols = [np.ones(Z.shape[0])]
     for d in range(1, degree + 1):
@@ -69,9 +95,19 @@ def _predict(Z: np.ndarray) -> np.ndarray:
 
 
 def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
-    """Surrogate strain bound (fraction) of every design in a :func:`~vvea_design.spring.design.derive` result.
+    """Surrogate strain bound of every design in a :func:`~vvea_design.spring.design.derive` result.
 
-    Designs whose bladder cannot be drawn get ``inf`` (an infeasible point).
+    Parameters
+    ----------
+    g : dict
+        The derived quantities (mm, mm³) of ``S`` designs.
+    cols : dict, optional
+        Their decision variables (unused; the optimiser passes them to every strain function).
+
+    Returns
+    -------
+    ndarray
+        Shape ``(S,)``, strain as a fraction; ``inf`` where the bladder cannot be drawn.
     """
     R = np.asarray(g["bladder_mid_radius_mm"], dtype=float)
     L = np.asarray(g["bladder_free_length_mm"], dtype=float)
@@ -88,5 +124,16 @@ def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
 
 
 def design_strain(design) -> float:
-    """Surrogate strain bound of one :class:`~vvea_design.spring.design.Design` (fraction)."""
+    """Surrogate strain bound of one design.
+
+    Parameters
+    ----------
+    design : vvea_design.spring.design.Design
+        The frozen design (mm, mm³).
+
+    Returns
+    -------
+    float
+        Strain bound as a fraction (``inf`` if the bladder cannot be drawn).
+    """
     return float(np.asarray(population_strain(design._g)).ravel()[0])
