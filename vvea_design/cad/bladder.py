@@ -103,12 +103,14 @@ def _annulus_volume(z: np.ndarray, r_in: np.ndarray, r_out: float) -> float:
 def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
     """Mean radial shift of the bladder's outer surface from the cast one at displacement ``x_mm``
     (parabolic between the clamps, peak = 1.5 x mean, as the FE check finds), such that the
-    drawn chamber-2 gas (polygon of ``n`` segments) holds exactly ``V2 - A2 x`` (dead volume
-    excluded), mm. Positive: outwards."""
+    drawn chamber-2 gas around the bladder (polygon of ``n`` segments) holds exactly
+    ``V2 - V2_top - A2 x`` (dead volume excluded; ``V2_top`` is the bulkhead layout's gas above
+    the bulkhead), mm. Positive: outwards."""
     from scipy.optimize import brentq
 
     d = lay.design
-    target = d.V2_mm3 - d.fixed.dead_volume_2_mm3 - d.A2_mm2 * x_mm
+    # the annulus part of chamber 2 (the bulkhead layout keeps V2_top_mm3 above the bulkhead)
+    target = d.V2_mm3 - d.fixed.dead_volume_2_mm3 - getattr(d, "V2_top_mm3", 0.0) - d.A2_mm2 * x_mm
 
     def f(a: float) -> float:
         z, r = _free_profile(lay, a, n)
@@ -121,7 +123,8 @@ def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
 def bladder_deformed(lay: Layout, x_mm: float, n: int = 32) -> tuple[Solid, Solid]:
     """The bladder and the chamber-2 gas at displacement ``x_mm`` in a volume-consistent shape:
     cuffs as cast, the free length shifted parabolically (wall thickness kept), so the gas
-    solid holds exactly ``V2 - A2 x``. For pictures; the exported bladder is the cast one."""
+    solid around the bladder holds exactly ``V2 - V2_top - A2 x``. For pictures; the exported
+    bladder is the cast one."""
     a = bladder_shift_at_mm(lay, x_mm, n)
     z, r = _free_profile(lay, a, n)
     t = lay.r_bladder_out - lay.r_bladder_in
