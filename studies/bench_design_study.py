@@ -3,6 +3,7 @@ that solves optimal-control problems.
 
     python studies/bench_design_study.py                       # cad/design.json, all cores
     python studies/bench_design_study.py --design my.json --workers 1
+    python studies/bench_design_study.py --out studies/results/design_study   # keep the files
 
 Prints the time breakdown (imports, solver builds, per-setting solve times, the whole study with
 figures), the CPU seconds, where IPOPT spends its time (function evaluations vs its own linear
@@ -36,6 +37,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--design", type=Path, default=Path(__file__).resolve().parents[1] / "cad" / "design.json")
     ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--out", type=Path, default=None, help="keep the study's files here (default: a temporary folder)")
     a = ap.parse_args()
     print(f"cores: {os.cpu_count()}; loadavg at start: {os.getloadavg()}")
     print(f"import of the actuator wing (casadi, scipy, matplotlib): {T_IMPORT:.2f} s")
@@ -61,7 +63,8 @@ def main() -> None:
         print(f"  one cold solve {name:6s} (A = {A} rad, T = {T} s): {r.iterations} iterations, {cpu:.3f} CPU-s, "
               f"function evaluations {fev:.3f} s = {100 * fev / max(r.seconds, 1e-9):.0f} % of the solve")
 
-    with tempfile.TemporaryDirectory() as d:
+    with tempfile.TemporaryDirectory() as tmp:
+        d = a.out if a.out is not None else tmp
         stages = []
         t0 = time.perf_counter()
         c0 = time.process_time()

@@ -1,6 +1,6 @@
 """Benchmark of the main job and its report: `vvea design` step by step, then report.html in headless Chromium.
 
-    python studies/bench_report.py [--out DIR] [--repeat 5] [--no-renders]
+    python studies/bench_report.py [--spec REQ.toml] [--out DIR] [--repeat 5] [--no-renders]
 
 Prints the time of each step of :func:`vvea_design.pipeline.design_unit`, the
 report's size, and the time headless Chromium takes to open it (navigation
@@ -24,7 +24,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from vvea_design.pipeline import STEPS, design_unit  # noqa: E402
-from vvea_design.spring.requirements import Requirements  # noqa: E402
+from vvea_design.spring.requirements import load_requirements  # noqa: E402
 
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -63,19 +63,20 @@ def main() -> None:
     ap.add_argument("--results", type=Path, default=HERE / "results" / "report", help="screenshots and JSON")
     ap.add_argument("--repeat", type=int, default=5, help="page openings to time")
     ap.add_argument("--no-renders", action="store_true", help="skip the CAD PNG renders")
+    ap.add_argument("--spec", type=Path, default=None, help="requirements TOML (default: the built-in ones)")
     args = ap.parse_args()
     import matplotlib
 
     matplotlib.use("Agg")  # a study selects the backend, the library does not
     out = args.out or Path(tempfile.mkdtemp(prefix="vvea_bench_report_"))
     t0 = time.perf_counter()
-    unit = design_unit(Requirements(), out, renders=not args.no_renders)
+    unit = design_unit(load_requirements(args.spec), out, renders=not args.no_renders, spec_path=args.spec)
     total = time.perf_counter() - t0
     report = unit.files["report"]
     size = report.stat().st_size
     args.results.mkdir(parents=True, exist_ok=True)
     times = open_times(report, args.repeat, args.results)
-    summary = {"design_seconds_by_step": {k: round(unit.seconds.get(k, 0.0), 2) for k in STEPS},
+    summary = {"spec": None if args.spec is None else str(args.spec), "design_seconds_by_step": {k: round(unit.seconds.get(k, 0.0), 2) for k in STEPS},
                "design_seconds_total": round(total, 2), "report_bytes": size,
                "chromium_open_seconds": [round(t, 3) for t in times],
                "chromium_open_seconds_median": round(statistics.median(times), 3)}

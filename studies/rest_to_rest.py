@@ -1,7 +1,7 @@
 """Paper section 5: the rest-to-rest study on the paper grid (Table 5, Fig. 13).
 
     python studies/rest_to_rest.py                       # -> studies/results/rest_to_rest/
-    python studies/rest_to_rest.py --design my.json --out studies/results/rest_to_rest_design
+    python studies/rest_to_rest.py --design my.json --out runs/rest_to_rest_design
     python studies/rest_to_rest.py --scheduler tcp://host:8786
 
 Same as ``vvea study rest-to-rest``; resumes an interrupted run in the same folder.

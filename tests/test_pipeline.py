@@ -103,6 +103,7 @@ def test_spring_curve_matches_the_gas_law_by_hand():
         dev = Ff - np.polyval(np.polyfit(xf, Ff, 1), xf)
         assert float(np.abs(dev).max() / (Ff.max() - Ff.min())) == pytest.approx(
             c.linearity_isothermal if n == 1.0 else c.linearity_adiabatic, rel=1e-4)
+        np.testing.assert_allclose(F, np.interp(x, xf, Ff), rtol=1e-9, atol=1e-9)
     assert c.stiffness_adiabatic_N_per_mm > c.stiffness_isothermal_N_per_mm  # gas stiffens when it cannot cool
     assert replace(gs, n_polytropic=1.4).force_N(x[-1]) == pytest.approx(c.force_adiabatic_N[-1])
 

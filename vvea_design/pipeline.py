@@ -98,12 +98,12 @@ def spring_curve(spring: GasSpring, num: int = 401) -> SpringCurve:
     out: dict[str, Any] = {"x_mm": x}
     for tag, gs in (("isothermal", iso), ("adiabatic", adi)):
         F = gs.force_N(x)
-        lin = gs.linearity()  # the exact (continuous) metric and its least-squares line
+        lin = gs.linearity()
         k, b = float(lin.mean_stiffness_N_per_mm), float(lin.intercept_N)
         P1, P2 = gs.pressures_MPa(x)
         out[f"force_{tag}_N"] = F
         out[f"deviation_{tag}_N"] = F - (k * x + b)
-        out[f"stiffness_{tag}_N_per_mm"] = float(k)
+        out[f"stiffness_{tag}_N_per_mm"] = k
         out[f"linearity_{tag}"] = float(lin.linearity_error)
         out[f"P1_{tag}_MPa"] = np.asarray(P1, float)
         out[f"P2_{tag}_MPa"] = np.asarray(P2, float)

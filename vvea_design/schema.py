@@ -78,7 +78,7 @@ def _dataclass_properties(cls: type, skip: set[str] = frozenset()) -> dict[str, 
         if f.name in notes:
             s["description"] = notes[f.name]
         if f.default is not MISSING:
-            s["default"] = list(f.default) if isinstance(f.default, tuple) else f.default
+            s["default"] = json.loads(json.dumps(f.default))  # tuples as lists, as JSON has them
         props[f.name] = s
     return props
 

@@ -167,7 +167,24 @@ def dynamics(x, u, K, B=B_MOTOR_KGM2, M=M_LINK_KGM2):
 
 
 def link_torque_Nm(theta, q, dtheta, dq, D, K):
-    """Link torque ``τ = D (θ' - q') + K (θ - q)`` in N m (C_f = 0)."""
+    """Link torque ``τ = D (θ' - q') + K (θ - q)`` (C_f = 0).
+
+    Parameters
+    ----------
+    theta, q
+        Motor and link angle, rad.
+    dtheta, dq
+        Motor and link speed, rad/s.
+    D
+        Damping, N m s/rad.
+    K
+        Stiffness, N m/rad.
+
+    Returns
+    -------
+    numpy.ndarray
+        Link torque τ, N m.
+    """
     return D * (np.asarray(dtheta) - dq) + K * (np.asarray(theta) - q)
 
 
@@ -176,6 +193,16 @@ def throttle_damping_Ns_per_mm(gamma_deg) -> np.ndarray:
 
     Between identified angles the damping is interpolated linearly in
     ``log L`` (the table spans more than three decades).
+
+    Parameters
+    ----------
+    gamma_deg
+        Valve angle(s), degrees, within 50°-120°.
+
+    Returns
+    -------
+    numpy.ndarray
+        Damping L, N s/mm.
 
     Raises
     ------
@@ -193,7 +220,22 @@ def throttle_damping_Ns_per_mm(gamma_deg) -> np.ndarray:
 
 
 def pulley_radius_for_stiffness_m(k_N_per_mm: float, K_Nm_per_rad: float, n_units: int = 2) -> float:
-    """Pulley radius ``r = sqrt(K / (n_units k))`` in m giving joint stiffness ``K``."""
+    """Pulley radius ``r = sqrt(K / (n_units k))`` giving joint stiffness ``K``.
+
+    Parameters
+    ----------
+    k_N_per_mm
+        One unit's linear stiffness, N/mm.
+    K_Nm_per_rad
+        Wanted joint stiffness, N m/rad.
+    n_units
+        Pre-loaded units acting on the pulley (count, dimensionless).
+
+    Returns
+    -------
+    float
+        Pulley radius r, m.
+    """
     if k_N_per_mm <= 0:
         raise ValueError(f"k_N_per_mm must be > 0, got {k_N_per_mm!r}")
     if K_Nm_per_rad <= 0:
@@ -269,7 +311,17 @@ def actuator_from_spring(
 def from_design_json(path: str | Path, **kwargs) -> Actuator:
     """Actuator from a design JSON (via :func:`vvea_design.spring.design_file.load_design`).
 
-    Keyword arguments go to :func:`actuator_from_spring`.
+    Parameters
+    ----------
+    path
+        Design JSON file.
+    **kwargs
+        Options of :func:`actuator_from_spring` (pulley radius in m, p2 in MPa, valve angles in deg).
+
+    Returns
+    -------
+    Actuator
+        K (N m/rad) and damping range (N m s/rad) of the joint.
     """
     from ..spring.design_file import load_design  # upper layer import kept local
 
@@ -279,6 +331,13 @@ def from_design_json(path: str | Path, **kwargs) -> Actuator:
 
 def paper_mapping_check(pulley_radius_m: float = PAPER_PULLEY_RADIUS_M, n_units: int = 2) -> dict:
     """What the section 3.4 mapping gives with the paper's numbers.
+
+    Parameters
+    ----------
+    pulley_radius_m
+        Pulley radius r, m.
+    n_units
+        Pre-loaded units on the pulley (count, dimensionless).
 
     Returns
     -------

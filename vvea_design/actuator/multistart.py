@@ -154,7 +154,19 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
     """Solve every setting of one case; return (rows, best results by setting name).
 
     With ``case.fine_mesh`` the multi-start runs on ``case.mesh`` and the rows
-    and results come from the fine mesh (:func:`_polish_on_fine_mesh`).
+    and results come from the fine mesh (:func:`_polish_on_fine_mesh`). Every
+    reported result is re-simulated (:func:`~vvea_design.actuator.verify.verify_rest_to_rest`).
+
+    Parameters
+    ----------
+    case
+        Amplitude (rad), period (s), settings, mesh(es), starts, regularisation.
+
+    Returns
+    -------
+    (list of dict, dict)
+        One ``results.csv`` row per setting (SI units, :data:`RESULT_COLUMNS`)
+        and the best :class:`~vvea_design.actuator.ocp.OcpResult` per setting name.
     """
     rows, best = _solve_case_one_mesh(case)
     if case.fine_mesh is not None and case.fine_mesh != case.mesh:
@@ -357,6 +369,16 @@ def solve_case(case: RestToRestCase) -> list[dict]:
     """Work function of the sweep: rows for one (A, T) case; never raises.
 
     Any exception becomes rows with ``status = "error: ..."`` and no result.
+
+    Parameters
+    ----------
+    case
+        Amplitude (rad), period (s), settings, mesh(es), starts, regularisation.
+
+    Returns
+    -------
+    list of dict
+        One ``results.csv`` row per setting (SI units, :data:`RESULT_COLUMNS`).
     """
     t0 = time.perf_counter()
     try:
@@ -372,7 +394,18 @@ def solve_case(case: RestToRestCase) -> list[dict]:
 
 
 def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
-    """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks)."""
+    """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks).
+
+    Parameters
+    ----------
+    item
+        ``(mesh, actuator, A_rad, T_s)``: amplitude in rad, period in s.
+
+    Returns
+    -------
+    dict
+        Mesh, setting, A (rad), T (s), ``rmse`` (rad), IPOPT status, wall ``seconds``.
+    """
     mesh, act, A, T = item
     r = _solver(mesh, ()).solve(act, A, T)
     return {"mesh_N": mesh.n_intervals, "mesh_degree": mesh.degree, "setting": act.name, "A_rad": A, "T_s": T,

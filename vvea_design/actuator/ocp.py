@@ -381,7 +381,22 @@ NO_REGULARISATION = Regularisation()
 
 
 def rest_to_rest_reference(t_s, A_rad: float, T_s: float) -> np.ndarray:
-    """Square-wave reference of section 5.0.1: 0 in the first half period, A in the second."""
+    """Square-wave reference of section 5.0.1: 0 in the first half period, A in the second.
+
+    Parameters
+    ----------
+    t_s
+        Times, s.
+    A_rad
+        Amplitude, rad.
+    T_s
+        Period, s.
+
+    Returns
+    -------
+    numpy.ndarray
+        Reference link angle q_des, rad.
+    """
     t = np.asarray(t_s, dtype=float)
     return np.where(np.mod(t, T_s) < 0.5 * T_s, 0.0, A_rad)
 
@@ -400,6 +415,11 @@ def ramp_u_d_profile(actuator: Actuator, dt_s, D_target: float) -> np.ndarray:
 
     Feasible for the variable-damping problem; used to build multi-start
     initial guesses.
+
+    Returns
+    -------
+    numpy.ndarray
+        u_d per interval, N m s rad⁻¹ s⁻¹.
     """
     dt = np.asarray(dt_s, dtype=float)
     D = actuator.D_min_Nms_per_rad

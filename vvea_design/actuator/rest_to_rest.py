@@ -156,7 +156,8 @@ def run_rest_to_rest(
     progress, figures
         Show the progress bar; write the PNGs.
     outperform_rtol
-        Relative margin for "X outperforms Y": ``rmse_X < (1 - rtol) rmse_Y``.
+        Relative margin for "X outperforms Y" (fraction, dimensionless):
+        ``rmse_X < (1 - rtol) rmse_Y``.
     regularisation
         Penalties that smooth the optimal inputs (:class:`~vvea_design.actuator.ocp.Regularisation`);
         the reported rmse is always the pure tracking cost.
@@ -284,6 +285,19 @@ def mesh_convergence(
     progress: bool = True,
 ) -> list[dict]:
     """Run the sweep on several meshes (no files) and return per-mesh statistics.
+
+    Parameters
+    ----------
+    meshes
+        Collocation meshes to compare.
+    grid
+        A :class:`Grid` (A in rad, T in s) or a name in :data:`GRIDS`.
+    settings
+        Actuator settings (default Table 4).
+    workers, scheduler
+        Passed to :func:`~vvea_design.parallel.parallel_map`.
+    progress
+        Show a progress bar.
 
     Returns
     -------

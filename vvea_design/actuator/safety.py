@@ -216,6 +216,15 @@ def run_safety(
     """:func:`solve_safety` and its files: ``safety.json`` (numbers + the paper's
     statements), ``safety_trajectories.csv`` and ``safety.png`` (Fig. 14).
 
+    Parameters
+    ----------
+    out_dir
+        Output folder (created).
+    base, M_kgm2, tau_ref_Nm, fixed_D_Nms_per_rad, weights, mesh
+        As in :func:`solve_safety` (inertia in kg m², torque in N m, damping in N m s/rad).
+    figures
+        Write ``safety.png``.
+
     Returns
     -------
     dict

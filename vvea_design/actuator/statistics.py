@@ -32,6 +32,18 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
     not solved; ``unverified`` and each pair's ``n_excluded`` say how many
     were left out. Also: iVVEA-worse-than-SEA count, the winning starts,
     solver failures, and the paper's numbers.
+
+    Parameters
+    ----------
+    df
+        ``results.csv`` as a pandas DataFrame (rmse in rad).
+    outperform_rtol
+        Relative margin of "X beats Y" (fraction, dimensionless).
+
+    Returns
+    -------
+    dict
+        JSON-ready statistics (fractions dimensionless, rmse in rad, times in s).
     """
     df = df.copy()
 

@@ -1121,7 +1121,7 @@ def format_summary(r: DiagnosisReport) -> str:
         L.append(e.explanation[len("Accepted: "):])
         L.append(f"Model: `{e.equation}`")
         for p in e.parameters:
-            L.append(f"- {p.name} = {p.value:.4g} ± {p.std_error:.2g} {p.unit}")
+            L.append(f"- {p.name} = {p.value:.4g} ± {p.std_error:.2g}" + ("" if p.unit == "1" else f" {p.unit}"))
         if ev is not None:
             L.append(
                 f"Evidence: held-out mean square -{100 * ev.cv_gain:.1f} %, paired t = {ev.paired_t:.1f}, improves {ev.folds_improved} of "

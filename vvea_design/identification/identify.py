@@ -562,6 +562,20 @@ def identifiability(fit: ModelFit, D: FitData, tolerance: float = 0.1) -> Identi
     together. With no more experiments than parameters the
     cluster-robust (experiments as clusters) standard errors are not
     available.
+
+    Parameters
+    ----------
+    fit : ModelFit
+        The fitted model.
+    D : FitData
+        The data it was fitted to.
+    tolerance : float
+        Smallest norm of a column combination, as a fraction of a column's norm.
+
+    Returns
+    -------
+    Identifiability
+        Condition number, inseparable groups, whether errors are reliable, messages.
     """
     X = fit.design(D)
     names = [q.name for q in fit.params]
@@ -602,7 +616,24 @@ def plot_fig10(rec: Recordings, D: FitData, fmod: np.ndarray, p2_MPa: float, fig
     """Fig. 10 for one charge pressure: measurement, model and error per valve (rows) and speed (columns).
 
     Error is measurement − model. Repeated test conditions are drawn in the
-    same panel. Returns the Figure.
+    same panel.
+
+    Parameters
+    ----------
+    rec : Recordings
+        The campaign (its ``experiments`` table, run order).
+    D : FitData
+        The fitted samples (force N, displacement mm).
+    fmod : array
+        Model force per sample of ``D`` (N).
+    p2_MPa : float
+        Charge pressure whose experiments are drawn (MPa).
+    fig : matplotlib Figure, optional
+        Figure to draw into (default: a new one sized to the grid).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     import matplotlib.pyplot as plt
 
@@ -670,7 +701,23 @@ def plot_fig11(rec: Recordings, D: FitData, fmod: np.ndarray, fig=None):
     """Fig. 11: force over displacement of one slow experiment (lowest speed, middle pressure and valve).
 
     Repeated test conditions are fine (the first in run order is drawn).
-    Returns ``(Figure, info)``.
+
+    Parameters
+    ----------
+    rec : Recordings
+        The campaign.
+    D : FitData
+        The fitted samples (force N, displacement mm).
+    fmod : array
+        Model force per sample of ``D`` (N).
+    fig : matplotlib Figure, optional
+        Figure to draw into.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    info : dict
+        ``experiment``, ``max_abs_error_N``, ``max_force_N``.
     """
     import matplotlib.pyplot as plt
 

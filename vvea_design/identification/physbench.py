@@ -196,7 +196,18 @@ class UnitGeometry:
 
 def unit_geometry(unit=None) -> UnitGeometry:
     """Geometry of a :class:`~vvea_design.spring.design.Design` or a
-    :class:`~vvea_design.spring.gas_spring.GasSpring` (default: the paper's reference unit)."""
+    :class:`~vvea_design.spring.gas_spring.GasSpring` (default: the paper's reference unit).
+
+    Parameters
+    ----------
+    unit : Design, GasSpring, UnitGeometry or None
+        The unit (areas mm², volumes mm³, travel mm); ``None`` is ``PAPER_FIG5``.
+
+    Returns
+    -------
+    UnitGeometry
+        Areas (mm²), gas volumes at x = 0 (mm³) and travel (mm).
+    """
     unit = PAPER_FIG5 if unit is None else unit
     if isinstance(unit, UnitGeometry):
         return unit
@@ -235,7 +246,23 @@ def motion_profile(t_s: np.ndarray, speed_mm_s: float, accel_mm_s2: float, trave
 
     Constant acceleration to ``speed``, cruise, symmetric reversal at
     ``travel`` (velocity zero there), and back to rest at 0; duration
-    ``2 (travel/speed + speed/accel)``. Scalars or arrays of ``t_s``.
+    ``2 (travel/speed + speed/accel)``.
+
+    Parameters
+    ----------
+    t_s : float or array
+        Time since the start of the experiment (s).
+    speed_mm_s : float
+        Cruise speed (mm/s).
+    accel_mm_s2 : float
+        Acceleration at start and reversal (mm/s²).
+    travel_mm : float
+        Turning point (mm).
+
+    Returns
+    -------
+    x_mm, v_mm_s, a_mm_s2 : arrays
+        Displacement (mm), velocity (mm/s) and acceleration (mm/s²).
     """
     t = np.asarray(t_s, float)
     ta = speed_mm_s / accel_mm_s2
@@ -359,6 +386,22 @@ def random_parameters(effects=(), seed: int = 0, unit=None, grid: CampaignGrid |
 
     Every parameter is drawn, whether its effect is on or not, so that the
     same seed gives the same bench with and without an effect.
+
+    Parameters
+    ----------
+    effects : sequence of str
+        Effects to switch on (ids of :data:`EFFECTS`).
+    seed : int
+        Seed of the parameters, the run order and the noise (dimensionless).
+    unit : Design, GasSpring or None
+        The unit (default: the paper's reference unit).
+    grid : CampaignGrid, optional
+        What the bench runs (default: the paper's campaign).
+
+    Returns
+    -------
+    BenchParameters
+        Every physical parameter of the campaign.
     """
     rng = np.random.default_rng(seed)
     R = PARAMETER_RANGES
@@ -412,7 +455,22 @@ def random_parameters(effects=(), seed: int = 0, unit=None, grid: CampaignGrid |
 
 # ---------------------------------------------------------------- throttle and relief valve
 def discharge_coefficient(Re, Re_c: float, cd_inf: float = _CD_INF):
-    """Cd(Re) = Cd∞ sqrt(Re/(Re+Re_c)): ∝ sqrt(Re) (laminar) below Re_c, -> Cd∞ (turbulent) above."""
+    """Cd(Re) = Cd∞ sqrt(Re/(Re+Re_c)): ∝ sqrt(Re) (laminar) below Re_c, -> Cd∞ (turbulent) above.
+
+    Parameters
+    ----------
+    Re : float or array
+        Reynolds number of the jet, u D / ν (dimensionless).
+    Re_c : float
+        Transition Reynolds number (dimensionless).
+    cd_inf : float
+        Turbulent discharge coefficient (dimensionless).
+
+    Returns
+    -------
+    array
+        Discharge coefficient (dimensionless).
+    """
     Re = np.abs(np.asarray(Re, float))
     return cd_inf * np.sqrt(Re / (Re + Re_c))
 
@@ -456,6 +514,26 @@ def throttle_dp_MPa(Q_mm3_s, A_m2: float, D_m: float, Re_c: float, rho: float = 
 
     From Q = Cd(Re) A sqrt(2Δp/ρ), Re = (Q/A) D/ν:
     Δp = ρ/(2 Cd∞²) (Q|Q|/A² + Re_c ν Q/(A D)).
+
+    Parameters
+    ----------
+    Q_mm3_s : float or array
+        Flow (mm³/s), signed.
+    A_m2 : float
+        Orifice area (m²).
+    D_m : float
+        Hydraulic diameter (m).
+    Re_c : float
+        Transition Reynolds number (dimensionless).
+    rho : float
+        Oil density (kg/m³).
+    nu : float
+        Kinematic viscosity (m²/s).
+
+    Returns
+    -------
+    array
+        Pressure drop (MPa), sign of ``Q``.
     """
     Q = np.asarray(Q_mm3_s, float) * 1e-9
     dp = rho / (2 * _CD_INF**2) * (Q * np.abs(Q) / A_m2**2 + Re_c * nu * Q / (A_m2 * D_m))
@@ -463,7 +541,28 @@ def throttle_dp_MPa(Q_mm3_s, A_m2: float, D_m: float, Re_c: float, rho: float = 
 
 
 def throttle_flow_mm3_s(dp_MPa, A_m2: float, D_m: float, Re_c: float, rho: float = _RHO_OIL, nu: float = _NU_OIL):
-    """Flow (mm³/s) through the orifice at pressure drop ``dp`` (inverse of :func:`throttle_dp_MPa`)."""
+    """Flow (mm³/s) through the orifice at pressure drop ``dp`` (inverse of :func:`throttle_dp_MPa`).
+
+    Parameters
+    ----------
+    dp_MPa : float or array
+        Pressure drop (MPa), signed.
+    A_m2 : float
+        Orifice area (m²).
+    D_m : float
+        Hydraulic diameter (m).
+    Re_c : float
+        Transition Reynolds number (dimensionless).
+    rho : float
+        Oil density (kg/m³).
+    nu : float
+        Kinematic viscosity (m²/s).
+
+    Returns
+    -------
+    array
+        Flow (mm³/s), sign of ``dp``.
+    """
     dp = np.asarray(dp_MPa, float) * 1e6
     c = rho / (2 * _CD_INF**2)
     a, b = c / A_m2**2, c * Re_c * nu / (A_m2 * D_m)
@@ -473,7 +572,30 @@ def throttle_flow_mm3_s(dp_MPa, A_m2: float, D_m: float, Re_c: float, rho: float
 
 def relief_flow_mm3_s(dp_MPa, cracking_MPa: float, spring_N_per_mm: float, seat_mm: float = 2.5,
                       max_lift_mm: float = 0.5, cd: float = 0.6, rho: float = _RHO_OIL):
-    """Flow (mm³/s, sign of Δp) through the spring-loaded ball relief valve (one per direction)."""
+    """Flow (mm³/s, sign of Δp) through the spring-loaded ball relief valve (one per direction).
+
+    Parameters
+    ----------
+    dp_MPa : float or array
+        Pressure drop over the valve (MPa), signed.
+    cracking_MPa : float
+        Opening pressure (MPa).
+    spring_N_per_mm : float
+        Ball spring rate (N/mm).
+    seat_mm : float
+        Seat diameter (mm).
+    max_lift_mm : float
+        Lift stop (mm).
+    cd : float
+        Discharge coefficient of the curtain area (dimensionless).
+    rho : float
+        Oil density (kg/m³).
+
+    Returns
+    -------
+    array
+        Flow (mm³/s).
+    """
     dp = np.asarray(dp_MPa, float)
     a_seat = math.pi / 4 * seat_mm**2
     lift = np.clip((np.abs(dp) - cracking_MPa) * a_seat / spring_N_per_mm, 0.0, max_lift_mm)  # mm
@@ -485,9 +607,23 @@ def relief_flow_mm3_s(dp_MPa, cracking_MPa: float, spring_N_per_mm: float, seat_
 def damping_dp_MPa(Q_mm3_s, b, a, relief: dict | None = None, iters: int = 60):
     """Δp (MPa) over the throttle with the relief valve in parallel: Q_t(Δp) + Q_r(Δp) = Q.
 
-    ``b, a``: throttle coefficients (Δp = b Q_t + a Q_t|Q_t|), broadcast
-    with ``Q``. ``relief``: keyword arguments of :func:`relief_flow_mm3_s`
-    (``None``: no relief valve).
+    Parameters
+    ----------
+    Q_mm3_s : float or array
+        Flow the piston pushes, A2 ẋ (mm³/s).
+    b : float or array
+        Laminar throttle coefficient (MPa s/mm³), broadcast with ``Q``.
+    a : float or array
+        Turbulent throttle coefficient (MPa s²/mm⁶): Δp = b Q_t + a Q_t|Q_t|.
+    relief : dict or None
+        Keyword arguments of :func:`relief_flow_mm3_s` (``None``: no relief valve).
+    iters : int
+        Bisection steps (dimensionless).
+
+    Returns
+    -------
+    array
+        Pressure drop (MPa), sign of ``Q``.
     """
     Q = np.asarray(Q_mm3_s, float)
     b = np.broadcast_to(b, Q.shape)
@@ -531,11 +667,24 @@ def _expstep(y, a, b, h):
 def chamber_states(t, V, dV, tau_s, leak_per_s=None):
     """Temperature ratio θ = T/T_w and mass ratio μ = m/m₀ of a gas chamber over time.
 
-    ``t`` (..., n) s; ``V``, ``dV`` volume and its rate (same shape, any
-    consistent unit); ``tau_s`` thermal time constant (broadcast over the
-    leading axes; ``inf`` adiabatic, ``0`` isothermal); ``leak_per_s``:
-    relative leak rate at the initial pressure (mass flow ∝ P), or ``None``.
-    Returns ``(theta, mu)``; the pressure is ``P₀ μ θ V₀/V``.
+    Parameters
+    ----------
+    t : array (..., n)
+        Times (s).
+    V : array (..., n)
+        Gas volume (mm³, or any consistent unit).
+    dV : array (..., n)
+        Its rate (mm³/s, same unit per second).
+    tau_s : float or array
+        Thermal time constant m cv/(hA) (s), broadcast over the leading
+        axes; ``inf`` adiabatic, ``0`` isothermal.
+    leak_per_s : float, array or None
+        Relative leak rate at the initial pressure (1/s; mass flow ∝ P).
+
+    Returns
+    -------
+    theta, mu : arrays (..., n)
+        T/T_w and m/m₀ (dimensionless); the pressure is ``P₀ μ θ V₀/V``.
     """
     t = np.asarray(t, float)
     n = t.shape[-1]
@@ -569,12 +718,33 @@ def chamber_states(t, V, dV, tau_s, leak_per_s=None):
 
 
 def lugre_friction(t, v, Fc, Fs, vs, delta, sigma0, sigma2=0.0, sigma1=None):
-    """LuGre friction force (N) along prescribed velocity ``v`` (mm/s) at times ``t`` (s).
+    """LuGre friction force along a prescribed velocity; bristles start relaxed (z = 0).
 
-    ``Fc, Fs`` (N), ``vs`` (mm/s), ``sigma0`` (N/mm), ``sigma2`` (N s/mm)
-    broadcast over the leading axes. ``sigma1`` defaults to critical micro-damping
-    2 sqrt(σ0 m) of a 0.2 kg piston. Bristles start relaxed (z = 0).
-    Returns ``(F, z)``.
+    Parameters
+    ----------
+    t : array (..., n)
+        Times (s).
+    v : array (..., n)
+        Velocity (mm/s).
+    Fc : float or array
+        Coulomb force (N), broadcast over the leading axes.
+    Fs : float or array
+        Breakaway force (N).
+    vs : float or array
+        Stribeck velocity (mm/s).
+    delta : float or array
+        Stribeck exponent (dimensionless).
+    sigma0 : float or array
+        Bristle stiffness (N/mm).
+    sigma2 : float or array
+        Viscous friction (N s/mm).
+    sigma1 : float, array or None
+        Bristle damping (N s/mm); default the critical 2 sqrt(σ0 m) of a 0.2 kg piston.
+
+    Returns
+    -------
+    F, z : arrays (..., n)
+        Friction force (N, + opposes extension) and bristle deflection (mm).
     """
     t = np.asarray(t, float)
     v = np.asarray(v, float)
@@ -688,6 +858,11 @@ def _nonlinear_part(F: np.ndarray, x_ref: np.ndarray, F_ref: np.ndarray, x: np.n
 
 def simulate_campaign(params: BenchParameters) -> BenchCampaign:
     """Simulate the campaign of ``params`` (see the module doc).
+
+    Parameters
+    ----------
+    params : BenchParameters
+        The bench (effects, physical parameters, grid, seed).
 
     Returns
     -------
@@ -834,7 +1009,20 @@ def simulate_campaign(params: BenchParameters) -> BenchCampaign:
 
 
 def write_campaign(campaign: BenchCampaign, path: str | Path) -> Path:
-    """Write the recordings (CSV, exchange format) and the truth beside them (``<stem>.truth.json``)."""
+    """Write the recordings (CSV, exchange format) and the truth beside them (``<stem>.truth.json``).
+
+    Parameters
+    ----------
+    campaign : BenchCampaign
+        A simulated campaign.
+    path : str or Path
+        CSV file to write (its folder is created).
+
+    Returns
+    -------
+    Path
+        The CSV file.
+    """
     import json
 
     path = Path(path)

@@ -269,6 +269,11 @@ def recordings_from_frame(
     notes
         Remarks about how the file was read, kept in :attr:`Recordings.notes`.
 
+    Returns
+    -------
+    Recordings
+        The validated campaign with estimated velocity.
+
     Raises
     ------
     RecordingsError
