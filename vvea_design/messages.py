@@ -21,6 +21,17 @@ def show(value: Any) -> str:
     (``inf``/``nan`` as such), integers whole, strings quoted, lists/tuples
     and numpy arrays element by element; anything else as ``repr``.
 
+    Parameters
+    ----------
+    value : Any
+        The value to show: a number in whatever unit the message states,
+        a string, a sequence, an array, or any other object.
+
+    Returns
+    -------
+    str
+        The text to put in the message.
+
     >>> import numpy as np
     >>> show(np.float64(3.25)), show((np.float32(1), 2)), show("wood"), show(None)
     ('3.25', '[1, 2]', "'wood'", 'None')
