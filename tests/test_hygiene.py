@@ -255,8 +255,6 @@ NOT_YET_CONVERTED = {
     "vvea_design.cad.render",
     "vvea_design.cli.bladder",
     "vvea_design.cli.cad",
-    "vvea_design.identification.diagnose",
-    "vvea_design.identification.identify",
     "vvea_design.spring.design_file",
     "vvea_design.spring.gas_spring",
     "vvea_design.spring.optimise",
