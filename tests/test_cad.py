@@ -379,7 +379,7 @@ def test_deformed_bladder_is_volume_consistent(built):
     lay = model.layout
     for x in (0.0, d.fixed.travel_mm):
         _, gas = bladder_deformed(lay, x)
-        assert gas.volume == pytest.approx(d.V2_mm3 - d.fixed.dead_volume_2_mm3 - d.A2_mm2 * x, rel=1e-9)
+        assert gas.volume == pytest.approx(d.V2_annulus_mm3 - d.A2_mm2 * x, rel=1e-9)  # + V2_top above a bulkhead
     assert bladder_shift_at_mm(lay, 0.0) < 0 < bladder_shift_at_mm(lay, d.fixed.travel_mm)
     cast = d.fixed.bladder_cast_fill * d.fixed.travel_mm
     assert bladder_shift_at_mm(lay, cast) == pytest.approx(0.0, abs=1e-9)

@@ -150,3 +150,21 @@ def test_commands_refuse_an_incomplete_design(design_file, tmp_path, command):
     assert str(path) in res.output and ("fixed.min_base_mm missing" in res.output or "'version'" in res.output)
     assert "Traceback" not in res.output
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "mutation",
+    [lambda d: d.pop("fixed"), lambda d: d["fixed"].pop("min_base_mm"), lambda d: d["parameters"].pop("setpoint_x0_mm"),
+     lambda d: d.update(version="99")],
+    ids=["no-fixed", "no-fixed.min_base_mm", "no-setpoint", "unknown-key"],
+)
+def test_schema_and_loader_agree_a_design_is_self_contained(design_file, mutation):
+    import jsonschema
+
+    from vvea_design.schema import shipped_schema
+
+    path = _mutate(design_file[0], mutation)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(json.loads(path.read_text()), shipped_schema("design.schema.json"))
+    with pytest.raises(DesignFileError):
+        load_design(path)

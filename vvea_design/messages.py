@@ -17,20 +17,17 @@ __all__ = ["show"]
 def show(value: Any) -> str:
     """A value as a user should read it in a message.
 
-    Real numbers (Python or numpy) print with up to 6 significant digits
-    (``inf``/``nan`` as such), integers whole, strings quoted, lists/tuples
-    and numpy arrays element by element; anything else as ``repr``.
-
     Parameters
     ----------
     value : Any
-        The value to show: a number in whatever unit the message states,
-        a string, a sequence, an array, or any other object.
+        A number (Python or numpy), string, list/tuple, numpy array, ...
 
     Returns
     -------
     str
-        The text to put in the message.
+        Real numbers with up to 6 significant digits (``inf``/``nan`` as
+        such), integers whole, strings quoted, lists/tuples and numpy arrays
+        element by element; anything else as ``repr``.
 
     >>> import numpy as np
     >>> show(np.float64(3.25)), show((np.float32(1), 2)), show("wood"), show(None)

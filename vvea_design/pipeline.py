@@ -190,7 +190,7 @@ class UnitDesign:
         """
         ev = self.optimisation.evaluation
         study = self.actuator_study
-        return {
+        return _relative_tree({
             "generator": "vvea_design.pipeline.design_unit",
             "version": self.version,
             "seed": self.seed,
@@ -214,7 +214,7 @@ class UnitDesign:
                 "files": study.files.to_dict()},
             "files": {k: str(v) for k, v in self.files.items()},
             "seconds": dict(self.seconds),
-        }
+        }, self.out_dir)  # paths relative to the unit folder: it is moved into place after writing
 
 
 ProgressFn = Callable[[str, int, int], None]
@@ -334,8 +334,8 @@ def design_unit(
     bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
     bfiles = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
                                   n_elements=bladder_elements)["files"]
-    files["bladder_json"] = Path(bfiles["json"])
-    files["bladder_png"] = Path(bfiles["png"])
+    files["bladder_json"] = out / "bladder" / bfiles["json"]  # bladder.json lists names in its folder
+    files["bladder_png"] = out / "bladder" / bfiles["png"]
     seconds["bladder"] = time.perf_counter() - t
 
     # 5. actuator parameters ---------------------------------------------------
@@ -375,6 +375,17 @@ def design_unit(
     unit = replace(unit, files=dict(files))
     files["unit_json"].write_text(json.dumps(unit.to_dict(), indent=2, default=_json_default) + "\n")
     return unit
+
+
+def _relative_tree(value: Any, folder: Path) -> Any:
+    """``value`` with every path string inside ``folder`` made relative to it (the folder is moved at the end)."""
+    if isinstance(value, dict):
+        return {k: _relative_tree(v, folder) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_relative_tree(v, folder) for v in value]
+    if isinstance(value, (str, Path)) and str(value).startswith(str(folder) + "/"):
+        return str(Path(value).relative_to(folder))
+    return value
 
 
 def _actuator_dict(act: Actuator) -> dict[str, Any]:

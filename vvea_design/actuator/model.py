@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..messages import show
 from ..spring.gas_spring import PAPER_FIG5, GasSpring
 
 __all__ = [
@@ -104,11 +105,11 @@ class Actuator:
         for field in ("K_Nm_per_rad", "B_kgm2", "M_kgm2", "u_d_max", "tau_m_max_Nm"):
             v = getattr(self, field)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"Actuator.{field} must be a positive finite number, got {v!r}")
+                raise ValueError(f"Actuator.{field} must be a positive finite number, got {show(v)}")
         for field in ("D_min_Nms_per_rad", "D_max_Nms_per_rad"):
             v = getattr(self, field)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"Actuator.{field} must be a finite number >= 0, got {v!r}")
+                raise ValueError(f"Actuator.{field} must be a finite number >= 0, got {show(v)}")
         if self.D_max_Nms_per_rad < self.D_min_Nms_per_rad:
             raise ValueError(
                 f"Actuator.D_max_Nms_per_rad ({self.D_max_Nms_per_rad}) must be >= "
@@ -213,7 +214,7 @@ def throttle_damping_Ns_per_mm(gamma_deg) -> np.ndarray:
     angles = np.array(sorted(TABLE3_L_NS_PER_MM))
     if np.any(~np.isfinite(g)) or np.any(g < angles[0]) or np.any(g > angles[-1]):
         raise ValueError(
-            f"gamma_deg must lie in the identified valve range {angles[0]:g}-{angles[-1]:g} deg, got {gamma_deg!r}"
+            f"gamma_deg must lie in the identified valve range {angles[0]:g}-{angles[-1]:g} deg, got {show(gamma_deg)}"
         )
     logL = np.log([TABLE3_L_NS_PER_MM[a] for a in angles])
     return np.exp(np.interp(g, angles, logL))
@@ -237,9 +238,9 @@ def pulley_radius_for_stiffness_m(k_N_per_mm: float, K_Nm_per_rad: float, n_unit
         Pulley radius r, m.
     """
     if k_N_per_mm <= 0:
-        raise ValueError(f"k_N_per_mm must be > 0, got {k_N_per_mm!r}")
+        raise ValueError(f"k_N_per_mm must be > 0, got {show(k_N_per_mm)}")
     if K_Nm_per_rad <= 0:
-        raise ValueError(f"K_Nm_per_rad must be > 0, got {K_Nm_per_rad!r}")
+        raise ValueError(f"K_Nm_per_rad must be > 0, got {show(K_Nm_per_rad)}")
     return math.sqrt(K_Nm_per_rad / (n_units * k_N_per_mm * 1e3))
 
 
@@ -294,11 +295,11 @@ def actuator_from_spring(
         raise ValueError(f"gamma_max_deg ({gamma_max_deg}) must be >= gamma_min_deg ({gamma_min_deg})")
     if p2_MPa is not None:
         if not (math.isfinite(p2_MPa) and p2_MPa > 0):
-            raise ValueError(f"p2_MPa must be a positive pressure in MPa, got {p2_MPa!r}")
+            raise ValueError(f"p2_MPa must be a positive pressure in MPa, got {show(p2_MPa)}")
         spring = spring.with_pressures(p2_MPa)
     k = spring.mean_stiffness_N_per_mm()
     if not k > 0:
-        raise ValueError(f"the spring's mean stiffness must be > 0 N/mm, got {k!r} (is it charged?)")
+        raise ValueError(f"the spring's mean stiffness must be > 0 N/mm, got {show(k)} (is it charged?)")
     r2n = n_units * pulley_radius_m**2
     L_lo, L_hi = throttle_damping_Ns_per_mm([gamma_min_deg, gamma_max_deg])
     D_min = r2n * L_lo * 1e3

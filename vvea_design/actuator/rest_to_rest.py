@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..outputs import output_files
 from ..parallel import parallel_map
 from ..progress import console
 from .figures import plot_best_map, plot_trajectory
@@ -260,16 +261,20 @@ def run_rest_to_rest(
         "solver_seconds_total": round(float(df["seconds"].sum()), 2),
         "solver_cpu_seconds_total": round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None,
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
-    if figures:
-        plot_best_map(df).savefig(out / "best_map.png", dpi=130)
-        names_set = set(df["setting"])
-        ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping), settings[0].name)
-        Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
-        Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
-        _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh,
-                                                    regularisation))
-        plot_trajectory(best, Aex, Tex, highlight=ex).savefig(out / "trajectory.png", dpi=130)
+    # results.csv grows case by case (resumable); the summary and figures are replaced whole or not at all
+    finals = [out / "summary.json"] + ([out / "best_map.png", out / "trajectory.png"] if figures else [])
+    with output_files(*finals, option="") as tmps:
+        tmps[0].write_text(json.dumps(summary, indent=2))
+        if figures:
+            plot_best_map(df).savefig(tmps[1], dpi=130)
+            names_set = set(df["setting"])
+            ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping),
+                                                        settings[0].name)
+            Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
+            Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
+            _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh,
+                                                        regularisation))
+            plot_trajectory(best, Aex, Tex, highlight=ex).savefig(tmps[2], dpi=130)
     return summary
 
 

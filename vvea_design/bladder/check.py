@@ -58,6 +58,7 @@ from .membrane import (
     solve_volume,
 )
 from ..materials.silicones import Silicone, StrainCriterion, get_criterion, get_silicone
+from ..messages import show
 
 __all__ = [
     "BladderError",
@@ -209,7 +210,7 @@ class BladderResult:
 # -------------------------------------------------------------------- checks
 def _positive(name: str, v) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0:
-        raise BladderError(f"{name} must be a positive number, got {v!r}")
+        raise BladderError(f"{name} must be a positive number, got {show(v)}")
     return float(v)
 
 
@@ -346,7 +347,7 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
     dv = {k: float(volume_change_mm3[k]) for k in ENDS}
     for k, v in dv.items():
         if not math.isfinite(v):
-            raise BladderError(f"volume_change_mm3[{k!r}] must be finite, got {v!r}")
+            raise BladderError(f"volume_change_mm3[{k!r}] must be finite, got {show(v)}")
     if dv["expanded"] < 0:
         raise BladderError(f"volume_change_mm3['expanded'] must be >= 0 (fluid in), got {dv['expanded']:g}")
     if dv["compressed"] > 0:
@@ -635,6 +636,6 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
         w.writeheader()
         w.writerows(rows)
     d = res.to_dict()
-    d["files"] = {"json": str(out / "bladder.json"), "csv": str(csv_path), "png": str(png)}
+    d["files"] = {"json": "bladder.json", "csv": csv_path.name, "png": Path(png).name}  # names in out_dir
     (out / "bladder.json").write_text(json.dumps(d, indent=2))
     return d

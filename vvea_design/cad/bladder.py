@@ -103,12 +103,12 @@ def _annulus_volume(z: np.ndarray, r_in: np.ndarray, r_out: float) -> float:
 def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
     """Mean radial shift of the bladder's outer surface from the cast one at displacement ``x_mm``
     (parabolic between the clamps, peak = 1.5 x mean, as the FE check finds), such that the
-    drawn chamber-2 gas (polygon of ``n`` segments) holds exactly ``V2 - A2 x`` (dead volume
-    excluded), mm. Positive: outwards."""
+    drawn chamber-2 gas (polygon of ``n`` segments) holds exactly ``V2 - A2 x`` (dead volume and,
+    in the bulkhead layout, the gas above the bulkhead excluded), mm. Positive: outwards."""
     from scipy.optimize import brentq
 
     d = lay.design
-    target = d.V2_mm3 - d.fixed.dead_volume_2_mm3 - d.A2_mm2 * x_mm
+    target = d.V2_annulus_mm3 - d.A2_mm2 * x_mm  # the annulus's share of chamber 2 (V2_top is above the bulkhead)
 
     def f(a: float) -> float:
         z, r = _free_profile(lay, a, n)

@@ -56,6 +56,7 @@ def bladder(
     """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
     from ..bladder.check import BladderError, write_bladder_report
     from .common import fail, load_design_or_exit
+    from .outputs import check_out, out_dir
     from ..progress import console
     from ..materials.silicones import CRITERIA, SILICONES
 
@@ -65,15 +66,16 @@ def bladder(
         fail(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
     if elements < 8:
         fail(f"--elements must be >= 8, got {elements}")
+    check_out(out)
     design = load_design_or_exit(design_json)
     try:
-        with console.status("solving the bladder membrane at both stroke ends"):
-            d = write_bladder_report(design, out, material, allowable if allowable is not None else criterion,
+        with console.status("solving the bladder membrane at both stroke ends"), out_dir(out, "bladder") as tmp:
+            d = write_bladder_report(design, tmp, material, allowable if allowable is not None else criterion,
                                      n_elements=elements)
     except BladderError as exc:
         fail(str(exc))
     print_bladder(d)
-    console.print(f"wrote {d['files']['json']}, {d['files']['csv']}, {d['files']['png']}")
+    console.print(f"wrote {', '.join(str(out / f) for f in d['files'].values())}")
 
 
 def design_step(design_json: Path, out: Path, renders: bool = True) -> None:

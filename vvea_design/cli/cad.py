@@ -46,27 +46,32 @@ def cad(
 ) -> None:
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL/GLB, checked;
     dimensioned drawings and the bill of materials."""
-    from ..cad import CadError, build_cad, write_cad
     from ..materials.silicones import SILICONES
     from .common import fail, load_design_or_exit
+    from .outputs import check_out, out_dir
     from ..progress import console
 
+    check_out(out)  # before the CAD kernel is even imported (seconds)
     if silicone not in SILICONES:
         fail(f"unknown --silicone {silicone!r}; known: {', '.join(sorted(SILICONES))}")
     design = load_design_or_exit(design_json)
+    from ..cad import CadError, build_cad, write_cad
+
     try:
         model = build_cad(design)
+        with out_dir(out, "cad") as tmp:  # the CAD set, drawings and BOM land whole, or the old ones stay
+            manifest = write_cad(design, tmp, renders=renders, model=model)
+            if drawings:
+                from ..report.bom import write_bom
+                from ..report.drawing import write_drawings
+
+                ds = write_drawings(model, tmp)
+                bom = write_bom(model, tmp, silicone)
     except CadError as exc:
         fail(f"{design_json}: {exc}")
-    manifest = write_cad(design, out, renders=renders, model=model)
     print_manifest(manifest)
     console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")
     if drawings:
-        from ..report.bom import write_bom
-        from ..report.drawing import write_drawings
-
-        ds = write_drawings(model, out)
-        bom = write_bom(model, out, silicone)
         console.print(f"drawings: {len(ds.sheets)} sheets ({', '.join(ds.sheets)}) as SVG and {ds.pdf.name}; "
                       f"bom.csv: {len(bom.lines)} lines, unit mass {bom.unit_mass_g:.1f} g, "
                       f"silicone to mix {bom.silicone_to_mix_g:.1f} g ({bom.silicone})")

@@ -11,6 +11,7 @@ import typer
 from rich.table import Table
 
 from .common import fail
+from .outputs import check_out, out_dir
 from ..progress import console, progress_bar
 from ..progress import out as stdout
 
@@ -59,10 +60,11 @@ def identify_cmd(
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
+    check_out(out)
     _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
     rec = _read(file)
-    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None):
-        summary = write_identification(rec, out)
+    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
+        summary = write_identification(rec, tmp)
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
     for c in ("Parameter", "Unit", "Value", "± s.e.", "Paper"):
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
@@ -99,6 +101,7 @@ def diagnose_cmd(
     import matplotlib
 
     matplotlib.use("Agg")  # the command draws into files
+    check_out(out)
     reference = _reference(design)
     rec = _read(file)
     msgs = []
@@ -112,14 +115,16 @@ def diagnose_cmd(
             prog.update(task, description=f"diagnosing: {msg}")
 
         diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
-        files = write_diagnosis(diag, out)
     summary_text = format_summary(diag.report)
-    typer.echo(summary_text)
     from ..report.html import write_folder_report
 
-    report = write_folder_report(f"vvea diagnose: {file.name}", out, summary_text=summary_text,
-                                 data=diag.report.to_dict(),
-                                 provenance={"recordings": file, "design": design, "seed": seed, "learner": learner})
+    with out_dir(out, "diagnose") as tmp:  # the report and its figures land together
+        files = write_diagnosis(diag, tmp)
+        report = write_folder_report(f"vvea diagnose: {file.name}", tmp, summary_text=summary_text,
+                                     data=diag.report.to_dict(), label=str(out),
+                                     provenance={"recordings": file, "design": design, "seed": seed,
+                                                 "learner": learner})
+    typer.echo(summary_text)
     console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report.runtime_s:.1f} s)")
 
 

@@ -18,6 +18,7 @@ from rich.table import Table
 
 from .common import fail as _fail
 from .common import load_design_or_exit
+from .outputs import check_out, out_dir, out_files
 from ..progress import console
 from ..progress import out as stdout
 
@@ -79,10 +80,13 @@ def _print_evaluation(ev, title: str) -> None:
 
 def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     from ..spring.design_file import save_design
-    from ..spring.optimise import Infeasible, optimise
+    from ..spring.optimise import Infeasible, NoBuildableDesign, optimise
     from ..spring.plots import plot_spring, save_figure
     from ..spring.requirements import SpecError, load_requirements
 
+    png = out.with_name(out.stem + "_force.png")
+    check_out(out, "file")
+    check_out(png, "file")
     try:
         req = load_requirements(spec)
     except SpecError as exc:
@@ -99,11 +103,14 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
-    save_design(out, res.evaluation, req, optimiser=res.summary())
-    png = out.with_name(out.stem + "_force.png")
-    save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
-                            title=f"optimised design ({res.layout} layout): linearity {100 * res.evaluation.linearity_error:.2f} %"),
-                png)
+    except NoBuildableDesign as exc:
+        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
+    with out_files(out, png) as (tmp_json, tmp_png):  # both files whole, or neither
+        save_design(tmp_json, res.evaluation, req, optimiser=res.summary())
+        save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+                                title=f"optimised design ({res.layout} layout): linearity "
+                                      f"{100 * res.evaluation.linearity_error:.2f} %"),
+                    tmp_png)
     _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
                   f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
@@ -131,6 +138,7 @@ def spring(
     from ..pipeline import write_spring_files
     from ..spring.design_file import DesignFileError, spring_from_json
 
+    check_out(out or design.parent)
     try:
         gs = spring_from_json(design)
     except DesignFileError as exc:
@@ -140,7 +148,8 @@ def spring(
             _fail(f"--p2 must be > 0 MPa, got {p2}")
         gs = gs.with_pressures(p2)
     out = out or design.parent
-    files = write_spring_files(gs, out)
+    with out_dir(out, "spring") as tmp:
+        files = {k: out / Path(v).name for k, v in write_spring_files(gs, tmp).items()}
     stdout.print(f"linearity error {100 * gs.linearity_error():.3f} % (n = {gs.n_polytropic:g}; "
                  f"{100 * gs.with_polytropic(1.4).linearity_error():.3f} % at n = 1.4), mean stiffness "
                  f"{gs.mean_stiffness_N_per_mm():.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
@@ -191,12 +200,14 @@ def pareto(
         _fail(f"--values must be comma-separated numbers, got {values!r}")
     if not vals:
         _fail("--values is empty")
+    check_out(out)
     try:
         req = load_requirements(spec)
     except SpecError as exc:
         _fail(str(exc))
     rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
-    csv_path, png = save_pareto(rows, axis, out)
+    with out_dir(out, "pareto") as tmp:
+        csv_path, png = (out / Path(f).name for f in save_pareto(rows, axis, tmp))
     field = PARETO_AXES[axis][0]
     for r in rows:
         lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
@@ -219,23 +230,24 @@ def map_(
     from ..spring.optimise import linearity_map
     from ..spring.plots import plot_linearity_map, save_figure
 
+    check_out(out)
     try:
         d = load_design_or_exit(design)
         req = load_requirements_from_design(design)
         m = linearity_map(d, req, x, y, n=n)
     except (DesignFileError, ValueError) as exc:
         _fail(str(exc))
-    out.mkdir(parents=True, exist_ok=True)
-    png = save_figure(plot_linearity_map(m, optimum=(getattr(d, x), getattr(d, y))), out / f"map_{x}_{y}.png")
-    with open(out / f"map_{x}_{y}.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
-        for iy, yv in enumerate(m["y"]):
-            for ix, xv in enumerate(m["x"]):
-                lin = m["linearity"][iy, ix]
-                w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
-                            int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
-    console.print(f"wrote {png}")
+    with out_dir(out, "map") as tmp:
+        save_figure(plot_linearity_map(m, optimum=(getattr(d, x), getattr(d, y))), tmp / f"map_{x}_{y}.png")
+        with open(tmp / f"map_{x}_{y}.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
+            for iy, yv in enumerate(m["y"]):
+                for ix, xv in enumerate(m["x"]):
+                    lin = m["linearity"][iy, ix]
+                    w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
+                                int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
+    console.print(f"wrote {out / f'map_{x}_{y}.png'} and .csv")
 
 
 @app.command()
@@ -255,9 +267,10 @@ def design(
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
     from ..pipeline import STEPS, design_unit
-    from ..spring.optimise import Infeasible
+    from ..spring.optimise import Infeasible, NoBuildableDesign
     from ..spring.requirements import SpecError, load_requirements
 
+    check_out(out)
     try:
         req = load_requirements(spec)
     except SpecError as exc:
@@ -277,11 +290,14 @@ def design(
         console.print(f"[{i + 1}/{n}] {step}")
 
     try:
-        unit = design_unit(req, out, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
-                           study_options=study_options, progress=say)
+        with out_dir(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
+            unit = design_unit(req, tmp, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
+                               study_options=study_options, progress=say)
     except Infeasible as exc:
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
+    except NoBuildableDesign as exc:
+        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
     _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})")
     bl = unit.bladder
     stdout.print(f"bladder ({bl.silicone.name}): strain bound {100 * bl.strain_bound:.2f} % vs allowable "
@@ -297,7 +313,7 @@ def design(
             stdout.print(f"design vs {c.other}: design beats it in {beats} of {c.n_cases} cases "
                          f"({c.n_excluded} left out), mean rmse {c.other}/design {ratio}")
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
-    console.print(f"[bold green]done[/]: everything is in {out}/ (open {unit.files.get('report', out / 'unit.json')})")
+    console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 
 
 from . import bladder as cli_bladder  # noqa: E402
@@ -307,7 +323,6 @@ from . import study as cli_study  # noqa: E402  (topic modules register their co
 
 for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
     _module.register(app)
-
 
 
 def main() -> None:

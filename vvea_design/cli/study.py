@@ -90,8 +90,10 @@ def rest_to_rest(
     from ..actuator.rest_to_rest import run_rest_to_rest
     from ..parallel import Terminated
     from ..progress import console
+    from .outputs import check_out
 
     # every option is checked before anything is solved
+    check_out(out)  # resumable: results.csv grows case by case in --out itself, so only validated up front
     _check_mesh_n("--mesh-n", mesh_n)
     _check_mesh_n("--fine-mesh-n", fine_mesh_n, allow_off=True)
     if workers is not None and workers < 1:
@@ -123,12 +125,15 @@ def rest_to_rest(
                       f"{out / 'results.csv'}. Run the same command again to resume the sweep "
                       f"(add --restart to start over).", soft_wrap=True)
         raise typer.Exit(code) from None
-    from ..report.html import recorded_text, write_folder_report
+    from ..outputs import output_files
+    from ..report.html import folder_report, recorded_text
 
     text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
     typer.echo(text)
-    write_folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
-                        provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n})
+    with output_files(out / "report.html", option="") as (tmp_report,):  # whole or not at all
+        folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
+                      provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n}
+                      ).write(tmp_report)
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
                   f"{out / 'trajectory.png'}, {out / 'report.html'}")
 
@@ -183,31 +188,35 @@ def safety(
     from ..actuator.ocp import Mesh
     from ..actuator.safety import run_safety
     from ..progress import console
+    from .outputs import check_out, out_dir
 
+    check_out(out)
     if mesh_n < 4:
         raise typer.BadParameter(f"--mesh-n must be >= 4 intervals, got {mesh_n}")
     if not (math.isfinite(tau_ref_nm) and tau_ref_nm != 0):
         raise typer.BadParameter(f"--tau-ref-nm must be a non-zero torque in N m, got {tau_ref_nm}")
     if not (math.isfinite(link_inertia_kgm2) and link_inertia_kgm2 > 0):
         raise typer.BadParameter(f"--link-inertia-kgm2 must be > 0, got {link_inertia_kgm2}")
-    try:
-        s = run_safety(out, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
-    except ValueError as exc:
-        raise typer.BadParameter(str(exc)) from exc
     from rich.table import Table
 
-    tab = Table(title=f"{tau_ref_nm:g} N m torque step")
-    for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
-        tab.add_column(c)
-    for name, c in s["cases"].items():
-        tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
-                    f"{c['t95_s'] * 1e3:.1f}", c["status"])
     from ..report.html import recorded_text, write_folder_report
 
-    text = recorded_text(lambda c: c.print(tab))
+    with out_dir(out, "safety") as tmp:  # results, figure and report land together
+        try:
+            s = run_safety(tmp, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
+        except ValueError as exc:
+            raise typer.BadParameter(str(exc)) from exc
+        tab = Table(title=f"{tau_ref_nm:g} N m torque step")
+        for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
+            tab.add_column(c)
+        for name, c in s["cases"].items():
+            tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
+                        f"{c['t95_s'] * 1e3:.1f}", c["status"])
+        text = recorded_text(lambda c: c.print(tab))
+        write_folder_report("vvea study safety", tmp, summary_text=text, data=s, label=str(out),
+                            provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n,
+                                        "link_inertia_kgm2": link_inertia_kgm2})
     typer.echo(text)
-    write_folder_report("vvea study safety", out, summary_text=text, data=s,
-                        provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n, "link_inertia_kgm2": link_inertia_kgm2})
     console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
                   f"{out / 'report.html'}")
 

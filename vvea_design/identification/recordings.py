@@ -33,6 +33,8 @@ import pandas as pd
 from scipy.optimize import least_squares
 from scipy.signal import savgol_filter
 
+from ..messages import show
+
 __all__ = [
     "RecordingsError",
     "Recordings",
@@ -304,7 +306,7 @@ def recordings_from_frame(
         if bad.any():
             i = int(np.flatnonzero(bad.to_numpy())[0])
             raise RecordingsError(
-                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {d[c].iloc[i]!r}"
+                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
             )
         nan = num.isna() | ~np.isfinite(num.astype(float))
         if nan.any():
@@ -339,7 +341,7 @@ def recordings_from_frame(
             i = int(a + 1 + np.flatnonzero(dt <= 0)[0])
             raise RecordingsError(
                 f"{_where(source, i, line_offset, line_numbers)}: time_s does not increase inside experiment {name!r} "
-                f"({t[i - 1]!r} then {t[i]!r})"
+                f"({show(t[i - 1])} then {show(t[i])})"
             )
         for c in ("p2_MPa", "valve_deg"):
             vals = d[c].to_numpy()[a:b]
@@ -348,11 +350,11 @@ def recordings_from_frame(
                 what = "pressures" if c == "p2_MPa" else "valve positions"
                 raise RecordingsError(
                     f"{_where(source, i, line_offset, line_numbers)}: experiment {name!r} has two {what} in column {c} "
-                    f"({vals[0]!r} and {vals[i - a]!r})"
+                    f"({show(vals[0])} and {show(vals[i - a])})"
                 )
         if d["p2_MPa"].iloc[a] <= 0:
             raise RecordingsError(
-                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {d['p2_MPa'].iloc[a]!r}"
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(d['p2_MPa'].iloc[a])}"
             )
     return _derive(d, bounds, block_ids, source, tuple(notes), line_offset, line_numbers)
 

@@ -852,7 +852,7 @@ def unit_report(unit: "UnitDesign") -> HtmlReport:
 # ------------------------------------------------------------ folder report
 def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
                   tables: Sequence[tuple[str, Sequence[str], Sequence[Sequence[Any]]]] = (),
-                  data: dict | None = None, provenance: dict | None = None) -> HtmlReport:
+                  data: dict | None = None, provenance: dict | None = None, label: str | None = None) -> HtmlReport:
     """A report of a command's result folder: its summary, tables, every PNG in it, its data.
 
     Parameters
@@ -869,6 +869,9 @@ def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
         The result as JSON (shown last, pretty-printed).
     provenance : dict, optional
         Inputs, settings and seed; the version is added.
+    label : str, optional
+        How the folder is named on the page (default: its path; commands that write into a temporary
+        folder moved into place at the end pass the final path).
 
     Returns
     -------
@@ -891,7 +894,7 @@ def folder_report(title: str, folder: str | Path, *, summary_text: str = "",
         if len(text) > 400_000:
             text = text[:400_000] + "\n... (cut; the full result is in the folder's JSON)"
         sections.append(Section("Result data", preformatted(text)))
-    return HtmlReport(title, tuple(sections), html.escape(str(folder)))
+    return HtmlReport(title, tuple(sections), html.escape(str(folder) if label is None else label))
 
 
 def recorded_text(print_to: "Callable[[Any], None]") -> str:

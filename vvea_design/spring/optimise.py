@@ -44,6 +44,7 @@ __all__ = [
     "OptimisationResult",
     "LayoutSearch",
     "Infeasible",
+    "NoBuildableDesign",
     "optimise",
     "pareto_front",
     "linearity_map",
@@ -60,6 +61,20 @@ class Infeasible(RuntimeError):
     def __init__(self, result: "OptimisationResult"):
         self.result = result
         super().__init__(result.infeasibility_message())
+
+
+class NoBuildableDesign(ValueError):
+    """No point inside the search bounds can even be drawn; the message names why and the bounds."""
+
+
+def _unbuildable_message(req: Requirements, x, layout: str, layouts, reason: Exception) -> str:
+    names = get_layout(layout).decision_variables
+    point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(names, x))
+    box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(names, req.search_bounds(layout)))
+    tried = f" (layouts tried: {', '.join(layouts)})" if len(layouts) > 1 else ""
+    return (f"the search found no buildable design inside the search bounds{tried}: {box}; outer_diameter_mm is capped at "
+            f"max_outer_diameter_mm = {req.max_outer_diameter_mm:.4g}. The best point found ({layout} layout: "
+            f"{point}) cannot be drawn: {reason}; widen [bounds] or the envelope in the requirements file")
 
 
 @dataclass(frozen=True)
@@ -310,6 +325,10 @@ def optimise(
 
     found.sort(key=rank)
     lay, best_x, info, prob, polished = found[0]
+    try:  # every point the search tried may be unbuildable: name why and the bounds (issue 11 item 8)
+        design_from_vector(best_x, req, lay)
+    except DesignError as exc:
+        raise NoBuildableDesign(_unbuildable_message(req, best_x, lay, layouts, exc)) from None
     strain_fe = strain_sur = None
     if req.max_bladder_strain is not None:
         best_x, strain_fe, strain_sur, extra = _fe_correct(req, lay, best_x, bladder_strain_fn, prob)
@@ -409,25 +428,32 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     return x0, False
 
 
-def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Population, rounds: int = 4):
-    """Make the FE strain bound, not the surrogate, meet ``req.max_bladder_strain``.
+def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Population, rounds: int = 6):
+    """Make the FE strain bound, not the surrogate, meet ``req.max_bladder_strain`` — and no more.
 
     The surrogate is scaled by FE / surrogate at the current design and the
-    polish re-run with that corrected surrogate, until the FE value at the
-    polished design meets the limit (a few FE checks in all).
+    polish re-run with that corrected surrogate from there; repeated until the
+    FE value at the polished design is within 0.3 % below the limit (a fixed
+    point of the correction, a few FE checks in all). The best design whose
+    FE value meets the limit is kept.
     """
     from .strain_surrogate import population_strain
 
-    factor = 1.0
+    limit = req.max_bladder_strain
     improved = False
+    best = None  # (objective, x, fe, sur)
     fe = sur = None
     for _ in range(rounds):
         design = design_from_vector(x, req, layout)
         fe = float(fe_fn(design))
         sur = float(np.ravel(population_strain(*_g_cols(x, req, layout)))[0])
-        if fe <= req.max_bladder_strain * (1 + 1e-9):
-            break
-        factor = fe / sur * factor if np.isfinite(fe) and sur > 0 else factor * 1.2
+        if fe <= limit * (1 + 1e-9):
+            obj = float(evaluate_design(design, req, bladder_strain=fe).objective)
+            if best is None or obj < best[0]:
+                best = (obj, x, fe, sur)
+            if fe >= limit * (1 - 0.003):
+                break
+        factor = fe / sur if (np.isfinite(fe) and sur > 0) else 1.2
 
         def corrected(g, cols, f=factor):
             return f * population_strain(g, cols)
@@ -435,11 +461,12 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
         p2 = _Population(req, layout, corrected)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
         prob.count += p2.count
-        if not ok:  # polish could not restore feasibility: tighten and retry from the same point
-            factor *= 1.05
-            continue
+        if not ok:
+            break
         x, improved = x_new, True
-    return x, fe, sur, improved
+    if best is None:  # never met the limit: report the last point (the caller names the violation)
+        return x, fe, sur, improved
+    return best[1], best[2], best[3], improved
 
 
 def _g_cols(x, req, layout):

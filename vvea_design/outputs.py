@@ -1,0 +1,487 @@
+"""Outputs written whole or not at all.
+
+Every command that writes files goes through this module, so that a bad
+``--out``, a failed computation, Ctrl-C or a crash never leaves a mix of old
+and new files:
+
+* :func:`check_output_dir` / :func:`check_output_file` validate the location
+  *before* the computation: ``--out`` that is an existing file (or folder,
+  for a file output), a path under a file, or a folder nobody may write in
+  (a real write probe, so read-only mounts count too) is an
+  :class:`OutputError` naming the path.
+* :func:`output_dir` (a folder of results) and :func:`output_files` (single
+  files such as ``design.json``) hand out a temporary folder/file *beside*
+  the target (same file system) and move it into place only when the block
+  ends without an exception. An exception or Ctrl-C inside the block removes
+  the temporary and leaves the target exactly as it was. SIGINT/SIGTERM/SIGHUP
+  are held back during the final renames (a few microseconds) and take effect
+  right after them.
+
+What happens to an existing target folder (``output_dir``):
+
+* it does not exist -> the temporary folder is renamed to it;
+* it holds only what the same command wrote there last time (listed in the
+  hidden ``.vvea-<command>.json`` it leaves in every folder it writes), or
+  nothing -> the whole folder is **replaced atomically** (Linux
+  ``renameat2(RENAME_EXCHANGE)``; elsewhere two renames, between which the
+  folder is briefly absent but never mixed), so files of the earlier run that
+  this run did not write are gone;
+* it also holds anything else (the design JSON the command read, files of
+  other commands, your own notes, ``--out .``) -> those are **never
+  touched**: each entry this run wrote replaces its namesake with a rename,
+  and the entries the same command wrote last time but not this time are
+  removed.
+
+Temporaries are named ``.<name>.vvea-tmp-<pid>-<random>`` (and
+``.vvea-old-`` for replaced entries); one left behind by a killed process
+(SIGKILL cannot be caught) is removed by the next command writing there once
+its process is gone.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import errno
+import json
+import os
+import re
+import secrets
+import shutil
+import signal
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+__all__ = ["OutputError", "check_output_dir", "check_output_file", "output_dir", "output_files", "write_text_atomic",
+           "MARKER_PREFIX"]
+
+#: Every output folder gets ``.vvea-<command>.json`` listing what the command wrote there.
+MARKER_PREFIX = ".vvea-"
+_TEMP = re.compile(r"\.vvea-(?:tmp|old)-(\d+)-[0-9a-f]+")
+
+
+class OutputError(ValueError):
+    """An output location that cannot be written (names the path and why)."""
+
+
+# ---------------------------------------------------------------------------
+# validation before the computation
+# ---------------------------------------------------------------------------
+
+def _label(path: Path, option: str) -> str:
+    return f"{option} {path}" if option else str(path)
+
+
+def _nearest_existing(path: Path, option: str) -> Path:
+    """The nearest existing ancestor of ``path``; it must be a folder (not a file the path runs through)."""
+    anc = path.parent
+    while not os.path.lexists(anc) and anc != anc.parent:
+        anc = anc.parent
+    if not anc.is_dir():
+        raise OutputError(f"{_label(path, option)}: {anc} is a file, so nothing can be written under it; "
+                          "give a path in a folder")
+    return anc
+
+
+def _writable(folder: Path) -> OSError | None:
+    """Create and remove a folder in ``folder``: a real test (root ignores permission bits, not read-only mounts)."""
+    name = folder / f".vvea-probe-{os.getpid()}-{secrets.token_hex(4)}"
+    try:
+        os.mkdir(name)
+        os.rmdir(name)
+    except OSError as exc:
+        return exc
+    return None
+
+
+def _fail_unwritable(folder: Path, path: Path, option: str, exc: OSError) -> None:
+    raise OutputError(f"{_label(path, option)}: cannot write in {folder} ({exc.strerror or exc})") from None
+
+
+def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
+    """Raise :class:`OutputError` unless a result folder can be written at ``path``.
+
+    Call it before the computation. An existing folder must be writable
+    itself; a new one needs its nearest existing ancestor writable.
+
+    Parameters
+    ----------
+    path : path-like
+        The result folder (need not exist).
+    option : str
+        The command-line option named in the message (``""`` for none).
+
+    Returns
+    -------
+    Path
+        ``path`` made absolute, symbolic links resolved.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is an existing file, lies under a file, or cannot be written.
+    """
+    p = Path(os.path.realpath(path))
+    if p.exists() and not p.is_dir():
+        raise OutputError(f"{_label(p, option)}: is an existing file, not a folder; give a folder path")
+    folder = p if p.is_dir() else _nearest_existing(p, option)
+    err = _writable(folder)
+    if err is not None:
+        _fail_unwritable(folder, p, option, err)
+    return p
+
+
+def check_output_file(path: str | os.PathLike, option: str = "--out") -> Path:
+    """Raise :class:`OutputError` unless a file can be written at ``path``.
+
+    Parameters
+    ----------
+    path : path-like
+        The result file (need not exist).
+    option : str
+        The command-line option named in the message (``""`` for none).
+
+    Returns
+    -------
+    Path
+        ``path`` made absolute, symbolic links resolved.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is an existing folder, lies under a file, or its folder cannot be written.
+    """
+    p = Path(os.path.realpath(path))
+    if p.is_dir():
+        raise OutputError(f"{_label(p, option)}: is an existing folder; give a file path (e.g. {p / 'design.json'})")
+    folder = _nearest_existing(p, option)
+    err = _writable(folder)
+    if err is not None:
+        _fail_unwritable(folder, p, option, err)
+    return p
+
+
+# ---------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------
+
+def _temp_name(target: Path, kind: str = "tmp") -> Path:
+    return target.with_name(f".{target.stem}.vvea-{kind}-{os.getpid()}-{secrets.token_hex(4)}{target.suffix}")
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _remove_orphans(folder: Path) -> None:
+    """Remove temporaries in ``folder`` left by processes that no longer run (killed with SIGKILL)."""
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return
+    for e in entries:
+        m = _TEMP.search(e.name)
+        if m and e.name.startswith(".") and not _alive(int(m.group(1))):
+            _remove(Path(e.path))
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+
+
+def _make_parents(folder: Path) -> list[Path]:
+    """``mkdir -p folder``; return the folders created (deepest last) so a failure can remove them."""
+    missing = []
+    p = folder
+    while not p.exists():
+        missing.append(p)
+        p = p.parent
+    for m in reversed(missing):
+        os.mkdir(m)
+    return list(reversed(missing))
+
+
+def _remove_created(created: list[Path]) -> None:
+    for d in reversed(created):
+        with contextlib.suppress(OSError):
+            os.rmdir(d)  # only if still empty
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT/SIGTERM/SIGHUP back while the renames run; they take effect right after.
+
+    Python runs signal handlers in the main thread whichever thread the kernel
+    picks, so the handlers are swapped for a recorder (a per-thread signal
+    mask would not do in a threaded process) and the recorded signals are
+    raised again, to the original handlers, once the block is done.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield  # handlers run in the main thread: this one is not interrupted
+        return
+    caught: list[int] = []
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        handler = signal.getsignal(sig)
+        if handler is None:  # installed from C: leave it alone
+            continue
+        previous[sig] = handler
+        signal.signal(sig, lambda num, frame: caught.append(num))
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for num in dict.fromkeys(caught):
+            signal.raise_signal(num)
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (Linux renameat2); False when the system or file system cannot."""
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (AttributeError, OSError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.EXDEV):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _replace_dir(new: Path, target: Path) -> None:
+    """Put folder ``new`` at ``target`` (an existing folder), atomically where the system allows."""
+    if _exchange(new, target):
+        _remove(new)  # now holds the old content
+        return
+    old = _temp_name(target, "old")
+    os.rename(target, old)
+    try:
+        os.rename(new, target)
+    except OSError:
+        os.rename(old, target)
+        raise
+    _remove(old)
+
+
+def _marker(command: str) -> str:
+    return f"{MARKER_PREFIX}{command}.json"
+
+
+def _previous_entries(target: Path, command: str) -> set[str]:
+    try:
+        data = json.loads((target / _marker(command)).read_text(encoding="utf-8"))
+        return {str(e) for e in data.get("entries", []) if "/" not in str(e) and str(e) not in ("", ".", "..")}
+    except (OSError, ValueError, AttributeError):
+        return set()
+
+
+def _own_entries_only(target: Path, command: str) -> bool:
+    """``target`` holds nothing but what ``command`` wrote there last time (or nothing)."""
+    present = set(os.listdir(target)) - {_marker(command)}
+    return present <= _previous_entries(target, command)
+
+
+def _commit_dir(tmp: Path, target: Path, command: str) -> None:
+    """Move the finished temporary folder ``tmp`` into place as ``target`` (see the module doc)."""
+    entries = sorted(e for e in os.listdir(tmp) if e != _marker(command))
+    (tmp / _marker(command)).write_text(json.dumps({"command": command, "entries": entries}, indent=1) + "\n",
+                                        encoding="utf-8")
+    trash: list[Path] = []
+    with _signals_held():
+        if not target.exists():
+            os.rename(tmp, target)
+            return
+        if tmp.parent != target and _own_entries_only(target, command):
+            _replace_dir(tmp, target)  # only our own earlier output: replace the folder as a whole
+            return
+        # the folder holds entries we did not write: replace ours one by one, never touch the rest
+        previous = _previous_entries(target, command)
+        for name in [*entries, _marker(command)]:
+            src, dst = tmp / name, target / name
+            if os.path.lexists(dst):
+                both_files = src.is_file() and dst.is_file() and not dst.is_symlink()
+                if both_files:
+                    os.replace(src, dst)
+                    continue
+                if src.is_dir() and dst.is_dir() and not dst.is_symlink() and _exchange(src, dst):
+                    trash.append(src)
+                    continue
+                old = _temp_name(dst, "old")
+                os.rename(dst, old)
+                trash.append(old)
+            os.rename(src, dst)
+        for name in previous - set(entries):
+            stale = target / name
+            if os.path.lexists(stale):
+                old = _temp_name(stale, "old")
+                os.rename(stale, old)
+                trash.append(old)
+    for t in trash:
+        _remove(t)
+    _remove(tmp)
+
+
+def _as_output_error(exc: OSError, tmp_paths: list[Path], target: Path) -> OutputError | None:
+    """An OSError while writing into a temporary: a clear error naming the target."""
+    name = str(getattr(exc, "filename", "") or "")
+    if name and any(name.startswith(str(t)) for t in tmp_paths):
+        return OutputError(f"could not write {target}: {exc.strerror or exc} (nothing was changed there)")
+    return None
+
+
+# ---------------------------------------------------------------------------
+# the two context managers
+# ---------------------------------------------------------------------------
+
+@contextlib.contextmanager
+def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> Iterator[Path]:
+    """Yield a temporary folder; when the block ends without an exception it becomes ``path`` (see the module doc).
+
+    Validates the location first (:func:`check_output_dir`): enter the block
+    before the computation. The temporary is beside ``path`` (whole-folder
+    replacement) or, when ``path`` already holds entries of others or its
+    parent is not writable, inside it (entry-by-entry replacement).
+
+    Parameters
+    ----------
+    path : path-like
+        The result folder.
+    command : str
+        Plain name of the writer; names the marker file ``.vvea-<command>.json``
+        that tells a later run which entries are its own.
+    option : str
+        The command-line option named in messages (``""`` for none).
+
+    Returns
+    -------
+    Iterator[Path]
+        (a context manager) the temporary folder to write into.
+
+    Raises
+    ------
+    OutputError
+        The location cannot be written (before the block), a write into the
+        temporary failed, or the results could not be moved into place.
+    """
+    if not re.fullmatch(r"[A-Za-z0-9_-]+", command):
+        raise ValueError(f"command must be a plain name, got {command!r}")
+    target = check_output_dir(path, option)
+    created = _make_parents(target.parent)
+    _remove_orphans(target.parent)
+    if target.is_dir():
+        _remove_orphans(target)
+        inside = not _own_entries_only(target, command) or _writable(target.parent) is not None
+        tmp = _temp_name(target / "results") if inside else _temp_name(target)
+    else:
+        tmp = _temp_name(target)
+    try:
+        os.mkdir(tmp)
+        yield tmp
+    except BaseException as exc:
+        _remove(tmp)
+        _remove_created(created)
+        if isinstance(exc, OSError):
+            err = _as_output_error(exc, [tmp], target)
+            if err is not None:
+                raise err from exc
+        raise
+    try:
+        _commit_dir(tmp, target, command)
+    except OSError as exc:
+        _remove(tmp)
+        raise OutputError(f"could not move the results into {target}: {exc.strerror or exc}") from exc
+
+
+@contextlib.contextmanager
+def output_files(*paths: str | os.PathLike, option: str = "--out") -> Iterator[list[Path]]:
+    """Yield one temporary path beside each of ``paths``; on success each replaces its target.
+
+    Parameters
+    ----------
+    *paths : path-like
+        The result files; every temporary must be written inside the block.
+    option : str
+        The command-line option named in messages (``""`` for none).
+
+    Returns
+    -------
+    Iterator[list[Path]]
+        (a context manager) the temporary paths, in order; each keeps the
+        suffix of its target (``.json``, ``.png``), so writers that pick the
+        format from the name work.
+
+    Raises
+    ------
+    OutputError
+        A location cannot be written, or the files could not be moved into place.
+    """
+    targets = [check_output_file(p, option) for p in paths]
+    created: list[Path] = []
+    for t in targets:
+        created += _make_parents(t.parent)
+        _remove_orphans(t.parent)
+    tmps = [_temp_name(t) for t in targets]
+    try:
+        yield tmps
+        missing = [str(t) for t, tmp in zip(targets, tmps) if not tmp.exists()]
+        if missing:
+            raise RuntimeError(f"output_files: {', '.join(missing)} not written inside the block")
+    except BaseException as exc:
+        for tmp in tmps:
+            _remove(tmp)
+        _remove_created(created)
+        if isinstance(exc, OSError):
+            err = _as_output_error(exc, tmps, targets[0])
+            if err is not None:
+                raise err from exc
+        raise
+    try:
+        with _signals_held():
+            for t, tmp in zip(targets, tmps):
+                os.replace(tmp, t)
+    except OSError as exc:
+        for tmp in tmps:
+            _remove(tmp)
+        raise OutputError(f"could not move the results into {exc.filename or targets[0]}: {exc.strerror or exc}") from exc
+
+
+def write_text_atomic(path: str | os.PathLike, text: str, encoding: str = "utf-8") -> Path:
+    """Write a text file whole or not at all (temporary beside it, then ``os.replace``).
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    text : str
+        Its content.
+    encoding : str
+        Text encoding.
+
+    Returns
+    -------
+    Path
+        ``path``, absolute.
+    """
+    with output_files(path, option="") as (tmp,):
+        tmp.write_text(text, encoding=encoding)
+    return Path(os.path.abspath(path))
