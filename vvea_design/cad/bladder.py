@@ -121,7 +121,8 @@ def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
 def bladder_deformed(lay: Layout, x_mm: float, n: int = 32) -> tuple[Solid, Solid]:
     """The bladder and the chamber-2 gas at displacement ``x_mm`` in a volume-consistent shape:
     cuffs as cast, the free length shifted parabolically (wall thickness kept), so the gas
-    solid holds exactly ``V2 - A2 x``. For pictures; the exported bladder is the cast one."""
+    solid around the bladder holds exactly ``V2 - V2_top - A2 x``. For pictures; the exported
+    bladder is the cast one."""
     a = bladder_shift_at_mm(lay, x_mm, n)
     z, r = _free_profile(lay, a, n)
     t = lay.r_bladder_out - lay.r_bladder_in

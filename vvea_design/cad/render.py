@@ -71,13 +71,12 @@ def _section_meshes(model, x_mm: float, offset_mm: float) -> list[tuple[str, obj
     lay = model.layout
     solids = model.solids_at(x_mm, "assembly", "gas")
     bl, g2 = bladder_deformed(lay, x_mm)
+    top = [s for s in solids["gas_chamber_2"].solids() if s.bounding_box().min.Z >= lay.z_free1 - 1e-6]
     solids["bladder"], solids["gas_chamber_2"] = bl, g2
     fluid = ring(lay.r_rod, lay.r_piston, lay.z_base_top, lay.z_piston_bottom(x_mm))
-    extra = []
-    if lay.has_bulkhead and lay.design.V2_top_mm3 > 0:  # chamber 2 also fills the space above the bulkhead
-        extra.append(("gas_chamber_2", ring(lay.r_fill_tube_out, lay.r_piston, lay.z_bulkhead1, lay.z_cap)))
+    extra = [("gas_chamber_2", t) for t in top]  # bulkhead layout: chamber-2 gas above the bulkhead
     out = []
-    for name, solid in [*solids.items(), ("fluid", fluid), *extra]:
+    for name, solid in [*solids.items(), *extra, ("fluid", fluid)]:
         colour = FLUID_COLOUR if name == "fluid" else get_part(name).colour
         alpha = 0.55 if name in ("fluid", "gas_chamber_1", "gas_chamber_2") else 1.0
         poly = _poly(to_mesh(solid, 0.05, 0.1)).translate((offset_mm, 0.0, 0.0), inplace=False)

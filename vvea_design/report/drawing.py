@@ -41,7 +41,7 @@ SHEET_MM = (420.0, 297.0)
 _PT_PER_MM = 72.0 / 25.4
 _TEXT_PT = 9.0  # ~3.2 mm font size, ~2.3 mm cap height
 _SMALL_PT = 7.5
-_TIER_MM = 8.0  # spacing of stacked dimension lines on paper
+_TIER_MM = 6.5  # spacing of stacked dimension lines on paper
 _GAP_MM = 6.0  # first dimension line from the outline
 _SCALES = (5.0, 2.0, 1.0, 0.5)  # ISO 5455
 _DETAIL_W = 150.0  # width of the detail area at the right of the sheet, mm
@@ -299,7 +299,7 @@ def _unit_spec(model: CadModel) -> SheetSpec:
             (-0.45 * lay.r_piston, lay.z_piston_top(0.0)), "inside", f"stroke {d.fixed.travel_mm:.2f}", on_axis=True),
         Dim("z", (0.5 * (lay.r_rod + lay.r_piston), zb0), (0.5 * (lay.r_rod + lay.r_piston), lay.z_piston_bottom(0.0)),
             "inside", f"{lay.z_piston_bottom(0.0) - zb0:.2f} (fluid)", on_axis=True),
-        Dim("z", (0.6 * lay.r_piston, lay.z_piston_top(0.0)), (0.6 * lay.r_piston, lay.z_bulkhead0), "inside",
+        Dim("z", (0.45 * lay.r_piston, lay.z_piston_top(0.0)), (0.45 * lay.r_piston, lay.z_bulkhead0), "inside",
             f"{lay.z_bulkhead0 - lay.z_piston_top(0.0):.2f} (chamber 1)", on_axis=True),
         Dim("u", (-R, zt), (R, zt), "top", f"Ø{2 * R:.2f}"),
         Dim("u", (-lay.r_bore, lay.z_free1), (lay.r_bore, lay.z_free1), "top", f"Ø{2 * lay.r_bore:.2f}"),
@@ -563,7 +563,7 @@ def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_i
     ax.add_patch(Rectangle((10, 10), W - 20, H - 20, fill=False, lw=0.7, color="black"))
 
     u0, u1, z0, z1 = spec.extent
-    band = 48.0  # notes and title block at the bottom
+    band = 40.0  # notes and title block at the bottom
     n_top = len([d for d in spec.dims if d.axis == "u" and d.side == "top"])
     n_bot = len([d for d in spec.dims if d.axis == "u" and d.side == "bottom"])
     top = (_GAP_MM + n_top * _TIER_MM + 4) if n_top else 8.0
@@ -643,11 +643,11 @@ def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_i
     ax.add_patch(Rectangle((bx, by), bw, bh, fill=False, lw=0.7, color="black"))
     rows = [
         (spec.title, 11.0, "bold"),
-        (f"Material: {spec.material}" + (f"   Mass: {spec.mass_g:.1f} g" if spec.mass_g else ""), _SMALL_PT, "normal"),
-        (f"Scale {_scale_text(scale)}   Sheet {sheet_no}/{n_sheets}   A3   Dimensions in mm   ISO 2768-m",
+        (f"Material: {spec.material}" + (f" | Mass: {spec.mass_g:.1f} g" if spec.mass_g else ""), _SMALL_PT, "normal"),
+        (f"Scale {_scale_text(scale)} | Sheet {sheet_no}/{n_sheets} | A3 | Dimensions in mm | ISO 2768-m",
          _SMALL_PT, "normal"),
         (spec.view_note, _SMALL_PT, "normal"),
-        (f"vvea_design, design {design_id}   section views", _SMALL_PT, "normal"),
+        (f"vvea_design, design {design_id} | section views", _SMALL_PT, "normal"),
     ]
     for i, (t, pt, wgt) in enumerate(rows):
         ax.text(bx + 3, by + bh - 5 - 6.5 * i, t, fontsize=pt, weight=wgt, va="center", family="DejaVu Sans")
@@ -726,7 +726,7 @@ def _draw_dims(ax, all_dims: Sequence[Dim], P: _Paper, extent: tuple[float, floa
         _, yhi = P(d.a[0], max(d.a[1], d.b[1]))
         ax.annotate("", (xl, yhi), (xl, ylo), arrowprops=arrow)
         t = d.label()
-        ymid = 0.5 * (ylo + yhi) if yhi - ylo >= _text_mm(t) + 2 else yhi + 0.5 * _text_mm(t) + 1.5
+        ymid = 0.5 * (ylo + yhi)  # beside the line, so it may be longer than the span
         left_of = d.a[0] < 0  # text on the side away from the axis
         ax.text(xl + (-0.8 if left_of else 0.8), ymid, t, rotation=90, ha="right" if left_of else "left",
                 va="center", **kw)
@@ -742,7 +742,7 @@ def _draw_detail(ax, spec: SheetSpec, fig) -> None:
     u0, u1, z0, z1 = det.window
     s = det.scale
     x_area0, x_area1 = W - 10 - _DETAIL_W, W - 14
-    y_area0, y_area1 = 10 + 48 + 20, H - 16
+    y_area0, y_area1 = 10 + 40 + 20, H - 16
     x0 = 0.5 * (x_area0 + x_area1) - 0.5 * s * (u1 - u0)
     y0 = 0.5 * (y_area0 + y_area1) - 0.5 * s * (z1 - z0)
     P2 = _Paper(s, u0, z0, x0, y0)
