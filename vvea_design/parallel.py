@@ -102,7 +102,19 @@ def _stop_now(pool: ProcessPoolExecutor) -> None:
 
 
 def default_workers() -> int:
-    """Number of local worker processes: all cores (``VVEA_WORKERS`` overrides)."""
+    """Number of local worker processes: all cores (``VVEA_WORKERS`` overrides).
+
+    Returns
+    -------
+    int
+        Number of worker processes, >= 1: the value of the ``VVEA_WORKERS``
+        environment variable if set, otherwise the number of CPU cores.
+
+    Raises
+    ------
+    ValueError
+        If ``VVEA_WORKERS`` is not a whole number >= 1.
+    """
     env = os.environ.get("VVEA_WORKERS")
     if env:
         try:

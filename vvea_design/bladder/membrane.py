@@ -168,7 +168,17 @@ def sleeve_meridian(radius_mm: float, length_mm: float, thickness_mm: float, n_e
         0 uniform ... 1 cosine spacing (finer at the clamps, where the
         meridian turns most). The default 0.9 puts the first element at
         about 1/(4 n) of the uniform size plus a little; the clamp strain then
-        converges from 96 elements to within 0.1 %.
+        converges from 96 elements to within 0.1 %. Dimensionless.
+
+    Returns
+    -------
+    Meridian
+        The reference meridian (coordinates in mm), both end nodes held in r and z.
+
+    Raises
+    ------
+    MembraneError
+        If a size is not a positive number, ``n_elements < 2`` or ``grading`` is outside [0, 1].
     """
     for name, v in (("radius_mm", radius_mm), ("length_mm", length_mm), ("thickness_mm", thickness_mm)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0:
@@ -190,6 +200,25 @@ def sphere_meridian(radius_mm: float, thickness_mm: float, n_elements: int = 64)
 
     The poles stay on the axis (r held); the south pole's z is held against
     rigid translation.
+
+    Parameters
+    ----------
+    radius_mm : float
+        Mid-surface radius of the sphere, mm.
+    thickness_mm : float
+        Wall thickness, mm.
+    n_elements : int
+        Elements along the meridian from pole to pole (>= 4).
+
+    Returns
+    -------
+    Meridian
+        The reference meridian (coordinates in mm), centred on the origin.
+
+    Raises
+    ------
+    MembraneError
+        If a size is not a positive number or ``n_elements < 4``.
     """
     for name, v in (("radius_mm", radius_mm), ("thickness_mm", thickness_mm)):
         if not math.isfinite(v) or v <= 0:
@@ -208,7 +237,18 @@ def sphere_meridian(radius_mm: float, thickness_mm: float, n_elements: int = 64)
 
 
 def enclosed_volume_mm3(r_mm, z_mm) -> float:
-    """Volume of revolution ``pi int r^2 dz`` of a polygonal meridian (exact for cone frustums), mm³."""
+    """Volume of revolution ``pi int r^2 dz`` of a polygonal meridian (exact for cone frustums), mm³.
+
+    Parameters
+    ----------
+    r_mm, z_mm : array_like, shape (n + 1,)
+        Radius and axial coordinate of the meridian nodes, in order, mm.
+
+    Returns
+    -------
+    float
+        Enclosed volume, mm³ (positive when z increases along the meridian).
+    """
     r, z = np.asarray(r_mm, float), np.asarray(z_mm, float)
     return float(math.pi / 3 * np.sum(np.diff(z) * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2)))
 
@@ -265,7 +305,24 @@ def _relaxed_W_casadi(l1, l2, c10, c01):
 
 
 def relaxed_energy_density(l1, l2, material: MooneyRivlin, relaxed: bool = True) -> np.ndarray:
-    """Strain energy per reference volume at stretches (l1, l2), tension-field relaxed, MPa (N mm / mm³)."""
+    """Strain energy per reference volume at stretches (l1, l2), tension-field relaxed, MPa (N mm / mm³).
+
+    Parameters
+    ----------
+    l1, l2 : array_like
+        Meridional and hoop stretch (deformed / reference length), dimensionless;
+        broadcast against each other.
+    material : MooneyRivlin
+        Material constants ``C10_MPa``, ``C01_MPa``.
+    relaxed : bool
+        ``True``: tension-field energy (zero in slack, uniaxial in wrinkled
+        states); ``False``: the plain incompressible energy, compression carried.
+
+    Returns
+    -------
+    numpy.ndarray
+        Energy density at each pair of stretches, MPa (N mm / mm³).
+    """
     l1 = np.asarray(l1, float)
     l2 = np.asarray(l2, float)
     c10, c01 = material.C10_MPa, material.C01_MPa
@@ -285,6 +342,18 @@ def relaxed_energy_density(l1, l2, material: MooneyRivlin, relaxed: bool = True)
 def element_stretches(ref: Meridian, r_mm, z_mm, material: MooneyRivlin | None = None,
                       relaxed: bool = True) -> dict[str, np.ndarray]:
     """Per-element stretches, tension-field state and membrane tensions of a deformed meridian.
+
+    Parameters
+    ----------
+    ref : Meridian
+        Reference (undeformed) meridian.
+    r_mm, z_mm : array_like, shape (n + 1,)
+        Deformed node coordinates, mm.
+    material : MooneyRivlin, optional
+        If given, the membrane tensions are computed too.
+    relaxed : bool
+        ``True``: classify elements as taut / wrinkled / slack (tension field);
+        ``False``: every element counts as taut.
 
     Returns
     -------
@@ -426,6 +495,7 @@ def solve_volume(ref: Meridian, material: MooneyRivlin, volume_change_mm3: float
     ref : Meridian
         Reference geometry and boundary conditions.
     material : MooneyRivlin
+        Membrane material (``C10_MPa``, ``C01_MPa``).
     volume_change_mm3 : float
         Prescribed change of enclosed volume, mm³ (negative = deflate).
     initial : MembraneSolution, optional
@@ -433,6 +503,13 @@ def solve_volume(ref: Meridian, material: MooneyRivlin, volume_change_mm3: float
     relaxed : bool
         Use the tension-field (wrinkling) relaxed energy; ``False`` lets the
         membrane carry compression (for comparisons only).
+
+    Returns
+    -------
+    MembraneSolution
+        Deformed shape (mm), pressure difference (MPa), per-element stretches
+        and tensions; ``regularisation`` > 0 when the pure relaxed problem did
+        not converge and a lightly regularised solution is returned.
 
     Raises
     ------
@@ -546,7 +623,30 @@ def _initial_guess(ref: Meridian, dv: float) -> np.ndarray:
 
 def solve_volume_path(ref: Meridian, material: MooneyRivlin, volume_changes_mm3, *,
                       relaxed: bool = True) -> list[MembraneSolution]:
-    """Solutions along a sequence of volume changes, each warm-started from the previous one."""
+    """Solutions along a sequence of volume changes, each warm-started from the previous one.
+
+    Parameters
+    ----------
+    ref : Meridian
+        Reference geometry and boundary conditions.
+    material : MooneyRivlin
+        Membrane material (``C10_MPa``, ``C01_MPa``).
+    volume_changes_mm3 : iterable of float
+        Prescribed changes of enclosed volume, mm³, in the order to solve them
+        (small steps help the warm start).
+    relaxed : bool
+        Use the tension-field (wrinkling) relaxed energy (see :func:`solve_volume`).
+
+    Returns
+    -------
+    list of MembraneSolution
+        One solution per volume change, in the same order.
+
+    Raises
+    ------
+    MembraneError
+        When a step does not converge (see :func:`solve_volume`).
+    """
     out: list[MembraneSolution] = []
     prev = None
     for dv in volume_changes_mm3:

@@ -129,6 +129,16 @@ def diagnose_cmd(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the ``identify`` and ``diagnose`` commands to ``app``."""
+    """Add the ``identify`` and ``diagnose`` commands to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The main ``vvea`` application; it is changed in place.
+
+    Returns
+    -------
+    None
+    """
     app.command("identify")(identify_cmd)
     app.command("diagnose")(diagnose_cmd)

@@ -222,5 +222,15 @@ def safety(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the ``study`` sub-app to the main ``vvea`` app."""
+    """Add the ``study`` sub-app to the main ``vvea`` app.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The main ``vvea`` application; it is changed in place.
+
+    Returns
+    -------
+    None
+    """
     app.add_typer(study_app, name="study")

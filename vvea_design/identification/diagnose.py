@@ -312,7 +312,23 @@ class FinalModel:
 
 
 def load_final_model(path: str | Path) -> FinalModel:
-    """Read ``final_model.json`` written by :func:`write_diagnosis`."""
+    """Read ``final_model.json`` written by :func:`write_diagnosis`.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The JSON file.
+
+    Returns
+    -------
+    FinalModel
+        The model; :meth:`FinalModel.predict` gives its force (N) on new motions.
+
+    Raises
+    ------
+    ValueError
+        If the file is not a vvea final-model file or names unknown effects.
+    """
     return FinalModel.from_dict(json.loads(Path(path).read_text()))
 
 
@@ -471,6 +487,23 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
     experiments); the integral, the marginal variance, averaged over samples,
     is the noise floor. White noise gives its RMS, AR(1) noise its marginal
     RMS; a ripple or a slow misfit does not raise it.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (experiment bounds, direction of motion, sample spacing in s).
+    residual_N : numpy.ndarray, shape (D.n,)
+        Residual per sample (measurement − model), N.
+    min_bin : int
+        Number of lowest periodogram bins left out of the level fit.
+    med_bins : int
+        Width of the running median over frequency, a number of bins.
+
+    Returns
+    -------
+    float
+        Noise floor, N RMS; NaN if there are fewer than 3 samples. When no
+        ramp is long enough, the RMS of the sample-to-sample differences / √2.
     """
     from scipy.ndimage import median_filter
 
@@ -557,6 +590,21 @@ def residual_map(D: FitData, residual_N: np.ndarray, noise_N: float) -> tuple:
     direction, time since reversal, pressure, valve, campaign time), each
     with one :class:`ResidualBin` per bin: samples, mean, mean along the
     motion (so friction-like residuals do not cancel), RMS and RMS / noise.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (x in mm, speeds in mm/s, p2 in MPa, valve in deg, times in s).
+    residual_N : numpy.ndarray, shape (D.n,)
+        Residual per sample (measurement − model), N.
+    noise_N : float
+        Noise floor, N RMS (see :func:`noise_floor_N`).
+
+    Returns
+    -------
+    tuple of ResidualFeature
+        One per feature, bins in ascending order; means and RMS in N, RMS /
+        noise dimensionless (``inf`` when ``noise_N`` is not positive).
     """
     out = []
     for name, unit, lab in _bins(D):
@@ -592,6 +640,21 @@ def plan_split(D: FitData, settings: DiagnoseSettings) -> Plan:
     no fold has to predict a valve whose damping it never saw. Small
     campaigns: fewer folds; no held-out set when a valve cannot spare an
     experiment; no selection below ``min_experiments_cv`` experiments.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (its experiments and their valve angles).
+    settings : DiagnoseSettings
+        ``n_folds``, ``test_fraction`` (fraction of experiments held out),
+        ``min_experiments_cv`` and the ``seed`` of the split.
+
+    Returns
+    -------
+    Plan
+        Training and held-out experiment indices, the fold of each
+        experiment (-1 for held out), the number of folds, whether selection
+        is possible and notes on what cannot be assessed.
     """
     rng = np.random.default_rng(settings.seed)
     valve_of = D.valve[D.bounds[:-1]]
@@ -764,7 +827,36 @@ def _paired_t(a: np.ndarray, b: np.ndarray) -> float:
 def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSettings, say=lambda m: None):
     """Forward selection over catalogue effects and discovery operators (grouped CV, naming discipline).
 
-    Returns ``(selected ids, shapes, trials per id (last round tested), rounds log)``.
+    Each round tests every candidate not yet selected against the current
+    model over the CV folds of ``plan``; of the candidates that pass
+    (``settings``' gain, t, fold and SNR thresholds), a catalogue effect is
+    preferred unless a discovery operator fits held-out experiments better by
+    a paired t above ``settings.name_t``. Stops when nothing passes or after
+    ``settings.max_effects`` terms.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    plan : Plan
+        Training experiments and CV folds (:func:`plan_split`).
+    noise : float
+        Noise floor, N RMS (:func:`noise_floor_N`).
+    settings : DiagnoseSettings
+        Candidates and acceptance thresholds.
+    say : callable
+        Called with a progress message (str) before each candidate is tested.
+
+    Returns
+    -------
+    selected : list of str
+        Accepted effect ids, in the order accepted.
+    shapes : dict
+        Shape parameter per effect id of the last accepted model, in each
+        effect's shape unit (empty when ``plan`` allows no selection).
+    trials : dict
+        Per candidate id its score in the last round it was tested
+        (cross-validated SSE per experiment in N², shape, evidence, fit).
     """
     cands = [c for c in settings.candidates if c in REGISTRY] + [c for c in settings.discovery if c in REGISTRY]
     sel: list[str] = []
@@ -827,7 +919,31 @@ def _rmse(D, fit: ModelFit, exps) -> float | None:
 def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSettings):
     """Baseline and final model on all experiments; held-out RMS after each accepted term; fold jackknife of shapes.
 
-    Returns ``(baseline, final, steps, heldout_steps, shape_se)``.
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    plan : Plan
+        Training / held-out experiments and CV folds (:func:`plan_split`).
+    sel : sequence of str
+        Accepted effect ids, in the order accepted.
+    shapes : dict
+        Shape parameter per effect id (each in its effect's shape unit).
+    settings : DiagnoseSettings
+        The diagnosis settings (kept for a uniform stage signature).
+
+    Returns
+    -------
+    baseline : ModelFit
+        Eq. 14 fitted on all experiments.
+    final : ModelFit
+        Eq. 14 + ``sel`` fitted on all experiments.
+    steps : tuple of ModelFit
+        Fits on the training experiments after 0, 1, ... accepted terms.
+    heldout_steps : tuple of HeldOutStep
+        Held-out RMS error (N; None without held-out experiments) after each step.
+    shape_se : dict
+        Fold-jackknife standard error of each fitted shape parameter, in its unit.
     """
     sel = tuple(sel)
     steps, hsteps = [], []
@@ -881,7 +997,26 @@ def _final_model(final: ModelFit, D: FitData, shape_se: dict) -> FinalModel:
 
 # ================================================================== stage: learner check
 def learner_check(D: FitData, residual: np.ndarray, noise_N: float, settings: DiagnoseSettings) -> LearnerCheck:
-    """Gradient-boosted trees (grouped CV by experiment) on the final residuals: is structure left, and where?"""
+    """Gradient-boosted trees (grouped CV by experiment) on the final residuals: is structure left, and where?
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (the learner's features: x in mm, ẋ in mm/s, p2 in MPa,
+        valve in deg, times in s).
+    residual : numpy.ndarray, shape (D.n,)
+        Residual of the final model per sample (measurement − model), N.
+    noise_N : float
+        Noise floor, N RMS.
+    settings : DiagnoseSettings
+        ``learner_rows``, ``learner_min_gain`` (fraction) and ``learner_min_ratio``.
+
+    Returns
+    -------
+    LearnerCheck
+        Whether it ran and flags structure, the held-out share of residual
+        variance it explains (fraction), the RMS it explains (N) and where.
+    """
     if D.n_exp < 2:
         return LearnerCheck(False, False, note=f"skipped: {D.n_exp} experiment(s) cannot be split into groups")
     from sklearn.ensemble import HistGradientBoostingRegressor
@@ -1087,7 +1222,20 @@ def diagnose(
 
 # ================================================================== output
 def format_summary(r: DiagnosisReport) -> str:
-    """A summary an engineer can read (Markdown)."""
+    """A summary an engineer can read (Markdown).
+
+    Parameters
+    ----------
+    r : DiagnosisReport
+        The report of :func:`diagnose`.
+
+    Returns
+    -------
+    str
+        Markdown text: campaign, noise floor (N), accepted and rejected
+        effects with their parameters and evidence, held-out errors (N) and
+        what is left unexplained.
+    """
     L = []
     noise = r.noise_floor_N if np.isfinite(r.noise_floor_N) else 0.0
     L.append(f"# Diagnosis of {r.source}")
@@ -1270,6 +1418,18 @@ def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> list[str]:
 
     Figures: ``residual_maps.png``, ``heldout_per_effect.png``,
     ``worst_experiments.png``. Returns the list of file names written.
+
+    Parameters
+    ----------
+    diag : Diagnosis
+        Output of :func:`diagnose`.
+    out_dir : str or pathlib.Path
+        Directory to write into (created if missing; files are overwritten).
+
+    Returns
+    -------
+    list of str
+        Names of the files written, relative to ``out_dir``.
     """
     import matplotlib.pyplot as plt
 

@@ -240,7 +240,22 @@ def cached(D: FitData, key, make):
 
 
 def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
-    """Design matrix of eq. 14: ``[p2 x, sign(ẋ), ẋ·1{γ=γ_j} ...]`` (cached: do not modify it in place)."""
+    """Design matrix of eq. 14: ``[p2 x, sign(ẋ), ẋ·1{γ=γ_j} ...]`` (cached: do not modify it in place).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign's arrays (x in mm, ẋ in mm/s, p2 in MPa, valve angles in deg).
+
+    Returns
+    -------
+    X : numpy.ndarray, shape (D.n, 2 + len(D.valves))
+        Columns ``p2 x`` (MPa mm), ``sign(ẋ)`` (dimensionless) and one column
+        ``ẋ`` (mm/s) per valve angle, zero at samples of the other angles.
+    params : list of Param
+        One per column: ``g`` (N/mm/MPa), ``C`` (N), ``L(γ)`` (N s/mm), all
+        bounded below by 0.
+    """
     return cached(D, ("eq14",), lambda: _baseline_columns(D))
 
 
@@ -258,7 +273,23 @@ def _baseline_columns(D: FitData):
 
 # ------------------------------------------------------------------ signal operators
 def lowpass(D: FitData, u: np.ndarray, tau_s: float) -> np.ndarray:
-    """First-order low-pass ``τ ẏ = u - y`` per experiment, started in steady state (y = u at the first sample)."""
+    """First-order low-pass ``τ ẏ = u - y`` per experiment, started in steady state (y = u at the first sample).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign: its experiment bounds and sample spacing (s) are used.
+    u : numpy.ndarray, shape (D.n,)
+        Signal per sample, in any unit (e.g. a force in N or a displacement
+        in mm); the output keeps its unit.
+    tau_s : float
+        Time constant τ, s.
+
+    Returns
+    -------
+    numpy.ndarray, shape (D.n,)
+        The filtered signal, same unit as ``u``.
+    """
     out = np.empty_like(u, dtype=float)
     dt = D.per_exp_dt()
     for e in range(D.n_exp):
@@ -292,6 +323,24 @@ def thermal_state(D: FitData, tau_s: float, u: np.ndarray | None = None, name: s
 
     Exact for piecewise-linear u between samples. ``k p2 h`` is the excess
     gas force that heat exchange with the walls relaxes with time constant τ.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign: its experiment bounds, sample spacing (s) and x (mm).
+    tau_s : float
+        Time constant τ of the heat exchange, s.
+    u : numpy.ndarray, shape (D.n,), optional
+        Driving signal, in any unit (default: the displacement x, mm); h has
+        the same unit.
+    name : str
+        Cache key of ``u``: give each different ``u`` its own name.
+
+    Returns
+    -------
+    numpy.ndarray, shape (D.n,)
+        The state h per sample, unit of ``u`` (mm by default). Cached: do not
+        modify it in place.
     """
     return cached(D, ("thermal", float(tau_s), name), lambda: _thermal_state(D, tau_s, D.x if u is None else u))
 
@@ -314,6 +363,19 @@ def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
     ``x - play_r(x)``: follows x for the first ``r`` after a reversal, then
     saturates at ±r -- elastic-plastic (pre-sliding) memory of the motion.
     Each ramp is monotone, so the play operator is a running max/min.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign: x (mm), direction of motion and experiment bounds.
+    r_mm : float
+        Width r of the operator, mm.
+
+    Returns
+    -------
+    numpy.ndarray, shape (D.n,)
+        Stop operator output per sample, mm, in [-r, r]. Cached: do not
+        modify it in place.
     """
     return cached(D, ("stop", float(r_mm)), lambda: _stop_operator(D, r_mm))
 
@@ -501,7 +563,23 @@ REGISTRY: dict[str, Effect] = {}
 
 
 def register(effect: Effect) -> Effect:
-    """Add ``effect`` to :data:`REGISTRY` (ids are unique)."""
+    """Add ``effect`` to :data:`REGISTRY` (ids are unique).
+
+    Parameters
+    ----------
+    effect : Effect
+        The effect to register; its ``id`` must not be registered yet.
+
+    Returns
+    -------
+    Effect
+        ``effect`` itself (so it can be used as ``X = register(X(...))``).
+
+    Raises
+    ------
+    ValueError
+        If an effect with the same id is already registered.
+    """
     if effect.id in REGISTRY:
         raise ValueError(f"effect id {effect.id!r} registered twice")
     REGISTRY[effect.id] = effect
@@ -530,6 +608,22 @@ def chamber_remainders(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPE
     chamber 1 ``-(p1/p2) A1 V1/(V1 + A1 x)`` (regressive; p1/p2 of the
     design, A2/A1 for eq. 7's zero force at x = 0), each minus its value at
     x = 0 and its least-squares line through the origin over the unit's travel.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Displacement, mm (x > 0 extends the spring).
+    V2_mm3 : float
+        Chamber-2 volume at x = 0, mm³ (an effective, polytropic volume when fitted).
+    reference : GasSpring
+        The unit whose chamber areas (mm²), V1 (mm³), pressures (MPa) and
+        travel (mm) are used; default the paper's Fig. 5 unit.
+
+    Returns
+    -------
+    r2, r1 : numpy.ndarray
+        Nonlinear remainders of the chamber-2 and chamber-1 forces at ``x``,
+        N per MPa of p2 (mm²).
     """
     A1, A2, V1 = reference.A1_mm2, reference.A2_mm2, reference.V1_mm3
     ratio = reference.p1_MPa / reference.p2_MPa if reference.p2_MPa > 0 else A2 / A1

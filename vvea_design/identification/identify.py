@@ -141,7 +141,26 @@ class Blocks:
 
 
 def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
-    """Normal-equation blocks per experiment (``bounds`` = row offsets)."""
+    """Normal-equation blocks per experiment (``bounds`` = row offsets).
+
+    Parameters
+    ----------
+    X : numpy.ndarray, shape (n, p)
+        Design matrix; each column in its own unit (e.g. MPa mm for ``p2 x``,
+        mm/s for ``ẋ``, dimensionless for ``sign(ẋ)``), see :func:`assemble`.
+    y : numpy.ndarray, shape (n,)
+        Measured force, N.
+    bounds : numpy.ndarray, shape (n_exp + 1,)
+        Row offsets of the experiments (a count of samples; ``bounds[-1] == n``).
+    params : sequence of Param
+        One per column of ``X``; their ``lower`` / ``upper`` bounds are kept.
+
+    Returns
+    -------
+    Blocks
+        ``G[e] = Xeᵀ Xe``, ``b[e] = Xeᵀ ye`` and ``yy[e] = yeᵀ ye`` (N²) per
+        experiment ``e``, the samples per experiment and the parameter bounds.
+    """
     ne = len(bounds) - 1
     p = X.shape[1]
     G = np.empty((ne, p, p))
@@ -159,7 +178,30 @@ def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
 
 
 def extend_blocks(base: Blocks, X0: np.ndarray, Xn: np.ndarray, y: np.ndarray, bounds: np.ndarray, params_new) -> Blocks:
-    """Blocks of ``[X0, Xn]`` from the blocks of ``X0``: only the new columns' products are computed."""
+    """Blocks of ``[X0, Xn]`` from the blocks of ``X0``: only the new columns' products are computed.
+
+    Parameters
+    ----------
+    base : Blocks
+        Blocks of ``X0`` (from :func:`blocks` with the same ``y`` and ``bounds``).
+    X0 : numpy.ndarray, shape (n, p0)
+        The design ``base`` was built from; columns in their own units (e.g.
+        MPa mm, mm/s, dimensionless; see :func:`blocks`).
+    Xn : numpy.ndarray, shape (n, k)
+        New columns, each in its own unit (e.g. mm for a stop operator,
+        dimensionless for a sign), as the effect defines them.
+    y : numpy.ndarray, shape (n,)
+        Measured force, N.
+    bounds : numpy.ndarray, shape (n_exp + 1,)
+        Row offsets of the experiments (a count of samples).
+    params_new : sequence of Param
+        One per column of ``Xn`` (their bounds are appended).
+
+    Returns
+    -------
+    Blocks
+        The blocks of ``[X0, Xn]``, equal to ``blocks(np.column_stack([X0, Xn]), y, bounds, ...)``.
+    """
     ne, p0, k = len(bounds) - 1, X0.shape[1], Xn.shape[1]
     G = np.empty((ne, p0 + k, p0 + k))
     G[:, :p0, :p0] = base.G
@@ -183,6 +225,22 @@ def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.nda
 
     Columns are scaled to unit diagonal; a tiny ridge keeps parameters of
     absent columns (a valve missing from a training fold) at zero.
+
+    Parameters
+    ----------
+    G : numpy.ndarray, shape (p, p)
+        Gram matrix ``XᵀX``; entry (i, j) in the product of the units of
+        columns i and j (e.g. mm²/s² for two ẋ columns in mm/s).
+    b : numpy.ndarray, shape (p,)
+        ``Xᵀy`` (column unit times N).
+    lower, upper : numpy.ndarray, shape (p,)
+        Bounds on each parameter, in its unit (N per column unit, e.g.
+        N/mm/MPa, N, N s/mm); ``±inf`` for none.
+
+    Returns
+    -------
+    numpy.ndarray, shape (p,)
+        The bounded least-squares parameters θ, each in its unit (N per column unit).
     """
     d = np.sqrt(np.clip(np.diag(G), 0, None))
     d[d == 0] = 1.0
@@ -330,8 +388,10 @@ def fit_model(
     ----------
     D : FitData
     effects : sequence of str
+        Effect ids from :data:`vvea_design.identification.effects.REGISTRY`.
     experiments : int array, optional
-        Experiment indices to fit (default all).
+        Experiment indices to fit, 0 .. n_exp-1 in run order (dimensionless;
+        default all).
     shapes : dict, optional
         Fixed shape values per effect id.
     ctx : dict, optional
@@ -412,6 +472,25 @@ def auto_context(D: FitData, effects, experiments, shapes: dict | None = None, i
     force); ``model_force_N``: the force of the model without the terms
     that need it (refitted ``iters`` times); ``residual_N``: measurement −
     that model.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    effects : sequence of str
+        Effect ids of the model the context is for.
+    experiments : array_like of int
+        Indices of the experiments to fit, 0 .. n_exp-1 in run order (dimensionless).
+    shapes : dict, optional
+        Fixed shape values per effect id (in each effect's shape unit).
+    iters : int
+        Refits of the damping and model force with all the effects.
+
+    Returns
+    -------
+    dict
+        ``damping_force_N``, ``model_force_N``, ``residual_N`` and
+        ``residual_all_N``, arrays per sample, N; empty when no effect needs context.
     """
     effects = tuple(effects)
     rows = np.asarray(experiments, int)
@@ -443,6 +522,26 @@ def relief_context(D: FitData, effects, experiments, shapes: dict | None = None,
     biased low where the valve caps the force), the model is refitted
     ``iters`` times, each time with the damping force of the previous fit,
     so that the samples deemed capped follow from an unbiased L.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    effects : sequence of str
+        Effect ids of the model (including the one that replaces damping columns).
+    experiments : array_like of int
+        Indices of the experiments to fit, 0 .. n_exp-1 in run order (dimensionless).
+    shapes : dict, optional
+        Fixed shape values per effect id (in each effect's shape unit).
+    start : dict, optional
+        Starting context (see :func:`auto_context`); default built by :func:`auto_context`.
+    iters : int
+        Number of refits.
+
+    Returns
+    -------
+    dict
+        The context, with ``damping_force_N`` (per sample, N) from the last refit.
     """
     rows = np.asarray(experiments, int)
     ctx = dict(start) if start is not None else auto_context(D, effects, rows, shapes, iters=0)
@@ -474,6 +573,17 @@ def table3(fit: ModelFit) -> pd.DataFrame:
     """Table 3's layout: parameter, unit, value, standard error, paper value.
 
     The paper calls the Coulomb friction ``B`` in Table 3 and ``C`` in eq. 14.
+
+    Parameters
+    ----------
+    fit : ModelFit
+        A fit with the eq.-14 group (e.g. from :func:`fit_eq14`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``parameter``, ``unit`` (N/mm/MPa, N, N s/mm), ``value``,
+        ``std_error`` (same unit) and ``paper`` (Table 3's value, NaN if none).
     """
     rows = []
     sl = fit.groups["eq14"]
@@ -486,7 +596,18 @@ def table3(fit: ModelFit) -> pd.DataFrame:
 
 
 def format_table3(df: pd.DataFrame) -> str:
-    """Plain-text rendering of :func:`table3` (Parameter / Unit / Value ± se / Paper)."""
+    """Plain-text rendering of :func:`table3` (Parameter / Unit / Value ± se / Paper).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        Output of :func:`table3`.
+
+    Returns
+    -------
+    str
+        One header line and one line per parameter, values with 2 decimals in their units.
+    """
     lines = [f"{'Parameter':<10} {'Unit':<10} {'Value':>22} {'Paper':>9}"]
     for r in df.itertuples():
         val = f"{r.value:10.2f} ± {r.std_error:<8.2f}"
@@ -500,6 +621,18 @@ def error_band_pct(D: FitData, force_model_N: np.ndarray) -> tuple[float, float]
 
     The nominal force of an experiment is its largest measured |force|; the
     paper's band for eq. 14 is -9.5 % ... +12 %.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (measured force in N, experiment bounds).
+    force_model_N : numpy.ndarray, shape (D.n,)
+        Model force per sample, N.
+
+    Returns
+    -------
+    lowest, highest : float
+        Smallest and largest model error, % of the experiment's nominal force.
     """
     nom = np.zeros(D.n)
     for e in range(D.n_exp):

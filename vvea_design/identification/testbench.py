@@ -114,6 +114,27 @@ def effect_force_N(eff: TruthEffect, cols: dict, spec: CampaignSpec) -> np.ndarr
     """Force (N) the effect adds to eq. 14 at the samples in ``cols`` (the registry's bench force).
 
     ``cols`` holds arrays ``x, v, p2, valve, ctime_h, exp, t`` (true kinematics).
+
+    Parameters
+    ----------
+    eff : TruthEffect
+        The effect and its parameters (physical units, see :class:`TruthEffect`).
+    cols : dict of str to numpy.ndarray
+        True kinematics per sample: ``x`` (mm), ``v`` (mm/s), ``p2`` (MPa),
+        ``valve`` (deg), ``ctime_h`` (campaign time, h), ``exp`` (experiment
+        index), ``t`` (s within the experiment).
+    spec : CampaignSpec
+        The simulated bench (reference unit, valve angles, travel in mm).
+
+    Returns
+    -------
+    numpy.ndarray
+        Added force per sample, N (force > 0 is tension).
+
+    Raises
+    ------
+    ValueError
+        If ``eff.id`` is not in the effect registry.
     """
     if eff.id not in REGISTRY:
         raise ValueError(f"unknown effect id {eff.id!r}")
@@ -127,7 +148,28 @@ def _eq14_columns(cols, valves):
 
 
 def snr(force_N: np.ndarray, cols: dict, valves, noise_N: float) -> tuple[float, float]:
-    """(SNR, RMS in N) of the part of ``force_N`` eq. 14 cannot represent."""
+    """(SNR, RMS in N) of the part of ``force_N`` eq. 14 cannot represent.
+
+    Parameters
+    ----------
+    force_N : numpy.ndarray
+        Force of one effect per sample, N.
+    cols : dict of str to numpy.ndarray
+        Kinematics per sample; ``x`` (mm), ``v`` (mm/s), ``p2`` (MPa) and
+        ``valve`` (deg) are used.
+    valves : sequence of float
+        Valve angles of the campaign, deg (one damping column each).
+    noise_N : float
+        RMS of the force noise, N.
+
+    Returns
+    -------
+    snr : float
+        RMS of the least-squares residual of ``force_N`` against the eq.-14
+        columns divided by ``noise_N``, dimensionless.
+    rms : float
+        That residual RMS, N.
+    """
     X = _eq14_columns(cols, valves)
     th, *_ = np.linalg.lstsq(X, force_N, rcond=None)
     r = force_N - X @ th
@@ -158,6 +200,13 @@ def _kinematics(spec: CampaignSpec, rng: np.random.Generator):
 
 def simulate(spec: CampaignSpec) -> Campaign:
     """Simulate a campaign.
+
+    Parameters
+    ----------
+    spec : CampaignSpec
+        The bench: grid of pressures (MPa), valve angles (deg) and speeds
+        (mm/s), eq.-14 parameters (N/mm/MPa, N, N s/mm), noise (N, mm), the
+        concealed effects and the seed.
 
     Returns
     -------
@@ -208,6 +257,27 @@ def random_effect(eid: str, target_snr: float, spec: CampaignSpec, rng: np.rando
     Shape parameters are drawn at random (the registry's ``bench_random``);
     the strength (amplitude, or the relief force / leak rate) is set by
     bisection on the SNR.
+
+    Parameters
+    ----------
+    eid : str
+        Effect id, a key of the effect registry.
+    target_snr : float
+        Signal-to-noise ratio to reach (see the module doc), dimensionless.
+    spec : CampaignSpec
+        The bench the effect will be simulated in (its effects are ignored).
+    rng : numpy.random.Generator
+        Source of the random shape parameters.
+
+    Returns
+    -------
+    TruthEffect
+        The effect with its parameters in physical units.
+
+    Raises
+    ------
+    ValueError
+        If ``eid`` is not in the effect registry.
     """
     if eid not in REGISTRY:
         raise ValueError(f"unknown effect id {eid!r}")
@@ -250,7 +320,20 @@ class BenchmarkCase:
 
 
 def small_spec(**kw) -> CampaignSpec:
-    """A reduced campaign for CI: 2 pressures x 5 valves x 3 speeds, 151 samples."""
+    """A reduced campaign for CI: 2 pressures x 5 valves x 3 speeds, 151 samples.
+
+    Parameters
+    ----------
+    **kw
+        Further :class:`CampaignSpec` fields (units in their names), which
+        override the reduced grid too.
+
+    Returns
+    -------
+    CampaignSpec
+        The reduced bench: p2 1 and 4 MPa, valves 50, 100, 108, 110, 120 deg,
+        speeds 0.1, 4 and 12 mm/s.
+    """
     base = dict(
         pressures_MPa=(1.0, 4.0),
         valves_deg=(50.0, 100.0, 108.0, 110.0, 120.0),
@@ -271,7 +354,33 @@ def make_cases(
     scale: str = "full",
     learner: bool = False,
 ) -> list[BenchmarkCase]:
-    """The benchmark's campaigns: every effect alone at log-uniform SNRs, null campaigns, random pairs."""
+    """The benchmark's campaigns: every effect alone at log-uniform SNRs, null campaigns, random pairs.
+
+    Parameters
+    ----------
+    n_single : int
+        Number of single-effect campaigns per effect, stratified in log SNR over ``snr_range``.
+    n_null : int
+        Number of campaigns without any effect (for the false-positive rate).
+    n_combined : int
+        Number of campaigns with a random pair of effects, each at an SNR
+        drawn log-uniformly between 2 and ``snr_range[1]``.
+    snr_range : tuple of float
+        (lowest, highest) target SNR, dimensionless.
+    seed : int
+        Seed of the draws; case seeds are ``seed * 100000 + k``.
+    effects : tuple of str, optional
+        Effect ids to test (default: every catalogue effect).
+    scale : str
+        ``"full"`` (the paper's 135-experiment grid) or ``"small"`` (:func:`small_spec`).
+    learner : bool
+        Run the flexible-learner check in the diagnosis of each case.
+
+    Returns
+    -------
+    list of BenchmarkCase
+        Single-effect cases first, then the null and the combined ones.
+    """
     from .effects import EFFECT_IDS
 
     effects = tuple(effects or EFFECT_IDS)
@@ -305,7 +414,20 @@ def make_cases(
 
 
 def case_spec(case: BenchmarkCase) -> CampaignSpec:
-    """The randomised bench of a case (parameters, noise and effects drawn from its seed)."""
+    """The randomised bench of a case (parameters, noise and effects drawn from its seed).
+
+    Parameters
+    ----------
+    case : BenchmarkCase
+        The case: its effects, target SNRs, seed and scale.
+
+    Returns
+    -------
+    CampaignSpec
+        The bench with g within ±10 % of 23.31 N/mm/MPa, C within ±20 % of
+        125.5 N, Table 3's damping scattered by about 10 %, force noise
+        2-6 N RMS, and the case's effects at their target SNRs.
+    """
     rng = np.random.default_rng(case.seed)
     L = {g: float(v * np.exp(rng.normal(0, 0.1))) for g, v in TABLE3_L.items()}
     kw = dict(
@@ -322,7 +444,23 @@ def case_spec(case: BenchmarkCase) -> CampaignSpec:
 
 
 def run_case(case: BenchmarkCase) -> dict:
-    """Simulate a case, diagnose it blind, and score the result (picklable, for ``parallel_map``)."""
+    """Simulate a case, diagnose it blind, and score the result (picklable, for ``parallel_map``).
+
+    Parameters
+    ----------
+    case : BenchmarkCase
+        The case to run.
+
+    Returns
+    -------
+    dict
+        The score: ``snr`` per effect (dimensionless), ``accepted``,
+        ``discovered``, ``detected`` and ``false_positives`` effect ids,
+        held-out RMS errors of the baseline, the final and the true model
+        (``heldout_*_N``, N), ``noise_floor_N`` and ``noise_N`` (N),
+        ``noise_rho``, ``unexplained_structure`` and the times taken
+        (``simulate_read_s``, ``diagnose_s``, s).
+    """
     import time
 
     from .diagnose import DiagnoseSettings, diagnose
@@ -365,7 +503,25 @@ def run_case(case: BenchmarkCase) -> dict:
 
 
 def summarise_benchmark(results: list[dict], snr_bins=(0.0, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, np.inf)) -> dict:
-    """Detection rate per effect against SNR, false-positive rate, held-out gap closure."""
+    """Detection rate per effect against SNR, false-positive rate, held-out gap closure.
+
+    Parameters
+    ----------
+    results : list of dict
+        Outputs of :func:`run_case`.
+    snr_bins : sequence of float
+        Edges of the SNR bins for the detection rates, dimensionless.
+
+    Returns
+    -------
+    dict
+        ``per_effect`` (detection rate per SNR bin and at SNR >= 2, fraction),
+        ``null`` (false-positive rate, fraction), ``spurious_rate_with_effects``
+        (fraction), ``gap_closure_snr_ge_2`` (share of the gap between the
+        baseline's and the true model's held-out RMS error that the final
+        model closes, fraction; mean held-out RMS errors in N), ``diagnose_s``
+        (median and max time per diagnosis, s) and ``n_campaigns``.
+    """
     from .effects import EFFECT_IDS
 
     out: dict = {"per_effect": {}, "n_campaigns": len(results)}

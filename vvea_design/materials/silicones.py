@@ -103,7 +103,23 @@ SILICONES: dict[str, Silicone] = {
 
 
 def get_silicone(key: str | Silicone) -> Silicone:
-    """A silicone by key (or pass a :class:`Silicone` through), with a clear error for unknown keys."""
+    """A silicone by key (or pass a :class:`Silicone` through), with a clear error for unknown keys.
+
+    Parameters
+    ----------
+    key : str or Silicone
+        A key of :data:`SILICONES`, or a :class:`Silicone`, which is returned as is.
+
+    Returns
+    -------
+    Silicone
+        The casting silicone (shear modulus and tensile strength in MPa, elongation at break as a fraction).
+
+    Raises
+    ------
+    ValueError
+        If ``key`` is unknown; the message lists the known keys.
+    """
     if isinstance(key, Silicone):
         return key
     try:
@@ -159,7 +175,24 @@ DEFAULT_CRITERION = "cyclic"
 
 
 def get_criterion(criterion: str | StrainCriterion | None = None) -> StrainCriterion:
-    """A criterion by name (``None`` -> the default, ``"cyclic"``) or passed through."""
+    """A criterion by name (``None`` -> the default, ``"cyclic"``) or passed through.
+
+    Parameters
+    ----------
+    criterion : str or StrainCriterion or None
+        A key of :data:`CRITERIA` (``"cyclic"`` or ``"static"``), a
+        :class:`StrainCriterion` (returned as is), or ``None`` for the default.
+
+    Returns
+    -------
+    StrainCriterion
+        The criterion.
+
+    Raises
+    ------
+    ValueError
+        If ``criterion`` is an unknown name; the message lists the known ones.
+    """
     if criterion is None:
         criterion = DEFAULT_CRITERION
     if isinstance(criterion, StrainCriterion):
@@ -171,7 +204,28 @@ def get_criterion(criterion: str | StrainCriterion | None = None) -> StrainCrite
 
 
 def allowable_strain(material: str | Silicone, criterion: str | StrainCriterion | float | None = None) -> float:
-    """Allowable engineering strain of ``material`` under ``criterion`` (a float is taken as the value), fraction."""
+    """Allowable engineering strain of ``material`` under ``criterion`` (a float is taken as the value), fraction.
+
+    Parameters
+    ----------
+    material : str or Silicone
+        The silicone, by key of :data:`SILICONES` or as a :class:`Silicone`.
+        Not used when ``criterion`` is a number.
+    criterion : str or StrainCriterion or float or None
+        A criterion name or object (see :func:`get_criterion`; ``None`` is the
+        default ``"cyclic"``), or the allowable strain itself as a positive
+        fraction (0.25 = 25 %).
+
+    Returns
+    -------
+    float
+        Allowable engineering strain, fraction.
+
+    Raises
+    ------
+    ValueError
+        If a numeric ``criterion`` is not a finite positive number, or a name is unknown.
+    """
     if isinstance(criterion, (int, float)) and not isinstance(criterion, bool):
         if not (math.isfinite(criterion) and criterion > 0):
             raise ValueError(f"allowable strain must be a positive fraction, got {criterion!r}")

@@ -39,7 +39,23 @@ DENSITY_HYDRAULIC_OIL_g_per_mm3 = 0.87e-3
 
 
 def get_material(key: str) -> Material:
-    """Look a structural material up by key, with a clear error for unknown keys."""
+    """Look a structural material up by key, with a clear error for unknown keys.
+
+    Parameters
+    ----------
+    key : str
+        A key of :data:`STRUCTURAL`, e.g. ``"al-6061-t6"``.
+
+    Returns
+    -------
+    Material
+        The material (density in g/mm³, yield stress and Young's modulus in MPa).
+
+    Raises
+    ------
+    ValueError
+        If ``key`` is unknown; the message lists the known keys.
+    """
     try:
         return STRUCTURAL[key]
     except KeyError:
