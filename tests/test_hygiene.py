@@ -151,7 +151,8 @@ def _names(reqs) -> set[str]:
 
 
 #: Declared but not imported by name: used through another package.
-INDIRECT = {"pyarrow": "pandas' Parquet engine (read_parquet / to_parquet)"}
+INDIRECT = {"pyarrow": "pandas' Parquet engine (read_parquet / to_parquet)",
+            "rtree": "trimesh's spatial index (proximity queries of the CAD wall-thickness check)"}
 
 
 def test_every_import_is_declared_and_every_dependency_imported():
