@@ -1,7 +1,7 @@
 """``vvea bladder design.json --out DIR``: the bladder strain check (thin layer over :mod:`vvea_design.bladder.check`).
 
-Wire it in with ``register(app)``; ``design_step`` is the matching step for
-``vvea design`` (``DESIGN_STEPS.append(design_step)``).
+Wire it in with ``register(app)``; ``vvea design`` runs the same step through
+:func:`vvea_design.pipeline.design_unit`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-__all__ = ["register", "bladder", "design_step", "print_bladder"]
+__all__ = ["register", "bladder", "print_bladder"]
 
 
 def print_bladder(d: dict) -> None:
@@ -76,12 +76,6 @@ def bladder(
         fail(str(exc))
     print_bladder(d)
     console.print(f"wrote {', '.join(str(out / f) for f in d['files'].values())}")
-
-
-def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
-    """Step of ``vvea design``: the bladder check into ``out/bladder``."""
-    bladder(design_json, out=Path(out) / "bladder", material="dragon-skin-20", criterion=None, allowable=None,
-            elements=96)
 
 
 def register(app: typer.Typer) -> None:

@@ -1,7 +1,7 @@
 """``vvea cad design.json --out DIR``: the CAD set (thin layer over :mod:`vvea_design.cad`).
 
-Wire it in with ``register(app)``; ``design_step`` is the matching step for
-``vvea design`` (``DESIGN_STEPS.append(design_step)``, writes ``out/cad``).
+Wire it in with ``register(app)``; ``vvea design`` runs the same step through
+:func:`vvea_design.pipeline.design_unit`.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from pathlib import Path
 
 import typer
 
-__all__ = ["register", "cad", "design_step", "print_manifest"]
+__all__ = ["register", "cad", "print_manifest"]
 
 
 def print_manifest(manifest: dict) -> None:
@@ -75,11 +75,6 @@ def cad(
         console.print(f"drawings: {len(ds.sheets)} sheets ({', '.join(ds.sheets)}) as SVG and {ds.pdf.name}; "
                       f"bom.csv: {len(bom.lines)} lines, unit mass {bom.unit_mass_g:.1f} g, "
                       f"silicone to mix {bom.silicone_to_mix_g:.1f} g ({bom.silicone})")
-
-
-def design_step(design_json: Path, out: Path, renders: bool = True) -> None:
-    """Step of ``vvea design``: the CAD set into ``out/cad``."""
-    cad(design_json, out=Path(out) / "cad", renders=renders, drawings=True, silicone="dragon-skin-20")
 
 
 def register(app: typer.Typer) -> None:
