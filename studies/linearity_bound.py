@@ -45,6 +45,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from vvea_design.bladder.check import strain_bound
+from vvea_design.cad import CadError, Layout
 from vvea_design.spring.design import get_layout
 from vvea_design.spring.requirements import design_from_vector
 
@@ -73,9 +74,22 @@ RELAXATIONS = {
     "bladder_min_gap_mm 0.5 -> 0.2": {"fixed": {"bladder_min_gap_mm": 0.2}},
     "fluid_clearance_mm 2 -> 0.5 (the CAD's minimum)": {"fixed": {"fluid_clearance_mm": 0.5}},
     "min_base_mm 14 -> 11 (the CAD's minimum)": {"fixed": {"min_base_mm": 11.0}},
+    "cast fill free, clearance 0.5, base 11": {"optimise_cast_fill": True,
+                                               "fixed": {"fluid_clearance_mm": 0.5, "min_base_mm": 11.0}},
     "all four": {"optimise_cast_fill": True, "fixed": {"bladder_min_gap_mm": 0.2, "fluid_clearance_mm": 0.5,
                                                      "min_base_mm": 11.0}},
 }
+
+
+def chamber1_length_max_mm(req: Requirements, layout: str) -> tuple[float, float]:
+    """The longest gas column above the piston a layout's housing leaves (every wall at its minimum), mm, and
+    the chamber-1 gas outside that column (dead volume, the fill tube's bore at most over the housing), mm³."""
+    f = req.fixed
+    bulkhead = get_layout(layout).has_bulkhead
+    L = (req.max_housing_length_mm - f.min_top_cap_mm - f.min_base_mm - f.piston_height_mm - req.travel_mm
+         - f.fluid_clearance_mm - (f.min_bulkhead_mm if bulkhead else 0.0))
+    extra = f.dead_volume_1_mm3 + (math.pi / 4 * f.fill_tube_bore_mm**2 * req.max_housing_length_mm if bulkhead else 0.0)
+    return L, extra
 
 
 def _strain_fn(req: Requirements):
@@ -124,9 +138,17 @@ def case_study(label: str, req: Requirements) -> dict:
         floor = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"])
         lay["layout_floor"] = floor["linearity_error"]
         lay["layout_floor_V1_V2_mm3"] = [floor["V1_mm3"], floor["V2_mm3"]]
-        lay["gap_to_bound_at_capacity_pp"] = 100 * (s.objective - lay["bound_at_capacity"])
-        lay["gap_to_bound_at_own_gas_pp"] = 100 * (s.objective - lay["bound_at_own_gas"])
-        lay["gap_to_layout_floor_pp"] = 100 * (s.objective - lay["layout_floor"])
+        # tighter: chamber 1 confined to the piston bore (V1 <= A1 * the longest column + ports)
+        L1, extra = chamber1_length_max_mm(req, s.layout)
+        bore = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"],
+                                chamber1_length_max_mm=L1, V1_extra_mm3=extra)
+        lay["chamber1_length_max_mm"] = L1
+        lay["bore_floor"] = bore["linearity_error"]
+        lay["bore_floor_A1_V1_V2"] = [bore["A1_mm2"], bore["V1_mm3"], bore["V2_mm3"]]
+        lay["gap_to_bore_floor_pp"] = 100 * (lay["optimum"] - lay["bore_floor"])
+        lay["gap_to_bound_at_capacity_pp"] = 100 * (lay["optimum"] - lay["bound_at_capacity"])
+        lay["gap_to_bound_at_own_gas_pp"] = 100 * (lay["optimum"] - lay["bound_at_own_gas"])
+        lay["gap_to_layout_floor_pp"] = 100 * (lay["optimum"] - lay["layout_floor"])
         out["layouts"][s.layout] = lay
     return out
 
@@ -288,7 +310,12 @@ def relaxations(out: Path) -> list[dict]:
         best_lay = max(caps, key=caps.get)
         res = optimise(req, seed=0, progress=False, bladder_strain_fn=_strain_fn(req))
         ev = res.evaluation
-        rows.append({"relaxation": label, "capacity_mm3": caps[best_lay], "capacity_layout": best_lay,
+        try:  # can the CAD draw it (its feature checks, before any solid)?
+            cad = Layout(res.design)
+            drawable, throttle = "yes", cad.throttle_d
+        except CadError as exc:
+            drawable, throttle = f"no: {exc}", float("nan")
+        rows.append({"relaxation": label, "drawable": drawable, "throttle_bore_mm": throttle, "capacity_mm3": caps[best_lay], "capacity_layout": best_lay,
                      "bound_at_capacity": gas_volume_bound(caps[best_lay], req)["linearity_error"],
                      "optimum_isothermal": ev.linearity_isothermal, "optimum_layout": res.layout,
                      "optimum_gas_mm3": res.design.V1_mm3 + res.design.V2_mm3,
@@ -296,7 +323,8 @@ def relaxations(out: Path) -> list[dict]:
                      "bladder_strain_fe": res.bladder_strain_fe, "feasible": ev.feasible})
         print(f"relaxation {label:<48} capacity {caps[best_lay]:>7.0f} mm³ ({best_lay}), bound "
               f"{100 * rows[-1]['bound_at_capacity']:.3f} %, optimum {100 * ev.linearity_isothermal:.3f} % "
-              f"({res.layout}, cast fill {res.design.fixed.bladder_cast_fill:.3f})")
+              f"({res.layout}, cast fill {res.design.fixed.bladder_cast_fill:.3f}); CAD: {drawable}"
+              + (f" (throttle bore {throttle:g} mm)" if drawable == "yes" else ""))
     with open(out / "relaxations.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
@@ -336,7 +364,7 @@ def main(out: Path, quick: bool = False) -> dict:
             for r in rows:
                 w.writerow([label, r["total_gas_mm3"], r["linearity_error"], r["A1_mm2"], r["A2_mm2"], r["V1_mm3"],
                             r["V2_mm3"]])
-    fig = Figure(figsize=(8.2, 5.2))
+    fig = Figure(figsize=(8.6, 6.0))
     ax = fig.subplots()
     colors = {"inner_tube": "C2", "bulkhead": "C3"}
     for (label, rows), c in zip(curves.items(), ("C0", "C1")):
@@ -349,11 +377,27 @@ def main(out: Path, quick: bool = False) -> dict:
                     label=f"optimum, {lay} layout, {label.split(', ', 1)[1]}: {100 * d['optimum']:.3f} %")
     for lay, c in colors.items():
         ax.plot([], [], ":", color=c, label=f"capacity of the {lay} layout in 59.5 × 132.5 mm")
+    for label, mc in (("paper, isothermal, cast fill free", "C0"), ("paper, worst, cast fill free", "C1")):
+        st = next((s for s in studies if s["case"] == label and "layouts" in s), None)
+        if st is not None:
+            d = st["layouts"][st["chosen_layout"]]
+            ax.plot([d["total_gas_mm3"] / 1e3], [100 * d["optimum"]], "D", color=mc, ms=7, mec="k",
+                    label=f"optimum, cast fill free ({st['chosen_layout']}, {label.split(', ')[1]}): "
+                          f"{100 * d['optimum']:.3f} %")
+    for r in relax:
+        if r["relaxation"] in ("all four", "cast fill free, clearance 0.5, base 11"):
+            ok = r["drawable"] == "yes"
+            ax.plot([r["optimum_gas_mm3"] / 1e3], [100 * r["optimum_isothermal"]], "o" if ok else "X", color="C0",
+                    ms=7, mec="k", mfc="w" if ok else "C0",
+                    label=f"optimum, {r['relaxation']} (relaxations.csv{'' if ok else '; the CAD cannot draw it'}): "
+                          f"{100 * r['optimum_isothermal']:.3f} %")
+    ax.axvline(ISSUE_GAS_COUNT_MM3 / 1e3, color="#9467bd", ls="--", lw=1,
+               label="the issue's count of the gas room: 176 × 10³ mm³ (budget.png)")
     ax.axhline(1.86, color="gray", ls="--", lw=1, label="paper, hand-tuned: 1.86 %")
     ax.set(xlabel="total gas volume V1 + V2 [10³ mm³]", ylabel="linearity error [%]", ylim=(0, None),
            title="linearity needs gas: bound, envelope capacity and optimum (93.2 N/mm at 4 MPa)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=6.5, loc="upper right")
     fig.tight_layout()
     save_figure(fig, out / "bound.png")
     for st in studies:
@@ -371,7 +415,8 @@ def main(out: Path, quick: bool = False) -> dict:
                   f"(capacity {d['capacity_mm3']:>7.0f}; V1 <= {d['V1_max_mm3']:.0f}, V2 <= {d['V2_max_mm3']:.0f}) mm³  "
                   f"bound at own gas {100 * d['bound_at_own_gas']:.3f} %, at capacity {100 * d['bound_at_capacity']:.3f} % "
                   f"(gap {d['gap_to_bound_at_capacity_pp']:+.3f} pp), layout floor {100 * d['layout_floor']:.3f} % "
-                  f"(gap {d['gap_to_layout_floor_pp']:+.3f} pp)")
+                  f"(gap {d['gap_to_layout_floor_pp']:+.3f} pp), with V1 in the bore (column <= "
+                  f"{d['chamber1_length_max_mm']:.1f} mm) {100 * d['bore_floor']:.3f} % (gap {d['gap_to_bore_floor_pp']:+.3f} pp)")
         if st.get("bladder_strain_fe") is not None:
             print(f"{'':<42} cast fill {st['bladder_cast_fill']:.3f}, FE strain bound {100 * st['bladder_strain_fe']:.2f} %,"
                   f" n = 1: {100 * st['optimum_isothermal']:.3f} %, n = 1.4: {100 * st['optimum_adiabatic']:.3f} %")

@@ -223,6 +223,11 @@ def test_layout_floor_caps_each_chamber():
     assert capped["linearity_error"] >= free["linearity_error"] - 1e-6
     assert free["V1_mm3"] > 25e3  # so the cap binds and costs linearity
     assert capped["linearity_error"] > free["linearity_error"] + 1e-4
+    # chamber 1 confined to a short column of the piston bore: V1 <= A1 L (a long stroke over a short column is
+    # a large compression ratio: worse than any cap on V1 alone)
+    bore = gas_volume_bound(140e3, maxiter=100, chamber1_length_max_mm=20.0, V1_extra_mm3=100.0)
+    assert bore["V1_mm3"] <= bore["A1_mm2"] * 20.0 + 100.0 + 1e-6 * bore["V1_mm3"]
+    assert bore["linearity_error"] > free["linearity_error"] + 1e-3
     total = gas_capacity(Requirements(), "inner_tube", maxiter=60)
     v1 = gas_capacity(Requirements(), "inner_tube", maxiter=60, maximise="V1")
     assert v1["feasible"] and v1["maximise"] == "V1"

@@ -646,7 +646,8 @@ def linearity_map(
 # ---------------------------------------------------------------------------
 
 def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, seed: int = 0,
-                     maxiter: int = 400, V1_max_mm3: float | None = None, V2_max_mm3: float | None = None) -> dict:
+                     maxiter: int = 400, V1_max_mm3: float | None = None, V2_max_mm3: float | None = None,
+                     chamber1_length_max_mm: float | None = None, V1_extra_mm3: float = 0.0) -> dict:
     """Best linearity any layout could reach with ``V1 + V2 <= total_gas_mm3``.
 
     Ignores packing entirely: only eq. 5, the charge limit (both chambers <=
@@ -657,6 +658,9 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     differential evolution + SLSQP polish over (A1, A2, V1, V2).
     ``V1_max_mm3`` / ``V2_max_mm3`` cap each chamber too (a layout's
     per-chamber capacities: the bound is then that layout's own floor).
+    ``chamber1_length_max_mm`` confines chamber 1 to the piston bore:
+    ``V1 <= A1 * chamber1_length_max_mm + V1_extra_mm3`` (the longest gas
+    column the housing leaves above the piston, plus ports).
     """
     from .gas_spring import linearity_exact
 
@@ -681,6 +685,8 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
                 rows.append(1 - V1 / V1_max_mm3)
             if V2_max_mm3 is not None:
                 rows.append(1 - V2 / V2_max_mm3)
+            if chamber1_length_max_mm is not None:
+                rows.append(1 - V1 / (A1 * chamber1_length_max_mm + V1_extra_mm3))
             cons = np.array(rows)
         bad = ~np.isfinite(obj) | ~np.all(np.isfinite(cons), axis=0)
         return np.where(bad, 1.0, obj), np.where(bad[None, :], -1.0, cons)
@@ -710,7 +716,8 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     obj, cons = both(x)
     return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(obj[0]), "A1_mm2": A1, "A2_mm2": A2,
             "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons >= -1e-6)),
-            "objective_exponents": list(ns), "V1_max_mm3": V1_max_mm3, "V2_max_mm3": V2_max_mm3}
+            "objective_exponents": list(ns), "V1_max_mm3": V1_max_mm3, "V2_max_mm3": V2_max_mm3,
+            "chamber1_length_max_mm": chamber1_length_max_mm}
 
 
 # ---------------------------------------------------------------------------
