@@ -47,7 +47,7 @@ from ..materials.structural import (
 )
 
 __all__ = ["FixedParameters", "Design", "DesignError", "DECISION_VARIABLES", "LayoutVariant", "LAYOUTS",
-           "get_layout", "derive", "WALLS"]
+           "get_layout", "derive", "WALLS", "CHANNEL_GAP_MM"]
 
 #: The decision variables of today's layout (``inner_tube``), in order, with their units in the name.
 DECISION_VARIABLES = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3")
@@ -99,6 +99,10 @@ def get_layout(name: str) -> LayoutVariant:
         return LAYOUTS[name]
     except (KeyError, TypeError):
         raise DesignError(f"unknown layout {name!r}; known: {', '.join(LAYOUTS)}") from None
+
+#: Radial room the cast bladder must leave to the inner tube for the support ring's fluid channels, mm: the CAD
+#: draws them (>= 0.5 mm) beside the cuff's sealing bead when the gap is >= 10/9 mm (``cad.layout``); with a margin.
+CHANNEL_GAP_MM = 1.15
 
 #: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout).
 WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead")
@@ -334,6 +338,7 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         g["bladder_shift_compressed_mm"], g["bladder_shift_expanded_mm"] = s_c, s_e
         g["bladder_clearance_compressed_mm"] = r_bi + k * s_c - rio - gap
         g["bladder_clearance_expanded_mm"] = rb - (r_bo + k * s_e) - gap
+        g["bladder_cast_gap_mm"] = r_bi - rio  # room inside the cast bladder (support-ring channels)
         fluid_cast = pi * np.maximum(r_bi**2 - rio**2, 0.0) * L
         g["bladder_fluid_volume_cast_mm3"] = fluid_cast
         g["fluid_volume_mm3"] = A2 * fluid_col + fluid_cast + dv_c

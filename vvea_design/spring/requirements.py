@@ -32,7 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from .design import DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive, get_layout
+from .design import (CHANNEL_GAP_MM, DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
+                     get_layout)
 from .gas_spring import linearity_exact
 from ..materials.silicones import allowable_strain, get_silicone
 from ..messages import show
@@ -417,6 +418,8 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
         "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
         "bladder_room_compressed": {"value": g["bladder_clearance_compressed_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
         "bladder_room_expanded": {"value": g["bladder_clearance_expanded_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
+        "bladder_channel_room": {"value": g["bladder_cast_gap_mm"], "limit": CHANNEL_GAP_MM, "unit": "mm", "kind": "min",
+                                 "scale": t_bl},
         "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
     }
     for wall in _walls(layout):
@@ -528,7 +531,8 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order
     (``search``: only those :func:`evaluate_population` returns)."""
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
-             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "wall_capacity"]
+             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
+             "wall_capacity"]
     if search:
         names.remove("charge_p2")
     else:
