@@ -21,7 +21,7 @@ from functools import partial
 
 import numpy as np
 
-from vvea_design.bladder.check import strain_bound
+from vvea_design.bladder.check import check_bladder, strain_bound
 from vvea_design.spring.optimise import Infeasible, optimise
 from vvea_design.spring.requirements import Requirements, evaluate_population
 
@@ -42,7 +42,10 @@ def _row(label, r) -> str:
     ev = r.evaluation
     extra = ""
     if r.bladder_strain_fe is not None:
-        extra = f"  (cast fill {r.design.fixed.bladder_cast_fill:.3f}, FE strain bound {100 * r.bladder_strain_fe:.2f} %)"
+        fine = check_bladder(r.design)
+        extra = (f"  (cast fill {r.design.fixed.bladder_cast_fill:.3f}, gas {r.design.V1_mm3 + r.design.V2_mm3:.0f} mm³, "
+                 f"fast FE strain bound {100 * r.bladder_strain_fe:.2f} %, fine check {100 * fine.strain_bound:.2f} %"
+                 f"{', passes' if fine.passes else ', FAILS'})")
     return (f"{label:<40} {r.seconds:>6.2f} s {r.evaluations:>7d} eval  {r.layout:<10} "
             f"n=1 {100 * ev.linearity_isothermal:6.3f} %  n=1.4 {100 * ev.linearity_adiabatic:6.3f} %  "
             f"objective {100 * ev.objective:6.3f} %{extra}")
