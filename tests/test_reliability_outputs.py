@@ -136,7 +136,9 @@ def test_signal_during_the_final_renames_waits_until_they_are_done(tmp_path, mon
     real_rename = os.rename
 
     def rename_and_get_interrupted(a, b):
-        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C arrives in the middle of the move
+        # Ctrl-C arrives in the middle of the move; raise_signal delivers it to this (the main)
+        # thread at once -- os.kill may hand it to another thread of the xdist worker, late under load
+        signal.raise_signal(signal.SIGINT)
         return real_rename(a, b)
 
     monkeypatch.setattr(os, "rename", rename_and_get_interrupted)
