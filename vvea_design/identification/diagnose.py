@@ -714,7 +714,25 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
     if len(grid) == 0:
         return None, np.nan
     train, folds = plan.train, plan.folds
-    blks = []
+    # each grid value's blocks are scored on every fold as soon as they are built, so only one set of
+    # per-experiment blocks is alive at a time (memory on large campaigns); same order of comparisons
+    parts = [(train[folds[train] != f], train[folds[train] == f]) for f in np.unique(folds[train])]
+    best = [None] * len(parts)  # per fold: (training SSE, held-out SSE per experiment) of the best grid value so far
+    costs = []  # training SSE over all training experiments per grid value (shape for the trial fit)
+
+    def score(Bk, sl, on_grid):
+        for i, (tr, te) in enumerate(parts):
+            Gtr = Bk.G[tr].sum(0)
+            if sl is not None and not np.all(np.diag(Gtr)[sl] > 0):
+                continue  # the term leaves no trace in this fold's training part
+            th = solve_bounded(Gtr, Bk.b[tr].sum(0), Bk.lower, Bk.upper)
+            c = Bk.sse(th, tr).sum()
+            if best[i] is None or c < best[i][0]:
+                best[i] = (c, Bk.sse(th, te))
+        if on_grid:
+            th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
+            costs.append(Bk.sse(th, train).sum())
+
     for gval in grid:
         sh = dict(cur.shapes)
         sh[cand] = float(gval)
@@ -731,28 +749,13 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
             Bk = extend_blocks(base_blk, X0, Xn, D.y, D.bounds, eff.params(D))
             sl = slice(X0.shape[1], X0.shape[1] + Xn.shape[1])
             del Xn
-        blks.append((Bk, sl))
+        score(Bk, sl, True)
+        del Bk
     if _has_mask(eff):
-        blks.append((base_blk, None))  # "valve closed" is not nested in the relief grid: offer it
+        score(base_blk, None, False)  # "valve closed" is not nested in the relief grid: offer it
     sse = np.full(D.n_exp, np.nan)
-    for f in np.unique(folds[train]):
-        tr = train[folds[train] != f]
-        te = train[folds[train] == f]
-        best = None
-        for Bk, sl in blks:
-            Gtr = Bk.G[tr].sum(0)
-            if sl is not None and not np.all(np.diag(Gtr)[sl] > 0):
-                continue  # the term leaves no trace in this fold's training part
-            th = solve_bounded(Gtr, Bk.b[tr].sum(0), Bk.lower, Bk.upper)
-            c = Bk.sse(th, tr).sum()
-            if best is None or c < best[0]:
-                best = (c, th, Bk)
-        sse[te] = fallback[te] if best is None else best[2].sse(best[1], te)
-    # shape best on all training experiments (for the trial fit)
-    costs = []
-    for Bk, sl in blks[: len(grid)]:
-        th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
-        costs.append(Bk.sse(th, train).sum())
+    for (tr, te), b in zip(parts, best):
+        sse[te] = fallback[te] if b is None else b[1]
     return sse, float(grid[int(np.argmin(costs))])
 
 

@@ -556,8 +556,12 @@ class Effect:
         """Samples whose linear damping column this effect replaces (None: none)."""
         return None
 
-    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict) -> np.ndarray:
-        """The whole design matrix as the effect changes it (sensor dynamics); identity by default."""
+    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict, out: np.ndarray | None = None) -> np.ndarray:
+        """The whole design matrix as the effect changes it (sensor dynamics); identity by default.
+
+        ``out``: where to write the result (may be ``X`` itself: the design is then transformed in
+        place, without a second copy); a new array when None.
+        """
         return X
 
     @property
@@ -1061,10 +1065,10 @@ class ForceLag(Effect):
     def columns(self, D, tau, ctx):
         return np.zeros((D.n, 0))
 
-    def transform(self, D, X, tau, ctx):
+    def transform(self, D, X, tau, ctx, out=None):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes)
-        out = np.empty_like(X)
+        out = np.empty_like(X) if out is None else out  # each experiment is filtered whole before it is written back
         dt = D.per_exp_dt()
         for e in range(D.n_exp):
             a, b = D.bounds[e], D.bounds[e + 1]
@@ -1099,9 +1103,9 @@ def _bilinear_2nd_order(wn: float, zeta: float, fs: float):
 class ForceFilter(ForceLag):
     """Second-order (Butterworth, zeta = 1/sqrt 2) low-pass of the force reading; shape = its lag 2 zeta / omega_n."""
 
-    def transform(self, D, X, lag, ctx):
+    def transform(self, D, X, lag, ctx, out=None):
         wn = 2 * 0.7071 / lag
-        out = np.empty_like(X)
+        out = np.empty_like(X) if out is None else out
         dt = D.per_exp_dt()
         coef = {}  # the discretised filter per distinct sample spacing (experiments share few spacings)
         for e in range(D.n_exp):

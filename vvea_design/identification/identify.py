@@ -22,6 +22,7 @@ Everything is computed from per-experiment normal-equation blocks
 
 from __future__ import annotations
 
+import inspect
 import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -119,7 +120,10 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     for eid in effects:
         eff = REGISTRY[eid]
         if eff.transforms_design:
-            X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
+            if "out" in inspect.signature(eff.transform).parameters:
+                X = eff.transform(D, X, shapes.get(eid, np.nan), ctx, out=X)  # X is ours: transformed in place
+            else:
+                X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
     return X, params, groups
 
 
