@@ -120,6 +120,157 @@ def test_typed_licensed_package():
     assert int(re.search(r">=(\d+)", req).group(1)) >= 77  # setuptools that reads PEP 639 license fields
 
 
+# ------------------------------------------------------------------ import graph
+def _module_files() -> dict[str, Path]:
+    """Every module of the package (vendored files aside) by dotted name."""
+    pkg = ROOT / "vvea_design"
+    out = {}
+    for path in sorted(pkg.rglob("*.py")):
+        rel = path.relative_to(ROOT).with_suffix("").parts
+        if "vendor" in rel:
+            continue
+        out[".".join(rel[:-1] if rel[-1] == "__init__" else rel)] = path
+    return out
+
+
+def package_imports(source: str, module: str, is_package: bool, known: set[str]) -> set[str]:
+    """The package modules that ``source`` imports: top-level, inside functions and under ``TYPE_CHECKING``.
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    module : str
+        Its dotted name (``vvea_design.report.html``), to resolve relative imports.
+    is_package : bool
+        True for an ``__init__.py`` (its relative imports start from itself).
+    known : set of str
+        Dotted names of the package's modules; ``from a import b`` maps to ``a.b`` when that is a module.
+
+    Returns
+    -------
+    set of str
+        Dotted names of the imported package modules (the module itself left out).
+    """
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    out = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                head = base[:len(base) - node.level + 1] + ([node.module] if node.module else [])
+                src = ".".join(head)
+            else:
+                src = node.module or ""
+            names = [f"{src}.{a.name}" for a in node.names]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        else:
+            continue
+        for name in names:
+            if not name.startswith("vvea_design"):
+                continue
+            while name not in known and "." in name:
+                name = name.rsplit(".", 1)[0]
+            if name in known and name != module:
+                out.add(name)
+    return out
+
+
+def _import_graph() -> dict[str, set[str]]:
+    files = _module_files()
+    return {m: package_imports(p.read_text(), m, p.name == "__init__.py", set(files)) for m, p in files.items()}
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """One cycle of ``graph`` (as a path that ends where it starts), or None."""
+    state: dict[str, int] = {}
+
+    def visit(node, path):
+        state[node] = 1
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == 1:
+                return [*path[path.index(nxt):], nxt] if nxt in path else [*path, nxt]
+            if nxt not in state:
+                found = visit(nxt, [*path, nxt])
+                if found:
+                    return found
+        state[node] = 2
+        return None
+
+    for start in sorted(graph):
+        if start not in state:
+            found = visit(start, [start])
+            if found:
+                return found
+    return None
+
+
+#: The floors of the package (STYLE.md, "the shape we want"): a room imports only rooms on its own floor or
+#: below. A room is a subpackage or a top-level module; a new one must be placed here.
+FLOORS = {
+    "vvea_design": 0, "messages": 0, "progress": 0, "outputs": 0, "parallel": 0, "materials": 0,
+    "spring": 1, "bladder": 1,
+    "cad": 2, "identification": 2, "actuator": 2, "schema": 2, "testing": 2,
+    "report": 3,
+    "pipeline": 4,
+    "cli": 5,
+    "__main__": 6,
+}
+
+
+def _room(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def test_the_import_graph_has_no_cycle_and_no_upward_import():
+    """Lazy and TYPE_CHECKING-only imports count: a cycle in type hints is still a cycle of the design."""
+    graph = _import_graph()
+    cycle = _cycle(graph)
+    assert cycle is None, "import cycle: " + " -> ".join(cycle)
+    rooms: dict[str, set[str]] = {}
+    for a, targets in graph.items():
+        for b in targets:
+            if _room(a) != _room(b):
+                rooms.setdefault(_room(a), set()).add(_room(b))
+    unplaced = sorted({_room(m) for m in graph} - set(FLOORS))
+    assert not unplaced, f"rooms without a floor (add them to FLOORS): {unplaced}"
+    upward = sorted(f"{a} -> {b}" for a, targets in graph.items() for b in targets
+                    if FLOORS[_room(b)] > FLOORS[_room(a)])
+    assert not upward, "imports that run upward: " + "; ".join(upward)
+    cycle = _cycle(rooms)
+    assert cycle is None, "cycle between rooms: " + " -> ".join(cycle)
+
+
+def test_the_import_graph_sees_type_checking_and_lazy_imports():
+    """The check would have caught report/html importing the pipeline's UnitDesign for type hints only."""
+    known = {"vvea_design", "vvea_design.pipeline", "vvea_design.report", "vvea_design.report.html",
+             "vvea_design.report.bom"}
+    src = ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from ..pipeline import UnitDesign\n"
+           "def f():\n    from .bom import x\n    import vvea_design.pipeline\n")
+    assert package_imports(src, "vvea_design.report.html", False, known) == {"vvea_design.pipeline",
+                                                                              "vvea_design.report.bom"}
+    graph = {"vvea_design.pipeline": {"vvea_design.report.html"},
+             "vvea_design.report.html": package_imports(src, "vvea_design.report.html", False, known)}
+    assert _cycle(graph) == ["vvea_design.pipeline", "vvea_design.report.html", "vvea_design.pipeline"]
+
+
+def test_the_unit_report_reads_only_what_the_pipeline_result_has():
+    """report.html types its input as a Protocol (no import of its caller); UnitDesign meets it member by member."""
+    import typing
+
+    from vvea_design.pipeline import UnitDesign
+    from vvea_design.report import html
+
+    members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
+    hints = typing.get_type_hints(UnitDesign)
+    for name in members:
+        want = typing.get_type_hints(getattr(html.UnitResult, name).fget, vars(html) | vars(sys.modules[
+            "vvea_design.pipeline"]))["return"]
+        have = hints[name] if name in hints else typing.get_type_hints(getattr(UnitDesign, name).fget)["return"]
+        assert want == have, f"UnitResult.{name}: {want} but UnitDesign.{name}: {have}"
+
+
 # ------------------------------------------------------------------ dependencies
 def _imports(paths) -> set[str]:
     out = set()
