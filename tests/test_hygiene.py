@@ -407,12 +407,6 @@ NOT_YET_CONVERTED = {
     "vvea_design.cad.render",
     "vvea_design.cli.bladder",
     "vvea_design.cli.cad",
-    "vvea_design.spring.design_file",
-    "vvea_design.spring.gas_spring",
-    "vvea_design.spring.optimise",
-    "vvea_design.spring.paper",
-    "vvea_design.spring.plots",
-    "vvea_design.spring.requirements",
 }
 
 
