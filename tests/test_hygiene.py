@@ -62,13 +62,7 @@ def import_probe():
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
-#: Modules that still select a backend when imported; their owners are converting them (issue 9 item 6).
-STILL_SWITCHING: set[str] = set()
-
-
-@pytest.mark.parametrize("module", [pytest.param(m, marks=pytest.mark.xfail(
-    reason="still calls matplotlib.use on import (owner converting it)", strict=False))
-    if m in STILL_SWITCHING else m for m in MODULES])
+@pytest.mark.parametrize("module", MODULES)
 def test_no_module_switches_the_backend_on_import(import_probe, module):
     assert module not in import_probe["callers"], f"{module} calls matplotlib.use({import_probe['callers'][module]!r})"
 
@@ -329,7 +323,7 @@ def test_every_import_is_declared_and_every_dependency_imported():
 _UNIT_IN_NAME = re.compile(r"(_(mm\d?|N|MPa|Pa|s|ms|Hz|rad|deg|g|kg|kgm2|Nm|m|m\d|J|pct)$)|_per_|^n_|^num|_n$")
 #: A unit (or "fraction" / "dimensionless") named in a description.
 _UNIT_TEXT = re.compile(r"(\b(mm|mm²|mm³|N|MPa|Pa|s|ms|Hz|rad|deg|kg|g|m|N m|N/mm|SI|K)\b|°|%|fraction|"
-                        r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per )")
+                        r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per |same unit)")
 
 
 def _public_functions(module):
@@ -390,26 +384,15 @@ def docstring_problems(fn) -> list[str]:
         returns_nothing = ret is None or str(ret) in ("None", "NoReturn", "typing.NoReturn")
     if not returns_nothing and not (doc["Returns"] or doc["Yields"]):
         problems.append("no 'Returns' section")
+    elif (not returns_nothing and not _UNIT_IN_NAME.search(fn.__name__)
+          and re.search(r"\bfloat\b|ndarray", ret if isinstance(ret, str) else str(ret))):
+        text = " ".join(" ".join([r.name, r.type, *r.desc]) for r in doc["Returns"])
+        if not _UNIT_TEXT.search(text):
+            problems.append("returns a number: no unit (or 'fraction', 'dimensionless') in 'Returns'")
     return problems
 
 
-#: Modules whose public functions are not yet documented in numpydoc style with units (issue 9 item 6):
-#: converted by their owners / the coordinator after the merge. Remove a module once it passes.
-NOT_YET_CONVERTED = {
-    "vvea_design.bladder.check",
-    "vvea_design.cli.bladder",
-    "vvea_design.cli.cad",
-}
-
-
-def _doc_param(m):
-    if m in NOT_YET_CONVERTED:
-        return pytest.param(m, marks=pytest.mark.xfail(reason="public functions not yet in numpydoc style with "
-                                                              "units", strict=False))
-    return m
-
-
-@pytest.mark.parametrize("module", [_doc_param(m) for m in MODULES if _public_module(m)])
+@pytest.mark.parametrize("module", [m for m in MODULES if _public_module(m)])
 def test_public_functions_document_parameters_returns_and_units(module):
     mod = importlib.import_module(module)
     problems = {}
@@ -450,7 +433,24 @@ def test_the_docstring_check_finds_what_is_missing():
         """
         return x + depth_mm
 
+    def no_return_unit(depth_mm: float) -> float:
+        """Does something.
+
+        Parameters
+        ----------
+        depth_mm : float
+            Depth.
+
+        Returns
+        -------
+        float
+            Twice the depth.
+        """
+        return 2 * depth_mm
+
     assert docstring_problems(good) == []
+    assert docstring_problems(no_return_unit) == [
+        "returns a number: no unit (or 'fraction', 'dimensionless') in 'Returns'"]
     p = docstring_problems(bad)
     assert any("'x': no unit" in s for s in p) and any("'depth_mm' not in" in s for s in p)
     assert "no 'Returns' section" in p
