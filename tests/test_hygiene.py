@@ -326,6 +326,15 @@ _UNIT_TEXT = re.compile(r"(\b(mm|mm²|mm³|N|MPa|Pa|s|ms|Hz|rad|deg|kg|g|m|N m|N
                         r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per |same unit)")
 
 
+#: A parameter name that ends in a unit, and how a description names that unit.
+_NAME_UNIT = re.compile(r"_(mm|mm2|mm3|N|MPa|Pa|s|ms|Hz|rad|deg|g|kg|m|Nm)$")
+_NAME_UNIT_TEXT = {"mm": r"\bmm\b", "mm2": r"mm²|mm2|mm\^2", "mm3": r"mm³|mm3|mm\^3", "N": r"\bN\b", "MPa": r"MPa",
+                   "Pa": r"\bPa\b", "s": r"\bs\b|second", "ms": r"\bms\b", "Hz": r"Hz", "rad": r"rad", "deg": r"deg|°",
+                   "g": r"\bg\b|gram", "kg": r"\bkg\b", "m": r"\bm\b|metre", "Nm": r"N ?m\b"}
+#: Unit words in a description (not the possessive 's, not part of a compound unit like N/mm).
+_ANY_UNIT = re.compile(r"(?<![\w/'’])(mm³|mm²|mm|MPa|Pa|N/mm|N m|N|ms|s|Hz|rad|deg|kg|g|m)(?![\w/²³])")
+
+
 def _public_functions(module):
     names = getattr(module, "__all__", None)
     for name, obj in vars(module).items():
@@ -351,7 +360,12 @@ def _needs_unit(p: inspect.Parameter, annotation: str) -> bool:
 
 
 def docstring_problems(fn) -> list[str]:
-    """What the numpydoc docstring of ``fn`` lacks: a Parameters entry per parameter, Returns, units."""
+    """What the numpydoc docstring of ``fn`` lacks: a Parameters entry per parameter, Returns, units.
+
+    Units: a float / array parameter without a unit in its name names one in its description; a
+    parameter whose name ends in a unit (``depth_mm``) is not described in another; a function that
+    returns a float / array without a unit in its name names one in 'Returns'.
+    """
     from numpydoc.docscrape import FunctionDoc
 
     problems = []
@@ -373,6 +387,10 @@ def docstring_problems(fn) -> list[str]:
         typ, desc = documented[p.name]
         if _needs_unit(p, f"{annotation} {typ}") and not _UNIT_TEXT.search(f"{typ} {desc}"):
             problems.append(f"parameter {p.name!r}: no unit (or 'fraction', 'dimensionless') in its description")
+        named = _NAME_UNIT.search(p.name)
+        if named and _ANY_UNIT.search(desc) and not re.search(_NAME_UNIT_TEXT[named.group(1)], desc):
+            problems.append(f"parameter {p.name!r}: its description names a unit but not {named.group(1)!r}, "
+                            "the one in its name")
     ret = sig.return_annotation
     if ret is inspect.Signature.empty:  # no annotation: does the body return a value?
         import textwrap
@@ -448,7 +466,18 @@ def test_the_docstring_check_finds_what_is_missing():
         """
         return 2 * depth_mm
 
+    def wrong_unit(depth_mm: float) -> None:
+        """Does something.
+
+        Parameters
+        ----------
+        depth_mm : float
+            Depth below the surface, in m.
+        """
+
     assert docstring_problems(good) == []
+    assert docstring_problems(wrong_unit) == [
+        "parameter 'depth_mm': its description names a unit but not 'mm', the one in its name"]
     assert docstring_problems(no_return_unit) == [
         "returns a number: no unit (or 'fraction', 'dimensionless') in 'Returns'"]
     p = docstring_problems(bad)
