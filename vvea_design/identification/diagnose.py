@@ -721,6 +721,7 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
         if _has_mask(eff):
             X, params, groups = assemble(D, cur.effects + (cand,), sh, ctx)
             Bk = blocks(X, D.y, D.bounds, params)
+            del X  # not alive while the next grid value's design is built
             sl = groups[cand]
         else:
             Xn = eff.columns(D, float(gval), ctx)
@@ -729,6 +730,7 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
                     Xn = REGISTRY[o].transform(D, Xn, cur.shapes.get(o, np.nan), ctx)
             Bk = extend_blocks(base_blk, X0, Xn, D.y, D.bounds, eff.params(D))
             sl = slice(X0.shape[1], X0.shape[1] + Xn.shape[1])
+            del Xn
         blks.append((Bk, sl))
     if _has_mask(eff):
         blks.append((base_blk, None))  # "valve closed" is not nested in the relief grid: offer it
@@ -960,8 +962,9 @@ def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSett
         allx = np.arange(D.n_exp)
         fold_ids = np.unique(plan.folds[plan.folds >= 0])
         vals = {e: [] for e in shaped}
+        memo: dict = {}  # the folds' shape searches share their Gram blocks, summed per fold (leave-one-fold-out by summing)
         for f in fold_ids:
-            ff = fit_model(D, sel, experiments=np.setdiff1d(allx, allx[plan.folds == f]), ctx=final.ctx)
+            ff = fit_model(D, sel, experiments=np.setdiff1d(allx, allx[plan.folds == f]), ctx=final.ctx, memo=memo, memo_groups=plan.folds)
             for e in shaped:
                 vals[e].append(ff.shapes[e])
         k = len(fold_ids)

@@ -70,6 +70,8 @@ __all__ = [
     "DISCOVERY_IDS",
     "register",
     "baseline_columns",
+    "baseline_params",
+    "fill_baseline",
     "chamber_remainders",
     "thermal_state",
     "lowpass",
@@ -209,9 +211,10 @@ class Check:
 
 
 #: The column cache of a FitData holds at most this many arrays of its length, and at most
-#: CACHE_BYTES in all (memory stays bounded on large campaigns).
+#: CACHE_BYTES in all (memory stays bounded on large campaigns: 64 MB is all of a 135-experiment
+#: campaign's columns, and ~40 columns of a campaign ten times that size).
 CACHE_COLUMNS = 120
-CACHE_BYTES = 160e6
+CACHE_BYTES = 64e6
 
 
 def _nbytes(v) -> int:
@@ -223,9 +226,10 @@ def _nbytes(v) -> int:
 
 
 def cached(D: FitData, key, make):
-    """``D._cache[key]``, computed by ``make()`` when missing; the oldest entries go when over :data:`CACHE_COLUMNS`."""
+    """``D._cache[key]``, computed by ``make()`` when missing; the least recently used entries go when over :data:`CACHE_COLUMNS`."""
     c = D._cache
     if key in c:
+        c[key] = c.pop(key)  # most recently used last
         return c[key]
     val = make()
     c[key] = val
@@ -257,6 +261,52 @@ def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
         bounded below by 0.
     """
     return cached(D, ("eq14",), lambda: _baseline_columns(D))
+
+
+def baseline_params(D: FitData) -> list[Param]:
+    """The parameters of eq. 14's columns (see :func:`baseline_columns`), without building the columns.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (its valve angles, deg, give one damping parameter each).
+
+    Returns
+    -------
+    list of Param
+        ``g`` (N/mm/MPa), ``C`` (N) and one ``L(γ)`` (N s/mm) per valve angle, all bounded below by 0.
+    """
+    params = [
+        Param("g", "N/mm/MPa", 0.0, np.inf, "spring stiffness per MPa of p2"),
+        Param("C", "N", 0.0, np.inf, "Coulomb friction (Table 3's B)"),
+    ]
+    for val in D.valves:
+        params.append(Param(f"L({val:g})", "N s/mm", 0.0, np.inf, f"linear damping at valve {val:g} deg"))
+    return params
+
+
+def fill_baseline(D: FitData, out: np.ndarray) -> None:
+    """Write eq. 14's columns (the values of :func:`baseline_columns`) into ``out[:, :2 + len(D.valves)]``.
+
+    Lets a design be built in one array, without a cached ``(n, 2 + valves)`` copy of the mostly-zero
+    per-valve damping columns (memory on large campaigns).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign's arrays (x in mm, ẋ in mm/s, p2 in MPa, valve angles in deg).
+    out : numpy.ndarray, shape (D.n, p) with p >= 2 + len(D.valves)
+        Filled in place: ``p2 x`` (MPa mm), ``sign(ẋ)`` (dimensionless) and one ``ẋ`` column (mm/s) per
+        valve angle, zero at samples of the other angles; columns beyond are left untouched.
+
+    Returns
+    -------
+    None
+    """
+    out[:, 0] = D.p2 * D.x
+    out[:, 1] = D.s
+    for j in range(len(D.valves)):
+        out[:, 2 + j] = D.v * (D.valve_idx == j)
 
 
 def _baseline_columns(D: FitData):
@@ -1032,19 +1082,33 @@ class ForceLag(Effect):
         )
 
 
+def _bilinear_2nd_order(wn: float, zeta: float, fs: float):
+    """``scipy.signal.bilinear([wn²], [1, 2 ζ wn, wn²], fs)`` in closed form (the same digital filter, without its polynomial overhead).
+
+    Parameters: natural frequency ``wn`` (rad/s), damping ratio ``zeta`` (-), sampling rate ``fs`` (Hz).
+    Returns the numerator and denominator coefficients (descending powers of z, ``a[0] = 1``).
+    """
+    K = 2.0 * fs
+    a0 = K * K + 2.0 * zeta * wn * K + wn * wn
+    b = (wn * wn / a0) * np.array([1.0, 2.0, 1.0])
+    a = np.array([1.0, 2.0 * (wn * wn - K * K) / a0, (K * K - 2.0 * zeta * wn * K + wn * wn) / a0])
+    return b, a
+
+
 @dataclass(frozen=True)
 class ForceFilter(ForceLag):
     """Second-order (Butterworth, zeta = 1/sqrt 2) low-pass of the force reading; shape = its lag 2 zeta / omega_n."""
 
     def transform(self, D, X, lag, ctx):
-        from scipy.signal import bilinear
-
         wn = 2 * 0.7071 / lag
         out = np.empty_like(X)
         dt = D.per_exp_dt()
+        coef = {}  # the discretised filter per distinct sample spacing (experiments share few spacings)
         for e in range(D.n_exp):
             a, b = D.bounds[e], D.bounds[e + 1]
-            bz, az = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt[e])
+            if dt[e] not in coef:
+                coef[dt[e]] = _bilinear_2nd_order(wn, 0.7071, 1.0 / dt[e])
+            bz, az = coef[dt[e]]
             out[a:b] = lfilter(bz, az, X[a:b], axis=0)  # from rest (see ForceLag)
         return out
 

@@ -68,7 +68,7 @@ class NoBuildableDesign(ValueError):
 
 
 def _unbuildable_message(req: Requirements, x, layout: str, layouts, reason: Exception) -> str:
-    names = get_layout(layout).decision_variables
+    names = req.decision_variables(layout)
     point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(names, x))
     box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(names, req.search_bounds(layout)))
     tried = f" (layouts tried: {', '.join(layouts)})" if len(layouts) > 1 else ""
@@ -97,7 +97,7 @@ class LayoutSearch:
         Returns
         -------
         dict
-            Every field; ``decision_vector`` as a list (the layout's decision variables in their
+            Every field; ``decision_vector`` as a list (the decision variables in their
             own units, mm and mm³), ``seconds`` in s, ``objective`` a fraction.
         """
         return {**self.__dict__, "decision_vector": list(self.decision_vector)}
@@ -494,6 +494,10 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
     improved = False
     best = None  # (objective, x, fe, sur)
     fe = sur = None
+    # with a free cast fill the surrogate's error changes along the fill (it is poorest at low fills): the
+    # correction is then a line in the fill through the FE / surrogate ratios seen so far
+    i_fill = req.decision_variables(layout).index("bladder_cast_fill") if req.optimise_cast_fill else None
+    seen: list[tuple[float, float]] = []  # (fill, log(FE / surrogate))
     for _ in range(rounds):
         design = design_from_vector(x, req, layout)
         fe = float(fe_fn(design))
@@ -505,9 +509,18 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
             if fe >= limit * (1 - 0.003):
                 break
         factor = fe / sur if (np.isfinite(fe) and sur > 0) else 1.2
+        slope = 0.0
+        if i_fill is not None and np.isfinite(fe) and sur > 0:
+            seen.append((float(x[i_fill]), float(np.log(factor))))
+            pts = np.array(seen[-3:])
+            if len(pts) >= 2 and np.ptp(pts[:, 0]) > 1e-3:
+                slope, icpt = np.polyfit(pts[:, 0], pts[:, 1], 1)
+                factor = float(np.exp(icpt + slope * x[i_fill]))
 
-        def corrected(g, cols, f=factor):
-            return f * population_strain(g, cols)
+        def corrected(g, cols, f=factor, k=slope, x_fill=(float(x[i_fill]) if i_fill is not None else 0.0)):
+            if k == 0.0:
+                return f * population_strain(g, cols)
+            return f * np.exp(k * (np.asarray(cols["bladder_cast_fill"]) - x_fill)) * population_strain(g, cols)
 
         p2 = _Population(req, layout, corrected)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
@@ -524,10 +537,10 @@ def _g_cols(x, req, layout):
     from .design import derive
 
     lay = get_layout(layout)
-    cols = {name: np.atleast_1d(float(v)) for name, v in zip(lay.decision_variables, x)}
+    cols = {name: np.atleast_1d(float(v)) for name, v in zip(req.decision_variables(layout), x)}
     g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                cols.get("V2_top_mm3", np.zeros(1)), np.full(1, req.max_charge_MPa), req.setpoint_x0_mm,
-               req.fixed, lay.has_bulkhead)
+               req.fixed, lay.has_bulkhead, cast_fill=cols.get("bladder_cast_fill"))
     return g, cols
 
 
@@ -748,7 +761,8 @@ def linearity_map(
     X = np.tile(design.decision_vector(), (n * n, 1))
     X[:, names.index(var_x)] = XX.ravel()
     X[:, names.index(var_y)] = YY.ravel()
-    r = replace(req, max_bladder_strain=None, max_charge_MPa=design.p2_MPa, setpoint_x0_mm=design.setpoint_x0_mm)
+    r = replace(req, max_bladder_strain=None, optimise_cast_fill=False, max_charge_MPa=design.p2_MPa,
+                setpoint_x0_mm=design.setpoint_x0_mm)
     r = replace(r, fixed=design.fixed)
     obj, mar, ok = evaluate_population(X, r, design.layout)
     cn = constraint_names(r, design.layout, search=True)
@@ -767,7 +781,8 @@ def linearity_map(
 # ---------------------------------------------------------------------------
 
 def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, seed: int = 0,
-                     maxiter: int = 400) -> dict:
+                     maxiter: int = 400, V1_max_mm3: float | None = None, V2_max_mm3: float | None = None,
+                     chamber1_length_max_mm: float | None = None, V1_extra_mm3: float = 0.0) -> dict:
     """Best linearity any layout could reach with ``V1 + V2 <= total_gas_mm3``.
 
     Ignores packing entirely: only eq. 5, the charge limit (both chambers <=
@@ -776,6 +791,11 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     requirements' (worst over its exponents, exact metric). It tells how much
     gas a target linearity needs, whatever the housing. Vectorised
     differential evolution + SLSQP polish over (A1, A2, V1, V2).
+    ``V1_max_mm3`` / ``V2_max_mm3`` cap each chamber too (a layout's
+    per-chamber capacities: the bound is then that layout's own floor).
+    ``chamber1_length_max_mm`` confines chamber 1 to the piston bore:
+    ``V1 <= A1 * chamber1_length_max_mm + V1_extra_mm3`` (the longest gas
+    column the housing leaves above the piston, plus ports).
 
     Parameters
     ----------
@@ -788,13 +808,20 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
         Seed of the differential evolution.
     maxiter : int
         Generation limit of the differential evolution.
+    V1_max_mm3, V2_max_mm3 : float or None
+        Largest chamber-1 / chamber-2 gas volume; None: only the total caps it.
+    chamber1_length_max_mm : float or None
+        Longest gas column above the piston; None: chamber 1 is not confined to the bore.
+    V1_extra_mm3 : float
+        Chamber-1 gas outside that column (ports), added to its cap.
 
     Returns
     -------
     dict
         ``total_gas_mm3``, ``linearity_error`` (the best objective, fraction), the chamber areas
-        ``A1_mm2``, ``A2_mm2`` and volumes ``V1_mm3``, ``V2_mm3`` that reach it, ``feasible``
-        and ``objective_exponents`` (dimensionless).
+        ``A1_mm2``, ``A2_mm2`` and volumes ``V1_mm3``, ``V2_mm3`` that reach it, ``feasible``,
+        ``objective_exponents`` (dimensionless) and the caps asked for (``V1_max_mm3``,
+        ``V2_max_mm3``, ``chamber1_length_max_mm``; None where not given).
     """
     from .gas_spring import linearity_exact
 
@@ -814,11 +841,19 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
             kn = linearity_exact(A1, A2, V1, V2, p1, pmax, T, req.n_polytropic).mean_stiffness_N_per_mm
             k = kn / req.min_mean_stiffness_N_per_mm - 1
             gas_left = (V2 - A2 * T) / V2 - fmin
-            cons = np.array([(A1 - A2) / A1, 1 - (V1 + V2) / total_gas_mm3, k, gas_left])
+            rows = [(A1 - A2) / A1, 1 - (V1 + V2) / total_gas_mm3, k, gas_left]
+            if V1_max_mm3 is not None:
+                rows.append(1 - V1 / V1_max_mm3)
+            if V2_max_mm3 is not None:
+                rows.append(1 - V2 / V2_max_mm3)
+            if chamber1_length_max_mm is not None:
+                rows.append(1 - V1 / (A1 * chamber1_length_max_mm + V1_extra_mm3))
+            cons = np.array(rows)
         bad = ~np.isfinite(obj) | ~np.all(np.isfinite(cons), axis=0)
         return np.where(bad, 1.0, obj), np.where(bad[None, :], -1.0, cons)
 
-    bounds = [(100, 5000), (100, 5000), (1e3, total_gas_mm3), (1e3, total_gas_mm3)]
+    bounds = [(100, 5000), (100, 5000), (1e3, min(total_gas_mm3, V1_max_mm3 or np.inf)),
+              (1e3, min(total_gas_mm3, V2_max_mm3 or np.inf))]
     r = differential_evolution(lambda X: both(X.T)[0], bounds,
                                constraints=[NonlinearConstraint(lambda X: both(np.asarray(X).T)[1], 0, np.inf)],
                                seed=seed, popsize=20, maxiter=maxiter, tol=1e-8, polish=False, init="sobol",
@@ -842,7 +877,8 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     obj, cons = both(x)
     return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(obj[0]), "A1_mm2": A1, "A2_mm2": A2,
             "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons >= -1e-6)),
-            "objective_exponents": list(ns)}
+            "objective_exponents": list(ns), "V1_max_mm3": V1_max_mm3, "V2_max_mm3": V2_max_mm3,
+            "chamber1_length_max_mm": chamber1_length_max_mm}
 
 
 # ---------------------------------------------------------------------------
@@ -850,7 +886,7 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
 # ---------------------------------------------------------------------------
 
 def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *, seed: int = 0,
-                 maxiter: int = 200) -> dict:
+                 maxiter: int = 200, maximise: Literal["total", "V1", "V2"] = "total") -> dict:
     """The largest gas volume ``V1 + V2`` a layout can hold in the requirements' envelope.
 
     Every constraint of :func:`~vvea_design.spring.requirements.evaluate_design`
@@ -860,38 +896,57 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
     piston would leave the whole housing to gas, for no spring) — only the
     linearity is not asked for. Since the packing-free bound
     (:func:`gas_volume_bound`) falls with the gas volume, the bound at this
-    capacity is a floor no design of the layout can beat.
+    capacity is a floor no design of the layout can beat. ``maximise = "V1"``
+    or ``"V2"`` finds the largest single chamber instead (the layout's
+    per-chamber capacities).
 
     Parameters
     ----------
     req : Requirements or None
-        The envelope and constraints (default: the paper's unit); the bladder-strain limit and
-        the linearity objective are dropped.
+        The envelope and constraints (default: the paper's unit); the linearity objective is
+        dropped, and so is the bladder-strain limit unless ``optimise_cast_fill`` is set (then
+        the strain surrogate keeps it and the cast fill is searched too).
     layout : str
         Layout variant (a name of :data:`vvea_design.spring.design.LAYOUTS`).
     seed : int
         Seed of the differential evolution.
     maxiter : int
         Generation limit of the differential evolution.
+    maximise : {"total", "V1", "V2"}
+        What to make largest: the total gas volume V1 + V2, or one chamber's (mm³ each).
 
     Returns
     -------
     dict
-        ``layout``, ``total_gas_mm3`` (the capacity), ``V1_mm3``, ``V2_mm3``, ``feasible``,
-        ``decision_vector`` (the layout's variables, mm and mm³), ``binding`` (constraints with
-        margin < 0.001), ``housing_length_mm`` and ``piston_diameter_mm``.
+        ``layout``, ``maximise``, ``total_gas_mm3`` (V1 + V2 of the design found), ``V1_mm3``,
+        ``V2_mm3``, ``bladder_cast_fill`` (fraction), ``bladder_strain_surrogate`` (fraction; None
+        without ``optimise_cast_fill``), ``feasible``, ``decision_vector`` (the decision variables,
+        mm and mm³), ``binding`` (constraints with margin < 0.001), ``housing_length_mm`` and
+        ``piston_diameter_mm``.
 
     Raises
     ------
+    ValueError
+        If ``maximise`` is not one of "total", "V1", "V2".
     DesignError
         If ``layout`` is unknown (the message lists the known ones).
     """
     req = req or Requirements()
-    r = replace(req, max_bladder_strain=None, objective="nominal", objective_n=None)
-    lay = get_layout(layout)
+    if maximise not in ("total", "V1", "V2"):
+        raise ValueError(f"maximise must be 'total', 'V1' or 'V2', got {maximise!r}")
+    # with a free cast fill the strain limit is part of what the bladder can hold (surrogate, then the
+    # final design's surrogate value); otherwise the capacity ignores an optional strain limit
+    strained = req.optimise_cast_fill
+    r = replace(req, objective="nominal", objective_n=None,
+                **({} if strained else {"max_bladder_strain": None}))
+    strain_fn = None
+    if strained:
+        from .strain_surrogate import population_strain as strain_fn
     names = constraint_names(r, layout)
     bounds = r.search_bounds(layout)
-    i1, i2 = lay.decision_variables.index("V1_mm3"), lay.decision_variables.index("V2_mm3")
+    dvars = r.decision_variables(layout)
+    i1, i2 = dvars.index("V1_mm3"), dvars.index("V2_mm3")
+    w1, w2 = {"total": (1.0, 1.0), "V1": (1.0, 0.0), "V2": (0.0, 1.0)}[maximise]
     scale = 1.0 / max(b[1] for b in bounds)
 
     class _Cap:
@@ -899,9 +954,9 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
 
         def __call__(self, X):
             XS = np.atleast_2d(np.asarray(X).T)
-            _, mar, ok = evaluate_population(XS, r, layout)
+            _, mar, ok = evaluate_population(XS, r, layout, strain_fn)
             self.count += XS.shape[0]
-            obj = np.where(ok, -(XS[:, i1] + XS[:, i2]) * scale, 1.0)
+            obj = np.where(ok, -(w1 * XS[:, i1] + w2 * XS[:, i2]) * scale, 1.0)
             return obj, mar
 
         def objective(self, x):
@@ -917,8 +972,14 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
                                 init="sobol", vectorized=True, updating="deferred")
     x, _ = _best_polish(prob, _starts(prob, de, bounds, 8), bounds)
     d = design_from_vector(x, r, layout)
-    ev = evaluate_design(d, r)
-    return {"layout": layout, "total_gas_mm3": d.V1_mm3 + d.V2_mm3, "V1_mm3": d.V1_mm3, "V2_mm3": d.V2_mm3,
+    strain = None
+    if strained:
+        from .strain_surrogate import design_strain
+
+        strain = design_strain(d)
+    ev = evaluate_design(d, r, bladder_strain=strain)
+    return {"layout": layout, "maximise": maximise, "total_gas_mm3": d.V1_mm3 + d.V2_mm3, "V1_mm3": d.V1_mm3,
+            "V2_mm3": d.V2_mm3, "bladder_cast_fill": d.fixed.bladder_cast_fill, "bladder_strain_surrogate": strain,
             "feasible": ev.feasible, "decision_vector": [float(v) for v in x],
             "binding": [n for n in names if ev.margins[n] < 1e-3],
             "housing_length_mm": d.housing_length_mm, "piston_diameter_mm": d.piston_diameter_mm}

@@ -32,9 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from .design import DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive, get_layout
+from .design import (CHANNEL_GAP_MM, DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
+                     get_layout)
 from .gas_spring import linearity_exact
-from ..materials.silicones import get_silicone
+from ..materials.silicones import allowable_strain, get_silicone
 from ..messages import show
 
 __all__ = [
@@ -57,7 +58,11 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "V1_mm3": (5.0e3, 3.0e5),
     "V2_mm3": (5.0e3, 3.0e5),
     "V2_top_mm3": (0.0, 1.5e5),
+    "bladder_cast_fill": (0.1, 1.0),  # the strain surrogate is poor below 0.1 (docs/layout.md)
 }
+
+#: Bounds whose low end may be 0 (the others must be > 0).
+_ZERO_LOW = ("V2_top_mm3", "bladder_cast_fill")
 
 #: Polytropic exponents whose worst linearity each objective minimises (``nominal``: the design's n_polytropic).
 OBJECTIVES: dict[str, tuple[float, ...] | None] = {
@@ -100,6 +105,7 @@ class Requirements:
     objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
     objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead")  #: layout variants the optimiser chooses between
+    optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
     fixed: FixedParameters = field(default_factory=FixedParameters)
@@ -145,10 +151,19 @@ class Requirements:
         if unknown:
             raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {sorted(known_vars)}")
         for name, (lo, hi) in self.bounds.items():
-            low_ok = lo >= 0 if name == "V2_top_mm3" else lo > 0
+            low_ok = lo >= 0 if name in _ZERO_LOW else lo > 0
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
                 raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
-                                + (" (low may be 0)" if name == "V2_top_mm3" else ""))
+                                + (" (low may be 0)" if name in _ZERO_LOW else ""))
+        if self.bounds.get("bladder_cast_fill", (0.0, 1.0))[1] > 1.0:
+            raise SpecError(f"[bounds] bladder_cast_fill = {show(list(self.bounds['bladder_cast_fill']))}: a stroke "
+                            "fraction, the high end must be <= 1")
+        if not isinstance(self.optimise_cast_fill, bool):
+            raise SpecError(f"optimise_cast_fill must be true or false, got {show(self.optimise_cast_fill)}")
+        if self.optimise_cast_fill and self.max_bladder_strain is None:
+            # a free cast fill trades gas room for bladder strain: it needs a strain limit, by default the
+            # one the bladder check applies (the silicone's cyclic allowable)
+            object.__setattr__(self, "max_bladder_strain", allowable_strain(self.bladder_material))
         lo_D = self.bounds.get("outer_diameter_mm", DEFAULT_BOUNDS["outer_diameter_mm"])[0]
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
@@ -175,6 +190,29 @@ class Requirements:
         ns = OBJECTIVES[self.objective]
         return (float(self.n_polytropic),) if ns is None else ns
 
+    def decision_variables(self, layout: str = "inner_tube") -> tuple[str, ...]:
+        """The decision variables of ``layout``, plus ``bladder_cast_fill`` when ``optimise_cast_fill``.
+
+        Parameters
+        ----------
+        layout : str
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+            ``"bulkhead"``).
+
+        Returns
+        -------
+        tuple of str
+            Variable names in the optimiser's order, each with its unit in the name (mm, mm³;
+            ``bladder_cast_fill`` a fraction of the stroke).
+
+        Raises
+        ------
+        DesignError
+            If ``layout`` is unknown.
+        """
+        names = get_layout(layout).decision_variables
+        return names + ("bladder_cast_fill",) if self.optimise_cast_fill else names
+
     def search_bounds(self, layout: str = "inner_tube") -> list[tuple[float, float]]:
         """Bounds per decision variable of ``layout``, clipped to the envelope.
 
@@ -187,8 +225,8 @@ class Requirements:
         Returns
         -------
         list of tuple of float
-            ``(low, high)`` per decision variable of the layout, in its order and in its unit
-            (mm, mm³); the outer diameter's high end is at most ``max_outer_diameter_mm``.
+            ``(low, high)`` per variable of :meth:`decision_variables`, in its order and unit
+            (mm, mm³, fraction); the outer diameter's high end is at most ``max_outer_diameter_mm``.
 
         Raises
         ------
@@ -196,7 +234,7 @@ class Requirements:
             If ``layout`` is unknown.
         """
         out = []
-        for name in get_layout(layout).decision_variables:
+        for name in self.decision_variables(layout):
             lo, hi = self.bounds.get(name, DEFAULT_BOUNDS[name])
             if name == "outer_diameter_mm":
                 hi = min(hi, self.max_outer_diameter_mm)
@@ -281,6 +319,10 @@ class Requirements:
                 if wsf is not None and wsf != top_sf:
                     raise SpecError(f"{source}: [fixed] wall_safety_factor = {show(wsf)} disagrees with the top-level "
                                     f"min_wall_safety_factor = {show(top_sf)}; set it once, at the top level")
+            elif key == "optimise_cast_fill":
+                if not isinstance(value, bool):
+                    raise SpecError(f"{source}: optimise_cast_fill must be true or false, got {show(value)}")
+                kwargs[key] = value
             elif key in ("bladder_material", "objective"):
                 if not isinstance(value, str):
                     raise SpecError(f"{source}: {key} must be a string, got {show(value)}")
@@ -439,7 +481,8 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     Parameters
     ----------
     v : array_like
-        Values of the layout's decision variables in their order and units (mm, mm³).
+        Values of :meth:`Requirements.decision_variables` of the layout in their order and units
+        (mm, mm³; ``bladder_cast_fill`` a fraction, clipped to [0, 1]).
     req : Requirements
         Gives the charge p2 (``max_charge_MPa``), the set point (mm) and the fixed parameters.
     layout : str
@@ -456,8 +499,11 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     DesignError
         If the layout is unknown or the geometry cannot be drawn.
     """
-    kw = {name: float(val) for name, val in zip(get_layout(layout).decision_variables, v)}
-    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=req.fixed, layout=layout)
+    kw = {name: float(val) for name, val in zip(req.decision_variables(layout), v)}
+    fixed = req.fixed
+    if "bladder_cast_fill" in kw:
+        fixed = replace(fixed, bladder_cast_fill=min(max(kw.pop("bladder_cast_fill"), 0.0), 1.0))
+    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout)
 
 
 def _exponents(req: Requirements, report: bool = True) -> list[float]:
@@ -506,6 +552,8 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
         "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
         "bladder_room_compressed": {"value": g["bladder_clearance_compressed_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
         "bladder_room_expanded": {"value": g["bladder_clearance_expanded_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
+        "bladder_channel_room": {"value": g["bladder_cast_gap_mm"], "limit": CHANNEL_GAP_MM, "unit": "mm", "kind": "min",
+                                 "scale": t_bl},
         "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
     }
     for wall in _walls(layout):
@@ -603,7 +651,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     Parameters
     ----------
     X : array_like
-        Decision vectors, shape ``(S, N)``, each in the layout's variable order and units (mm, mm³).
+        Decision vectors, shape ``(S, N)``, each in the order and units of
+        ``req.decision_variables(layout)`` (mm, mm³; the cast fill a fraction).
     req : Requirements
         The limits; the charge is ``req.max_charge_MPa``.
     layout : str
@@ -636,12 +685,13 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     """
     X = np.atleast_2d(np.asarray(X, dtype=float))
     lay = get_layout(layout)
-    cols = {name: X[:, i] for i, name in enumerate(lay.decision_variables)}
+    cols = {name: X[:, i] for i, name in enumerate(req.decision_variables(layout))}
     S = X.shape[0]
     p2 = np.full(S, req.max_charge_MPa)
     with np.errstate(all="ignore"):
         g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
-                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead)
+                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
+                   cast_fill=cols.get("bladder_cast_fill"))
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
@@ -692,7 +742,8 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
         If ``layout`` is unknown (only when ``search`` is false).
     """
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
-             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "wall_capacity"]
+             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
+             "wall_capacity"]
     if search:
         names.remove("charge_p2")
     else:
