@@ -92,6 +92,14 @@ class LayoutSearch:
     worst_margin: float  #: smallest constraint margin of its best design
 
     def to_dict(self) -> dict:
+        """JSON-ready content of this search.
+
+        Returns
+        -------
+        dict
+            Every field; ``decision_vector`` as a list (the decision variables in their
+            own units, mm and mm³), ``seconds`` in s, ``objective`` a fraction.
+        """
         return {**self.__dict__, "decision_vector": list(self.decision_vector)}
 
 
@@ -112,17 +120,28 @@ class OptimisationResult:
 
     @property
     def design(self) -> Design:
+        """The best design found (geometry in mm, mm³; charge in MPa)."""
         return self.evaluation.design
 
     @property
     def layout(self) -> str:
+        """Name of the winning layout variant."""
         return self.design.layout
 
     @property
     def evaluations_per_second(self) -> float:
+        """Model evaluations per second of wall time (1/s); nan when no time was measured."""
         return self.evaluations / self.seconds if self.seconds > 0 else float("nan")
 
     def infeasibility_message(self) -> str:
+        """What the least-violating design misses, for the user.
+
+        Returns
+        -------
+        str
+            One line per violated constraint, worst first: its value and limit with their unit
+            and the (scaled, dimensionless) margin.
+        """
         ev = self.evaluation
         lines = [f"no design meets the requirements; the least-violating design found "
                  f"(layout {ev.design.layout!r}) misses:"]
@@ -137,7 +156,16 @@ class OptimisationResult:
         return "\n".join(lines)
 
     def summary(self) -> dict:
-        """The ``optimiser`` block of the design JSON."""
+        """The ``optimiser`` block of the design JSON.
+
+        Returns
+        -------
+        dict
+            Seed, evaluation count, ``seconds`` (s), evaluations per second (1/s), generations,
+            the search's message, whether the polish improved it, the layout, the binding
+            constraints, one entry per layout search and the FE / surrogate bladder strain
+            (fraction, None when unconstrained).
+        """
         return {
             "seed": self.seed,
             "evaluations": self.evaluations,
@@ -154,7 +182,14 @@ class OptimisationResult:
         }
 
     def to_dict(self) -> dict:
-        """Everything as plain JSON-able data (the design, its evaluation, the search)."""
+        """Everything as plain JSON-able data (the design, its evaluation, the search).
+
+        Returns
+        -------
+        dict
+            ``layout``, ``decision_variables`` (name -> value, unit in the name), the evaluation's
+            content (:meth:`Evaluation.to_dict`) and ``optimiser`` (:meth:`summary`).
+        """
         d = self.design
         return {"layout": d.layout,
                 "decision_variables": {n: float(getattr(d, n)) for n in d.variant.decision_variables},
@@ -266,31 +301,47 @@ def optimise(
 
     Parameters
     ----------
-    req
+    req : Requirements or None
         Requirements (default: the paper's unit).
-    seed
+    seed : int
         Seed of the global search: the same seed gives the same design.
-    popsize, maxiter, tol
-        Differential-evolution settings (population = popsize × number of variables).
-    polish
+    popsize, maxiter : int
+        Differential-evolution population factor (population = popsize × number of variables)
+        and generation limit.
+    tol : float
+        Differential-evolution convergence tolerance, relative, dimensionless.
+    polish : bool
         Run an SLSQP polish from the best point of each layout.
-    bladder_strain_fn
-        ``f(design) -> strain``, the FE strain bound (e.g.
+    progress : bool
+        Show a progress bar on stderr (one step per generation and layout).
+    bladder_strain_fn : callable or None
+        ``f(design) -> strain`` (fraction), the FE strain bound (e.g.
         :func:`vvea_design.bladder.check.strain_bound`), required when
         ``req.max_bladder_strain`` is set. The global search uses the
         surrogate of :mod:`vvea_design.spring.strain_surrogate`; the polish
         corrects it with this function until the final design meets the
         limit by this function's own value.
-    raise_infeasible
+    raise_infeasible : bool
         Raise :class:`Infeasible` (with the violated constraints) when no
         feasible design is found; otherwise return the least-violating one.
-    layouts
+    layouts : tuple of str or None
         Layout variants to search (default ``req.layouts``).
 
     Returns
     -------
     OptimisationResult
         The evaluated best design, per-layout searches, counts and seconds.
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``.
+    DesignError
+        If a layout name is unknown (the message lists the known ones).
+    NoBuildableDesign
+        If no point the search tried inside the bounds can be drawn (the message names the bounds).
+    Infeasible
+        If no design meets the requirements and ``raise_infeasible`` is true.
     """
     req = req or Requirements()
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
@@ -540,9 +591,42 @@ def pareto_front(
     stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm), ``mass``
     (maximum mass, g) or ``adiabatic`` (largest linearity error at n = 1.4,
     fraction: with the nominal objective this traces the isothermal vs
-    adiabatic Pareto front). Returns one row per value with the optimum's
-    linearity, mass, stiffness and decision variables; infeasible values are
-    rows with ``feasible = False``.
+    adiabatic Pareto front). The points run through
+    :func:`vvea_design.parallel.parallel_map`.
+
+    Parameters
+    ----------
+    req : Requirements
+        The other requirements, held fixed.
+    axis : {"stiffness", "outer_diameter", "mass", "adiabatic"}
+        The swept requirement (see above); :data:`PARETO_AXES` maps it to the requirements field.
+    values : sequence of float
+        Values of the swept requirement, in its field's unit (N/mm, mm, g or fraction).
+    seed : int
+        Seed of each point's global search (the same seed gives the same front).
+    popsize, maxiter : int
+        Differential-evolution population factor and generation limit of each point.
+    workers : int or None
+        Local worker processes; None: all cores, 1: serial in this process.
+    scheduler : str or None
+        Address of a Dask distributed scheduler (``tcp://host:port``); None: local processes.
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of dict
+        One row per value, in order: ``feasible``, ``linearity_error`` (fraction; also at n = 1
+        and n = 1.4), ``objective``, ``mass_g``, ``layout``,
+        ``mean_stiffness_at_max_charge_N_per_mm``, ``outer_diameter_mm``, ``binding`` (binding or,
+        when infeasible, violated constraints, comma-separated), the decision variables (unit in
+        the name) and the swept field itself. A point that cannot be set up is a row with
+        ``feasible = False`` and ``error``.
+
+    Raises
+    ------
+    ValueError
+        If ``axis`` is not one of :data:`PARETO_AXES`.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
@@ -564,7 +648,30 @@ def pareto_front(
 
 
 def save_pareto(rows: list[dict], axis: str, out_dir, title: str = "") -> tuple:
-    """Write a Pareto front as ``pareto_<axis>.csv`` and ``.png`` into ``out_dir``; return both paths."""
+    """Write a Pareto front as ``pareto_<axis>.csv`` and ``.png`` into ``out_dir``.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`pareto_front` (the CSV gets the union of their keys as columns, units in
+        the names).
+    axis : str
+        The swept requirement, a key of :data:`PARETO_AXES` (it names the files and the x axis).
+    out_dir : str or Path
+        Folder to write into (created).
+    title : str
+        Plot title; empty: "best linearity vs <axis>".
+
+    Returns
+    -------
+    csv_path, png_path : Path
+        The CSV and the PNG written.
+
+    Raises
+    ------
+    KeyError
+        If ``axis`` is not one of :data:`PARETO_AXES`.
+    """
     import csv
     from pathlib import Path
 
@@ -605,7 +712,35 @@ def linearity_map(
     ``(n, n)`` indexed ``[iy, ix]``, the name of the most violated
     constraint at every point (``worst``) and every constraint's margin grid
     (``margins``: name -> grid, nan where unbuildable). The default ranges are ±40 % around
-    the design, clipped to the search bounds.
+    the design, clipped to the search bounds. The map is taken at the design's own charge
+    (p2, MPa) and set point, without the bladder-strain constraint.
+
+    Parameters
+    ----------
+    design : Design
+        The design held fixed in every other variable (usually the optimum).
+    req : Requirements
+        Requirements whose margins decide feasibility.
+    var_x, var_y : str
+        Two different decision variables of the design's layout (unit in the name: mm, mm³).
+    x_range, y_range : tuple of float or None
+        ``(low, high)`` of each axis in the variable's own unit (mm, mm³); None: ±40 % around the
+        design, inside the search bounds.
+    n : int
+        Grid points per axis (the map has n × n points).
+
+    Returns
+    -------
+    dict
+        ``var_x``, ``var_y``; ``x``, ``y`` (axes, in the variables' units); ``linearity``
+        (fraction, ``(n, n)``), ``feasible`` (bool), ``worst`` (name of the most violated
+        constraint, "" where feasible, "unbuildable") and ``margins`` (name -> scaled,
+        dimensionless margin grid).
+
+    Raises
+    ------
+    ValueError
+        If a variable is not a decision variable of the layout or the two are the same.
     """
     names = design.variant.decision_variables
     for v in (var_x, var_y):
@@ -661,6 +796,32 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     ``chamber1_length_max_mm`` confines chamber 1 to the piston bore:
     ``V1 <= A1 * chamber1_length_max_mm + V1_extra_mm3`` (the longest gas
     column the housing leaves above the piston, plus ports).
+
+    Parameters
+    ----------
+    total_gas_mm3 : float
+        Largest total gas volume V1 + V2 allowed.
+    req : Requirements or None
+        Travel, charge limit, stiffness, gas left at full stroke and objective exponents
+        (default: the paper's unit).
+    seed : int
+        Seed of the differential evolution.
+    maxiter : int
+        Generation limit of the differential evolution.
+    V1_max_mm3, V2_max_mm3 : float or None
+        Largest chamber-1 / chamber-2 gas volume; None: only the total caps it.
+    chamber1_length_max_mm : float or None
+        Longest gas column above the piston; None: chamber 1 is not confined to the bore.
+    V1_extra_mm3 : float
+        Chamber-1 gas outside that column (ports), added to its cap.
+
+    Returns
+    -------
+    dict
+        ``total_gas_mm3``, ``linearity_error`` (the best objective, fraction), the chamber areas
+        ``A1_mm2``, ``A2_mm2`` and volumes ``V1_mm3``, ``V2_mm3`` that reach it, ``feasible``,
+        ``objective_exponents`` (dimensionless) and the caps asked for (``V1_max_mm3``,
+        ``V2_max_mm3``, ``chamber1_length_max_mm``; None where not given).
     """
     from .gas_spring import linearity_exact
 
@@ -735,9 +896,40 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
     piston would leave the whole housing to gas, for no spring) — only the
     linearity is not asked for. Since the packing-free bound
     (:func:`gas_volume_bound`) falls with the gas volume, the bound at this
-    capacity is a floor no design of the layout can beat. Returns the volume
-    and the design that holds it. ``maximise = "V1"`` or ``"V2"`` finds the
-    largest single chamber instead (the layout's per-chamber capacities).
+    capacity is a floor no design of the layout can beat. ``maximise = "V1"``
+    or ``"V2"`` finds the largest single chamber instead (the layout's
+    per-chamber capacities).
+
+    Parameters
+    ----------
+    req : Requirements or None
+        The envelope and constraints (default: the paper's unit); the linearity objective is
+        dropped, and so is the bladder-strain limit unless ``optimise_cast_fill`` is set (then
+        the strain surrogate keeps it and the cast fill is searched too).
+    layout : str
+        Layout variant (a name of :data:`vvea_design.spring.design.LAYOUTS`).
+    seed : int
+        Seed of the differential evolution.
+    maxiter : int
+        Generation limit of the differential evolution.
+    maximise : {"total", "V1", "V2"}
+        What to make largest: the total gas volume V1 + V2, or one chamber's (mm³ each).
+
+    Returns
+    -------
+    dict
+        ``layout``, ``maximise``, ``total_gas_mm3`` (V1 + V2 of the design found), ``V1_mm3``,
+        ``V2_mm3``, ``bladder_cast_fill`` (fraction), ``bladder_strain_surrogate`` (fraction; None
+        without ``optimise_cast_fill``), ``feasible``, ``decision_vector`` (the decision variables,
+        mm and mm³), ``binding`` (constraints with margin < 0.001), ``housing_length_mm`` and
+        ``piston_diameter_mm``.
+
+    Raises
+    ------
+    ValueError
+        If ``maximise`` is not one of "total", "V1", "V2".
+    DesignError
+        If ``layout`` is unknown (the message lists the known ones).
     """
     req = req or Requirements()
     if maximise not in ("total", "V1", "V2"):

@@ -191,12 +191,48 @@ class Requirements:
         return (float(self.n_polytropic),) if ns is None else ns
 
     def decision_variables(self, layout: str = "inner_tube") -> tuple[str, ...]:
-        """The decision variables of ``layout``, plus ``bladder_cast_fill`` when ``optimise_cast_fill``."""
+        """The decision variables of ``layout``, plus ``bladder_cast_fill`` when ``optimise_cast_fill``.
+
+        Parameters
+        ----------
+        layout : str
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+            ``"bulkhead"``).
+
+        Returns
+        -------
+        tuple of str
+            Variable names in the optimiser's order, each with its unit in the name (mm, mm³;
+            ``bladder_cast_fill`` a fraction of the stroke).
+
+        Raises
+        ------
+        DesignError
+            If ``layout`` is unknown.
+        """
         names = get_layout(layout).decision_variables
         return names + ("bladder_cast_fill",) if self.optimise_cast_fill else names
 
     def search_bounds(self, layout: str = "inner_tube") -> list[tuple[float, float]]:
-        """Bounds per decision variable of ``layout``, clipped to the envelope."""
+        """Bounds per decision variable of ``layout``, clipped to the envelope.
+
+        Parameters
+        ----------
+        layout : str
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+            ``"bulkhead"``).
+
+        Returns
+        -------
+        list of tuple of float
+            ``(low, high)`` per variable of :meth:`decision_variables`, in its order and unit
+            (mm, mm³, fraction); the outer diameter's high end is at most ``max_outer_diameter_mm``.
+
+        Raises
+        ------
+        DesignError
+            If ``layout`` is unknown.
+        """
         out = []
         for name in self.decision_variables(layout):
             lo, hi = self.bounds.get(name, DEFAULT_BOUNDS[name])
@@ -206,6 +242,14 @@ class Requirements:
         return out
 
     def to_dict(self) -> dict[str, Any]:
+        """JSON/TOML-ready content (what a design file's ``spec`` holds).
+
+        Returns
+        -------
+        dict
+            Every field (units in the names), ``bounds`` as ``name -> [low, high]``, ``layouts``
+            and ``objective_n`` as lists, ``fixed`` as a nested dict.
+        """
         d = asdict(self)
         d["bounds"] = {k: list(v) for k, v in self.bounds.items()}
         d["layouts"] = list(self.layouts)
@@ -215,7 +259,28 @@ class Requirements:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "requirements") -> "Requirements":
-        """Build from a parsed TOML/JSON mapping; every error names ``source`` and the key."""
+        """Build from a parsed TOML/JSON mapping; every error names ``source`` and the key.
+
+        Parameters
+        ----------
+        data : dict
+            Top-level keys of :class:`Requirements` (units in the names) with optional ``bounds``
+            (``name -> [low, high]``) and ``fixed`` (fields of ``FixedParameters``) tables.
+        source : str
+            Name of where ``data`` came from (a file path), put in front of every error.
+
+        Returns
+        -------
+        Requirements
+            The validated requirements; keys not given keep their defaults.
+
+        Raises
+        ------
+        SpecError
+            For an unknown key, a value of the wrong type or out of range, a malformed table, or a
+            ``[fixed]`` copy of travel / polytropic exponent / safety factor that disagrees with the
+            top level.
+        """
         if not isinstance(data, dict):
             raise SpecError(f"{source}: expected a table of requirements, got {type(data).__name__}")
         known = {f.name for f in fields(cls)}
@@ -279,7 +344,24 @@ class Requirements:
 
 
 def load_requirements(path: str | Path | None) -> Requirements:
-    """Read a requirements TOML file (``None`` = the built-in defaults)."""
+    """Read a requirements TOML file (``None`` = the built-in defaults).
+
+    Parameters
+    ----------
+    path : str or Path or None
+        The TOML file (UTF-8, a byte-order mark allowed); None: the paper's unit.
+
+    Returns
+    -------
+    Requirements
+        The validated requirements.
+
+    Raises
+    ------
+    SpecError
+        If the file does not exist, cannot be read, is not UTF-8 (names line and column) or not
+        valid TOML, or a value is wrong (:meth:`Requirements.from_dict`).
+    """
     if path is None:
         return Requirements()
     path = Path(path)
@@ -333,13 +415,35 @@ class Evaluation:
 
     @property
     def feasible(self) -> bool:
+        """Every margin >= 0 (to 1e-9)."""
         return all(m >= -1e-9 for m in self.margins.values())
 
     def binding(self, tol: float = 1e-3) -> list[str]:
-        """Constraints at (or beyond) their limit."""
+        """Constraints at (or beyond) their limit.
+
+        Parameters
+        ----------
+        tol : float
+            A constraint binds when its margin (scaled, dimensionless) is below this.
+
+        Returns
+        -------
+        list of str
+            Names of the binding or violated constraints, in the order of :attr:`margins`.
+        """
         return [k for k, m in self.margins.items() if m < tol]
 
     def performance(self) -> dict[str, float]:
+        """The design's performance figures (the ``performance`` block of the design JSON).
+
+        Returns
+        -------
+        dict
+            Linearity errors (fraction: nominal, n = 1, n = 1.4, objective) with the objective's
+            exponents, mean stiffness (N/mm, nominal and n = 1.4), stiffness per MPa of charge,
+            ``max_force_N``, ``mass_g``, ``peak_pressure_MPa``, ``p1_MPa``, ``housing_length_mm``,
+            ``total_gas_mm3`` and ``layout``.
+        """
         return {
             "linearity_error": self.linearity_error,
             "linearity_error_isothermal": self.linearity_isothermal,
@@ -359,12 +463,42 @@ class Evaluation:
         }
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            ``performance`` (:meth:`performance`), ``constraints`` (name -> scaled margin,
+            dimensionless, > 0 met) and ``constraint_details`` (name -> value, limit, unit, kind).
+        """
         return {"performance": self.performance(), "constraints": dict(self.margins),
                 "constraint_details": {k: dict(v) for k, v in self.details.items()}}
 
 
 def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Design:
-    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure."""
+    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure.
+
+    Parameters
+    ----------
+    v : array_like
+        Values of :meth:`Requirements.decision_variables` of the layout in their order and units
+        (mm, mm³; ``bladder_cast_fill`` a fraction, clipped to [0, 1]).
+    req : Requirements
+        Gives the charge p2 (``max_charge_MPa``), the set point (mm) and the fixed parameters.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+
+    Returns
+    -------
+    Design
+        The design, charged to p2 = ``req.max_charge_MPa`` with p1 from the set point.
+
+    Raises
+    ------
+    DesignError
+        If the layout is unknown or the geometry cannot be drawn.
+    """
     kw = {name: float(val) for name, val in zip(req.decision_variables(layout), v)}
     fixed = req.fixed
     if "bladder_cast_fill" in kw:
@@ -448,6 +582,27 @@ def evaluate_design(design: Design, req: Requirements, bladder_strain: float | N
     ``req.max_charge_MPa`` unless p1 would exceed it (then p1 is the
     limiting chamber). Linearity is the exact (continuous) metric, at the
     nominal exponent and at n = 1 and n = 1.4.
+
+    Parameters
+    ----------
+    design : Design
+        The design as charged (geometry in mm, mm³; p1, p2 in MPa).
+    req : Requirements
+        The limits to check against.
+    bladder_strain : float or None
+        The design's bladder strain bound (fraction), required when ``req.max_bladder_strain``
+        is set.
+
+    Returns
+    -------
+    Evaluation
+        Linearity (fraction), stiffness (N/mm), force (N), peak pressure (MPa), mass (g) and every
+        constraint's margin (scaled, dimensionless, > 0 met) with its value, limit and unit.
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set and ``bladder_strain`` is None.
     """
     g = dict(design._g)
     g["V1_mm3"], g["V2_mm3"] = design.V1_mm3, design.V2_mm3
@@ -486,12 +641,47 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     nor the wall safety factors, which the sized walls meet whenever
     ``wall_capacity`` does); the same formulas as
     :func:`evaluate_design` (:func:`~vvea_design.spring.design.derive`).
-    ``strain_fn(g) -> (S,)`` gives the bladder strain when
+    ``strain_fn(g, cols) -> (S,)`` gives the bladder strain when
     ``req.max_bladder_strain`` is set (the optimiser's surrogate). With
     ``extremes`` a fourth array ``(4 E, S)`` holds the signed deviations
     over the force span (at both ends, interior max and min) for each of the
     ``E`` objective exponents: the objective is their largest magnitude, and
     they are smooth where the objective has kinks (the polish's epigraph).
+
+    Parameters
+    ----------
+    X : array_like
+        Decision vectors, shape ``(S, N)``, each in the order and units of
+        ``req.decision_variables(layout)`` (mm, mm³; the cast fill a fraction).
+    req : Requirements
+        The limits; the charge is ``req.max_charge_MPa``.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+    strain_fn : callable or None
+        ``strain_fn(g, cols)``: bladder strain bound (fraction) of each design from the derived
+        geometry ``g`` and the decision columns ``cols`` (name -> array); used only when
+        ``req.max_bladder_strain`` is set (None then counts as zero strain).
+    extremes : bool
+        Also return the signed deviations.
+
+    Returns
+    -------
+    objective : numpy.ndarray
+        Shape ``(S,)``: worst linearity error over the objective exponents (fraction); 1.0 for an
+        unbuildable design.
+    margins : numpy.ndarray
+        Shape ``(M, S)``: scaled, dimensionless margins (> 0 met); -1 for an unbuildable design.
+    buildable : numpy.ndarray
+        Shape ``(S,)``, bool: the geometry can be drawn and every value is finite.
+    extremes : numpy.ndarray
+        Only with ``extremes``: shape ``(4 E, S)``, signed deviations over the force span
+        (fraction).
+
+    Raises
+    ------
+    DesignError
+        If ``layout`` is unknown.
     """
     X = np.atleast_2d(np.asarray(X, dtype=float))
     lay = get_layout(layout)
@@ -528,8 +718,29 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
 
 
 def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool = False) -> list[str]:
-    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order
-    (``search``: only those :func:`evaluate_population` returns)."""
+    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order.
+
+    Parameters
+    ----------
+    req : Requirements
+        Optional limits (mass, adiabatic linearity, bladder strain) add their constraints.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+    search : bool
+        Only the constraints :func:`evaluate_population` returns (no p2 charge, no wall safety
+        factors; the adiabatic linearity as its 8 smooth pieces).
+
+    Returns
+    -------
+    list of str
+        Constraint names in order.
+
+    Raises
+    ------
+    DesignError
+        If ``layout`` is unknown (only when ``search`` is false).
+    """
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
              "wall_capacity"]
@@ -555,5 +766,23 @@ def _margin(d: dict):
 
 
 def constraint_margins(design: Design, req: Requirements) -> dict[str, float]:
-    """Just the margins (positive = satisfied) of ``design`` against ``req``."""
+    """Just the margins (positive = satisfied) of ``design`` against ``req``.
+
+    Parameters
+    ----------
+    design : Design
+        The design as charged.
+    req : Requirements
+        The limits (without ``max_bladder_strain``: this passes no strain).
+
+    Returns
+    -------
+    dict of str to float
+        Constraint name -> scaled margin, dimensionless (> 0 met).
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set (use :func:`evaluate_design` with the strain).
+    """
     return evaluate_design(design, req).margins
