@@ -263,7 +263,7 @@ def design_unit(
     t = step("bladder")
     bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
     bfiles = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
-                                  n_elements=bladder_elements)["files"]
+                                  n_elements=bladder_elements, result=bl)["files"]  # solved once
     files["bladder_json"] = out / "bladder" / bfiles["json"]  # bladder.json lists names in its folder
     files["bladder_png"] = out / "bladder" / bfiles["png"]
     seconds["bladder"] = time.perf_counter() - t

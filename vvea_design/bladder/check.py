@@ -664,7 +664,7 @@ def _profile_rows(result: BladderResult) -> list[dict]:
 
 def write_bladder_report(design, out_dir: str | Path, material: str | Silicone = DEFAULT_MATERIAL,
                          criterion: str | StrainCriterion | float | None = None, *,
-                         n_elements: int = DEFAULT_ELEMENTS) -> dict:
+                         n_elements: int = DEFAULT_ELEMENTS, result: BladderResult | None = None) -> dict:
     """Check ``design``'s bladder and write ``bladder.json``, ``bladder_profile.csv`` and ``bladder.png`` to ``out_dir``.
 
     Parameters
@@ -682,6 +682,9 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
         itself as a fraction.
     n_elements : int
         Elements along the meridian of the check.
+    result : BladderResult or None
+        The check of ``design`` already computed by :func:`check_bladder` with the same material,
+        criterion and elements (written as it is, not solved again); None solves it here.
 
     Returns
     -------
@@ -697,7 +700,7 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
     """
     import csv
 
-    res = check_bladder(design, material, criterion, n_elements=n_elements)
+    res = result if result is not None else check_bladder(design, material, criterion, n_elements=n_elements)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     png = out / "bladder.png"
