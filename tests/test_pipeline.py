@@ -76,6 +76,25 @@ def test_design_writes_the_whole_folder(ecoflex_run):
 
 
 @pytest.mark.xdist_group("design_run")
+def test_design_unit_names_no_temporary_folder(ecoflex_run):
+    """`vvea design` writes the unit (design, spring, CAD, bladder, actuator, report) in a temporary folder and
+    moves it into place: nothing in it names that folder (unit.json lists its files relative to the unit)."""
+    res, out, _ = ecoflex_run
+    assert res.exit_code == 0, res.output
+    files = {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
+    assert {"design.json", "spring/spring.csv", "cad/manifest.json", "bladder/bladder.json", "unit.json",
+            "report.html"} <= set(files)
+    for name, data in files.items():
+        assert b"vvea-tmp" not in data, name
+    assert not [p for p in out.parent.iterdir() if "vvea-tmp" in p.name]  # and no temporary folder is left
+    unit = json.loads(files["unit.json"])
+    assert unit["files"]["design"] == "design.json" and unit["files"]["bladder_json"] == "bladder/bladder.json"
+    assert unit["actuator_study"]["files"]["results_csv"] == "actuator/results.csv"
+    study = json.loads(files["actuator/design_study.json"])
+    assert study["files"]["results_csv"] == "results.csv"  # names in its own folder
+
+
+@pytest.mark.xdist_group("design_run")
 def test_design_streams_results_to_stdout_and_progress_to_stderr(ecoflex_run):
     res, out, _ = ecoflex_run
     assert "constraints (margin > 0 = satisfied)" in res.stdout

@@ -16,7 +16,7 @@ import csv
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -211,7 +211,7 @@ class UnitDesign:
                 "n_left_out_unverified": study.n_left_out,
                 "safety_design": study.safety_design.to_dict(),
                 "timing": study.timing.to_dict(),
-                "files": study.files.to_dict()},
+                "files": {k: (None if v is None else str(v)) for k, v in asdict(study.files).items()}},
             "files": {k: str(v) for k, v in self.files.items()},
             "seconds": dict(self.seconds),
         }, self.out_dir)  # paths relative to the unit folder: it is moved into place after writing

@@ -169,8 +169,12 @@ class StudyFiles:
     safety_png: Path | None = None  #: torque steps of the design and the paper's VVEA
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary (paths as strings)."""
-        return {k: (str(v) if v is not None else None) for k, v in asdict(self).items()}
+        """Plain-JSON dictionary: each file's name in the study's folder (``None``: not written).
+
+        Names, not paths, so that a study written in a temporary folder and moved into place
+        (``outputs.output_dir``) names no folder that no longer exists.
+        """
+        return {k: (Path(v).name if v is not None else None) for k, v in asdict(self).items()}
 
     def __iter__(self):
         """The written files (paths), figures last."""
