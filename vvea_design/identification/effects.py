@@ -1147,7 +1147,23 @@ class ForceFilter(ForceLag):
     kind: str = "Butterworth"
 
     def grid(self, D, ctx):
-        return np.geomspace(0.003, 3.0, 25)  # finer than the first-order lag's: the filter types compete on it
+        # the filter types compete on this grid, so it is fine around the lag the residual shows: a lag
+        # tau leaves residual ~ -tau df/dt of the model force f (first order in tau)
+        r, f = ctx.get("residual_N"), ctx.get("model_force_N")
+        coarse = np.geomspace(0.003, 3.0, 13)
+        if r is None or f is None or D.n_exp == 0:
+            return coarse
+        fd = np.zeros(D.n)
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            if b - a > 2:
+                fd[a:b] = np.gradient(f[a:b], D.t[a:b])
+        m = (r != 0) & np.isfinite(fd)
+        den = float(np.sum(fd[m] ** 2))
+        tau = -float(np.sum(r[m] * fd[m])) / den if den > 0 else np.nan
+        if not np.isfinite(tau) or tau <= 0.003:
+            return coarse
+        return np.clip(tau, 0.003, 3.0) * np.geomspace(0.6, 2.5, 9)
 
     def transform(self, D, X, lag, ctx):
         wn = 2 * self.zeta / lag
@@ -1386,7 +1402,9 @@ _FREE = (-np.inf, np.inf)
 register(ForceLag("force_lag", "force-reading lag", "The measured force is a lagged copy of the force the unit makes.",
                   "f_meas = lowpass_tau(f),  tau df_meas/dt = f - f_meas   (the whole model lagged)", (),
                   Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False))
-for _zeta, _kind, _id in ((0.7071, "Butterworth", "force_filter_lag"), (0.8660, "Bessel", "force_bessel_lag"), (1.0, "critically damped", "force_critical_lag")):
+for _zeta, _kind, _id in ((0.7071, "Butterworth", "force_filter_lag"), (0.78, "between Butterworth and Bessel", "force_filter_lag_z078"),
+                          (0.8660, "Bessel", "force_bessel_lag"), (0.93, "between Bessel and critical", "force_filter_lag_z093"),
+                          (1.0, "critically damped", "force_critical_lag")):
     register(ForceFilter(_id, f"second-order force-reading filter ({_kind})", "The measured force is the unit's force through a second-order filter.",
                          f"f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta = {_zeta:.4g} ({_kind}),  lag = 2 zeta/wn", (),
                          Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=_zeta, kind=_kind))
