@@ -940,6 +940,10 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
         if not cat:
             return sel, cur
         full_sse = _cv_current(D, cur, plan)[3]
+        # the floor of the model as it now stands: structure the selection explained (a ripple the
+        # periodogram could not separate) no longer inflates the thresholds
+        floor = noise_floor_N(D, D.y - cur.predict(D))
+        noise = min(noise, floor) if np.isfinite(floor) else noise
         worst = None
         for c in cat:
             rest = tuple(e for e in sel if e != c)
