@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import SHARED_RECORDINGS, make_app
-from scipy.signal import lfilter
+from scipy.signal import lfilter, lfilter_zi
 from typer.testing import CliRunner
 
 from vvea_design.cli.identify import register
@@ -130,9 +130,12 @@ def test_force_lag_is_discovered_with_its_time_constant():
     tau = 0.05
     for _, g in frame.groupby("experiment", sort=False):
         t = g["time_s"].to_numpy()
-        q = np.exp(-np.median(np.diff(t)) / tau)
+        dt = np.median(np.diff(t))
+        q = np.exp(-dt / tau)
         f = g["force_true_N"].to_numpy()
-        lag = lfilter([1 - q], [1, -q], f, zi=[q * f[0]])[0]
+        # a continuous-time first-order sensor, exact for the force linear between samples
+        b = [1 - tau * (1 - q) / dt, tau * (1 - q) / dt - q]
+        lag = lfilter(b, [1, -q], f, zi=lfilter_zi(b, [1, -q]) * f[0])[0]
         frame.loc[g.index, "force_N"] += lag - f
     d = diagnose(recordings_from_frame(frame, "lag"), DiagnoseSettings(learner=False))
     r = d.report

@@ -24,6 +24,10 @@ stages (:func:`diagnose` only chains them):
    checks and the best passing discovery operator is not significantly
    better on held-out experiments (paired t <= ``name_t``); otherwise the
    discovery operator is accepted and reported with ``catalogue: false``.
+   **Backward step** (:func:`_backward_step`): at the end every accepted
+   term is re-tested beside all the other accepted terms and
+   dropped when they explain it away (its force or its held-out gain below
+   ``keep_noise`` x the noise floor, or the gain, t and fold tests failed).
 4. **Final fits** (:func:`final_fits`) -- all experiments, cluster-robust
    errors, fold jackknife for shape parameters, held-out RMS after each
    accepted term (fitted without the held-out experiments).
@@ -93,6 +97,7 @@ class DiagnoseSettings:
     min_folds: int = 4  #: stability: the term improves at least this many folds (of n_folds)
     min_snr: float = 0.25  #: minimum effect RMS / residual RMS
     name_t: float = 2.0  #: a catalogue effect loses its name when a discovery operator is better by this paired t
+    keep_noise: float = 0.5  #: backward step: an accepted term stays only if its force RMS is at least keep_noise x the noise floor and, beside all other accepted terms, it lowers the held-out mean square by at least (keep_noise x noise floor)^2 and still passes the gain, consistency and fold tests
     max_effects: int = 6  #: at most this many accepted terms
     seed: int = 0  #: seed of the experiment splits
     learner: bool = True  #: run the flexible-learner check
@@ -870,16 +875,7 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
     if not plan.can_select:
         return sel, {}, trials
     for rnd in range(1, settings.max_effects + 1):
-        ctx = _round_context(D, cur, plan)
-        X0, params0, _ = assemble(D, cur.effects, cur.shapes, ctx)
-        base_blk = blocks(X0, D.y, D.bounds, params0)
-        base_sse = np.full(D.n_exp, np.nan)
-        # current model's CV error (shapes fixed)
-        for f in np.unique(plan.folds[plan.train]):
-            tr = plan.train[plan.folds[plan.train] != f]
-            te = plan.train[plan.folds[plan.train] == f]
-            th = solve_bounded(base_blk.G[tr].sum(0), base_blk.b[tr].sum(0), base_blk.lower, base_blk.upper)
-            base_sse[te] = base_blk.sse(th, te)
+        ctx, X0, base_blk, base_sse = _cv_current(D, cur, plan)
         round_trials = []
         for c in cands:
             if c in sel:
@@ -909,7 +905,89 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
             break
         sel.append(best.id)
         cur = best.fit
+        if REGISTRY[best.id].shape is not None:  # the CV chose the shape on a coarse grid: refine it on the training experiments
+            cur = fit_model(D, cur.effects, experiments=plan.train, shapes={k: v for k, v in cur.shapes.items() if k != best.id}, ctx=cur.ctx)
+    sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
+
+
+def _cv_current(D: FitData, cur: ModelFit, plan: Plan):
+    """Context, design, blocks and grouped-CV SSE per experiment (N², shapes fixed) of the model ``cur``."""
+    ctx = _round_context(D, cur, plan)
+    X0, params0, _ = assemble(D, cur.effects, cur.shapes, ctx)
+    base_blk = blocks(X0, D.y, D.bounds, params0)
+    base_sse = np.full(D.n_exp, np.nan)
+    for f in np.unique(plan.folds[plan.train]):
+        tr = plan.train[plan.folds[plan.train] != f]
+        te = plan.train[plan.folds[plan.train] == f]
+        th = solve_bounded(base_blk.G[tr].sum(0), base_blk.b[tr].sum(0), base_blk.lower, base_blk.upper)
+        base_sse[te] = base_blk.sse(th, te)
+    return ctx, X0, base_blk, base_sse
+
+
+def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: float, settings: DiagnoseSettings, trials: dict):
+    """Re-test every accepted term beside all the other accepted terms; drop those explained away.
+
+    Forward selection accepts a term against the model of its round; a term
+    accepted later (a more complete explanation of the same structure) can
+    explain its improvement away. A term (a catalogue effect keeps its name,
+    a discovered term its place) stays only if its force is at least ``keep_noise`` x the noise floor (RMS over the
+    training samples) and removing it from the final model raises the
+    grouped-CV error by at least
+    ``(keep_noise x noise)^2`` per sample, by ``min_gain`` of the mean square,
+    consistently (paired t or halved experiments) and in ``min_folds`` folds.
+    The weakest failing effect is dropped and the test repeated.
+    """
+    tr = plan.train
+    n_tr = max(float(D.n_per_exp[tr].sum()), 1.0)
+    while True:
+        cat = list(sel)
+        if not cat:
+            return sel, cur
+        full_sse = _cv_current(D, cur, plan)[3]
+        # the floor of the model as it now stands: structure the selection explained (a ripple the
+        # periodogram could not separate) no longer inflates the thresholds
+        floor = noise_floor_N(D, D.y - cur.predict(D))
+        noise = min(noise, floor) if np.isfinite(floor) else noise
+        worst = None
+        for c in cat:
+            rest = tuple(e for e in sel if e != c)
+            fr = fit_model(D, rest, experiments=tr, shapes={e: cur.shapes[e] for e in rest if e in cur.shapes})
+            sse_wo = _cv_current(D, fr, plan)[3]
+            d = sse_wo[tr] - full_sse[tr]
+            dmse = float(d.sum() / n_tr)
+            gain = float(d.sum() / max(sse_wo[tr].sum(), 1e-300))
+            t = _paired_t(sse_wo[tr], full_sse[tr])
+            ratio = full_sse[tr] / np.maximum(sse_wo[tr], 1e-300)
+            badly = sse_wo[tr] / D.n_per_exp[tr] > (2.0 * noise) ** 2
+            n_halved = int(np.sum((ratio < 0.5) & badly))
+            fold_ids = np.unique(plan.folds[tr])
+            n_improved = int(sum(d[plan.folds[tr] == f].sum() > 0 for f in fold_ids))
+            mtr = np.isin(D.exp, tr)
+            eff_rms = float(np.sqrt(np.mean(cur.contribution(D, c)[mtr] ** 2))) if mtr.any() else 0.0
+            why = []
+            if eff_rms < settings.keep_noise * noise:
+                why.append(f"its force ({eff_rms:.3g} N RMS) is below {settings.keep_noise:g} x the noise floor ({noise:.3g} N)")
+            if dmse < (settings.keep_noise * noise) ** 2:
+                why.append(f"beside {', '.join(rest) or 'eq. 14'} it lowers the held-out mean square by {dmse:.3g} N^2 < ({settings.keep_noise:g} x noise floor)^2 = {(settings.keep_noise * noise) ** 2:.3g} N^2")
+            if gain < settings.min_gain:
+                why.append(f"beside {', '.join(rest) or 'eq. 14'} it lowers the held-out error by {100 * gain:.2f} % < {100 * settings.min_gain:.1f} %")
+            if not (t >= settings.min_t or n_halved >= settings.min_halved):
+                why.append(f"beside {', '.join(rest) or 'eq. 14'} its paired t is {t:.1f} < {settings.min_t:g}")
+            if n_improved < min(settings.min_folds, len(fold_ids)):
+                why.append(f"beside {', '.join(rest) or 'eq. 14'} it improves only {n_improved} of {len(fold_ids)} folds")
+            if why and (worst is None or dmse < worst[1]):
+                worst = (c, dmse, why, fr)
+        if worst is None:
+            return sel, cur
+        c, _, why, fr = worst
+        sel = [e for e in sel if e != c]
+        cur = fr
+        t0 = trials.get(c)
+        if t0 is not None and t0.evidence is not None:
+            ev = t0.evidence
+            reasons = ev.reasons + ("explained away by the other accepted terms: " + "; ".join(why),)
+            trials[c] = _Trial(c, t0.sse, t0.shape, Evidence(**{**asdict(ev), "passes": False, "reasons": reasons}), t0.fit, t0.signature)
 
 
 # ================================================================== stage: final fits
@@ -919,6 +997,13 @@ def _rmse(D, fit: ModelFit, exps) -> float | None:
     pred = fit.predict(D)
     m = np.isin(D.exp, exps)
     return float(np.sqrt(np.mean((D.y[m] - pred[m]) ** 2)))
+
+
+def _damping_context(D: FitData, effects, rows, shapes: dict) -> dict | None:
+    """The unbiased damping force for models with a term that replaces damping columns (as in selection); else None (automatic)."""
+    if any(REGISTRY[e].replaces_damping for e in effects):
+        return relief_context(D, tuple(effects), rows, shapes, iters=4)
+    return None
 
 
 def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSettings):
@@ -954,11 +1039,13 @@ def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSett
     steps, hsteps = [], []
     for k in range(len(sel) + 1):
         eff = sel[:k]
-        f = fit_model(D, eff, experiments=plan.train, shapes={e: shapes[e] for e in eff if e in shapes})
+        sh = {e: shapes[e] for e in eff if e in shapes}
+        f = fit_model(D, eff, experiments=plan.train, shapes=sh, ctx=_damping_context(D, eff, plan.train, sh))
         steps.append(f)
         hsteps.append(HeldOutStep("eq. 14" if k == 0 else f"+ {sel[k - 1]}", eff, _rmse(D, f, plan.test)))
     baseline = fit_model(D, ())
-    final = fit_model(D, sel, shapes={e: shapes[e] for e in sel if e in shapes}) if sel else baseline
+    sh = {e: shapes[e] for e in sel if e in shapes}
+    final = fit_model(D, sel, shapes=sh, ctx=_damping_context(D, sel, np.arange(D.n_exp), sh)) if sel else baseline
     shape_se: dict[str, float] = {}
     shaped = [e for e in sel if REGISTRY[e].shape is not None]
     if shaped and plan.can_select:

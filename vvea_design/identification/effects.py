@@ -25,14 +25,16 @@ Two kinds of effects live in the registry:
   gas_nonlinearity     p2 (a2 r2(x; V2) + a1 r1(x)): eq. 5's two chamber
                        forces of the unit's geometry, each minus its straight
                        line; V2 free (an effective, polytropic volume)
-  thermal              p2 (k + k_x x/s) h_τ,  ḣ = ẋ - h/τ  (wall heat exchange)
+  thermal              p2 (k_i f_i h_i + s_i f_i h_i² + k h),  ḣ_i = u̇_i - h_i/τ  (wall heat
+                       exchange per chamber, chamber 1 at τ/2, τ, 2τ; second order)
   quadratic_damping    K(γ) ẋ|ẋ|^(m-1)   (orifice flow, exponent m fitted)
   relief_valve         soft knee: above F_open the throttle force follows
-                       F_r + r (L ẋ - F_open)
+                       c F_open + r (L ẋ - F_open), c near 1
   stiction             sign(ẋ) (S1 e^(-|ẋ|/v_s) + S2 e^(-(|ẋ|/v_s)²))  (Stribeck
                        shape between exponential and Gaussian)
   pressure_friction    c_p p2 sign(ẋ)
-  leakage              -p2 x (q1 t_c - q2 t_c²)  (charge decays over campaign time)
+  leakage              -p2 t_c (q0 + q x + curvature) + p2 t_c² (c0 + c x)
+                       (the charge, and all it carries, decays over campaign time)
   ===================  ======================================================
 
 - **discovery operators** (``catalogue=False``): interpretable operators on the
@@ -467,6 +469,20 @@ def _travel_since_reversal(D: FitData) -> np.ndarray:
     return D._cache[key]
 
 
+def _first_ramp(D: FitData) -> np.ndarray:
+    """True on the samples before the first reversal of each experiment (the ramp that starts from rest)."""
+    key = ("first_ramp",)
+    if key not in D._cache:
+        m = np.zeros(D.n, bool)
+        s = D.s
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            cuts = np.flatnonzero(np.diff(s[a:b]) != 0) + 1
+            m[a : a + (cuts[0] if len(cuts) else b - a)] = True
+        D._cache[key] = m
+    return D._cache[key]
+
+
 def _periodogram_peaks(u: np.ndarray, y: np.ndarray, periods: np.ndarray, n_peaks: int = 3) -> np.ndarray:
     """Periods (units of ``u``) of the highest periodogram peaks of ``y`` against ``u``.
 
@@ -746,11 +762,18 @@ class Thermal(Effect):
     def columns(self, D, tau, ctx):
         # per chamber: isothermal pressure x (kappa - 1) x the log volume change, relaxed with tau
         # (linearised p V^kappa = const with heat exchange); plus a geometry-free p2 h term
+        # Each chamber exchanges heat through its own walls: chamber 1's time constant may differ from
+        # chamber 2's (tau), so chamber 1 is relaxed at tau/2, tau and 2 tau (non-negative weights span
+        # the time constants between). Second order in the temperature excess (p ~ exp of the relaxed
+        # log-volume change at large, fast compressions): the squared states, amplitudes free.
         u2, u1, f2, f1 = _chamber_logs(D)
         h2 = thermal_state(D, tau, u2, "u2")
         h1 = thermal_state(D, tau, u1, "u1")
+        h1s = thermal_state(D, 0.5 * tau, u1, "u1")
+        h1l = thermal_state(D, 2.0 * tau, u1, "u1")
         h = thermal_state(D, tau)
-        return np.column_stack([D.p2 * f2 * h2, D.p2 * f1 * h1, D.p2 * h])
+        return np.column_stack([D.p2 * f2 * h2, D.p2 * f1 * h1, D.p2 * f1 * h1s, D.p2 * f1 * h1l, D.p2 * h,
+                                D.p2 * f2 * h2**2, -D.p2 * f1 * h1**2])
 
     def signature(self, D, values, tau, contribution):
         spd = np.abs(D.v)
@@ -767,8 +790,8 @@ class Thermal(Effect):
 
     def describe(self, values, errors, tau, tau_se):
         return (
-            f"{self.physics} Effective kappa - 1 = {_fmt(values['k2'], errors.get('k2'))} (chamber 2), {_fmt(values['k1'], errors.get('k1'))} "
-            f"(chamber 1), geometry-free part {_fmt(values['k'], errors.get('k'), 'N/mm/MPa')}; heat exchange time constant tau = {_fmt(tau, tau_se, 's')}."
+            f"{self.physics} Effective kappa - 1 = {_fmt(values['k2'], errors.get('k2'))} (chamber 2), "
+            f"{values['k1'] + values['k1s'] + values['k1l']:.3g} (chamber 1, {values['k1s']:.2g} of it at tau/2, {values['k1l']:.2g} at 2 tau), geometry-free part {_fmt(values['k'], errors.get('k'), 'N/mm/MPa')}; heat exchange time constant tau = {_fmt(tau, tau_se, 's')}."
         )
 
     bench_strength: str = "k_N_per_mm_MPa"
@@ -853,9 +876,11 @@ class ReliefValve(Effect):
         return np.abs(ctx["damping_force_N"]) > F_open
 
     def columns(self, D, F_open, ctx):
+        # the force is continuous through the opening up to a soft knee: the level reached at opening is
+        # c F_open with c near 1 (bounded), then r of the further rise
         m = self.damping_mask(D, F_open, ctx)
         damp = ctx["damping_force_N"]
-        return np.column_stack([D.s * m, m * (damp - D.s * F_open)])
+        return np.column_stack([D.s * m * F_open, m * (damp - D.s * F_open)])
 
     def signature(self, D, values, F_open, contribution):
         return [
@@ -866,7 +891,7 @@ class ReliefValve(Effect):
     def describe(self, values, errors, F_open, se):
         return (
             f"{self.physics} Opens at F_open = {_fmt(F_open, se, 'N')}; above it the throttle force is "
-            f"F_r = {_fmt(values['F_r'], errors.get('F_r'), 'N')} plus r = {_fmt(values['r'], errors.get('r'))} of the further rise."
+            f"F_r = {_fmt(values['c'] * F_open, errors.get('c', np.nan) * F_open, 'N')} plus r = {_fmt(values['r'], errors.get('r'))} of the further rise."
         )
 
     bench_strength: str = "F_r_N"
@@ -946,10 +971,12 @@ class PressureFriction(Effect):
 @dataclass(frozen=True)
 class Leakage(Effect):
     def columns(self, D, _, ctx):
+        # the charge falls over campaign time t_c: every part of the spring force that scales with the
+        # charge falls with it -- the chamber-2 preload (offset), the stiffness, and each chamber's
+        # curvature (present only if the spring is curved) -- at a rate that may itself change (t_c^2)
         th = D.ctime / 3600.0
-        _, _, f2, f1 = _chamber_logs(D)
-        # chamber-2 charge falling (force down, offset included), chamber-1 charge falling (force up), plain stiffness loss
-        return np.column_stack([-D.p2 * th * f2, D.p2 * th * f1, -D.p2 * D.x * th])
+        r2, r1 = cached(D, ("leak_remainders",), lambda: chamber_remainders(D.x, D.reference.V2_mm3, D.reference))
+        return np.column_stack([-D.p2 * th, -D.p2 * D.x * th, -D.p2 * th * r2, D.p2 * th * r1, D.p2 * th**2, D.p2 * D.x * th**2])
 
     def signature(self, D, values, _, contribution):
         th = float(np.max(D.ctime) / 3600.0) if D.n else 0.0
@@ -960,8 +987,10 @@ class Leakage(Effect):
 
     def describe(self, values, errors, _, __):
         return (
-            f"{self.physics} Charge loss q2 = {_fmt(values['q2'], errors.get('q2'), '1/h')} (chamber 2), q1 = {_fmt(values['q1'], errors.get('q1'), '1/h')} "
-            f"(chamber 1), stiffness loss {_fmt(values['q'], errors.get('q'), 'N/mm/MPa/h')}."
+            f"{self.physics} Preload loss {_fmt(values['q0'], errors.get('q0'), 'N/MPa/h')}, stiffness loss "
+            f"{_fmt(values['q'], errors.get('q'), 'N/mm/MPa/h')}, curvature loss q2 = {_fmt(values['q2'], errors.get('q2'), '1/h')} (chamber 2), "
+            f"q1 = {_fmt(values['q1'], errors.get('q1'), '1/h')} (chamber 1); the loss slows by {values['c0']:.3g} N/MPa/h^2 "
+            f"(preload) and {values['c']:.3g} N/mm/MPa/h^2 (stiffness)."
         )
 
     bench_strength: str = "rate_per_h"
@@ -992,12 +1021,17 @@ register(Thermal(
     "non-isothermal gas (heat exchange)",
     "Fast compression heats the gas, which then cools through the walls with a time constant tau: "
     "the spring is stiffer while moving and relaxes at rest, a speed-dependent force proportional to p2.",
-    "f += p2 (k2 A2 V2/(V2 - A2 x) h2 + k1 (p1/p2) A1 V1/(V1 + A1 x) h1 + k h),  dh_i/dt = du_i/dt - h_i/tau, "
-    "u2 = -ln(1 - A2 x/V2), u1 = ln(1 + A1 x/V1), u = x  (linearised p V^kappa with wall heat exchange)",
+    "f += p2 (f2 (k2 h2 + s2 h2^2) + f1 (k1 h1 + k1s h1[tau/2] + k1l h1[2 tau] - s1 h1^2) + k h),  f2 = A2 V2/(V2 - A2 x), "
+    "f1 = (p1/p2) A1 V1/(V1 + A1 x),  dh_i/dt = du_i/dt - h_i/tau, u2 = -ln(1 - A2 x/V2), u1 = ln(1 + A1 x/V1), u = x  "
+    "(p V^kappa with wall heat exchange, to second order; chamber 1 with its own time constant)",
     (
         Param("k2", "1", 0.0, 1.0, "chamber 2: effective kappa - 1 of the fast compression (0.4 adiabatic air)"),
-        Param("k1", "1", 0.0, 1.0, "chamber 1: effective kappa - 1 of the fast expansion"),
+        Param("k1", "1", 0.0, 1.0, "chamber 1: effective kappa - 1 of the fast expansion (relaxing with tau)"),
+        Param("k1s", "1", 0.0, 1.0, "chamber 1: part relaxing with tau/2"),
+        Param("k1l", "1", 0.0, 1.0, "chamber 1: part relaxing with 2 tau"),
         Param("k", "N/mm/MPa", 0.0, np.inf, "geometry-free excess stiffness per MPa"),
+        Param("s2", "1", 0.0, np.inf, "chamber 2: second-order coefficient ((kappa - 1)^2/2 adiabatic: p ~ exp of the relaxed log-compression)"),
+        Param("s1", "1", 0.0, np.inf, "chamber 1: second-order coefficient (the expanding chamber's pressure falls less than linearly)"),
     ),
     Param("tau", "s", 0.0, np.inf, "thermal time constant"),
 ))
@@ -1016,9 +1050,10 @@ register(ReliefValve(
     "pressure relief valve",
     "The blow-off valve opens at a set pressure difference and caps the throttle force, "
     "however fast the piston is pushed (soft knee: the valve spring lets the force rise a little further).",
-    "f = g p2 x + d(L(gamma) xdot) + C sign(xdot),  d(F) = F for |F| <= F_open, else sign(F) F_r + r (F - sign(F) F_open)",
+    "f = g p2 x + d(L(gamma) xdot) + C sign(xdot),  d(F) = F for |F| <= F_open, else sign(F) c F_open + r (F - sign(F) F_open)  "
+    "(c near 1: the force is continuous through the opening up to a soft knee)",
     (
-        Param("F_r", "N", 0.0, np.inf, "throttle force at opening"),
+        Param("c", "1", 0.85, 1.15, "force at opening relative to the opening level (1: continuous; a soft knee rounds it)"),
         Param("r", "1", 0.0, 1.0, "slope of the throttle force above opening, relative to the closed valve"),
     ),
     Param("F_open", "N", 0.0, np.inf, "damping force above which the valve is open"),
@@ -1047,16 +1082,93 @@ register(Leakage(
     "leakage",
     "charge leakage",
     "Gas leaks past the seals, so the charge pressure, and with it the stiffness, drifts down over the campaign.",
-    "f += p2 t_c (-q2 A2 V2/(V2 - A2 x) + q1 (p1/p2) A1 V1/(V1 + A1 x) - q x)   (t_c campaign time in h)",
+    "f += -p2 t_c (q0 + q x + q2 r2(x) - q1 r1(x)) + p2 t_c^2 (c0 + c x)   (t_c campaign time in h; r2, r1 the chambers' "
+    "curvature of eq. 5, zero for a straight spring)",
     (
-        Param("q2", "1/h", 0.0, np.inf, "chamber-2 charge loss per hour"),
-        Param("q1", "1/h", 0.0, np.inf, "chamber-1 charge loss per hour"),
-        Param("q", "N/mm/MPa/h", 0.0, np.inf, "plain stiffness loss per MPa per hour"),
+        Param("q0", "N/MPa/h", 0.0, np.inf, "chamber-2 preload (force at x = 0) lost per MPa per hour"),
+        Param("q", "N/mm/MPa/h", 0.0, np.inf, "stiffness lost per MPa per hour"),
+        Param("q2", "1/h", 0.0, np.inf, "chamber-2 curvature lost per hour"),
+        Param("q1", "1/h", 0.0, np.inf, "chamber-1 curvature lost per hour"),
+        Param("c0", "N/MPa/h^2", 0.0, np.inf, "slowing of the preload loss over the campaign (the leak flow falls with the charge)"),
+        Param("c", "N/mm/MPa/h^2", 0.0, np.inf, "slowing of the stiffness loss over the campaign"),
     ),
 ))
 
 
 # ================================================================== discovery operators
+def _fine_grid(D: FitData, m: int):
+    """Index arrays of :func:`_on_sample_grid` (cached): groups of experiments with the same spacing and lengths.
+
+    Each group: ``(dt_fine, exps, src0, src1, w, read)`` with ``src0/src1``
+    (n_e, n_fine) rows of D to interpolate between (``D.n``: a zero row),
+    ``w`` their weights and ``read`` (n_e, n_kept) the fine-grid positions
+    of the kept samples; experiments with irregular timing are in the group
+    ``dt_fine = None`` (filtered on their kept samples).
+    """
+    key = ("finegrid", m)
+    if key in D._cache:
+        return D._cache[key]
+    dts = D.per_exp_dt()
+    groups: dict = {}
+    irregular = []
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        k = np.round((D.t[a:b] - min(D.t[a], 0.0)) / dts[e]).astype(int)
+        if not (len(k) > 1 and np.all(np.diff(k) > 0) and k[-1] <= 20 * len(k)):
+            irregular.append(e)
+            continue
+        rows = np.arange(a, b)
+        lead = k[0] > 0
+        if lead:  # the unit at rest at x = 0 before the first kept sample: a zero row at t = 0
+            k = np.r_[0, k]
+            rows = np.r_[D.n, rows]
+        tf = np.arange(k[-1] * m + 1) / m
+        i = np.clip(np.searchsorted(k, tf, side="right") - 1, 0, len(k) - 2)
+        w = (tf - k[i]) / (k[i + 1] - k[i])
+        read = k * m
+        if lead:
+            read = read[1:]
+        groups.setdefault((round(float(dts[e]), 12), len(tf), b - a), []).append((e, rows[i], rows[i + 1], w, read))
+    out = []
+    for (dt, _, _), items in groups.items():
+        out.append((dt / m, np.array([q[0] for q in items]), np.array([q[1] for q in items]), np.array([q[2] for q in items]),
+                    np.array([q[3] for q in items]), np.array([q[4] for q in items])))
+    if irregular:
+        out.append((None, np.array(irregular), None, None, None, None))
+    D._cache[key] = out
+    return out
+
+
+def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.ndarray | None = None) -> np.ndarray:
+    """Apply the causal filter ``op(X_fine, dt_fine)`` (along axis 1) per experiment on its full, uniform time grid.
+
+    The samples left out at rest (start, turning point) still pass the
+    sensor: a filter run over the kept samples only would shift the time
+    base by a sample at every gap. The columns are filled in linearly on a
+    grid of ``substeps`` steps per sample interval from ``t = 0`` (from zero,
+    the unit at rest at x = 0, before the first kept sample), filtered there
+    (a discretisation finer than the sampling, which may be as coarse as the
+    sensor's lag) and read back at the kept samples. Experiments of the same
+    spacing and length are filtered together. ``out`` may be ``X`` itself (filtered in place: the
+    fine grid is built from a copy of ``X`` and each experiment is read before it is written).
+    """
+    out = np.empty_like(X) if out is None else out
+    Xz = np.vstack([X, np.zeros((1, X.shape[1]))])
+    dts = D.per_exp_dt()
+    for dtf, exps, src0, src1, w, read in _fine_grid(D, int(substeps)):
+        if dtf is None:
+            for e in exps:
+                a, b = D.bounds[e], D.bounds[e + 1]
+                out[a:b] = op(X[a:b][None], dts[e])[0]
+            continue
+        full = Xz[src0] * (1.0 - w)[..., None] + Xz[src1] * w[..., None]
+        res = op(full, dtf)
+        kept = np.take_along_axis(res, read[..., None], axis=1)
+        for j, e in enumerate(exps):
+            out[D.bounds[e] : D.bounds[e + 1]] = kept[j]
+    return out
+
+
 @dataclass(frozen=True)
 class ForceLag(Effect):
     def grid(self, D, ctx):
@@ -1067,17 +1179,13 @@ class ForceLag(Effect):
 
     def transform(self, D, X, tau, ctx, out=None):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
-        # (exact and still linear in the amplitudes)
-        out = np.empty_like(X) if out is None else out  # each experiment is filtered whole before it is written back
-        dt = D.per_exp_dt()
-        for e in range(D.n_exp):
-            a, b = D.bounds[e], D.bounds[e + 1]
-            q = np.exp(-dt[e] / tau)
-            seg = X[a:b]
-            # the sensor starts from the unit at rest before the motion (zero force state): every
-            # column of the model vanishes at rest at x = 0
-            out[a:b] = lfilter([1.0 - q], [1.0, -q], seg, axis=0)
-        return out
+        # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
+        # motion (zero force state: every column of the model vanishes at rest at x = 0)
+        def op(seg, dt):
+            q = np.exp(-dt / tau)
+            return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
+
+        return _on_sample_grid(D, X, op, out=out)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1101,26 +1209,45 @@ def _bilinear_2nd_order(wn: float, zeta: float, fs: float):
 
 @dataclass(frozen=True)
 class ForceFilter(ForceLag):
-    """Second-order (Butterworth, zeta = 1/sqrt 2) low-pass of the force reading; shape = its lag 2 zeta / omega_n."""
+    """Second-order low-pass of the force reading (damping ratio ``zeta`` of a standard filter type); shape = its lag 2 zeta / omega_n."""
 
-    def transform(self, D, X, lag, ctx, out=None):
-        wn = 2 * 0.7071 / lag
-        out = np.empty_like(X) if out is None else out
-        dt = D.per_exp_dt()
-        coef = {}  # the discretised filter per distinct sample spacing (experiments share few spacings)
+    zeta: float = 0.7071
+    kind: str = "Butterworth"
+
+    def grid(self, D, ctx):
+        # the filter types compete on this grid, so it is fine around the lag the residual shows: a lag
+        # tau leaves residual ~ -tau df/dt of the model force f (first order in tau)
+        r, f = ctx.get("residual_N"), ctx.get("model_force_N")
+        coarse = np.geomspace(0.003, 3.0, 13)
+        if r is None or f is None or D.n_exp == 0:
+            return coarse
+        fd = np.zeros(D.n)
         for e in range(D.n_exp):
             a, b = D.bounds[e], D.bounds[e + 1]
-            if dt[e] not in coef:
-                coef[dt[e]] = _bilinear_2nd_order(wn, 0.7071, 1.0 / dt[e])
-            bz, az = coef[dt[e]]
-            out[a:b] = lfilter(bz, az, X[a:b], axis=0)  # from rest (see ForceLag)
-        return out
+            if b - a > 2:
+                fd[a:b] = np.gradient(f[a:b], D.t[a:b])
+        m = (r != 0) & np.isfinite(fd)
+        den = float(np.sum(fd[m] ** 2))
+        tau = -float(np.sum(r[m] * fd[m])) / den if den > 0 else np.nan
+        if not np.isfinite(tau) or tau <= 0.003:
+            return coarse
+        return np.clip(tau, 0.003, 3.0) * np.geomspace(0.6, 2.5, 9)
+
+    def transform(self, D, X, lag, ctx, out=None):
+        wn = 2 * self.zeta / lag
+
+        def op(seg, dt):
+            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form
+            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
+            return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
+
+        return _on_sample_grid(D, X, op, out=out)
 
     def describe(self, values, errors, lag, se):
-        fn = 2 * 0.7071 / lag / (2 * np.pi)
+        fn = 2 * self.zeta / lag / (2 * np.pi)
         return (
-            f"The force reading passes a second-order filter (natural frequency {fn:.3g} Hz, lag {_fmt(lag, se, 's')}): "
-            "sensor or amplifier dynamics, not the spring or damper."
+            f"The force reading passes a second-order filter ({self.kind}, damping ratio {self.zeta:.3g}, natural frequency {fn:.3g} Hz, "
+            f"lag {_fmt(lag, se, 's')}): sensor or amplifier dynamics, not the spring or damper."
         )
 
 
@@ -1161,15 +1288,23 @@ class PreSliding(Effect):
         return np.geomspace(0.01, 4.0, 12)
 
     def columns(self, D, r, ctx):
+        # friction builds up over a travel r after each start and reversal. Bristle (Dahl/LuGre-like)
+        # approach: the deficit decays as exp(-d/r) with the travel d since the start or reversal; it is
+        # Coulomb at a start from rest, twice Coulomb at a reversal (the seal swings from -F_c to +F_c),
+        # so the two carry their own amplitudes; its rate shows as a damping (bristle damping) that
+        # decays alike; the elastic-plastic (stop-operator) approach is the alternative shape.
         z = stop_operator(D, r)
-        ex = -D.s * np.exp(-_travel_since_reversal(D) / r)  # exponential approach (bristle / Dahl-like)
-        return np.column_stack([z / r - D.s, D.p2 * (z / r - D.s), ex, D.p2 * ex])
+        e = np.exp(-_travel_since_reversal(D) / r)
+        first = _first_ramp(D)
+        ex = -D.s * e
+        return np.column_stack([z / r - D.s, D.p2 * (z / r - D.s), ex * first, ex * ~first, D.p2 * ex * ~first, -D.v * e])
 
     def describe(self, values, errors, r, se):
         F = values["F_h"] + values["F_e"]
         return (
             f"Hysteresis with memory of the motion: after each start or reversal the force needs about {_fmt(r, se, 'mm')} of travel to reach "
-            f"its sliding level (loop width {2 * F:.3g} N + {2 * (values['F_hp'] + values['F_ep']):.3g} N per MPa across the loop): pre-sliding "
+            f"its sliding level (loop width {2 * F:.3g} N + {2 * (values['F_hp'] + values['F_ep']):.3g} N per MPa across the loop; "
+            f"deficit {values['F_s']:.3g} N after a start from rest): pre-sliding "
             "(elastic seal/bladder deformation before gross sliding), not a speed effect."
         )
 
@@ -1332,9 +1467,12 @@ _FREE = (-np.inf, np.inf)
 register(ForceLag("force_lag", "force-reading lag", "The measured force is a lagged copy of the force the unit makes.",
                   "f_meas = lowpass_tau(f),  tau df_meas/dt = f - f_meas   (the whole model lagged)", (),
                   Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False))
-register(ForceFilter("force_filter_lag", "second-order force-reading filter", "The measured force is the unit's force through a second-order filter.",
-                     "f_meas = H(s) f,  H = wn^2/(s^2 + sqrt(2) wn s + wn^2),  lag = sqrt(2)/wn", (),
-                     Param("lag", "s", 0.0, np.inf, "filter lag sqrt(2)/omega_n"), catalogue=False))
+for _zeta, _kind, _id in ((0.7071, "Butterworth", "force_filter_lag"), (0.78, "between Butterworth and Bessel", "force_filter_lag_z078"),
+                          (0.8660, "Bessel", "force_bessel_lag"), (0.93, "between Bessel and critical", "force_filter_lag_z093"),
+                          (1.0, "critically damped", "force_critical_lag")):
+    register(ForceFilter(_id, f"second-order force-reading filter ({_kind})", "The measured force is the unit's force through a second-order filter.",
+                         f"f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta = {_zeta:.4g} ({_kind}),  lag = 2 zeta/wn", (),
+                         Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=_zeta, kind=_kind))
 register(DampingLag("damping_lag", "lagging throttle force", "The throttle force builds up with a time constant.",
                     "f += a (lowpass_tau(L xdot) - L xdot)", (Param("a", "1", 0.0, 1.5, "share of a first-order lag of the damping force"),),
                     Param("tau", "s", 0.0, np.inf, "time constant"), catalogue=False, needs=("damping_force_N",)))
@@ -1342,9 +1480,12 @@ register(MotionMemory("motion_memory", "relaxing memory of the motion", "A force
                       "f += k h,  dh/dt = xdot - h/tau", (Param("k", "N/mm", 0.0, np.inf, "relaxing stiffness"),),
                       Param("tau", "s", 0.0, np.inf, "relaxation time constant"), catalogue=False))
 register(PreSliding("presliding_hysteresis", "pre-sliding hysteresis (stop operator)", "Friction builds up over a travel after reversal.",
-                    "f += (F_h + F_hp p2) (stop_r(x)/r - sign(xdot)) - (F_e + F_ep p2) sign(xdot) exp(-d/r)   (d: travel since the last reversal)",
+                    "f += (F_h + F_hp p2) (stop_r(x)/r - sign(xdot)) - (F_s 1{first ramp} + (F_e + F_ep p2) 1{after reversal}) sign(xdot) exp(-d/r) "
+                    "- b xdot exp(-d/r)   (d: travel since the start or last reversal)",
                     (Param("F_h", "N", 0.0, np.inf, "friction deficit right after reversal (elastic-plastic)"), Param("F_hp", "N/MPa", 0.0, np.inf, "its growth per MPa"),
-                     Param("F_e", "N", 0.0, np.inf, "friction deficit right after reversal (exponential approach)"), Param("F_ep", "N/MPa", 0.0, np.inf, "its growth per MPa")),
+                     Param("F_s", "N", 0.0, np.inf, "friction deficit at the start from rest (exponential approach)"),
+                     Param("F_e", "N", 0.0, np.inf, "friction deficit right after reversal (exponential approach)"), Param("F_ep", "N/MPa", 0.0, np.inf, "its growth per MPa"),
+                     Param("b", "N s/mm", -np.inf, np.inf, "damping of the pre-sliding deformation (bristle damping)")),
                     Param("r", "mm", 0.0, np.inf, "pre-sliding travel (half loop width in x)"), catalogue=False))
 register(PositionRipple("position_ripple", "periodic force in displacement", "A force periodic in x.",
                         "f += a_s sin(2 pi x/P) + a_c cos(2 pi x/P)",

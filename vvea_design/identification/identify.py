@@ -658,11 +658,25 @@ def relief_context(D: FitData, effects, experiments, shapes: dict | None = None,
         The context, with ``damping_force_N`` (per sample, N) from the last refit.
     """
     rows = np.asarray(experiments, int)
-    ctx = dict(start) if start is not None else auto_context(D, effects, rows, shapes, iters=0)
-    for _ in range(iters):
-        f = fit_model(D, effects, experiments=rows, shapes=dict(shapes or {}), ctx=ctx, refine=False)
-        ctx = dict(ctx, damping_force_N=f.damping_force(D))
-    return ctx
+    ctx0 = dict(start) if start is not None else auto_context(D, effects, rows, shapes, iters=0)
+    # The iteration has a wrong fixed point: from an L biased low, fast experiments look closed and
+    # keep L low. So it also starts from the L of the slow experiments (which the valve cannot cap),
+    # and the start whose converged fit has the smaller training error wins.
+    starts = [ctx0]
+    peak = np.array([np.max(np.abs(D.v[D.bounds[e] : D.bounds[e + 1]])) if D.bounds[e + 1] > D.bounds[e] else 0.0 for e in rows])
+    slow = rows[peak <= np.quantile(peak, 0.4)] if len(rows) else rows
+    if len(np.unique(D.valve_idx[np.isin(D.exp, slow)])) == len(D.valves) and len(slow) < len(rows):
+        f_slow = fit_model(D, (), experiments=slow, ctx={})
+        starts.append(dict(ctx0, damping_force_N=f_slow.damping_force(D)))
+    best = None
+    for ctx in starts:
+        for _ in range(iters):
+            f = fit_model(D, effects, experiments=rows, shapes=dict(shapes or {}), ctx=ctx, refine=False)
+            ctx = dict(ctx, damping_force_N=f.damping_force(D))
+        cost = fit_model(D, effects, experiments=rows, shapes=dict(shapes or {}), ctx=ctx, refine=False).rmse_N if len(starts) > 1 else 0.0
+        if best is None or cost < best[0]:
+            best = (cost, ctx)
+    return best[1]
 
 
 # ------------------------------------------------------------------ eq. 14
