@@ -113,3 +113,19 @@ def test_second_order_filter_coefficients_equal_scipy_bilinear():
             br, ar = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt)
             np.testing.assert_allclose(b, br, rtol=1e-13)
             np.testing.assert_allclose(a, ar, rtol=1e-13, atol=1e-15)
+
+
+def test_time_ripple_scan_reuses_the_phases_of_shared_samplings_exactly(D):
+    """Experiments sampled alike share one cos/sin table: the periodogram is the direct one, bit for bit."""
+    r = np.random.default_rng(0).normal(size=D.n)
+    periods = np.geomspace(0.05, 20.0, 50)
+    rows = np.ones(D.n, bool)
+    w = 2 * np.pi / periods
+    ref = np.zeros(len(periods))
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        ph = np.outer(D.t[a:b], w)
+        re = r[a:b] - r[a:b].mean()
+        ref += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
+    assert len({D.t[D.bounds[e] : D.bounds[e + 1]].tobytes() for e in range(D.n_exp)}) < D.n_exp  # shared samplings exist
+    np.testing.assert_array_equal(REGISTRY["time_ripple"]._power(D, r, periods, rows), ref)
