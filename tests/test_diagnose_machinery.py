@@ -126,3 +126,19 @@ def test_sensor_transforms_in_place_equal_the_copying_ones(D, eid):
     got = eff.transform(D, Xi, shape, {}, out=Xi)
     assert got is Xi
     np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+
+
+def test_time_ripple_scan_reuses_the_phases_of_shared_samplings_exactly(D):
+    """Experiments sampled alike share one cos/sin table: the periodogram is the direct one, bit for bit."""
+    r = np.random.default_rng(0).normal(size=D.n)
+    periods = np.geomspace(0.05, 20.0, 50)
+    rows = np.ones(D.n, bool)
+    w = 2 * np.pi / periods
+    ref = np.zeros(len(periods))
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        ph = np.outer(D.t[a:b], w)
+        re = r[a:b] - r[a:b].mean()
+        ref += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
+    assert len({D.t[D.bounds[e] : D.bounds[e + 1]].tobytes() for e in range(D.n_exp)}) < D.n_exp  # shared samplings exist
+    np.testing.assert_array_equal(REGISTRY["time_ripple"]._power(D, r, periods, rows), ref)

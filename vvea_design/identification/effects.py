@@ -287,7 +287,7 @@ def baseline_params(D: FitData) -> list[Param]:
     return params
 
 
-def fill_baseline(D: FitData, out: np.ndarray) -> None:
+def fill_baseline(D: FitData, out: np.ndarray, zeroed: bool = False) -> None:
     """Write eq. 14's columns (the values of :func:`baseline_columns`) into ``out[:, :2 + len(D.valves)]``.
 
     Lets a design be built in one array, without a cached ``(n, 2 + valves)`` copy of the mostly-zero
@@ -300,6 +300,9 @@ def fill_baseline(D: FitData, out: np.ndarray) -> None:
     out : numpy.ndarray, shape (D.n, p) with p >= 2 + len(D.valves)
         Filled in place: ``p2 x`` (MPa mm), ``sign(ẋ)`` (dimensionless) and one ``ẋ`` column (mm/s) per
         valve angle, zero at samples of the other angles; columns beyond are left untouched.
+    zeroed : bool
+        ``out``'s valve columns are already zero (``numpy.zeros``: its pages need no writing), so only
+        each sample's own valve column is written.
 
     Returns
     -------
@@ -307,8 +310,9 @@ def fill_baseline(D: FitData, out: np.ndarray) -> None:
     """
     out[:, 0] = D.p2 * D.x
     out[:, 1] = D.s
-    for j in range(len(D.valves)):
-        out[:, 2 + j] = D.v * (D.valve_idx == j)
+    if not zeroed:
+        out[:, 2 : 2 + len(D.valves)] = 0.0
+    out[np.arange(D.n), 2 + D.valve_idx] = D.v  # one pass instead of a masked product per valve
 
 
 def _baseline_columns(D: FitData):
@@ -1349,13 +1353,21 @@ class TimeRipple(Effect):
         """Per-experiment-phase periodogram: sum over experiments of the power at each period."""
         pw = np.zeros(len(periods))
         w = 2 * np.pi / periods
+        trig, kept = {}, 0  # cos and sin of the phases per distinct sampling (experiments share a few), up to 32 MB
         for e in range(D.n_exp):
             a, b = D.bounds[e], D.bounds[e + 1]
             if not rows[a]:
                 continue
-            ph = np.outer(D.t[a:b], w)
+            key = D.t[a:b].tobytes()
+            cs = trig.get(key)
+            if cs is None:
+                ph = np.outer(D.t[a:b], w)
+                cs = (np.cos(ph), np.sin(ph))
+                if kept + 2 * ph.nbytes <= 32e6:
+                    trig[key] = cs
+                    kept += 2 * ph.nbytes
             re = r[a:b] - r[a:b].mean()
-            pw += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
+            pw += (re @ cs[0]) ** 2 + (re @ cs[1]) ** 2
         return pw
 
     def grid(self, D, ctx):

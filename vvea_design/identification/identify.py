@@ -104,8 +104,8 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     p0, p = groups["eq14"].stop, len(params)
     # one (n, p) array filled in place, column block by column block: no copies of the baseline or of
     # all the stacked columns at once (memory on large campaigns)
-    X = np.empty((D.n, p))
-    fill_baseline(D, X)
+    X = np.zeros((D.n, p))  # zeroed pages come free from the kernel; only nonzeros are written
+    fill_baseline(D, X, zeroed=True)
     for eid in effects:
         eff = REGISTRY[eid]
         sv = shapes.get(eid, np.nan)
