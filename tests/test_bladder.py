@@ -182,6 +182,16 @@ def test_report_files(tmp_path, example):
     assert on_disk == d
 
 
+def test_report_of_a_computed_check_solves_nothing_again(tmp_path, example, monkeypatch):
+    """`vvea design` checks the bladder once and writes that check (no second FE solve)."""
+    import vvea_design.bladder.check as check
+
+    monkeypatch.setattr(check, "check_bladder", lambda *a, **k: pytest.fail("solved the bladder again"))
+    d = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N, result=example)
+    assert d["strain_bound"] == pytest.approx(example.strain_bound)
+    assert json.loads((tmp_path / "out" / "bladder.json").read_text()) == d
+
+
 def _app():
     return make_app(register)
 

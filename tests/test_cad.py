@@ -490,3 +490,27 @@ def test_a_new_part_is_one_table_entry(monkeypatch, tmp_path):
     assert import_step(tmp_path / "fill_plug.step").label == "fill_plug"
     assert "fill_plug" in manifest["files"]["assembly.step"]["parts"]
     assert "housing/fill_plug" in manifest["interference_mm3"]["x_0_mm"]
+
+
+def test_the_channel_room_constraint_is_what_the_support_ring_needs():
+    """The optimiser's `bladder_channel_room` (cast bladder >= CHANNEL_GAP_MM from the inner tube) is what the CAD's
+    support ring needs for its fluid channels: a design just meeting it draws, one 0.1 mm short does not."""
+    from dataclasses import replace
+
+    from scipy.optimize import brentq
+
+    from vvea_design.spring.design import CHANNEL_GAP_MM
+    from test_cad_cases import OTHERS
+
+    d = OTHERS["cast_fill_free"]
+
+    def with_gap(gap):  # the cast fill that leaves this gap (the cast bladder moves out with the fill)
+        f = brentq(lambda f: replace(d, fixed=replace(d.fixed, bladder_cast_fill=f))._g["bladder_cast_gap_mm"] - gap,
+                   0.0, 1.0, xtol=1e-12)
+        return replace(d, fixed=replace(d.fixed, bladder_cast_fill=f))
+
+    ok = with_gap(CHANNEL_GAP_MM)
+    assert ok.bladder_inner_radius_mm - ok.inner_tube_outer_radius_mm == pytest.approx(CHANNEL_GAP_MM)
+    assert Layout(ok).ring_channel_d >= 0.5
+    with pytest.raises(CadError, match="support-ring fluid channels"):
+        Layout(with_gap(CHANNEL_GAP_MM - 0.1))

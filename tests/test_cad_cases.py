@@ -14,6 +14,11 @@ OTHERS = {
     "pareto_D55": Design(31.084483065248904, 54.99983172964962, 22677.213667025644, 63344.967651658226),
     # best design for a 50 N/mm minimum stiffness (pareto_stiffness.csv)
     "pareto_k50": Design(31.80382882729851, 56.138773074235885, 46473.411225847376, 88023.80120096414),
+    # the optimum with the bladder's cast fill as a decision variable (`optimise_cast_fill = true`, FE strain
+    # bound at the 25 % allowable; studies/bench_optimise.py): the bladder cast near x = 0
+    "cast_fill_free": Design(35.727730407763104, 59.5, 51179.87267095346, 105506.77087310137, layout="bulkhead",
+                             V2_top_mm3=3337.177199356739,
+                             fixed=FixedParameters(bladder_cast_fill=0.1533713521309544)),
 }
 #: Extra designs for the slow run (other fixed parameters too).
 SLOW = {

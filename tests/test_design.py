@@ -180,3 +180,39 @@ def test_population_formulas_are_the_designs():
             assert obj[k] == pytest.approx(ev.objective, rel=1e-12)
             np.testing.assert_allclose(mar[:, k], [ev.margins[n] for n in constraint_names(req, layout, search=True)],
                                        rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("layout", ["inner_tube", "bulkhead"])
+def test_volume_budget_accounts_for_every_mm3_of_the_envelope(layout):
+    """Issue 12: walls, piston, rod, fluid, bladder, clamps and gas add up to the envelope cylinder."""
+    top = 4735.0 if layout == "bulkhead" else 0.0
+
+    def at_capacity(fixed):  # V2 = its capacity (the walls follow V2's peak pressure: a fixed point)
+        v2 = 90000.0
+        for _ in range(30):
+            v2 = Design(35.42, 59.5, 48820.0, v2, layout=layout, V2_top_mm3=top, fixed=fixed).V2_capacity_mm3
+        return Design(35.42, 59.5, 48820.0, v2, layout=layout, V2_top_mm3=top, fixed=fixed)
+
+    d = at_capacity(FixedParameters())
+    assert d.bladder_clearance_mm()["compressed"] == pytest.approx(0.0, abs=1e-4)
+    for H in (None, d.housing_length_mm + 7.5):
+        b = d.volume_budget_mm3(H)
+        envelope = math.pi / 4 * d.outer_diameter_mm**2 * (d.housing_length_mm if H is None else H)
+        assert sum(b.values()) == pytest.approx(envelope, rel=1e-12)
+        assert min(b.values()) >= -1e-9
+        assert b["unused_length"] == pytest.approx(math.pi / 4 * d.outer_diameter_mm**2 * (0 if H is None else 7.5))
+    gas = b["gas_chamber_1"] + b["gas_chamber_2_above_bulkhead"] + b["gas_chamber_2_annulus"]
+    assert gas == pytest.approx(d.V1_mm3 + d.V2_mm3, rel=1e-12)
+    fluid = (b["fluid_swept_by_stroke"] + b["fluid_clearance_under_piston"] + b["bladder_fluid_min_gap"]
+             + b["bladder_fluid_bulge_room"])
+    assert fluid == pytest.approx(d.fluid_volume_mm3, rel=1e-12)
+    assert b["fluid_swept_by_stroke"] == pytest.approx(d.displaced_volume_mm3)
+    assert (b["wall_bulkhead"] > 0) == (layout == "bulkhead")
+    # the bladder cast at mid-stroke needs room for its inward bulge at x = 0 (about (k - 1)/2 of the half
+    # stroke's fluid, k = bladder_bulge_factor); cast at x = 0 it needs none, and that room is gas
+    assert b["bladder_fluid_bulge_room"] == pytest.approx(0.5 * 0.5 * d.displaced_volume_mm3, rel=0.15)
+    e = at_capacity(FixedParameters(bladder_cast_fill=0.0))
+    early = e.volume_budget_mm3()
+    assert early["bladder_fluid_bulge_room"] == pytest.approx(0.0, abs=1.0)
+    assert early["bladder_fluid_min_gap"] == pytest.approx(b["bladder_fluid_min_gap"], rel=1e-2)
+    assert e.V2_mm3 > d.V2_mm3 + 0.8 * b["bladder_fluid_bulge_room"]

@@ -62,13 +62,7 @@ def import_probe():
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
-#: Modules that still select a backend when imported; their owners are converting them (issue 9 item 6).
-STILL_SWITCHING: set[str] = set()
-
-
-@pytest.mark.parametrize("module", [pytest.param(m, marks=pytest.mark.xfail(
-    reason="still calls matplotlib.use on import (owner converting it)", strict=False))
-    if m in STILL_SWITCHING else m for m in MODULES])
+@pytest.mark.parametrize("module", MODULES)
 def test_no_module_switches_the_backend_on_import(import_probe, module):
     assert module not in import_probe["callers"], f"{module} calls matplotlib.use({import_probe['callers'][module]!r})"
 
@@ -118,6 +112,157 @@ def test_typed_licensed_package():
     assert "MIT License" in (ROOT / "LICENSE").read_text()
     req = PYPROJECT["build-system"]["requires"][0]
     assert int(re.search(r">=(\d+)", req).group(1)) >= 77  # setuptools that reads PEP 639 license fields
+
+
+# ------------------------------------------------------------------ import graph
+def _module_files() -> dict[str, Path]:
+    """Every module of the package (vendored files aside) by dotted name."""
+    pkg = ROOT / "vvea_design"
+    out = {}
+    for path in sorted(pkg.rglob("*.py")):
+        rel = path.relative_to(ROOT).with_suffix("").parts
+        if "vendor" in rel:
+            continue
+        out[".".join(rel[:-1] if rel[-1] == "__init__" else rel)] = path
+    return out
+
+
+def package_imports(source: str, module: str, is_package: bool, known: set[str]) -> set[str]:
+    """The package modules that ``source`` imports: top-level, inside functions and under ``TYPE_CHECKING``.
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    module : str
+        Its dotted name (``vvea_design.report.html``), to resolve relative imports.
+    is_package : bool
+        True for an ``__init__.py`` (its relative imports start from itself).
+    known : set of str
+        Dotted names of the package's modules; ``from a import b`` maps to ``a.b`` when that is a module.
+
+    Returns
+    -------
+    set of str
+        Dotted names of the imported package modules (the module itself left out).
+    """
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    out = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                head = base[:len(base) - node.level + 1] + ([node.module] if node.module else [])
+                src = ".".join(head)
+            else:
+                src = node.module or ""
+            names = [f"{src}.{a.name}" for a in node.names]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        else:
+            continue
+        for name in names:
+            if not name.startswith("vvea_design"):
+                continue
+            while name not in known and "." in name:
+                name = name.rsplit(".", 1)[0]
+            if name in known and name != module:
+                out.add(name)
+    return out
+
+
+def _import_graph() -> dict[str, set[str]]:
+    files = _module_files()
+    return {m: package_imports(p.read_text(), m, p.name == "__init__.py", set(files)) for m, p in files.items()}
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """One cycle of ``graph`` (as a path that ends where it starts), or None."""
+    state: dict[str, int] = {}
+
+    def visit(node, path):
+        state[node] = 1
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == 1:
+                return [*path[path.index(nxt):], nxt] if nxt in path else [*path, nxt]
+            if nxt not in state:
+                found = visit(nxt, [*path, nxt])
+                if found:
+                    return found
+        state[node] = 2
+        return None
+
+    for start in sorted(graph):
+        if start not in state:
+            found = visit(start, [start])
+            if found:
+                return found
+    return None
+
+
+#: The floors of the package (STYLE.md, "the shape we want"): a room imports only rooms on its own floor or
+#: below. A room is a subpackage or a top-level module; a new one must be placed here.
+FLOORS = {
+    "vvea_design": 0, "messages": 0, "progress": 0, "outputs": 0, "parallel": 0, "materials": 0,
+    "spring": 1, "bladder": 1,
+    "cad": 2, "identification": 2, "actuator": 2, "schema": 2, "testing": 2,
+    "report": 3,
+    "pipeline": 4,
+    "cli": 5,
+    "__main__": 6,
+}
+
+
+def _room(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def test_the_import_graph_has_no_cycle_and_no_upward_import():
+    """Lazy and TYPE_CHECKING-only imports count: a cycle in type hints is still a cycle of the design."""
+    graph = _import_graph()
+    cycle = _cycle(graph)
+    assert cycle is None, "import cycle: " + " -> ".join(cycle)
+    rooms: dict[str, set[str]] = {}
+    for a, targets in graph.items():
+        for b in targets:
+            if _room(a) != _room(b):
+                rooms.setdefault(_room(a), set()).add(_room(b))
+    unplaced = sorted({_room(m) for m in graph} - set(FLOORS))
+    assert not unplaced, f"rooms without a floor (add them to FLOORS): {unplaced}"
+    upward = sorted(f"{a} -> {b}" for a, targets in graph.items() for b in targets
+                    if FLOORS[_room(b)] > FLOORS[_room(a)])
+    assert not upward, "imports that run upward: " + "; ".join(upward)
+    cycle = _cycle(rooms)
+    assert cycle is None, "cycle between rooms: " + " -> ".join(cycle)
+
+
+def test_the_import_graph_sees_type_checking_and_lazy_imports():
+    """The check would have caught report/html importing the pipeline's UnitDesign for type hints only."""
+    known = {"vvea_design", "vvea_design.pipeline", "vvea_design.report", "vvea_design.report.html",
+             "vvea_design.report.bom"}
+    src = ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from ..pipeline import UnitDesign\n"
+           "def f():\n    from .bom import x\n    import vvea_design.pipeline\n")
+    assert package_imports(src, "vvea_design.report.html", False, known) == {"vvea_design.pipeline",
+                                                                              "vvea_design.report.bom"}
+    graph = {"vvea_design.pipeline": {"vvea_design.report.html"},
+             "vvea_design.report.html": package_imports(src, "vvea_design.report.html", False, known)}
+    assert _cycle(graph) == ["vvea_design.pipeline", "vvea_design.report.html", "vvea_design.pipeline"]
+
+
+def test_the_unit_report_reads_only_what_the_pipeline_result_has():
+    """report.html types its input as a Protocol (no import of its caller); UnitDesign meets it member by member."""
+    import typing
+
+    from vvea_design.pipeline import UnitDesign
+    from vvea_design.report import html
+
+    members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
+    hints = typing.get_type_hints(UnitDesign)
+    for name in members:
+        want = typing.get_type_hints(getattr(html.UnitResult, name).fget, vars(html) | vars(sys.modules[
+            "vvea_design.pipeline"]))["return"]
+        have = hints[name] if name in hints else typing.get_type_hints(getattr(UnitDesign, name).fget)["return"]
+        assert want == have, f"UnitResult.{name}: {want} but UnitDesign.{name}: {have}"
 
 
 # ------------------------------------------------------------------ dependencies
@@ -178,7 +323,16 @@ def test_every_import_is_declared_and_every_dependency_imported():
 _UNIT_IN_NAME = re.compile(r"(_(mm\d?|N|MPa|Pa|s|ms|Hz|rad|deg|g|kg|kgm2|Nm|m|m\d|J|pct)$)|_per_|^n_|^num|_n$")
 #: A unit (or "fraction" / "dimensionless") named in a description.
 _UNIT_TEXT = re.compile(r"(\b(mm|mm²|mm³|N|MPa|Pa|s|ms|Hz|rad|deg|kg|g|m|N m|N/mm|SI|K)\b|°|%|fraction|"
-                        r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per )")
+                        r"dimensionless|unitless|\(-\)|\[-\]|count|number of|per |same unit)")
+
+
+#: A parameter name that ends in a unit, and how a description names that unit.
+_NAME_UNIT = re.compile(r"_(mm|mm2|mm3|N|MPa|Pa|s|ms|Hz|rad|deg|g|kg|m|Nm)$")
+_NAME_UNIT_TEXT = {"mm": r"\bmm\b", "mm2": r"mm²|mm2|mm\^2", "mm3": r"mm³|mm3|mm\^3", "N": r"\bN\b", "MPa": r"MPa",
+                   "Pa": r"\bPa\b", "s": r"\bs\b|second", "ms": r"\bms\b", "Hz": r"Hz", "rad": r"rad", "deg": r"deg|°",
+                   "g": r"\bg\b|gram", "kg": r"\bkg\b", "m": r"\bm\b|metre", "Nm": r"N ?m\b"}
+#: Unit words in a description (not the possessive 's, not part of a compound unit like N/mm).
+_ANY_UNIT = re.compile(r"(?<![\w/'’])(mm³|mm²|mm|MPa|Pa|N/mm|N m|N|ms|s|Hz|rad|deg|kg|g|m)(?![\w/²³])")
 
 
 def _public_functions(module):
@@ -206,7 +360,12 @@ def _needs_unit(p: inspect.Parameter, annotation: str) -> bool:
 
 
 def docstring_problems(fn) -> list[str]:
-    """What the numpydoc docstring of ``fn`` lacks: a Parameters entry per parameter, Returns, units."""
+    """What the numpydoc docstring of ``fn`` lacks: a Parameters entry per parameter, Returns, units.
+
+    Units: a float / array parameter without a unit in its name names one in its description; a
+    parameter whose name ends in a unit (``depth_mm``) is not described in another; a function that
+    returns a float / array without a unit in its name names one in 'Returns'.
+    """
     from numpydoc.docscrape import FunctionDoc
 
     problems = []
@@ -228,6 +387,10 @@ def docstring_problems(fn) -> list[str]:
         typ, desc = documented[p.name]
         if _needs_unit(p, f"{annotation} {typ}") and not _UNIT_TEXT.search(f"{typ} {desc}"):
             problems.append(f"parameter {p.name!r}: no unit (or 'fraction', 'dimensionless') in its description")
+        named = _NAME_UNIT.search(p.name)
+        if named and _ANY_UNIT.search(desc) and not re.search(_NAME_UNIT_TEXT[named.group(1)], desc):
+            problems.append(f"parameter {p.name!r}: its description names a unit but not {named.group(1)!r}, "
+                            "the one in its name")
     ret = sig.return_annotation
     if ret is inspect.Signature.empty:  # no annotation: does the body return a value?
         import textwrap
@@ -239,40 +402,15 @@ def docstring_problems(fn) -> list[str]:
         returns_nothing = ret is None or str(ret) in ("None", "NoReturn", "typing.NoReturn")
     if not returns_nothing and not (doc["Returns"] or doc["Yields"]):
         problems.append("no 'Returns' section")
+    elif (not returns_nothing and not _UNIT_IN_NAME.search(fn.__name__)
+          and re.search(r"\bfloat\b|ndarray", ret if isinstance(ret, str) else str(ret))):
+        text = " ".join(" ".join([r.name, r.type, *r.desc]) for r in doc["Returns"])
+        if not _UNIT_TEXT.search(text):
+            problems.append("returns a number: no unit (or 'fraction', 'dimensionless') in 'Returns'")
     return problems
 
 
-#: Modules whose public functions are not yet documented in numpydoc style with units (issue 9 item 6):
-#: converted by their owners / the coordinator after the merge. Remove a module once it passes.
-NOT_YET_CONVERTED = {
-    "vvea_design.bladder.check",
-    "vvea_design.cad.assembly",
-    "vvea_design.cad.bladder",
-    "vvea_design.cad.export",
-    "vvea_design.cad.gas",
-    "vvea_design.cad.mould",
-    "vvea_design.cad.parts",
-    "vvea_design.cad.registry",
-    "vvea_design.cad.render",
-    "vvea_design.cli.bladder",
-    "vvea_design.cli.cad",
-    "vvea_design.spring.design_file",
-    "vvea_design.spring.gas_spring",
-    "vvea_design.spring.optimise",
-    "vvea_design.spring.paper",
-    "vvea_design.spring.plots",
-    "vvea_design.spring.requirements",
-}
-
-
-def _doc_param(m):
-    if m in NOT_YET_CONVERTED:
-        return pytest.param(m, marks=pytest.mark.xfail(reason="public functions not yet in numpydoc style with "
-                                                              "units", strict=False))
-    return m
-
-
-@pytest.mark.parametrize("module", [_doc_param(m) for m in MODULES if _public_module(m)])
+@pytest.mark.parametrize("module", [m for m in MODULES if _public_module(m)])
 def test_public_functions_document_parameters_returns_and_units(module):
     mod = importlib.import_module(module)
     problems = {}
@@ -313,7 +451,35 @@ def test_the_docstring_check_finds_what_is_missing():
         """
         return x + depth_mm
 
+    def no_return_unit(depth_mm: float) -> float:
+        """Does something.
+
+        Parameters
+        ----------
+        depth_mm : float
+            Depth.
+
+        Returns
+        -------
+        float
+            Twice the depth.
+        """
+        return 2 * depth_mm
+
+    def wrong_unit(depth_mm: float) -> None:
+        """Does something.
+
+        Parameters
+        ----------
+        depth_mm : float
+            Depth below the surface, in m.
+        """
+
     assert docstring_problems(good) == []
+    assert docstring_problems(wrong_unit) == [
+        "parameter 'depth_mm': its description names a unit but not 'mm', the one in its name"]
+    assert docstring_problems(no_return_unit) == [
+        "returns a number: no unit (or 'fraction', 'dimensionless') in 'Returns'"]
     p = docstring_problems(bad)
     assert any("'x': no unit" in s for s in p) and any("'depth_mm' not in" in s for s in p)
     assert "no 'Returns' section" in p

@@ -164,3 +164,92 @@ def test_the_reference_design_is_drawn_exactly_in_its_layout():
     model = build_cad(d)
     assert model.gas["gas_chamber_1"].volume == pytest.approx(d.V1_mm3 - d.fixed.dead_volume_1_mm3, rel=1e-6)
     assert model.gas["gas_chamber_2"].volume == pytest.approx(d.V2_mm3 - d.fixed.dead_volume_2_mm3, rel=1e-6)
+
+
+def test_cast_fill_is_a_decision_variable_under_the_silicones_strain_limit():
+    """Issue 12: `optimise_cast_fill` adds the bladder's cast fill to the search; its strain limit defaults to the
+    bladder check's allowable, the population formulas match the single-design ones."""
+    from vvea_design.materials.silicones import allowable_strain
+    from vvea_design.spring.requirements import (constraint_names, design_from_vector, evaluate_design,
+                                                 evaluate_population)
+    from vvea_design.spring.strain_surrogate import design_strain, population_strain
+
+    req = Requirements(optimise_cast_fill=True)
+    assert req.max_bladder_strain == allowable_strain(req.bladder_material)
+    assert Requirements(optimise_cast_fill=True, max_bladder_strain=0.2).max_bladder_strain == 0.2
+    assert req.decision_variables("bulkhead")[-1] == "bladder_cast_fill"
+    assert req.search_bounds("bulkhead")[-1] == (0.1, 1.0)
+    assert Requirements().decision_variables("bulkhead") == Requirements().decision_variables("bulkhead")[:5]
+    X = np.array([[35.7, 59.5, 51000.0, 105000.0, 3300.0, f] for f in (0.1, 0.3, 0.5, 0.9)])
+    obj, mar, ok = evaluate_population(X, req, "bulkhead", population_strain)
+    assert ok.all()
+    i = constraint_names(req, "bulkhead", search=True).index("bladder_room_compressed")
+    j = constraint_names(req, "bulkhead", search=True).index("bladder_strain")
+    for k, x in enumerate(X):
+        d = design_from_vector(x, req, "bulkhead")
+        assert d.fixed.bladder_cast_fill == x[-1]
+        ev = evaluate_design(d, req, bladder_strain=design_strain(d))
+        assert obj[k] == pytest.approx(ev.objective, rel=1e-12)
+        assert ev.margins["bladder_room_compressed"] == pytest.approx(mar[i, k], rel=1e-9, abs=1e-12)
+        assert ev.margins["bladder_strain"] == pytest.approx(mar[j, k], rel=1e-9, abs=1e-12)
+    # casting nearer x = 0 leaves more gas room at x = 0 (the bladder bulges less into it) and strains it more
+    assert mar[i, 0] > mar[i, 2] and mar[j, 0] < mar[j, 2]
+
+
+def test_a_free_cast_fill_beats_the_mid_stroke_bladder_and_the_fe_check_passes(result):
+    from functools import partial
+
+    from vvea_design.bladder.check import strain_bound
+
+    req = Requirements(optimise_cast_fill=True)
+    r = optimise(req, seed=0, progress=False, bladder_strain_fn=partial(strain_bound, material=req.bladder_material),
+                 layouts=("bulkhead",))
+    ev = r.evaluation
+    assert ev.feasible
+    assert r.bladder_strain_fe == pytest.approx(strain_bound(r.design), rel=1e-12)
+    assert r.bladder_strain_fe <= req.max_bladder_strain
+    assert r.design.fixed.bladder_cast_fill < 0.5
+    assert ev.linearity_error < result.evaluation.linearity_error - 2e-4
+
+
+def test_layout_floor_caps_each_chamber():
+    """The bound with per-chamber caps (a layout's own floor) is never below the packing-free bound and obeys
+    the caps; the capacity search can maximise one chamber."""
+    from vvea_design.spring.optimise import gas_capacity, gas_volume_bound
+
+    free = gas_volume_bound(140e3, maxiter=100)
+    capped = gas_volume_bound(140e3, maxiter=100, V1_max_mm3=25e3)
+    assert capped["feasible"] and capped["V1_mm3"] <= 25e3 * (1 + 1e-6)
+    assert capped["linearity_error"] >= free["linearity_error"] - 1e-6
+    assert free["V1_mm3"] > 25e3  # so the cap binds and costs linearity
+    assert capped["linearity_error"] > free["linearity_error"] + 1e-4
+    # chamber 1 confined to a short column of the piston bore: V1 <= A1 L (a long stroke over a short column is
+    # a large compression ratio: worse than any cap on V1 alone)
+    bore = gas_volume_bound(140e3, maxiter=100, chamber1_length_max_mm=20.0, V1_extra_mm3=100.0)
+    assert bore["V1_mm3"] <= bore["A1_mm2"] * 20.0 + 100.0 + 1e-6 * bore["V1_mm3"]
+    assert bore["linearity_error"] > free["linearity_error"] + 1e-3
+    total = gas_capacity(Requirements(), "inner_tube", maxiter=60)
+    v1 = gas_capacity(Requirements(), "inner_tube", maxiter=60, maximise="V1")
+    assert v1["feasible"] and v1["maximise"] == "V1"
+    assert v1["V1_mm3"] > total["V1_mm3"] and v1["total_gas_mm3"] <= total["total_gas_mm3"] * (1 + 1e-3)
+    with pytest.raises(ValueError, match="maximise"):
+        gas_capacity(Requirements(), "inner_tube", maximise="V3")
+
+
+def test_the_strain_surrogate_is_poor_for_a_bladder_cast_near_x0():
+    """Why the cast fill's search range starts at 0.1: below it the surrogate underestimates the FE strain bound
+    by more than 10 % (cast at x = 0 its compressed hoop strain is 0, the edge of its fit)."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from vvea_design.bladder.check import strain_bound
+    from vvea_design.spring.design_file import load_design
+    from vvea_design.spring.strain_surrogate import design_strain
+
+    d = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
+    ratio = {}
+    for f in (0.0, 0.05, 0.3, 0.5):
+        df = replace(d, fixed=replace(d.fixed, bladder_cast_fill=f))
+        ratio[f] = design_strain(df) / strain_bound(df)
+    assert ratio[0.0] < 0.9 and ratio[0.05] < 0.9
+    assert 0.9 < ratio[0.3] < 1.1 and 0.9 < ratio[0.5] < 1.1

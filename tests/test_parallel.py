@@ -100,7 +100,10 @@ def _start_parent(tmp_path) -> tuple[subprocess.Popen, list[int]]:
         if __name__ == "__main__":
             parallel_map(work, range(6), workers=2, progress=False)
     """))
-    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    # SIGINT back to its default in the child: a suite started in the background by a shell without job
+    # control inherits SIGINT ignored, and a parent ignoring Ctrl-C would not be the case under test
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert _wait(lambda: len(_children(proc.pid)) >= 2, 60), "workers did not start"
     return proc, _children(proc.pid)
 

@@ -142,10 +142,15 @@ def test_signal_during_the_final_renames_waits_until_they_are_done(tmp_path, mon
         return real_rename(a, b)
 
     monkeypatch.setattr(os, "rename", rename_and_get_interrupted)
-    with pytest.raises(KeyboardInterrupt):
-        with output_dir(target, "demo") as tmp:
-            (tmp / "a.csv").write_text("1")
-            (tmp / "b.csv").write_text("1")
+    # Ctrl-C's own handler (a suite started in the background without job control inherits SIGINT ignored)
+    old_handler = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with output_dir(target, "demo") as tmp:
+                (tmp / "a.csv").write_text("1")
+                (tmp / "b.csv").write_text("1")
+    finally:
+        signal.signal(signal.SIGINT, old_handler)
     assert visible(target) == [".vvea-demo.json", "a.csv", "b.csv"]  # whole, then the interrupt
 
 

@@ -149,3 +149,14 @@ def test_messages_never_show_numpy_reprs():
         with pytest.raises(exc_type) as exc:
             make()
         assert "np." not in str(exc.value) and "float64" not in str(exc.value), str(exc.value)
+
+
+def test_cast_fill_requirements_are_checked():
+    from vvea_design.spring.requirements import Requirements, SpecError
+
+    r = Requirements.from_dict({"optimise_cast_fill": True, "bounds": {"bladder_cast_fill": [0.2, 0.8]}})
+    assert r.optimise_cast_fill and r.search_bounds("inner_tube")[-1] == (0.2, 0.8)
+    with pytest.raises(SpecError, match="optimise_cast_fill must be true or false"):
+        Requirements.from_dict({"optimise_cast_fill": 1})
+    with pytest.raises(SpecError, match="bladder_cast_fill.*<= 1"):
+        Requirements.from_dict({"bounds": {"bladder_cast_fill": [0.2, 1.5]}})

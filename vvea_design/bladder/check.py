@@ -120,10 +120,12 @@ class StrokeEnd:
 
     @property
     def pressure_MPa(self) -> float:
+        """Pressure difference that holds the shape, fluid minus gas, MPa."""
         return self.solution.pressure_MPa
 
     @property
     def touches(self) -> dict[str, bool]:
+        """Whether the wall reaches ``inner_tube`` / ``outer_bore`` (gap < 0; False where not given)."""
         return {
             "inner_tube": self.gap_inner_tube_mm is not None and self.gap_inner_tube_mm < 0,
             "outer_bore": self.gap_outer_bore_mm is not None and self.gap_outer_bore_mm < 0,
@@ -155,10 +157,12 @@ class BladderResult:
 
     @property
     def passes_strain(self) -> bool:
+        """The strain bound is within the allowable strain."""
         return self.strain_bound <= self.allowable_strain
 
     @property
     def passes_room(self) -> bool:
+        """The wall touches neither the inner tube nor the outer bore at either stroke end."""
         return not any(any(e.touches.values()) for e in self.ends.values())
 
     @property
@@ -167,7 +171,17 @@ class BladderResult:
         return self.passes_strain and self.passes_room
 
     def to_dict(self) -> dict:
-        """The content of ``bladder.json`` (plain JSON types, units in the keys)."""
+        """The content of ``bladder.json`` (plain JSON types, units in the keys).
+
+        Returns
+        -------
+        dict
+            ``membrane`` (radius, length, wall in mm, shear modulus in MPa, model, elements),
+            ``material``, ``criterion``, ``room`` (mm), ``volume_change_mm3``; per stroke end the
+            strains (fractions), ``pressure_MPa``, wrinkled area (fraction) and z-intervals (mm),
+            gaps (mm) and contact; the overall ``strain_bound`` and ``allowable_strain``
+            (fractions) and the verdicts ``passes_strain``, ``passes_room``, ``passes``.
+        """
         e = self.ends
         by_end = lambda f: {k: f(e[k]) for k in ENDS}  # noqa: E731
         return {
@@ -217,13 +231,22 @@ def _positive(name: str, v) -> float:
 def bending_strain(solution: MembraneSolution, end: int) -> tuple[float, float]:
     """Bending bound at a clamped end (``end`` 0 = first node, -1 = last).
 
+    Parameters
+    ----------
+    solution : MembraneSolution
+        A solved membrane (:func:`vvea_design.bladder.membrane.solve_volume`): deformed meridian
+        (mm), element thickness (mm), meridional tension (N/mm) and stretches.
+    end : int
+        Which clamp: 0 the first node (lower clamp), -1 the last (upper clamp).
+
     Returns
     -------
-    (bending_strain, clamp_strain)
-        ``(h/2) dphi sqrt(T/D + 2 beta^2)`` and that plus the tensile
-        meridional membrane strain at the clamp, fractions. Angle, tension,
-        thickness and strain are extrapolated from the first two elements to
-        the clamp node (linearly in arc length).
+    bending_strain : float
+        ``(h/2) dphi sqrt(T/D + 2 beta^2)``, fraction.
+    clamp_strain : float
+        That plus the tensile meridional membrane strain at the clamp, fraction.
+        Angle, tension, thickness and strain are extrapolated from the first
+        two elements to the clamp node (linearly in arc length).
     """
     ref = solution.meridian
     f = solution.fields
@@ -322,6 +345,12 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
     relaxed : bool
         Tension-field relaxation (wrinkling); ``False`` only for comparisons.
 
+    Returns
+    -------
+    BladderResult
+        Both stroke ends (strains as fractions, pressure in MPa, gaps in mm), the allowable strain
+        (fraction) and the verdicts.
+
     Raises
     ------
     BladderError
@@ -414,10 +443,14 @@ def check_bladder(design, material: str | Silicone = DEFAULT_MATERIAL,
     Parameters
     ----------
     design : vvea_design.spring.design.Design
+        The design whose cast bladder (mid radius, free length, wall, mm) and stroke volume changes
+        (mm³) are checked, in the room between its inner tube and outer bore.
     material : str or Silicone
-        Casting silicone (default ``"dragon-skin-20"``).
+        Casting silicone: a key of :data:`vvea_design.materials.silicones.SILICONES` (default
+        ``"dragon-skin-20"``) or a :class:`Silicone` (shear modulus in MPa).
     criterion : str, StrainCriterion, float or None
-        Allowable-strain criterion (default ``"cyclic"``) or the allowable strain.
+        Allowable-strain criterion of the silicone (None = ``"cyclic"``), or the allowable strain
+        itself as a fraction.
     n_elements : int
         Elements along the meridian (96: the strain bound within ~0.2 % of its converged value).
 
@@ -449,6 +482,23 @@ def strain_bound(design, material: str | Silicone = DEFAULT_MATERIAL, *,
     Returns ``inf`` for a design whose bladder cannot take the stroke at
     all, so that an optimiser sees an infeasible point rather than an
     exception.
+
+    Parameters
+    ----------
+    design : vvea_design.spring.design.Design
+        The design whose cast bladder (mid radius, free length, wall, mm) and stroke volume changes
+        (mm³) are checked, in the room between its inner tube and outer bore.
+    material : str or Silicone
+        Casting silicone: a key of :data:`vvea_design.materials.silicones.SILICONES` (default
+        ``"dragon-skin-20"``) or a :class:`Silicone` (shear modulus in MPa).
+    n_elements : int
+        Elements of the finer of the two meshes (at least 8; the coarser has half as many).
+
+    Returns
+    -------
+    float
+        Strain bound (membrane and clamp bending, both stroke ends), fraction; ``inf`` when the
+        bladder does not fit or cannot take the stroke.
     """
     n = max(int(n_elements), 8)
     try:
@@ -614,17 +664,43 @@ def _profile_rows(result: BladderResult) -> list[dict]:
 
 def write_bladder_report(design, out_dir: str | Path, material: str | Silicone = DEFAULT_MATERIAL,
                          criterion: str | StrainCriterion | float | None = None, *,
-                         n_elements: int = DEFAULT_ELEMENTS) -> dict:
+                         n_elements: int = DEFAULT_ELEMENTS, result: BladderResult | None = None) -> dict:
     """Check ``design``'s bladder and write ``bladder.json``, ``bladder_profile.csv`` and ``bladder.png`` to ``out_dir``.
+
+    Parameters
+    ----------
+    design : vvea_design.spring.design.Design
+        The design whose cast bladder (mid radius, free length, wall, mm) and stroke volume changes
+        (mm³) are checked, in the room between its inner tube and outer bore.
+    out_dir : str or Path
+        Folder to write into (created).
+    material : str or Silicone
+        Casting silicone: a key of :data:`vvea_design.materials.silicones.SILICONES` (default
+        ``"dragon-skin-20"``) or a :class:`Silicone` (shear modulus in MPa).
+    criterion : str, StrainCriterion, float or None
+        Allowable-strain criterion of the silicone (None = ``"cyclic"``), or the allowable strain
+        itself as a fraction.
+    n_elements : int
+        Elements along the meridian of the check.
+    result : BladderResult or None
+        The check of ``design`` already computed by :func:`check_bladder` with the same material,
+        criterion and elements (written as it is, not solved again); None solves it here.
 
     Returns
     -------
     dict
-        The ``bladder.json`` content, plus ``"files"`` (the paths written).
+        The ``bladder.json`` content (:meth:`BladderResult.to_dict`, units in the keys), plus
+        ``"files"``: the names of the JSON, CSV and PNG written, relative to ``out_dir``.
+
+    Raises
+    ------
+    BladderError
+        A design whose bladder does not fit, an unknown material or criterion, a stroke the sleeve
+        cannot take.
     """
     import csv
 
-    res = check_bladder(design, material, criterion, n_elements=n_elements)
+    res = result if result is not None else check_bladder(design, material, criterion, n_elements=n_elements)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     png = out / "bladder.png"

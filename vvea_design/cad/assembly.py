@@ -30,7 +30,18 @@ COLOURS = {p.name: p.colour for p in PARTS}
 
 
 def part_materials(design: Design) -> dict[str, str]:
-    """Material name of every part in the table (design's fixed materials)."""
+    """Material name of every part in the table (design's fixed materials).
+
+    Parameters
+    ----------
+    design : Design
+        The design whose ``fixed`` materials (housing, rod, support ring) resolve the parts'.
+
+    Returns
+    -------
+    dict of str to str
+        Part name -> material display name, in table order.
+    """
     return {p.name: p.material(design).name for p in all_parts()}
 
 
@@ -52,7 +63,23 @@ class CadModel:
     closed_form_mm3: dict[str, float] = field(default_factory=dict)
 
     def group(self, *groups: str) -> dict[str, Solid]:
-        """The solids of the given part groups (x = 0), in table order."""
+        """The solids of the given part groups (x = 0), in table order.
+
+        Parameters
+        ----------
+        *groups : str
+            Part groups (``"assembly"``, ``"machined"``, ``"mould"``, ``"gas"``).
+
+        Returns
+        -------
+        dict of str to Solid
+            Part name -> solid, mm.
+
+        Raises
+        ------
+        ValueError
+            If a group is unknown.
+        """
         return {p.name: self.solids[p.name] for p in parts_in(*groups)}
 
     @property
@@ -72,10 +99,29 @@ class CadModel:
 
     @property
     def piston_at_travel(self) -> Solid:
+        """The piston with rod at x = travel (full extension), assembly frame, mm."""
         return self.at_travel["piston"]
 
     def solids_at(self, x_mm: float, *groups: str) -> dict[str, Solid]:
-        """The solids of ``groups`` with the piston at ``x_mm`` (moving parts rebuilt unless x = 0 or travel)."""
+        """The solids of ``groups`` with the piston at ``x_mm`` (moving parts rebuilt unless x = 0 or travel).
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends; 0 and the travel reuse the built solids).
+        *groups : str
+            Part groups (``"assembly"``, ``"machined"``, ``"mould"``, ``"gas"``).
+
+        Returns
+        -------
+        dict of str to Solid
+            Part name -> solid at ``x_mm``, named and coloured, mm.
+
+        Raises
+        ------
+        ValueError
+            If a group is unknown.
+        """
         out = self.group(*groups)
         if x_mm == 0:
             return out
@@ -88,15 +134,39 @@ class CadModel:
         return out
 
     def parts_at(self, x_mm: float) -> dict[str, Solid]:
-        """The assembly parts with the piston at ``x_mm``."""
+        """The assembly parts with the piston at ``x_mm``.
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends; 0 and the travel reuse the built solids).
+
+        Returns
+        -------
+        dict of str to Solid
+            Housing, piston, bladder and support ring by part name, mm.
+        """
         return self.solids_at(x_mm, "assembly")
 
     def export_solids(self) -> dict[str, Solid]:
-        """Every solid written as its own STEP, by file stem."""
+        """Every solid written as its own STEP, by file stem.
+
+        Returns
+        -------
+        dict of str to Solid
+            The table's parts whose ``files`` include ``"step"`` (x = 0), mm.
+        """
         return {p.name: self.solids[p.name] for p in all_parts() if "step" in p.files}
 
     def measured(self) -> dict[str, float]:
-        """CAD-measured chamber volumes (mm³) and piston areas (mm²)."""
+        """CAD-measured chamber volumes and piston areas at x = 0.
+
+        Returns
+        -------
+        dict of str to float
+            ``chamber_1_volume_mm3``, ``chamber_2_volume_mm3`` (mm³), ``piston_area_A1_mm2`` and
+            ``piston_area_A2_mm2`` (mm²), measured on the solids.
+        """
         areas = piston_faces_mm2(self.solids["piston"], self.layout, 0.0)
         return {
             "chamber_1_volume_mm3": self.solids["gas_chamber_1"].volume,
@@ -159,7 +229,20 @@ def assembly(model: CadModel, x_mm: float = 0.0) -> Compound:
     """Named assembly (``housing``, ``piston``, ``bladder``, ``support_ring``) at ``x_mm``.
 
     The children carry names but no colours, so the STEP bytes are stable
-    (OCCT orders assembly colour styles by memory address)."""
+    (OCCT orders assembly colour styles by memory address).
+
+    Parameters
+    ----------
+    model : CadModel
+        The built CAD set.
+    x_mm : float
+        Piston displacement, mm (x > 0 extends).
+
+    Returns
+    -------
+    Compound
+        Labelled ``vvea_unit``, one labelled child per assembly part, assembly frame, mm.
+    """
     children = []
     for name, s in model.parts_at(x_mm).items():
         c = Solid(s.wrapped)  # no colour: OCCT writes assembly styles in a run-dependent order
@@ -180,7 +263,18 @@ def _volume(shape) -> float:
 
 
 def interference_mm3(parts: dict[str, Solid]) -> dict[str, float]:
-    """Boolean intersection volume of every pair of parts, mm³ (``"a/b"`` keys)."""
+    """Boolean intersection volume of every pair of parts.
+
+    Parameters
+    ----------
+    parts : dict of str to Solid
+        Solids by name, in one frame, mm.
+
+    Returns
+    -------
+    dict of str to float
+        ``"a/b"`` -> intersection volume, mm³ (0 for pairs whose bounding boxes do not overlap in x or z).
+    """
     out = {}
     for (na, a), (nb, b) in combinations(parts.items(), 2):
         bb_a, bb_b = a.bounding_box(), b.bounding_box()
@@ -194,10 +288,22 @@ def interference_mm3(parts: dict[str, Solid]) -> dict[str, float]:
 def mould_void(m: Mould) -> dict:
     """The empty space of the closed mould that holds the cavity, measured.
 
-    Returns a dict with ``cavity_volume_mm3`` (void clipped to the cavity's
-    envelope), ``void_volume_mm3`` (cavity + sprue + runner + vents),
-    ``sprue_open`` / ``vents_open`` (the void reaches each opening in the
-    top face) and ``void`` (the solid).
+    Parameters
+    ----------
+    m : Mould
+        The mould (:func:`~vvea_design.cad.mould.mould`), mould frame, mm.
+
+    Returns
+    -------
+    dict
+        ``cavity_volume_mm3`` (void clipped to the cavity's envelope, mm³), ``void_volume_mm3``
+        (cavity + sprue + runner + vents, mm³), ``sprue_open`` (bool) / ``vents_open`` (list of
+        bool: the void reaches each opening in the top face) and ``void`` (the solid, mm).
+
+    Raises
+    ------
+    RuntimeError
+        If no connected void of the closed mould holds the cavity (the mould is broken).
     """
     x0, x1, y0, y1, z0, z1 = m.block_mm
     space = box(x0, x1, y0, y1, z0, z1)

@@ -26,7 +26,18 @@ __all__ = ["bladder", "bladder_profile", "bladder_volume_mm3", "support_ring", "
 
 
 def bladder_profile(lay: Layout) -> list[tuple[float, float]]:
-    """Closed (r, z) outline of the cast bladder, mm."""
+    """Closed (r, z) outline of the cast bladder: sleeve, cuffs and sealing beads.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    list of tuple of float
+        The 12 corners ``(r, z)`` of the meridian section in order, mm.
+    """
     ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
     za, zb = lay.z_bladder0, lay.z_bladder1
     return [
@@ -37,12 +48,34 @@ def bladder_profile(lay: Layout) -> list[tuple[float, float]]:
 
 
 def bladder(lay: Layout) -> Solid:
-    """The cast bladder as one solid (assembly frame), mm."""
+    """The cast bladder as one solid (its outline revolved about the axis).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    Solid
+        The bladder in the assembly frame, mm.
+    """
     return revolved(bladder_profile(lay))
 
 
 def bladder_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of :func:`bladder`, mm³."""
+    """Closed-form volume of :func:`bladder`: the sleeve plus the four bead rings.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    float
+        Volume, mm³.
+    """
     ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
     sleeve = math.pi * (ro**2 - ri**2) * (lay.z_bladder1 - lay.z_bladder0)
     beads = 2 * math.pi * ((ro + e) ** 2 - ro**2 + ri**2 - (ri - e) ** 2) * lb
@@ -53,7 +86,18 @@ def support_ring(lay: Layout) -> Solid:
     """Printed support ring: fills the annulus over the lower clamp length, holds the
     bladder's lower cuff in its groove, and passes the fluid through
     ``cad.ring_channels`` axial channels (inside the bladder) fed by an annular
-    collector groove in its underside (over the base channels)."""
+    collector groove in its underside (over the base channels).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    Solid
+        The support ring in the assembly frame, mm.
+    """
     c = lay.cad
     z0, z1 = lay.z_base_top, lay.z_free0
     body = ring(lay.r_inner_tube, lay.r_bore, z0, z1)
@@ -73,7 +117,18 @@ def _collector_depth(lay: Layout) -> float:
 def support_ring_volume_mm3(lay: Layout) -> float:
     """Closed-form volume of :func:`support_ring`, mm³: the annulus minus the bladder's
     lower cuff (sleeve + bead), the axial channels above the collector groove and the
-    groove (the channels lie inside the groove's annulus)."""
+    groove (the channels lie inside the groove's annulus).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    float
+        Volume, mm³.
+    """
     h = lay.z_free0 - lay.z_base_top
     ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
     rc, dc, hg = lay.r_ring_channel, lay.ring_channel_d, _collector_depth(lay)
@@ -104,7 +159,28 @@ def bladder_shift_at_mm(lay: Layout, x_mm: float, n: int = 32) -> float:
     """Mean radial shift of the bladder's outer surface from the cast one at displacement ``x_mm``
     (parabolic between the clamps, peak = 1.5 x mean, as the FE check finds), such that the
     drawn chamber-2 gas (polygon of ``n`` segments) holds exactly ``V2 - A2 x`` (dead volume and,
-    in the bulkhead layout, the gas above the bulkhead excluded), mm. Positive: outwards."""
+    in the bulkhead layout, the gas above the bulkhead excluded). Positive: outwards.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+    n : int
+        Segments of the polygon that approximates the shifted free length.
+
+    Returns
+    -------
+    float
+        Mean radial shift, mm (the peak at mid-length is 1.5 times it).
+
+    Raises
+    ------
+    ValueError
+        If no shift between touching the inner tube and touching the bore holds that volume (the
+        displacement is outside what the chamber can take).
+    """
     from scipy.optimize import brentq
 
     d = lay.design
@@ -122,7 +198,27 @@ def bladder_deformed(lay: Layout, x_mm: float, n: int = 32) -> tuple[Solid, Soli
     """The bladder and the chamber-2 gas at displacement ``x_mm`` in a volume-consistent shape:
     cuffs as cast, the free length shifted parabolically (wall thickness kept), so the gas
     solid around the bladder holds exactly ``V2 - V2_top - A2 x``. For pictures; the exported
-    bladder is the cast one."""
+    bladder is the cast one.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+    n : int
+        Segments of the polygon of the shifted free length.
+
+    Returns
+    -------
+    bladder, gas : Solid
+        The deformed bladder and the chamber-2 gas between it and the bore, assembly frame, mm.
+
+    Raises
+    ------
+    ValueError
+        If no shift holds the chamber-2 volume at ``x_mm`` (see :func:`bladder_shift_at_mm`).
+    """
     a = bladder_shift_at_mm(lay, x_mm, n)
     z, r = _free_profile(lay, a, n)
     t = lay.r_bladder_out - lay.r_bladder_in

@@ -46,7 +46,19 @@ def step_bytes(shape: Shape) -> bytes:
     """STEP (AP214, mm) of ``shape`` or a labelled assembly, byte-stable.
 
     The product name is ``shape.label`` (every part of the table is labelled
-    by :func:`~vvea_design.cad.assembly.build_cad`)."""
+    by :func:`~vvea_design.cad.assembly.build_cad`); the header timestamp is
+    :data:`STEP_TIMESTAMP` and the assembly-usage ids are renumbered from 1.
+
+    Parameters
+    ----------
+    shape : Shape
+        A labelled solid or a labelled assembly compound, mm.
+
+    Returns
+    -------
+    bytes
+        The STEP file content; the same shape gives the same bytes in every run.
+    """
     buf = io.BytesIO()
     export_step(shape, buf, timestamp=STEP_TIMESTAMP)
     data = buf.getvalue()
@@ -55,7 +67,18 @@ def step_bytes(shape: Shape) -> bytes:
 
 
 def stl_bytes(mesh: trimesh.Trimesh) -> bytes:
-    """Binary STL of ``mesh`` (float32, fixed header)."""
+    """Binary STL of ``mesh`` (float32, fixed header).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Triangle mesh, mm.
+
+    Returns
+    -------
+    bytes
+        80-byte header, triangle count, one record per triangle (normal and vertices as float32, mm).
+    """
     import numpy as np
 
     tri = np.asarray(mesh.triangles, dtype=np.float64)
@@ -68,7 +91,18 @@ def stl_bytes(mesh: trimesh.Trimesh) -> bytes:
 
 
 def bbox_mm(shape: Shape) -> list[list[float]]:
-    """Bounding box ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` rounded to 1 µm, mm."""
+    """Axis-aligned bounding box of ``shape`` for the manifest.
+
+    Parameters
+    ----------
+    shape : Shape
+        A solid or compound, mm.
+
+    Returns
+    -------
+    list of list of float
+        ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` rounded to 1 µm, mm.
+    """
     bb = shape.bounding_box()
     return [[_r(bb.min.X), _r(bb.min.Y), _r(bb.min.Z)], [_r(bb.max.X), _r(bb.max.Y), _r(bb.max.Z)]]
 
@@ -79,13 +113,32 @@ def _r(v: float, nd: int = 3) -> float:
 
 
 def write_file(path: Path, data: bytes) -> dict:
-    """Write ``data`` to ``path``; return its size and sha256 for the manifest."""
+    """Write ``data`` to ``path``; return its size and sha256 for the manifest.
+
+    Parameters
+    ----------
+    path : Path
+        File to write (its folder must exist); an existing file is replaced.
+    data : bytes
+        The content.
+
+    Returns
+    -------
+    dict
+        ``bytes`` (size, count of bytes) and ``sha256`` (hex digest).
+    """
     path.write_bytes(data)
     return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
 
 
 def export_steps() -> int:
-    """Number of progress steps :func:`export_files` takes (one per part, assembly, checks, mould)."""
+    """Number of progress steps :func:`export_files` takes (one per part, assembly, checks, mould).
+
+    Returns
+    -------
+    int
+        Count of ``advance()`` calls: the number of parts in the table + 3.
+    """
     return len(all_parts()) + 3
 
 

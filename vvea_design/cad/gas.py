@@ -31,7 +31,20 @@ __all__ = ["gas_chamber_1", "gas_chamber_2"]
 
 def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
     """Chamber-1 gas at displacement ``x_mm`` (the bore above the piston; with a bulkhead, up to it
-    plus the fill tube's bore), mm."""
+    plus the fill tube's bore).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+
+    Returns
+    -------
+    Solid
+        The gas domain in the assembly frame, mm; its volume is ``V1 - dead_volume_1 + A1 x`` (mm³).
+    """
     if not lay.has_bulkhead:
         return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
     return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_bulkhead0),
@@ -39,7 +52,22 @@ def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
 
 
 def gas_chamber_2(lay: Layout, x_mm: float = 0.0) -> Solid:
-    """Chamber-2 gas at displacement ``x_mm`` (outside the equal-volume straight sleeve), mm."""
+    """Chamber-2 gas at displacement ``x_mm`` (outside the equal-volume straight sleeve).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+
+    Returns
+    -------
+    Solid or Compound
+        The gas domain in the assembly frame, mm: the annulus between the equal-volume sleeve and the
+        outer-tube bore over the bladder's free length, plus (bulkhead layout with ``V2_top_mm3`` > 0)
+        the annulus above the bulkhead outside the fill tube, as a two-solid compound.
+    """
     r_in = lay.r_gas2_inner if x_mm == 0 else lay.design.bladder_equivalent_outer_radius_mm(x_mm)
     annulus = ring(r_in, lay.r_bore, lay.z_free0, lay.z_free1)
     if not lay.has_bulkhead or lay.design.V2_top_mm3 <= 0:

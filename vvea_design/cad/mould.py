@@ -37,7 +37,22 @@ __all__ = ["Mould", "mould", "box", "mould_core_volume_mm3"]
 
 
 def box(x0: float, x1: float, y0: float, y1: float, z0: float, z1: float) -> Solid:
-    """Axis-aligned box between the given limits, mm."""
+    """Axis-aligned box between the given limits.
+
+    Parameters
+    ----------
+    x0, x1 : float
+        Lower and upper x limits, mm (x0 < x1).
+    y0, y1 : float
+        Lower and upper y limits, mm (y0 < y1).
+    z0, z1 : float
+        Lower and upper z limits, mm (z0 < z1).
+
+    Returns
+    -------
+    Solid
+        The box, mm.
+    """
     b = Solid.make_box(x1 - x0, y1 - y0, z1 - z0)
     return b.moved(Location((x0, y0, z0)))
 
@@ -56,7 +71,13 @@ class Mould:
     vent_tops_mm: tuple[tuple[float, float, float], ...]  #: centres of the vent openings
 
     def parts(self) -> dict[str, Solid]:
-        """The mould parts by file name stem."""
+        """The mould parts by file name stem.
+
+        Returns
+        -------
+        dict of str to Solid
+            ``mould_half_a``, ``mould_half_b`` and ``mould_core``, mould frame, mm.
+        """
         return {"mould_half_a": self.half_a, "mould_half_b": self.half_b, "mould_core": self.core}
 
 
@@ -84,7 +105,18 @@ def _core_dims(lay: Layout) -> tuple[float, ...]:
 
 
 def mould_core_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of the mould core (tube with spigots + the land between the beads), mm³."""
+    """Closed-form volume of the mould core (tube with spigots + the land between the beads).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    float
+        Volume, mm³.
+    """
     r_in_min, r_in, _, zc0, zc1, lb, z0, z1, r_bore = _core_dims(lay)
     sp = lay.cad.mould_core_spigot_mm
     return (math.pi * (r_in_min**2 - r_bore**2) * (z1 - z0 + 2 * sp)
@@ -92,7 +124,20 @@ def mould_core_volume_mm3(lay: Layout) -> float:
 
 
 def mould(lay: Layout) -> Mould:
-    """Build the bladder mould of one layout."""
+    """Build the bladder mould of one layout: two halves, core, sprue, runner, vents, pins.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+        The mould's feature sizes come from ``lay.cad`` (shrinkage, walls, sprue, vents, pins).
+
+    Returns
+    -------
+    Mould
+        The halves, core and cavity (mould frame: axis Z centred on z = 0, parting plane y = 0, mm),
+        the block limits, the shrinkage (fraction) and where the sprue and vents open (mm).
+    """
     c = lay.cad
     prof = _cavity_profile(lay)
     cavity = revolved(prof)

@@ -36,6 +36,16 @@ def housing(lay: Layout) -> Solid:
       spring-ball relief bore (-x, stepped seat); vertical fluid channels
       from the fluid column (``r_channel_a``) and from the support ring
       (``r_ring_channel``) into both valve bores.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    Solid
+        The united housing in the assembly frame, mm.
     """
     c = lay.cad
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
@@ -102,6 +112,18 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
     ``housing_inner_tube`` (between base and top cap), ``housing_top_cap``
     (the cap with the top bladder clamp spigot). Their volumes add up to the
     united housing's; they touch on faces only.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    united : Solid or None
+        The united housing if already built (saves rebuilding it); None: built here.
+
+    Returns
+    -------
+    dict of str to Solid
+        The four pieces by part name, assembly frame, mm.
     """
     h = united if united is not None else housing(lay)
     big = lay.r_outer + 1.0
@@ -129,6 +151,18 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
 
     The top face is the full bore (area A1); the underside is the annulus
     between bore and rod (area A2).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+
+    Returns
+    -------
+    Solid
+        Piston and rod in the assembly frame, mm.
     """
     d, c = lay.design, lay.cad
     zb, ztp = lay.z_piston_bottom(x_mm), lay.z_piston_top(x_mm)
@@ -141,7 +175,18 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
 
 
 def piston_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole), mm³."""
+    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole).
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    float
+        Volume, mm³ (the same at every displacement).
+    """
     d, c = lay.design, lay.cad
     rp, rr = lay.r_piston, lay.r_rod
     v = math.pi * rp**2 * d.fixed.piston_height_mm + math.pi * rr**2 * d.rod_length_mm
@@ -153,7 +198,22 @@ def piston_volume_mm3(lay: Layout) -> float:
 
 def piston_faces_mm2(solid: Solid, lay: Layout, x_mm: float = 0.0) -> dict[str, float]:
     """Measure the drawn piston areas: the planar face at the piston top (A1) and the
-    planar faces at its underside (A2 = bore minus rod), mm²."""
+    planar faces at its underside (A2 = bore minus rod).
+
+    Parameters
+    ----------
+    solid : Solid
+        A piston as :func:`piston` draws it, mm.
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Displacement the piston was drawn at, mm (locates its top and underside).
+
+    Returns
+    -------
+    dict of str to float
+        ``A1_mm2`` and ``A2_mm2``: summed areas of the horizontal faces at the top and the underside, mm².
+    """
     zt, zb = lay.z_piston_top(x_mm), lay.z_piston_bottom(x_mm)
     a1 = a2 = 0.0
     for face in solid.faces():

@@ -57,13 +57,28 @@ class PartMaterial:
     process: str  #: "machined", "turned", "printed", "cast", "gas"
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            ``name``, ``density_g_per_mm3`` (g/mm³, None for gas) and ``process``.
+        """
         return {"name": self.name, "density_g_per_mm3": self.density_g_per_mm3, "process": self.process}
 
 
 class PartContext:
     """One layout at one piston displacement, with the shared solids built lazily
     (the united housing, its slices, the mould) so each builder is a one-liner and
-    each expensive solid is built once."""
+    each expensive solid is built once.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm.
+    x_mm : float
+        Piston displacement the moving parts are built at, mm (x > 0 extends).
+    """
 
     def __init__(self, lay: Layout, x_mm: float = 0.0) -> None:
         self.lay = lay
@@ -71,14 +86,17 @@ class PartContext:
 
     @cached_property
     def housing(self) -> Solid:
+        """The united housing (:func:`~vvea_design.cad.parts.housing`), mm."""
         return housing(self.lay)
 
     @cached_property
     def housing_pieces(self) -> dict[str, Solid]:
+        """The housing's machined pieces by part name (:func:`~vvea_design.cad.parts.housing_pieces`), mm."""
         return housing_pieces(self.lay, self.housing)
 
     @cached_property
     def mould(self) -> Mould:
+        """The bladder mould (:func:`~vvea_design.cad.mould.mould`), mould frame, mm."""
         return mould(self.lay)
 
 
@@ -182,12 +200,34 @@ if len({p.name for p in PARTS}) != len(PARTS):  # pragma: no cover - table integ
 
 
 def all_parts() -> tuple[Part, ...]:
-    """The part table, looked up at call time (every consumer goes through this or :func:`parts_in`)."""
+    """The part table, looked up at call time (every consumer goes through this or :func:`parts_in`).
+
+    Returns
+    -------
+    tuple of Part
+        Every entry of :data:`PARTS`, in table (build, file and legend) order.
+    """
     return PARTS
 
 
 def get_part(name: str) -> Part:
-    """The table entry of part ``name``; a clear error naming the known parts otherwise."""
+    """The table entry of part ``name``.
+
+    Parameters
+    ----------
+    name : str
+        Part name (file stem, STEP product name), e.g. ``"piston"``.
+
+    Returns
+    -------
+    Part
+        Its builder, material, colour, closed-form volume (mm³) and file formats.
+
+    Raises
+    ------
+    KeyError
+        If no part is called ``name`` (the message lists the known parts).
+    """
     for p in PARTS:
         if p.name == name:
             return p
@@ -195,7 +235,23 @@ def get_part(name: str) -> Part:
 
 
 def parts_in(*groups: str) -> tuple[Part, ...]:
-    """The table entries of the given groups, in table order."""
+    """The table entries of the given groups, in table order.
+
+    Parameters
+    ----------
+    *groups : str
+        Names from :data:`GROUPS` (``"assembly"``, ``"machined"``, ``"mould"``, ``"gas"``).
+
+    Returns
+    -------
+    tuple of Part
+        The entries whose group is one of ``groups``, in table order.
+
+    Raises
+    ------
+    ValueError
+        If a group is not one of :data:`GROUPS`.
+    """
     for g in groups:
         if g not in GROUPS:
             raise ValueError(f"unknown part group {g!r}; known: {GROUPS}")

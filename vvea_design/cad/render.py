@@ -95,9 +95,14 @@ def render_assembly_cutaway(model, meshes: dict | None = None) -> bytes:
     Parameters
     ----------
     model : CadModel
-        The built CAD set.
+        The built CAD set (mm).
     meshes : dict, optional
         Unused (kept for the ``write_cad`` call signature).
+
+    Returns
+    -------
+    bytes
+        The PNG (110 dpi, no timestamp metadata); dimensions in the picture are in mm.
     """
     import io
 
@@ -184,7 +189,23 @@ def render_assembly_cutaway(model, meshes: dict | None = None) -> bytes:
 
 
 def render_mould_open(model, meshes: dict) -> bytes:
-    """PNG: the mould laid open -- half B, core with the cast bladder, half A (turned), parting faces up."""
+    """PNG: the mould laid open -- half B, core with the cast bladder, half A (turned), parting faces up.
+
+    The cavity (the bladder scaled by the shrinkage) is drawn translucent on the core.
+
+    Parameters
+    ----------
+    model : CadModel
+        The built CAD set; its ``mould`` gives the block size and the cavity (mould frame, mm).
+    meshes : dict of str to trimesh.Trimesh
+        Tessellated parts by name (from :func:`~vvea_design.cad.export.export_files`); needs
+        ``mould_half_a``, ``mould_half_b`` and ``mould_core``.
+
+    Returns
+    -------
+    bytes
+        The PNG, :data:`WINDOW_SIZE` pixels.
+    """
     pv = _pv()
     m = model.mould
     x0, x1 = m.block_mm[0], m.block_mm[1]

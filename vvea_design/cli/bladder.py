@@ -15,7 +15,16 @@ __all__ = ["register", "bladder", "print_bladder"]
 
 
 def print_bladder(d: dict) -> None:
-    """A table of the bladder.json content on the console."""
+    """A table of the bladder.json content on the console (stdout), then the verdict line.
+
+    Parameters
+    ----------
+    d : dict
+        The ``bladder.json`` content (:meth:`vvea_design.bladder.check.BladderResult.to_dict`):
+        per stroke end the volume change (mm³), pressure (MPa), strains and wrinkled area
+        (fractions, printed in %) and gaps (mm); the strain bound and allowable strain
+        (fractions) and the verdicts.
+    """
     from rich.table import Table
 
     from ..progress import out as console  # results to stdout
@@ -79,5 +88,11 @@ def bladder(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the ``bladder`` command to ``app``."""
+    """Add the ``bladder`` command to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``vvea`` application.
+    """
     app.command("bladder")(bladder)

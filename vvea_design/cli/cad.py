@@ -14,7 +14,16 @@ __all__ = ["register", "cad", "print_manifest"]
 
 
 def print_manifest(manifest: dict) -> None:
-    """The drawn-vs-optimised table and the check results on the console."""
+    """The drawn-vs-optimised table and the check results on the console (stdout).
+
+    Parameters
+    ----------
+    manifest : dict
+        The CAD set's ``manifest.json`` content (:func:`vvea_design.cad.write_cad`): ``measured``
+        (CAD vs design chamber volumes in mm³ and piston areas in mm², relative error as a
+        fraction), ``mould`` (cavity volumes in mm³, sprue and vents open), ``interference_mm3``,
+        ``walls_mm`` (drawn and minimum, mm) and ``files`` (watertightness of each STL).
+    """
     from rich.table import Table
 
     from ..progress import out as console  # results to stdout
@@ -78,5 +87,11 @@ def cad(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the ``cad`` command to ``app``."""
+    """Add the ``cad`` command to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``vvea`` application.
+    """
     app.command("cad")(cad)

@@ -719,13 +719,32 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
     if len(grid) == 0:
         return None, np.nan
     train, folds = plan.train, plan.folds
-    blks = []
+    # each grid value's blocks are scored on every fold as soon as they are built, so only one set of
+    # per-experiment blocks is alive at a time (memory on large campaigns); same order of comparisons
+    parts = [(train[folds[train] != f], train[folds[train] == f]) for f in np.unique(folds[train])]
+    best = [None] * len(parts)  # per fold: (training SSE, held-out SSE per experiment) of the best grid value so far
+    costs = []  # training SSE over all training experiments per grid value (shape for the trial fit)
+
+    def score(Bk, sl, on_grid):
+        for i, (tr, te) in enumerate(parts):
+            Gtr = Bk.G[tr].sum(0)
+            if sl is not None and not np.all(np.diag(Gtr)[sl] > 0):
+                continue  # the term leaves no trace in this fold's training part
+            th = solve_bounded(Gtr, Bk.b[tr].sum(0), Bk.lower, Bk.upper)
+            c = Bk.sse(th, tr).sum()
+            if best[i] is None or c < best[i][0]:
+                best[i] = (c, Bk.sse(th, te))
+        if on_grid:
+            th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
+            costs.append(Bk.sse(th, train).sum())
+
     for gval in grid:
         sh = dict(cur.shapes)
         sh[cand] = float(gval)
         if _has_mask(eff):
             X, params, groups = assemble(D, cur.effects + (cand,), sh, ctx)
             Bk = blocks(X, D.y, D.bounds, params)
+            del X  # not alive while the next grid value's design is built
             sl = groups[cand]
         else:
             Xn = eff.columns(D, float(gval), ctx)
@@ -734,28 +753,14 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
                     Xn = REGISTRY[o].transform(D, Xn, cur.shapes.get(o, np.nan), ctx)
             Bk = extend_blocks(base_blk, X0, Xn, D.y, D.bounds, eff.params(D))
             sl = slice(X0.shape[1], X0.shape[1] + Xn.shape[1])
-        blks.append((Bk, sl))
+            del Xn
+        score(Bk, sl, True)
+        del Bk
     if _has_mask(eff):
-        blks.append((base_blk, None))  # "valve closed" is not nested in the relief grid: offer it
+        score(base_blk, None, False)  # "valve closed" is not nested in the relief grid: offer it
     sse = np.full(D.n_exp, np.nan)
-    for f in np.unique(folds[train]):
-        tr = train[folds[train] != f]
-        te = train[folds[train] == f]
-        best = None
-        for Bk, sl in blks:
-            Gtr = Bk.G[tr].sum(0)
-            if sl is not None and not np.all(np.diag(Gtr)[sl] > 0):
-                continue  # the term leaves no trace in this fold's training part
-            th = solve_bounded(Gtr, Bk.b[tr].sum(0), Bk.lower, Bk.upper)
-            c = Bk.sse(th, tr).sum()
-            if best is None or c < best[0]:
-                best = (c, th, Bk)
-        sse[te] = fallback[te] if best is None else best[2].sse(best[1], te)
-    # shape best on all training experiments (for the trial fit)
-    costs = []
-    for Bk, sl in blks[: len(grid)]:
-        th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
-        costs.append(Bk.sse(th, train).sum())
+    for (tr, te), b in zip(parts, best):
+        sse[te] = fallback[te] if b is None else b[1]
     return sse, float(grid[int(np.argmin(costs))])
 
 
@@ -1047,8 +1052,9 @@ def final_fits(D: FitData, plan: Plan, sel, shapes: dict, settings: DiagnoseSett
         allx = np.arange(D.n_exp)
         fold_ids = np.unique(plan.folds[plan.folds >= 0])
         vals = {e: [] for e in shaped}
+        memo: dict = {}  # the folds' shape searches share their Gram blocks, summed per fold (leave-one-fold-out by summing)
         for f in fold_ids:
-            ff = fit_model(D, sel, experiments=np.setdiff1d(allx, allx[plan.folds == f]), ctx=final.ctx)
+            ff = fit_model(D, sel, experiments=np.setdiff1d(allx, allx[plan.folds == f]), ctx=final.ctx, memo=memo, memo_groups=plan.folds)
             for e in shaped:
                 vals[e].append(ff.shapes[e])
         k = len(fold_ids)

@@ -72,6 +72,8 @@ __all__ = [
     "DISCOVERY_IDS",
     "register",
     "baseline_columns",
+    "baseline_params",
+    "fill_baseline",
     "chamber_remainders",
     "thermal_state",
     "lowpass",
@@ -211,9 +213,10 @@ class Check:
 
 
 #: The column cache of a FitData holds at most this many arrays of its length, and at most
-#: CACHE_BYTES in all (memory stays bounded on large campaigns).
+#: CACHE_BYTES in all (memory stays bounded on large campaigns: 64 MB is all of a 135-experiment
+#: campaign's columns, and ~40 columns of a campaign ten times that size).
 CACHE_COLUMNS = 120
-CACHE_BYTES = 160e6
+CACHE_BYTES = 64e6
 
 
 def _nbytes(v) -> int:
@@ -225,9 +228,10 @@ def _nbytes(v) -> int:
 
 
 def cached(D: FitData, key, make):
-    """``D._cache[key]``, computed by ``make()`` when missing; the oldest entries go when over :data:`CACHE_COLUMNS`."""
+    """``D._cache[key]``, computed by ``make()`` when missing; the least recently used entries go when over :data:`CACHE_COLUMNS`."""
     c = D._cache
     if key in c:
+        c[key] = c.pop(key)  # most recently used last
         return c[key]
     val = make()
     c[key] = val
@@ -259,6 +263,52 @@ def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:
         bounded below by 0.
     """
     return cached(D, ("eq14",), lambda: _baseline_columns(D))
+
+
+def baseline_params(D: FitData) -> list[Param]:
+    """The parameters of eq. 14's columns (see :func:`baseline_columns`), without building the columns.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (its valve angles, deg, give one damping parameter each).
+
+    Returns
+    -------
+    list of Param
+        ``g`` (N/mm/MPa), ``C`` (N) and one ``L(γ)`` (N s/mm) per valve angle, all bounded below by 0.
+    """
+    params = [
+        Param("g", "N/mm/MPa", 0.0, np.inf, "spring stiffness per MPa of p2"),
+        Param("C", "N", 0.0, np.inf, "Coulomb friction (Table 3's B)"),
+    ]
+    for val in D.valves:
+        params.append(Param(f"L({val:g})", "N s/mm", 0.0, np.inf, f"linear damping at valve {val:g} deg"))
+    return params
+
+
+def fill_baseline(D: FitData, out: np.ndarray) -> None:
+    """Write eq. 14's columns (the values of :func:`baseline_columns`) into ``out[:, :2 + len(D.valves)]``.
+
+    Lets a design be built in one array, without a cached ``(n, 2 + valves)`` copy of the mostly-zero
+    per-valve damping columns (memory on large campaigns).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign's arrays (x in mm, ẋ in mm/s, p2 in MPa, valve angles in deg).
+    out : numpy.ndarray, shape (D.n, p) with p >= 2 + len(D.valves)
+        Filled in place: ``p2 x`` (MPa mm), ``sign(ẋ)`` (dimensionless) and one ``ẋ`` column (mm/s) per
+        valve angle, zero at samples of the other angles; columns beyond are left untouched.
+
+    Returns
+    -------
+    None
+    """
+    out[:, 0] = D.p2 * D.x
+    out[:, 1] = D.s
+    for j in range(len(D.valves)):
+        out[:, 2 + j] = D.v * (D.valve_idx == j)
 
 
 def _baseline_columns(D: FitData):
@@ -522,8 +572,12 @@ class Effect:
         """Samples whose linear damping column this effect replaces (None: none)."""
         return None
 
-    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict) -> np.ndarray:
-        """The whole design matrix as the effect changes it (sensor dynamics); identity by default."""
+    def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict, out: np.ndarray | None = None) -> np.ndarray:
+        """The whole design matrix as the effect changes it (sensor dynamics); identity by default.
+
+        ``out``: where to write the result (may be ``X`` itself: the design is then transformed in
+        place, without a second copy); a new array when None.
+        """
         return X
 
     @property
@@ -1042,6 +1096,14 @@ register(Leakage(
 
 
 # ================================================================== discovery operators
+def _into(res: np.ndarray, out: np.ndarray | None) -> np.ndarray:
+    """``res``, written into ``out`` when the caller gives a buffer (``Effect.transform``'s contract)."""
+    if out is None:
+        return res
+    out[...] = res
+    return out
+
+
 def _fine_grid(D: FitData, m: int):
     """Index arrays of :func:`_on_sample_grid` (cached): groups of experiments with the same spacing and lengths.
 
@@ -1122,7 +1184,7 @@ class ForceLag(Effect):
     def columns(self, D, tau, ctx):
         return np.zeros((D.n, 0))
 
-    def transform(self, D, X, tau, ctx):
+    def transform(self, D, X, tau, ctx, out=None):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
         # motion (zero force state: every column of the model vanishes at rest at x = 0)
@@ -1130,13 +1192,26 @@ class ForceLag(Effect):
             q = np.exp(-dt / tau)
             return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
 
-        return _on_sample_grid(D, X, op)
+        return _into(_on_sample_grid(D, X, op), out)
 
     def describe(self, values, errors, tau, se):
         return (
             f"The force reading lags the motion by tau = {_fmt(tau, se, 's')} (first-order lag of the whole force): "
             "sensor or amplifier dynamics, not the spring or damper."
         )
+
+
+def _bilinear_2nd_order(wn: float, zeta: float, fs: float):
+    """``scipy.signal.bilinear([wn²], [1, 2 ζ wn, wn²], fs)`` in closed form (the same digital filter, without its polynomial overhead).
+
+    Parameters: natural frequency ``wn`` (rad/s), damping ratio ``zeta`` (-), sampling rate ``fs`` (Hz).
+    Returns the numerator and denominator coefficients (descending powers of z, ``a[0] = 1``).
+    """
+    K = 2.0 * fs
+    a0 = K * K + 2.0 * zeta * wn * K + wn * wn
+    b = (wn * wn / a0) * np.array([1.0, 2.0, 1.0])
+    a = np.array([1.0, 2.0 * (wn * wn - K * K) / a0, (K * K - 2.0 * zeta * wn * K + wn * wn) / a0])
+    return b, a
 
 
 @dataclass(frozen=True)
@@ -1165,18 +1240,14 @@ class ForceFilter(ForceLag):
             return coarse
         return np.clip(tau, 0.003, 3.0) * np.geomspace(0.6, 2.5, 9)
 
-    def transform(self, D, X, lag, ctx):
+    def transform(self, D, X, lag, ctx, out=None):
         wn = 2 * self.zeta / lag
 
         def op(seg, dt):
-            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form
-            K = 2.0 / dt
-            a0 = K * K + 2 * self.zeta * wn * K + wn * wn
-            az = np.array([1.0, (2 * wn * wn - 2 * K * K) / a0, (K * K - 2 * self.zeta * wn * K + wn * wn) / a0])
-            bz = wn * wn / a0 * np.array([1.0, 2.0, 1.0])
+            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)  # Tustin, in closed form
             return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
 
-        return _on_sample_grid(D, X, op)
+        return _into(_on_sample_grid(D, X, op), out)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)

@@ -22,6 +22,7 @@ Everything is computed from per-experiment normal-equation blocks
 
 from __future__ import annotations
 
+import inspect
 import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -31,7 +32,7 @@ import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from .effects import REGISTRY, FitData, baseline_columns
+from .effects import REGISTRY, FitData, baseline_params, fill_baseline
 from .recordings import Recordings
 
 __all__ = [
@@ -99,28 +100,44 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     """
     shapes = shapes or {}
     ctx = ctx or {}
-    X0, params = baseline_columns(D)
-    X0 = X0.copy()
-    cols = [X0]
-    groups = {"eq14": slice(0, X0.shape[1])}
-    p = X0.shape[1]
+    params, groups = _layout(D, effects)
+    p0, p = groups["eq14"].stop, len(params)
+    # one (n, p) array filled in place, column block by column block: no copies of the baseline or of
+    # all the stacked columns at once (memory on large campaigns)
+    X = np.empty((D.n, p))
+    fill_baseline(D, X)
     for eid in effects:
         eff = REGISTRY[eid]
         sv = shapes.get(eid, np.nan)
         m = eff.damping_mask(D, sv, ctx)
         if m is not None:
-            X0[m, 2:] = 0.0
+            X[m, 2:p0] = 0.0
         c = eff.columns(D, sv, ctx)
-        cols.append(c)
-        params = params + list(eff.params(D))
-        groups[eid] = slice(p, p + c.shape[1])
-        p += c.shape[1]
-    X = np.column_stack(cols)
+        if c.shape[1] != groups[eid].stop - groups[eid].start:
+            raise ValueError(f"effect {eid!r} gives {c.shape[1]} columns for {groups[eid].stop - groups[eid].start} parameters")
+        X[:, groups[eid]] = c
+        del c
     for eid in effects:
         eff = REGISTRY[eid]
         if eff.transforms_design:
-            X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
+            if "out" in inspect.signature(eff.transform).parameters:
+                X = eff.transform(D, X, shapes.get(eid, np.nan), ctx, out=X)  # X is ours: transformed in place
+            else:
+                X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
     return X, params, groups
+
+
+def _layout(D: FitData, effects) -> tuple[list, dict]:
+    """Parameters and column groups of the design of eq. 14 plus ``effects`` (see :func:`assemble`), without building it."""
+    params = baseline_params(D)
+    groups = {"eq14": slice(0, len(params))}
+    p = len(params)
+    for eid in effects:
+        q = list(REGISTRY[eid].params(D))
+        params = params + q
+        groups[eid] = slice(p, p + len(q))
+        p += len(q)
+    return params, groups
 
 
 @dataclass(frozen=True)
@@ -250,10 +267,56 @@ def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.nda
     th = cho_solve(cf, bs) / d
     if np.all(th >= lower - 1e-12) and np.all(th <= upper + 1e-12):
         return th
+    xs = _box_active_set(Gs, bs, lower * d, upper * d, th * d)
+    if xs is not None:
+        return xs / d
     R = np.triu(cf[0]) if not cf[1] else np.triu(cf[0].T)
     c = solve_triangular(R.T, bs, lower=True)
     sol = lsq_linear(R, c, bounds=(lower * d, upper * d), method="bvls")
     return sol.x / d
+
+
+def _box_active_set(Gs: np.ndarray, bs: np.ndarray, lo: np.ndarray, hi: np.ndarray, x0: np.ndarray) -> np.ndarray | None:
+    """Exact minimiser of ``xᵀGs x - 2 bsᵀx`` on the box ``lo <= x <= hi`` (Gs positive definite), or None.
+
+    Primal active-set method (Lawson-Hanson generalised to two-sided bounds),
+    started from the clipped unconstrained minimiser ``x0``: solve on the free
+    variables with the others held at their bounds; step back to the first
+    bound crossed while infeasible, else release the bound variable whose
+    multiplier has the wrong sign, until none has. Each step is a Cholesky
+    solve of the free block: the same optimum as BVLS, far cheaper for the
+    few dozen parameters of a diagnosis model. None after ``10 p + 10``
+    steps (the caller falls back to BVLS).
+    """
+    p = len(bs)
+    x = np.clip(x0, lo, hi)
+    act = (x == lo) | (x == hi)
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(bs))))
+    for _ in range(10 * p + 10):
+        F = ~act
+        z = x.copy()
+        if F.any():
+            rhs = bs[F] - Gs[np.ix_(F, act)] @ x[act]
+            z[F] = cho_solve(cho_factor(Gs[np.ix_(F, F)]), rhs)
+        if np.all(z[F] >= lo[F]) and np.all(z[F] <= hi[F]):
+            x = z
+            w = bs - Gs @ x  # minus half the gradient: <= 0 at an optimal lower bound, >= 0 at an optimal upper one
+            viol = np.where(act & (x == lo), w, 0.0) - np.where(act & (x == hi), w, 0.0)
+            k = int(np.argmax(viol))
+            if viol[k] <= tol:
+                return x
+            act[k] = False
+        else:
+            dz = z - x
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = np.minimum(np.where(F & (dz < 0), (lo - x) / dz, np.inf), np.where(F & (dz > 0), (hi - x) / dz, np.inf))
+            k = int(np.argmin(step))
+            x = x + min(max(float(step[k]), 0.0), 1.0) * dz
+            x[k] = lo[k] if dz[k] < 0 else hi[k]
+            act |= F & ((x <= lo) | (x >= hi))
+            act[k] = True
+            x = np.clip(x, lo, hi)
+    return None
 
 
 @dataclass(frozen=True)
@@ -341,17 +404,19 @@ class ModelFit:
     def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
         """Force (N) the effect adds relative to the same model (same amplitudes) without it."""
         ctx = self._ctx_for(D)
-        X = assemble(D, self.effects, self.shapes, ctx)[0]
+        f = assemble(D, self.effects, self.shapes, ctx)[0] @ self.theta  # one design alive at a time
         others = tuple(e for e in self.effects if e != effect_id)
         Xo, _, go = assemble(D, others, self.shapes, ctx)
         keep = np.ones(len(self.theta), bool)
         keep[self.groups[effect_id]] = False
-        return X @ self.theta - Xo @ self.theta[keep]
+        return f - Xo @ self.theta[keep]
 
     def damping_force(self, D: FitData) -> np.ndarray:
         """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
-        X0, _ = baseline_columns(D)
-        return X0[:, 2:] @ self.theta[2 : self.groups["eq14"].stop]
+        L = self.theta[2 : self.groups["eq14"].stop]  # one damping column per valve, zero at the other valves' samples
+        if len(L) != len(D.valves):
+            raise ValueError(f"the model has {len(L)} valve damping parameters, the data {len(D.valves)} valve positions")
+        return D.v * L[D.valve_idx]
 
 
 def _cluster_se(Bk: Blocks, theta: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -377,6 +442,8 @@ def fit_model(
     shapes: dict | None = None,
     ctx: dict | None = None,
     refine: bool = True,
+    memo: dict | None = None,
+    memo_groups: np.ndarray | None = None,
 ) -> ModelFit:
     """Fit eq. 14 plus ``effects`` to the experiments ``experiments`` of ``D``.
 
@@ -399,6 +466,15 @@ def fit_model(
         fits when needed and not given.
     refine : bool
         Refine grid-searched shape parameters.
+    memo, memo_groups : dict and int array (one label per experiment), optional
+        Share the shape search's Gram blocks between fits of the same ``D``,
+        ``effects`` and ``ctx`` on different unions of groups of experiments
+        (the fold refits of a jackknife): ``memo`` keeps, per shape values
+        tried, the blocks summed per group; a fit whose ``experiments`` are
+        whole groups reuses them (leave-groups-out by summing the other
+        groups' Gram matrices) instead of rebuilding the design. Pass the
+        same empty dict to each of those fits; ignored when the experiments
+        are not whole groups.
 
     Returns
     -------
@@ -418,21 +494,59 @@ def fit_model(
     def train_sse(sh):
         X, params, _ = assemble(D, effects, sh, ctx)
         Bk = blocks(X, D.y, D.bounds, params)
+        del X
         th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
         return float(Bk.sse(th, rows).sum()), th, Bk, params
+
+    grouped = None
+    if memo is not None and memo_groups is not None:
+        labels, gi = np.unique(np.asarray(memo_groups), return_inverse=True)
+        in_rows = np.zeros(len(labels), bool)
+        in_rows[np.unique(gi[rows])] = True
+        if np.array_equal(np.sort(rows), np.flatnonzero(in_rows[gi])):  # the experiments are whole groups
+            grouped = (len(labels), gi, in_rows)
+
+    def memo_cost(key, make_blocks):
+        """Training SSE from the per-group sums of the blocks of shape values ``key`` (built once by ``make_blocks``)."""
+        nl, gi, in_rows = grouped
+        ent = memo.get(key)
+        if ent is None:
+            Bk = make_blocks()
+            ent = (np.stack([Bk.G[gi == j].sum(0) for j in range(nl)]), np.stack([Bk.b[gi == j].sum(0) for j in range(nl)]),
+                   np.array([Bk.yy[gi == j].sum() for j in range(nl)]), Bk.lower, Bk.upper)
+            memo[key] = ent
+        Gg, bg, yyg, lo, hi = ent
+        G, b = Gg[in_rows].sum(0), bg[in_rows].sum(0)
+        th = solve_bounded(G, b, lo, hi)
+        return float(yyg[in_rows].sum() - 2 * b @ th + th @ G @ th)
+
+    def full_cost(sh):
+        if grouped is None:
+            return train_sse(sh)[0]
+        return memo_cost(("design",) + tuple(sorted(sh.items())), lambda: train_sse(sh)[2])
 
     def cost_fn(e):
         """SSE as a function of effect e's shape, others fixed (blocks of the rest computed once)."""
         eff = REGISTRY[e]
         if not all(REGISTRY[o].nested for o in effects):
-            return lambda val: train_sse(dict(shapes, **{e: float(val)}))[0]
+            return lambda val: full_cost(dict(shapes, **{e: float(val)}))
         rest = tuple(o for o in effects if o != e)
-        X0, p0, _ = assemble(D, rest, shapes, ctx)
-        B0 = blocks(X0, D.y, D.bounds, p0)
+        rest_key = tuple(sorted((k, v) for k, v in shapes.items() if k != e))
+        base = []  # blocks of the rest, built at the first evaluation that needs them
+
+        def extended(val):
+            if not base:
+                X0, p0, _ = assemble(D, rest, shapes, ctx)
+                base.extend([X0, blocks(X0, D.y, D.bounds, p0)])
+            X0, B0 = base
+            return extend_blocks(B0, X0, eff.columns(D, float(val), ctx), D.y, D.bounds, pe)
+
         pe = eff.params(D)
 
         def cost(val):
-            Bk = extend_blocks(B0, X0, eff.columns(D, float(val), ctx), D.y, D.bounds, pe)
+            if grouped is not None:
+                return memo_cost(("extend", e, float(val)) + rest_key, lambda: extended(val))
+            Bk = extended(val)
             th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
             return float(Bk.sse(th, rows).sum())
 
@@ -457,7 +571,7 @@ def fit_model(
                     if r.fun <= costs[k]:
                         shapes[e] = float(back(r.x))
     sse, th, Bk, params = train_sse(shapes)
-    X, params, groups = assemble(D, effects, shapes, ctx)
+    params, groups = _layout(D, effects)
     se = _cluster_se(Bk, th, rows)
     n_rows = int(Bk.n[rows].sum())
     return ModelFit(effects, shapes, params, th, se, float(np.sqrt(sse / max(n_rows, 1))), n_rows, groups, ctx)

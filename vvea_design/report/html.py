@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -34,12 +34,18 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..actuator.design_study import DesignStudy
-    from ..pipeline import UnitDesign
+    from ..actuator.model import Actuator
+    from ..bladder.check import BladderResult
+    from ..spring.curve import SpringCurve
+    from ..spring.optimise import OptimisationResult
+    from ..spring.requirements import Requirements
+    from .bom import BillOfMaterials
+    from .drawing import DrawingSet
 
 __all__ = [
     "Section", "HtmlReport", "ViewerPart", "table", "paragraph", "verdict", "figure_svg", "image",
     "preformatted", "viewer", "viewer_parts_from_cad", "unit_report", "folder_report", "write_folder_report",
-    "recorded_text", "pass_fail",
+    "recorded_text", "pass_fail", "UnitResult",
     "MAX_REPORT_BYTES",
 ]
 
@@ -543,7 +549,80 @@ _VIEWER_JS = r"""
 
 
 # ------------------------------------------------------------- unit report
-def _spring_figure(unit: "UnitDesign") -> "Figure":
+class UnitResult(Protocol):
+    """What :func:`unit_report` reads of a designed unit.
+
+    The main job's result (``UnitDesign`` of the pipeline module, which sits above this
+    one and calls it) has every member; the report states the shape it needs
+    instead of importing its caller. Read-only members, units as in the result.
+    """
+
+    @property
+    def requirements(self) -> Requirements:
+        """What was asked for."""
+
+    @property
+    def optimisation(self) -> OptimisationResult:
+        """The optimised design, evaluated (margins, performance)."""
+
+    @property
+    def spring(self) -> SpringCurve:
+        """Isothermal and adiabatic force curves (N), deviations (N), pressures (MPa) over x (mm)."""
+
+    @property
+    def bladder(self) -> BladderResult:
+        """The bladder check with the requirements' silicone."""
+
+    @property
+    def actuator(self) -> Actuator:
+        """Joint-level K, D range of the unit (SI)."""
+
+    @property
+    def cad_manifest(self) -> dict | None:
+        """The CAD set's manifest (None when CAD was skipped)."""
+
+    @property
+    def bom(self) -> BillOfMaterials | None:
+        """Bill of materials (None: no CAD)."""
+
+    @property
+    def drawings(self) -> DrawingSet | None:
+        """Dimensioned drawings (None: no CAD)."""
+
+    @property
+    def actuator_study(self) -> DesignStudy | None:
+        """The design's rest-to-rest and torque-step study (None when skipped)."""
+
+    @property
+    def out_dir(self) -> Path:
+        """The folder written."""
+
+    @property
+    def files(self) -> dict[str, Path]:
+        """What was written, by role."""
+
+    @property
+    def seconds(self) -> dict[str, float]:
+        """Wall time of each step (s)."""
+
+    @property
+    def seed(self) -> int:
+        """Seed of the optimiser."""
+
+    @property
+    def version(self) -> str:
+        """vvea-design version that made it."""
+
+    @property
+    def spec_path(self) -> str | None:
+        """Requirements file (None: the built-in defaults)."""
+
+    @property
+    def passes(self) -> bool:
+        """Every constraint met and the bladder check passed."""
+
+
+def _spring_figure(unit: UnitResult) -> "Figure":
     from matplotlib.figure import Figure
 
     c = unit.spring
@@ -573,7 +652,7 @@ def _spring_figure(unit: "UnitDesign") -> "Figure":
     return fig
 
 
-def _bladder_figure(unit: "UnitDesign") -> "Figure":
+def _bladder_figure(unit: UnitResult) -> "Figure":
     from matplotlib.figure import Figure
 
     bl = unit.bladder
@@ -596,7 +675,7 @@ def _bladder_figure(unit: "UnitDesign") -> "Figure":
     return fig
 
 
-def _requirements_section(unit: "UnitDesign") -> Section:
+def _requirements_section(unit: UnitResult) -> Section:
     from dataclasses import fields
 
     req = unit.requirements
@@ -612,7 +691,7 @@ def _requirements_section(unit: "UnitDesign") -> Section:
                    table(("requirement (unit in the name)", "value"), rows) + bounds)
 
 
-def _margins_section(unit: "UnitDesign") -> Section:
+def _margins_section(unit: UnitResult) -> Section:
     ev = unit.optimisation.evaluation
     rows = []
     for name, m in ev.margins.items():
@@ -641,7 +720,7 @@ def _margins_section(unit: "UnitDesign") -> Section:
     return Section("Design and constraint margins", body)
 
 
-def _bladder_section(unit: "UnitDesign") -> Section:
+def _bladder_section(unit: UnitResult) -> Section:
     bl = unit.bladder
     rows = []
     for k, e in bl.ends.items():
@@ -661,7 +740,7 @@ def _bladder_section(unit: "UnitDesign") -> Section:
     return Section("Bladder", body)
 
 
-def _actuator_section(unit: "UnitDesign") -> Section:
+def _actuator_section(unit: UnitResult) -> Section:
     from ..actuator.model import PAPER_SETTINGS
 
     a = unit.actuator
@@ -717,7 +796,7 @@ def _design_study_blocks(study: "DesignStudy") -> str:
     return out
 
 
-def _cad_section(unit: "UnitDesign") -> tuple[Section, tuple[str, ...]] | None:
+def _cad_section(unit: UnitResult) -> tuple[Section, tuple[str, ...]] | None:
     cad_dir = unit.out_dir / "cad"
     if unit.cad_manifest is None or not cad_dir.exists():
         return None
@@ -733,7 +812,7 @@ def _cad_section(unit: "UnitDesign") -> tuple[Section, tuple[str, ...]] | None:
     return Section("3-D model", body, anchor="model"), scripts
 
 
-def _bom_section(unit: "UnitDesign") -> Section | None:
+def _bom_section(unit: UnitResult) -> Section | None:
     bom = unit.bom
     if bom is None:
         return None
@@ -754,7 +833,7 @@ def _bom_section(unit: "UnitDesign") -> Section | None:
 MAX_INLINE_DRAWINGS_BYTES = 1_500_000
 
 
-def _drawings_section(unit: "UnitDesign") -> Section | None:
+def _drawings_section(unit: UnitResult) -> Section | None:
     ds = unit.drawings
     if ds is None:
         return None
@@ -780,7 +859,7 @@ def _scale(s: float) -> str:
     return f"{s:g}:1" if s >= 1 else f"1:{1 / s:g}"
 
 
-def _files_section(unit: "UnitDesign") -> Section:
+def _files_section(unit: UnitResult) -> Section:
     rows = []
     for role, p in unit.files.items():
         p = Path(p)
@@ -792,7 +871,7 @@ def _files_section(unit: "UnitDesign") -> Section:
     return Section("Files", table(("what", "path (in the output folder)"), rows))
 
 
-def _provenance_section(unit: "UnitDesign") -> Section:
+def _provenance_section(unit: UnitResult) -> Section:
     spec_hash = ""
     if unit.spec_path and Path(unit.spec_path).exists():
         spec_hash = hashlib.sha256(Path(unit.spec_path).read_bytes()).hexdigest()
@@ -806,13 +885,13 @@ def _provenance_section(unit: "UnitDesign") -> Section:
                    preformatted(json.dumps(unit.requirements.to_dict(), indent=2, default=str)))
 
 
-def unit_report(unit: "UnitDesign") -> HtmlReport:
+def unit_report(unit: UnitResult) -> HtmlReport:
     """The report of one designed unit (what ``vvea design`` writes as ``report.html``).
 
     Parameters
     ----------
-    unit : UnitDesign
-        The main job's result (:func:`vvea_design.pipeline.design_unit`).
+    unit : UnitResult
+        The main job's result (``design_unit`` of the pipeline module returns one).
 
     Returns
     -------

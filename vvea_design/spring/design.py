@@ -47,7 +47,7 @@ from ..materials.structural import (
 )
 
 __all__ = ["FixedParameters", "Design", "DesignError", "DECISION_VARIABLES", "LayoutVariant", "LAYOUTS",
-           "get_layout", "derive", "WALLS"]
+           "get_layout", "derive", "WALLS", "CHANNEL_GAP_MM"]
 
 #: The decision variables of today's layout (``inner_tube``), in order, with their units in the name.
 DECISION_VARIABLES = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3")
@@ -99,6 +99,10 @@ def get_layout(name: str) -> LayoutVariant:
         return LAYOUTS[name]
     except (KeyError, TypeError):
         raise DesignError(f"unknown layout {name!r}; known: {', '.join(LAYOUTS)}") from None
+
+#: Radial room the cast bladder must leave to the inner tube for the support ring's fluid channels, mm: the CAD
+#: draws them (>= 0.5 mm) beside the cuff's sealing bead when the gap is >= 10/9 mm (``cad.layout``); with a margin.
+CHANNEL_GAP_MM = 1.15
 
 #: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout).
 WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead")
@@ -194,7 +198,7 @@ class FixedParameters:
 # ---------------------------------------------------------------------------
 
 def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2_MPa, setpoint_x0_mm,
-           fixed: FixedParameters, bulkhead: bool) -> dict[str, np.ndarray]:
+           fixed: FixedParameters, bulkhead: bool, cast_fill=None) -> dict[str, np.ndarray]:
     """Every derived quantity of a design, from its decision variables (arrays broadcast).
 
     The single source of the geometry, strength and mass formulas: :class:`Design`
@@ -226,6 +230,9 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         Everything the optimiser does not change (walls' minimums, safety factor, bladder, materials).
     bulkhead : bool
         The ``bulkhead`` layout (else ``inner_tube``).
+    cast_fill : float or array, optional
+        Stroke fraction at which the bladder has its cast shape, per design
+        (when the optimiser varies it); default ``fixed.bladder_cast_fill``.
 
     Returns
     -------
@@ -305,8 +312,8 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     # chamber 2 around the bladder
     disp = A2 * T
     g["displaced_volume_mm3"] = disp
-    fill = f.bladder_cast_fill
-    g["bladder_cast_fill_fraction"] = np.full_like(L, fill)
+    fill = f.bladder_cast_fill if cast_fill is None else np.asarray(cast_fill, dtype=float)
+    g["bladder_cast_fill_fraction"] = fill * np.ones_like(L)
     V2_ann = V2 - f.dead_volume_2_mm3 - Vt
     g["V2_annulus_mm3"] = V2_ann
     cast_gas = V2_ann - disp * fill
@@ -331,6 +338,7 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         g["bladder_shift_compressed_mm"], g["bladder_shift_expanded_mm"] = s_c, s_e
         g["bladder_clearance_compressed_mm"] = r_bi + k * s_c - rio - gap
         g["bladder_clearance_expanded_mm"] = rb - (r_bo + k * s_e) - gap
+        g["bladder_cast_gap_mm"] = r_bi - rio  # room inside the cast bladder (support-ring channels)
         fluid_cast = pi * np.maximum(r_bi**2 - rio**2, 0.0) * L
         g["bladder_fluid_volume_cast_mm3"] = fluid_cast
         g["fluid_volume_mm3"] = A2 * fluid_col + fluid_cast + dv_c
@@ -638,6 +646,57 @@ class Design:
     def fluid_volume_mm3(self) -> float:
         """Hydraulic fluid to fill at x = 0 (inner-tube column + bladder at x = 0), mm³."""
         return self._g["fluid_volume_mm3"]
+
+    def volume_budget_mm3(self, envelope_length_mm: float | None = None) -> dict[str, float]:
+        """Where every mm³ of the envelope cylinder goes at x = 0, mm³ (items sum to the envelope).
+
+        The envelope is a cylinder of the outer diameter and ``envelope_length_mm``
+        (default: the housing length); what the housing does not use is
+        ``unused_length``. Items: the walls (outer tube, inner tube, top cap,
+        base, bulkhead, fill-tube wall), the piston, the rod inside the fluid
+        column, the fluid under the piston (the stroke's swept column and the
+        clearance left at full stroke), the bladder clamps (support ring and
+        top clamp over the annulus), the bladder's silicone, the fluid inside
+        the bladder at x = 0 split into the ``bladder_min_gap_mm`` layer on the
+        inner tube and the rest (the room the inward bulge at x = 0 needs, plus
+        any slack), and the gas: chamber 1 (``V1``) and chamber 2 (``V2``,
+        above the bulkhead and in the annulus).
+        """
+        f, pi = self.fixed, math.pi
+        H = self.housing_length_mm if envelope_length_mm is None else float(envelope_length_mm)
+        ro, rb, rio, ri = (self.outer_diameter_mm / 2, self.outer_bore_radius_mm, self.inner_tube_outer_radius_mm,
+                           self.piston_diameter_mm / 2)
+        L_in, L = self.inner_length_mm, self.bladder_free_length_mm
+        A1, a_rod = self.A1_mm2, pi / 4 * f.rod_diameter_mm**2
+        a_fo = pi / 4 * f.fill_tube_outer_mm**2 if self.variant.has_bulkhead else 0.0
+        a_fb = pi / 4 * f.fill_tube_bore_mm**2 if self.variant.has_bulkhead else 0.0
+        fluid_x0 = self.bladder_fluid_volume_cast_mm3 + self.bladder_volume_change_mm3["compressed"]
+        gap = pi * ((rio + f.bladder_min_gap_mm) ** 2 - rio**2) * L
+        clearance = f.fluid_clearance_mm
+        out = {
+            "wall_outer_tube": pi * (ro**2 - rb**2) * L_in,
+            "wall_inner_tube": pi * (rio**2 - ri**2) * L_in,
+            "wall_top_cap": pi * ro**2 * self.top_cap_mm,
+            "wall_base": pi * ro**2 * self.base_mm,
+            "wall_bulkhead": (A1 - a_fb) * self.bulkhead_mm,
+            "wall_fill_tube": (a_fo - a_fb) * self.top_space_length_mm,
+            "piston": A1 * f.piston_height_mm,
+            "rod_in_fluid_column": a_rod * self.fluid_column_mm,
+            "fluid_swept_by_stroke": (A1 - a_rod) * f.travel_mm,
+            "fluid_clearance_under_piston": (A1 - a_rod) * clearance,
+            "bladder_clamps": 2 * pi * (rb**2 - rio**2) * f.bladder_clamp_mm,
+            "bladder_silicone": pi * (self.bladder_outer_radius_mm**2 - self.bladder_inner_radius_mm**2) * L,
+            "bladder_fluid_min_gap": gap,
+            "bladder_fluid_bulge_room": fluid_x0 - gap,
+            "gas_chamber_1": self.V1_mm3,
+            "gas_chamber_2_above_bulkhead": self.V2_top_mm3,
+            "gas_chamber_2_annulus": self.V2_mm3 - self.V2_top_mm3,
+            "unused_length": pi * ro**2 * (H - self.housing_length_mm),
+        }
+        # the dead volumes are gas outside the drawn columns: not in the envelope's cylinder
+        out["gas_chamber_1"] -= f.dead_volume_1_mm3
+        out["gas_chamber_2_annulus"] -= f.dead_volume_2_mm3
+        return out
 
     # --------------------------------------------------------------- springs
     @property

@@ -82,7 +82,26 @@ def _clean(v: Any) -> Any:
 
 
 def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | None = None) -> dict:
-    """The design JSON content of an evaluated design."""
+    """The design JSON content of an evaluated design (the layout in this module's docstring).
+
+    Parameters
+    ----------
+    evaluation : Evaluation
+        The evaluated design (:func:`~vvea_design.spring.requirements.evaluate_design`): its design,
+        performance and constraint margins.
+    req : Requirements
+        The requirements it was evaluated against (stored as ``spec``; the minimum walls use its
+        safety factor).
+    optimiser : dict or None
+        The optimiser's summary (:meth:`OptimisationResult.summary`), stored as ``optimiser``;
+        None or empty: no such block.
+
+    Returns
+    -------
+    dict
+        Plain JSON data (numpy scalars as Python numbers, non-finite floats as None); units in the
+        keys (mm, mm², mm³, MPa, N, g).
+    """
     d = evaluation.design
     gs = d.gas_spring
     out = {
@@ -122,7 +141,27 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
 
 
 def save_design(path: str | Path, evaluation: Evaluation, req: Requirements, optimiser: dict | None = None) -> Path:
-    """Write the design JSON (sorted keys, 2-space indent, trailing newline: byte-stable)."""
+    """Write the design JSON (sorted keys, 2-space indent, trailing newline: byte-stable).
+
+    Parameters
+    ----------
+    path : str or Path
+        File to write (parent folders created, an existing file replaced).
+    evaluation : Evaluation
+        The evaluated design (:func:`~vvea_design.spring.requirements.evaluate_design`): its design,
+        performance and constraint margins.
+    req : Requirements
+        The requirements it was evaluated against (stored as ``spec``; the minimum walls use its
+        safety factor).
+    optimiser : dict or None
+        The optimiser's summary (:meth:`OptimisationResult.summary`), stored as ``optimiser``;
+        None or empty: no such block.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(design_to_dict(evaluation, req, optimiser), indent=2, sort_keys=True) + "\n",
@@ -131,7 +170,25 @@ def save_design(path: str | Path, evaluation: Evaluation, req: Requirements, opt
 
 
 def read_design_json(path: str | Path) -> dict:
-    """Parse and validate the envelope of a design JSON (format, version, parameters)."""
+    """Parse and validate the envelope of a design JSON (format, version, parameters).
+
+    Parameters
+    ----------
+    path : str or Path
+        The design JSON file.
+
+    Returns
+    -------
+    dict
+        The parsed file; its ``parameters`` of eq. 5 are finite numbers (mm, mm², mm³, MPa).
+
+    Raises
+    ------
+    DesignFileError
+        If the file does not exist, is not valid JSON, is not a vvea design file, has an unsupported
+        ``format_version``, an unknown top-level or parameter key, or a parameter of eq. 5 that is
+        missing or not a finite number (each message names the file and key).
+    """
     path = Path(path)
     if not path.is_file():
         raise DesignFileError(f"design file {str(path)!r} does not exist")
@@ -170,7 +227,26 @@ def _check_envelope(data: Any, src: str) -> None:
 
 
 def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
-    """The gas spring from ``parameters`` alone (eq. 5): what `vvea check` and `vvea spring` evaluate."""
+    """The gas spring from ``parameters`` alone (eq. 5): what `vvea check` and `vvea spring` evaluate.
+
+    Parameters
+    ----------
+    path_or_data : str or Path or dict
+        A design JSON file, or its parsed content.
+
+    Returns
+    -------
+    GasSpring
+        Areas (mm²), volumes (mm³), charges (MPa), travel (mm) and polytropic exponent of the file.
+
+    Raises
+    ------
+    DesignFileError
+        If the file does not exist, is not valid JSON, is not a vvea design file, has an unsupported
+        ``format_version``, an unknown top-level or parameter key, or a parameter of eq. 5 that is
+        missing or not a finite number (each message names the file and key).
+        Also when the parameters do not make a valid spring (e.g. a chamber bottoms out in the travel).
+    """
     if isinstance(path_or_data, dict):
         data, src = path_or_data, "design"
         _check_envelope(data, src)
@@ -226,7 +302,29 @@ def _check_geometry_complete(data: dict, src: str) -> None:
 
 
 def load_design_dict(data: dict, src: str = "design") -> Design:
-    """Rebuild the frozen design from a parsed design JSON, checking that it is complete and consistent."""
+    """Rebuild the frozen design from a parsed design JSON, checking that it is complete and consistent.
+
+    Parameters
+    ----------
+    data : dict
+        Parsed design JSON.
+    src : str
+        Name of where ``data`` came from (a file path), put in front of every error.
+
+    Returns
+    -------
+    Design
+        The frozen design (geometry in mm, mm³; charge in MPa) whose derived areas and p1 agree with
+        the stored ones to 1e-6 relative.
+
+    Raises
+    ------
+    DesignFileError
+        If the envelope is wrong (see :func:`read_design_json`), ``setpoint_x0_mm``, ``layout``,
+        ``V2_top_mm3`` or a ``fixed`` field is missing or invalid, ``fixed`` disagrees with
+        ``parameters`` on travel or exponent, the geometry cannot be built, or a stored area or p1
+        disagrees with the geometry.
+    """
     _check_envelope(data, src)
     _check_geometry_complete(data, src)
     p = data["parameters"]
@@ -254,12 +352,45 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
 
 
 def load_design(path: str | Path) -> Design:
-    """Read a design JSON file into the frozen :class:`~vvea_design.spring.design.Design`."""
+    """Read a design JSON file into the frozen :class:`~vvea_design.spring.design.Design`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The design JSON file.
+
+    Returns
+    -------
+    Design
+        The frozen design (see :func:`load_design_dict`).
+
+    Raises
+    ------
+    DesignFileError
+        If the file cannot be read or is incomplete or inconsistent (the message names file and key).
+    """
     return load_design_dict(read_design_json(path), str(path))
 
 
 def load_requirements_from_design(path: str | Path) -> Requirements:
-    """The requirements stored in a design JSON (its ``spec``)."""
+    """The requirements stored in a design JSON (its ``spec``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The design JSON file.
+
+    Returns
+    -------
+    Requirements
+        The validated requirements the design was optimised for.
+
+    Raises
+    ------
+    DesignFileError
+        If the file cannot be read, has no ``spec`` object, or its ``spec`` is not valid
+        requirements (the message names the key).
+    """
     data = read_design_json(path)
     spec = data.get("spec")
     if not isinstance(spec, dict):
@@ -272,5 +403,24 @@ def load_requirements_from_design(path: str | Path) -> Requirements:
 
 
 def reevaluate(path: str | Path) -> Evaluation:
-    """Load a design and evaluate it against the requirements stored with it."""
+    """Load a design and evaluate it against the requirements stored with it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The design JSON file (with its ``spec``).
+
+    Returns
+    -------
+    Evaluation
+        Linearity (fraction), stiffness (N/mm), force (N), mass (g) and constraint margins
+        (dimensionless, > 0 met), recomputed from the file's design.
+
+    Raises
+    ------
+    DesignFileError
+        If the file cannot be read or is incomplete or inconsistent.
+    ValueError
+        If the stored requirements set ``max_bladder_strain`` (the FE strain is not recomputed here).
+    """
     return evaluate_design(load_design(path), load_requirements_from_design(path))

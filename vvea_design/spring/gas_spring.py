@@ -63,12 +63,33 @@ def _check_volumes(x, A1, A2, V1, V2) -> None:
 
 
 def chamber_pressures_MPa(x: ArrayLike, A1, A2, V1, V2, p1, p2, n: float = 1.0):
-    """Absolute-law chamber pressures ``(P1, P2)`` in MPa at displacement ``x`` (mm).
+    """Chamber pressures ``(P1, P2)`` at displacement ``x`` by the polytropic law ``p V**n = const``.
+
+    ``P2 = p2 (V2 / (V2 - A2 x))**n`` and ``P1 = p1 (V1 / (V1 + A1 x))**n`` (paper eqs 3-4 for n = 1).
+    All arguments broadcast with numpy.
+
+    Parameters
+    ----------
+    x : array_like
+        Displacement, mm; x > 0 extends the pull spring and compresses chamber 2.
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    p1, p2 : float or array_like
+        Absolute charge pressures of chambers 1 and 2 at x = 0, MPa.
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    P1, P2 : numpy.ndarray
+        Absolute pressures of chamber 1 and chamber 2, MPa, broadcast over the inputs.
 
     Raises
     ------
     ChamberBottomedOut
-        If a chamber volume is non-positive anywhere in ``x``.
+        If a chamber's gas volume (``V2 - A2 x`` or ``V1 + A1 x``) is zero or negative anywhere in ``x``.
     """
     _check_volumes(x, A1, A2, V1, V2)
     x = np.asarray(x, dtype=float)
@@ -78,13 +99,61 @@ def chamber_pressures_MPa(x: ArrayLike, A1, A2, V1, V2, p1, p2, n: float = 1.0):
 
 
 def force_N(x: ArrayLike, A1, A2, V1, V2, p1, p2, n: float = 1.0) -> np.ndarray:
-    """Spring force F(x) in N (paper eq. 5; polytropic exponent ``n``)."""
+    """Spring force ``F(x) = A2 P2 - A1 P1`` (paper eq. 5, generalised to the polytropic exponent ``n``).
+
+    Parameters
+    ----------
+    x : array_like
+        Displacement, mm; x > 0 extends the pull spring and compresses chamber 2.
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    p1, p2 : float or array_like
+        Absolute charge pressures of chambers 1 and 2 at x = 0, MPa.
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    numpy.ndarray
+        Force, N (tension > 0), broadcast over the inputs.
+
+    Raises
+    ------
+    ChamberBottomedOut
+        If a chamber's gas volume (``V2 - A2 x`` or ``V1 + A1 x``) is zero or negative anywhere in ``x``.
+    """
     P1, P2 = chamber_pressures_MPa(x, A1, A2, V1, V2, p1, p2, n)
     return A2 * P2 - A1 * P1
 
 
 def local_stiffness_N_per_mm(x: ArrayLike, A1, A2, V1, V2, p1, p2, n: float = 1.0) -> np.ndarray:
-    """Analytical dF/dx in N/mm."""
+    """Local stiffness: the analytic derivative ``dF/dx = n (A2² P2 / (V2 - A2 x) + A1² P1 / (V1 + A1 x))``.
+
+    Parameters
+    ----------
+    x : array_like
+        Displacement, mm; x > 0 extends the pull spring and compresses chamber 2.
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    p1, p2 : float or array_like
+        Absolute charge pressures of chambers 1 and 2 at x = 0, MPa.
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    numpy.ndarray
+        Stiffness dF/dx, N/mm, broadcast over the inputs (positive for positive charges).
+
+    Raises
+    ------
+    ChamberBottomedOut
+        If a chamber's gas volume (``V2 - A2 x`` or ``V1 + A1 x``) is zero or negative anywhere in ``x``.
+    """
     P1, P2 = chamber_pressures_MPa(x, A1, A2, V1, V2, p1, p2, n)
     x = np.asarray(x, dtype=float)
     return n * A2**2 * P2 / (V2 - A2 * x) + n * A1**2 * P1 / (V1 + A1 * x)
@@ -94,13 +163,51 @@ def setpoint_p1_MPa(p2, A1, A2, V1, V2, x0: float = 0.0, n: float = 1.0):
     """Charge pressure p1 that puts the zero-force point at ``x0`` (paper eqs 6/7).
 
     With ``x0 = 0`` this is ``p1 = A2/A1 * p2`` (eq. 7).
+
+    Parameters
+    ----------
+    p2 : float or array_like
+        Absolute charge pressure of chamber 2 at x = 0, MPa.
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    x0 : float
+        Displacement at which the force is to be zero, mm (the set point).
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Absolute charge pressure of chamber 1 at x = 0, MPa.
+
+    Raises
+    ------
+    ChamberBottomedOut
+        If a chamber's gas volume is zero or negative at ``x0``.
     """
     _check_volumes(x0, A1, A2, V1, V2)
     return (A2 / A1) * p2 * (V2 / (V2 - A2 * x0)) ** n * ((V1 + A1 * x0) / V1) ** n
 
 
 def least_squares_line(x: ArrayLike, F: ArrayLike):
-    """Slope and intercept of the least-squares line of ``F`` over ``x`` (last axis)."""
+    """Slope and intercept of the least-squares line of sampled ``F`` over ``x`` (along the last axis).
+
+    Parameters
+    ----------
+    x : array_like
+        Sample positions, shape ``(m,)``, mm.
+    F : array_like
+        Forces at ``x``, N; shape ``(..., m)`` to fit many curves at once.
+
+    Returns
+    -------
+    slope : numpy.ndarray
+        Slope of each line, N/mm, shape ``F.shape[:-1]``.
+    intercept : numpy.ndarray
+        Value of each line at x = 0, N, shape ``F.shape[:-1]``.
+    """
     x = np.asarray(x, dtype=float)
     F = np.asarray(F, dtype=float)
     xm = x.mean()
@@ -111,11 +218,24 @@ def least_squares_line(x: ArrayLike, F: ArrayLike):
 
 
 def linearity_error(x: ArrayLike, F: ArrayLike) -> np.ndarray:
-    """The project's one linearity metric (a fraction).
+    """The project's linearity metric on sampled data (a fraction).
 
     Largest deviation of ``F`` from its least-squares line over ``x``,
     divided by the force span ``max F - min F`` over ``x``. Works along the
-    last axis, so ``F`` may hold many curves.
+    last axis, so ``F`` may hold many curves. :func:`linearity_exact` is the
+    same metric over the continuous travel.
+
+    Parameters
+    ----------
+    x : array_like
+        Sample positions, shape ``(m,)``, mm.
+    F : array_like
+        Forces at ``x``, N; shape ``(..., m)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Linearity error as a fraction (0.0186 = 1.86 %), shape ``F.shape[:-1]``.
     """
     x = np.asarray(x, dtype=float)
     F = np.asarray(F, dtype=float)
@@ -127,7 +247,20 @@ def linearity_error(x: ArrayLike, F: ArrayLike) -> np.ndarray:
 
 
 def mean_stiffness_N_per_mm(x: ArrayLike, F: ArrayLike) -> np.ndarray:
-    """Mean stiffness: the least-squares slope of ``F`` over ``x`` (N/mm)."""
+    """Mean stiffness: the least-squares slope of sampled ``F`` over ``x``.
+
+    Parameters
+    ----------
+    x : array_like
+        Sample positions, shape ``(m,)``, mm.
+    F : array_like
+        Forces at ``x``, N; shape ``(..., m)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Slope, N/mm, shape ``F.shape[:-1]``.
+    """
     return least_squares_line(x, F)[0]
 
 
@@ -153,6 +286,14 @@ class LinearityResult:
     signed_extremes_N: np.ndarray | None = None  #: F - line at x = 0, at x = T, interior max, interior min, N (..., 4)
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            Every field that is set, as (nested) lists of floats; units in the keys (N, mm, N/mm;
+            ``linearity_error`` a fraction).
+        """
         return {k: np.asarray(v).tolist() for k, v in self.__dict__.items() if v is not None}
 
 
@@ -181,6 +322,26 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
 
     All parameters broadcast (pass arrays of shape ``(k,)`` to evaluate ``k``
     springs at once). A spring that bottoms out gives ``nan``.
+
+    Parameters
+    ----------
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    p1, p2 : float or array_like
+        Absolute charge pressures of chambers 1 and 2 at x = 0, MPa.
+    travel_mm : float or array_like
+        Stroke T: the metric is taken over x in [0, T], mm.
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    LinearityResult
+        Linearity error (fraction), mean stiffness (N/mm), intercept (N), largest deviation (N) and
+        where it lies (mm), force span (N), signed deviations at the ends and interior extrema (N);
+        each of the broadcast shape of the inputs, ``nan`` where a chamber bottoms out or T <= 0.
     """
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (A1, A2, V1, V2, p1, p2, travel_mm, n)))
     shape = arrs[0].shape
@@ -261,7 +422,27 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
 
 
 def linearity_error_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> np.ndarray:
-    """Just the continuous linearity error of :func:`linearity_exact` (fraction)."""
+    """Just the continuous linearity error of :func:`linearity_exact`.
+
+    Parameters
+    ----------
+    A1, A2 : float or array_like
+        Effective areas of chamber 1 (expands as x grows) and chamber 2 (compressed as x grows), mm².
+    V1, V2 : float or array_like
+        Gas volumes of chambers 1 and 2 at x = 0, mm³.
+    p1, p2 : float or array_like
+        Absolute charge pressures of chambers 1 and 2 at x = 0, MPa.
+    travel_mm : float or array_like
+        Stroke T: the metric is taken over x in [0, T], mm.
+    n : float
+        Polytropic exponent, dimensionless: 1 isothermal (the paper's law), 1.4 adiabatic air.
+
+    Returns
+    -------
+    numpy.ndarray
+        Linearity error as a fraction, of the broadcast shape of the inputs (``nan`` where a chamber
+        bottoms out).
+    """
     return linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n).linearity_error
 
 
@@ -299,49 +480,176 @@ class GasSpring:
         return (self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, self.p1_MPa, self.p2_MPa, self.n_polytropic)
 
     def x_mm(self, num: int = 401) -> np.ndarray:
-        """Displacement grid over the travel."""
+        """Evenly spaced displacements over the travel.
+
+        Parameters
+        ----------
+        num : int
+            Number of samples, ends included.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``num`` displacements from 0 to ``travel_mm``, mm.
+        """
         return np.linspace(0.0, self.travel_mm, num)
 
     def force_N(self, x: ArrayLike) -> np.ndarray:
+        """Spring force at ``x`` (:func:`force_N` with this spring's parameters).
+
+        Parameters
+        ----------
+        x : array_like
+            Displacement, mm (x > 0 extends).
+
+        Returns
+        -------
+        numpy.ndarray
+            Force, N (tension > 0).
+
+        Raises
+        ------
+        ChamberBottomedOut
+            If ``x`` reaches a displacement where a chamber's gas volume is zero.
+        """
         return force_N(x, *self._args())
 
     def stiffness_N_per_mm(self, x: ArrayLike) -> np.ndarray:
+        """Local stiffness dF/dx at ``x`` (:func:`local_stiffness_N_per_mm`).
+
+        Parameters
+        ----------
+        x : array_like
+            Displacement, mm.
+
+        Returns
+        -------
+        numpy.ndarray
+            Stiffness, N/mm.
+
+        Raises
+        ------
+        ChamberBottomedOut
+            If ``x`` reaches a displacement where a chamber's gas volume is zero.
+        """
         return local_stiffness_N_per_mm(x, *self._args())
 
     def pressures_MPa(self, x: ArrayLike):
+        """Chamber pressures at ``x`` (:func:`chamber_pressures_MPa`).
+
+        Parameters
+        ----------
+        x : array_like
+            Displacement, mm.
+
+        Returns
+        -------
+        P1, P2 : numpy.ndarray
+            Absolute pressures of chamber 1 and chamber 2, MPa.
+
+        Raises
+        ------
+        ChamberBottomedOut
+            If ``x`` reaches a displacement where a chamber's gas volume is zero.
+        """
         return chamber_pressures_MPa(x, *self._args())
 
     def with_pressures(self, p2_MPa: float, x0_mm: float = 0.0) -> "GasSpring":
-        """Same geometry charged to ``p2`` with p1 from eq. 6 (zero force at ``x0``)."""
+        """Same geometry charged to ``p2`` with p1 from eq. 6 (zero force at ``x0``).
+
+        Parameters
+        ----------
+        p2_MPa : float
+            New absolute charge of chamber 2 at x = 0.
+        x0_mm : float
+            Displacement where the force is to be zero.
+
+        Returns
+        -------
+        GasSpring
+            The recharged spring (travel and polytropic exponent unchanged).
+        """
         p1 = float(setpoint_p1_MPa(p2_MPa, self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, x0_mm, self.n_polytropic))
         return GasSpring(self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, p1, p2_MPa, self.travel_mm, self.n_polytropic)
 
     def linearity(self) -> LinearityResult:
-        """The exact (continuous) linearity metric, its line and its largest deviation."""
+        """The exact (continuous) linearity metric, its line and its largest deviation.
+
+        Returns
+        -------
+        LinearityResult
+            :func:`linearity_exact` of this spring over ``[0, travel_mm]``: linearity error
+            (fraction), mean stiffness (N/mm), intercept (N), largest deviation (N) and where (mm).
+        """
         return linearity_exact(self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, self.p1_MPa, self.p2_MPa,
                                self.travel_mm, self.n_polytropic)
 
     def linearity_error(self, num: int | None = None) -> float:
-        """The linearity error (fraction): exact over the continuous travel by default, or on
-        ``num`` equally spaced samples when ``num`` is given (only to compare with sampled data)."""
+        """The linearity error: exact over the continuous travel by default, or on samples.
+
+        Parameters
+        ----------
+        num : int or None
+            None: the exact continuous metric. A number: the metric on ``num`` equally spaced
+            samples of the travel (only to compare with sampled data).
+
+        Returns
+        -------
+        float
+            Linearity error as a fraction.
+        """
         if num is None:
             return float(self.linearity().linearity_error)
         x = self.x_mm(num)
         return float(linearity_error(x, self.force_N(x)))
 
     def mean_stiffness_N_per_mm(self, num: int | None = None) -> float:
-        """Slope of the least-squares line (N/mm): continuous by default, or over ``num`` samples."""
+        """Slope of the least-squares line: continuous by default, or over samples.
+
+        Parameters
+        ----------
+        num : int or None
+            None: the continuous least-squares line. A number: the line through ``num`` equally
+            spaced samples of the travel.
+
+        Returns
+        -------
+        float
+            Mean stiffness, N/mm.
+        """
         if num is None:
             return float(self.linearity().mean_stiffness_N_per_mm)
         x = self.x_mm(num)
         return float(mean_stiffness_N_per_mm(x, self.force_N(x)))
 
     def with_polytropic(self, n: float) -> "GasSpring":
-        """The same charged spring compressed with polytropic exponent ``n`` (charges unchanged)."""
+        """The same charged spring compressed with polytropic exponent ``n`` (charges unchanged).
+
+        Parameters
+        ----------
+        n : float
+            Polytropic exponent, dimensionless, in [1, 1.4].
+
+        Returns
+        -------
+        GasSpring
+            A copy with ``n_polytropic = n``.
+
+        Raises
+        ------
+        ValueError
+            If ``n`` is outside [1, 1.4].
+        """
         return replace(self, n_polytropic=float(n))
 
     def peak_pressure_MPa(self) -> float:
-        """Highest chamber pressure over the stroke (chamber 2 at full travel or p1 at x=0)."""
+        """Highest chamber pressure over the stroke (chamber 2 at full travel or p1 at x=0).
+
+        Returns
+        -------
+        float
+            Absolute pressure, MPa.
+        """
         P1, P2 = self.pressures_MPa(np.array([0.0, self.travel_mm]))
         return float(max(P1.max(), P2.max()))
 

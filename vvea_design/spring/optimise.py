@@ -68,7 +68,7 @@ class NoBuildableDesign(ValueError):
 
 
 def _unbuildable_message(req: Requirements, x, layout: str, layouts, reason: Exception) -> str:
-    names = get_layout(layout).decision_variables
+    names = req.decision_variables(layout)
     point = ", ".join(f"{n} = {float(v):.4g}" for n, v in zip(names, x))
     box = ", ".join(f"{n} in [{lo:.4g}, {hi:.4g}]" for n, (lo, hi) in zip(names, req.search_bounds(layout)))
     tried = f" (layouts tried: {', '.join(layouts)})" if len(layouts) > 1 else ""
@@ -92,6 +92,14 @@ class LayoutSearch:
     worst_margin: float  #: smallest constraint margin of its best design
 
     def to_dict(self) -> dict:
+        """JSON-ready content of this search.
+
+        Returns
+        -------
+        dict
+            Every field; ``decision_vector`` as a list (the decision variables in their
+            own units, mm and mm³), ``seconds`` in s, ``objective`` a fraction.
+        """
         return {**self.__dict__, "decision_vector": list(self.decision_vector)}
 
 
@@ -112,17 +120,28 @@ class OptimisationResult:
 
     @property
     def design(self) -> Design:
+        """The best design found (geometry in mm, mm³; charge in MPa)."""
         return self.evaluation.design
 
     @property
     def layout(self) -> str:
+        """Name of the winning layout variant."""
         return self.design.layout
 
     @property
     def evaluations_per_second(self) -> float:
+        """Model evaluations per second of wall time (1/s); nan when no time was measured."""
         return self.evaluations / self.seconds if self.seconds > 0 else float("nan")
 
     def infeasibility_message(self) -> str:
+        """What the least-violating design misses, for the user.
+
+        Returns
+        -------
+        str
+            One line per violated constraint, worst first: its value and limit with their unit
+            and the (scaled, dimensionless) margin.
+        """
         ev = self.evaluation
         lines = [f"no design meets the requirements; the least-violating design found "
                  f"(layout {ev.design.layout!r}) misses:"]
@@ -137,7 +156,16 @@ class OptimisationResult:
         return "\n".join(lines)
 
     def summary(self) -> dict:
-        """The ``optimiser`` block of the design JSON."""
+        """The ``optimiser`` block of the design JSON.
+
+        Returns
+        -------
+        dict
+            Seed, evaluation count, ``seconds`` (s), evaluations per second (1/s), generations,
+            the search's message, whether the polish improved it, the layout, the binding
+            constraints, one entry per layout search and the FE / surrogate bladder strain
+            (fraction, None when unconstrained).
+        """
         return {
             "seed": self.seed,
             "evaluations": self.evaluations,
@@ -154,7 +182,14 @@ class OptimisationResult:
         }
 
     def to_dict(self) -> dict:
-        """Everything as plain JSON-able data (the design, its evaluation, the search)."""
+        """Everything as plain JSON-able data (the design, its evaluation, the search).
+
+        Returns
+        -------
+        dict
+            ``layout``, ``decision_variables`` (name -> value, unit in the name), the evaluation's
+            content (:meth:`Evaluation.to_dict`) and ``optimiser`` (:meth:`summary`).
+        """
         d = self.design
         return {"layout": d.layout,
                 "decision_variables": {n: float(getattr(d, n)) for n in d.variant.decision_variables},
@@ -266,31 +301,47 @@ def optimise(
 
     Parameters
     ----------
-    req
+    req : Requirements or None
         Requirements (default: the paper's unit).
-    seed
+    seed : int
         Seed of the global search: the same seed gives the same design.
-    popsize, maxiter, tol
-        Differential-evolution settings (population = popsize × number of variables).
-    polish
+    popsize, maxiter : int
+        Differential-evolution population factor (population = popsize × number of variables)
+        and generation limit.
+    tol : float
+        Differential-evolution convergence tolerance, relative, dimensionless.
+    polish : bool
         Run an SLSQP polish from the best point of each layout.
-    bladder_strain_fn
-        ``f(design) -> strain``, the FE strain bound (e.g.
+    progress : bool
+        Show a progress bar on stderr (one step per generation and layout).
+    bladder_strain_fn : callable or None
+        ``f(design) -> strain`` (fraction), the FE strain bound (e.g.
         :func:`vvea_design.bladder.check.strain_bound`), required when
         ``req.max_bladder_strain`` is set. The global search uses the
         surrogate of :mod:`vvea_design.spring.strain_surrogate`; the polish
         corrects it with this function until the final design meets the
         limit by this function's own value.
-    raise_infeasible
+    raise_infeasible : bool
         Raise :class:`Infeasible` (with the violated constraints) when no
         feasible design is found; otherwise return the least-violating one.
-    layouts
+    layouts : tuple of str or None
         Layout variants to search (default ``req.layouts``).
 
     Returns
     -------
     OptimisationResult
         The evaluated best design, per-layout searches, counts and seconds.
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``.
+    DesignError
+        If a layout name is unknown (the message lists the known ones).
+    NoBuildableDesign
+        If no point the search tried inside the bounds can be drawn (the message names the bounds).
+    Infeasible
+        If no design meets the requirements and ``raise_infeasible`` is true.
     """
     req = req or Requirements()
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
@@ -443,6 +494,10 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
     improved = False
     best = None  # (objective, x, fe, sur)
     fe = sur = None
+    # with a free cast fill the surrogate's error changes along the fill (it is poorest at low fills): the
+    # correction is then a line in the fill through the FE / surrogate ratios seen so far
+    i_fill = req.decision_variables(layout).index("bladder_cast_fill") if req.optimise_cast_fill else None
+    seen: list[tuple[float, float]] = []  # (fill, log(FE / surrogate))
     for _ in range(rounds):
         design = design_from_vector(x, req, layout)
         fe = float(fe_fn(design))
@@ -454,9 +509,18 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
             if fe >= limit * (1 - 0.003):
                 break
         factor = fe / sur if (np.isfinite(fe) and sur > 0) else 1.2
+        slope = 0.0
+        if i_fill is not None and np.isfinite(fe) and sur > 0:
+            seen.append((float(x[i_fill]), float(np.log(factor))))
+            pts = np.array(seen[-3:])
+            if len(pts) >= 2 and np.ptp(pts[:, 0]) > 1e-3:
+                slope, icpt = np.polyfit(pts[:, 0], pts[:, 1], 1)
+                factor = float(np.exp(icpt + slope * x[i_fill]))
 
-        def corrected(g, cols, f=factor):
-            return f * population_strain(g, cols)
+        def corrected(g, cols, f=factor, k=slope, x_fill=(float(x[i_fill]) if i_fill is not None else 0.0)):
+            if k == 0.0:
+                return f * population_strain(g, cols)
+            return f * np.exp(k * (np.asarray(cols["bladder_cast_fill"]) - x_fill)) * population_strain(g, cols)
 
         p2 = _Population(req, layout, corrected)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
@@ -473,10 +537,10 @@ def _g_cols(x, req, layout):
     from .design import derive
 
     lay = get_layout(layout)
-    cols = {name: np.atleast_1d(float(v)) for name, v in zip(lay.decision_variables, x)}
+    cols = {name: np.atleast_1d(float(v)) for name, v in zip(req.decision_variables(layout), x)}
     g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                cols.get("V2_top_mm3", np.zeros(1)), np.full(1, req.max_charge_MPa), req.setpoint_x0_mm,
-               req.fixed, lay.has_bulkhead)
+               req.fixed, lay.has_bulkhead, cast_fill=cols.get("bladder_cast_fill"))
     return g, cols
 
 
@@ -527,9 +591,42 @@ def pareto_front(
     stiffness, N/mm), ``outer_diameter`` (envelope diameter, mm), ``mass``
     (maximum mass, g) or ``adiabatic`` (largest linearity error at n = 1.4,
     fraction: with the nominal objective this traces the isothermal vs
-    adiabatic Pareto front). Returns one row per value with the optimum's
-    linearity, mass, stiffness and decision variables; infeasible values are
-    rows with ``feasible = False``.
+    adiabatic Pareto front). The points run through
+    :func:`vvea_design.parallel.parallel_map`.
+
+    Parameters
+    ----------
+    req : Requirements
+        The other requirements, held fixed.
+    axis : {"stiffness", "outer_diameter", "mass", "adiabatic"}
+        The swept requirement (see above); :data:`PARETO_AXES` maps it to the requirements field.
+    values : sequence of float
+        Values of the swept requirement, in its field's unit (N/mm, mm, g or fraction).
+    seed : int
+        Seed of each point's global search (the same seed gives the same front).
+    popsize, maxiter : int
+        Differential-evolution population factor and generation limit of each point.
+    workers : int or None
+        Local worker processes; None: all cores, 1: serial in this process.
+    scheduler : str or None
+        Address of a Dask distributed scheduler (``tcp://host:port``); None: local processes.
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of dict
+        One row per value, in order: ``feasible``, ``linearity_error`` (fraction; also at n = 1
+        and n = 1.4), ``objective``, ``mass_g``, ``layout``,
+        ``mean_stiffness_at_max_charge_N_per_mm``, ``outer_diameter_mm``, ``binding`` (binding or,
+        when infeasible, violated constraints, comma-separated), the decision variables (unit in
+        the name) and the swept field itself. A point that cannot be set up is a row with
+        ``feasible = False`` and ``error``.
+
+    Raises
+    ------
+    ValueError
+        If ``axis`` is not one of :data:`PARETO_AXES`.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
@@ -551,7 +648,30 @@ def pareto_front(
 
 
 def save_pareto(rows: list[dict], axis: str, out_dir, title: str = "") -> tuple:
-    """Write a Pareto front as ``pareto_<axis>.csv`` and ``.png`` into ``out_dir``; return both paths."""
+    """Write a Pareto front as ``pareto_<axis>.csv`` and ``.png`` into ``out_dir``.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`pareto_front` (the CSV gets the union of their keys as columns, units in
+        the names).
+    axis : str
+        The swept requirement, a key of :data:`PARETO_AXES` (it names the files and the x axis).
+    out_dir : str or Path
+        Folder to write into (created).
+    title : str
+        Plot title; empty: "best linearity vs <axis>".
+
+    Returns
+    -------
+    csv_path, png_path : Path
+        The CSV and the PNG written.
+
+    Raises
+    ------
+    KeyError
+        If ``axis`` is not one of :data:`PARETO_AXES`.
+    """
     import csv
     from pathlib import Path
 
@@ -592,7 +712,35 @@ def linearity_map(
     ``(n, n)`` indexed ``[iy, ix]``, the name of the most violated
     constraint at every point (``worst``) and every constraint's margin grid
     (``margins``: name -> grid, nan where unbuildable). The default ranges are ±40 % around
-    the design, clipped to the search bounds.
+    the design, clipped to the search bounds. The map is taken at the design's own charge
+    (p2, MPa) and set point, without the bladder-strain constraint.
+
+    Parameters
+    ----------
+    design : Design
+        The design held fixed in every other variable (usually the optimum).
+    req : Requirements
+        Requirements whose margins decide feasibility.
+    var_x, var_y : str
+        Two different decision variables of the design's layout (unit in the name: mm, mm³).
+    x_range, y_range : tuple of float or None
+        ``(low, high)`` of each axis in the variable's own unit (mm, mm³); None: ±40 % around the
+        design, inside the search bounds.
+    n : int
+        Grid points per axis (the map has n × n points).
+
+    Returns
+    -------
+    dict
+        ``var_x``, ``var_y``; ``x``, ``y`` (axes, in the variables' units); ``linearity``
+        (fraction, ``(n, n)``), ``feasible`` (bool), ``worst`` (name of the most violated
+        constraint, "" where feasible, "unbuildable") and ``margins`` (name -> scaled,
+        dimensionless margin grid).
+
+    Raises
+    ------
+    ValueError
+        If a variable is not a decision variable of the layout or the two are the same.
     """
     names = design.variant.decision_variables
     for v in (var_x, var_y):
@@ -613,7 +761,8 @@ def linearity_map(
     X = np.tile(design.decision_vector(), (n * n, 1))
     X[:, names.index(var_x)] = XX.ravel()
     X[:, names.index(var_y)] = YY.ravel()
-    r = replace(req, max_bladder_strain=None, max_charge_MPa=design.p2_MPa, setpoint_x0_mm=design.setpoint_x0_mm)
+    r = replace(req, max_bladder_strain=None, optimise_cast_fill=False, max_charge_MPa=design.p2_MPa,
+                setpoint_x0_mm=design.setpoint_x0_mm)
     r = replace(r, fixed=design.fixed)
     obj, mar, ok = evaluate_population(X, r, design.layout)
     cn = constraint_names(r, design.layout, search=True)
@@ -632,7 +781,8 @@ def linearity_map(
 # ---------------------------------------------------------------------------
 
 def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, seed: int = 0,
-                     maxiter: int = 400) -> dict:
+                     maxiter: int = 400, V1_max_mm3: float | None = None, V2_max_mm3: float | None = None,
+                     chamber1_length_max_mm: float | None = None, V1_extra_mm3: float = 0.0) -> dict:
     """Best linearity any layout could reach with ``V1 + V2 <= total_gas_mm3``.
 
     Ignores packing entirely: only eq. 5, the charge limit (both chambers <=
@@ -641,6 +791,37 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     requirements' (worst over its exponents, exact metric). It tells how much
     gas a target linearity needs, whatever the housing. Vectorised
     differential evolution + SLSQP polish over (A1, A2, V1, V2).
+    ``V1_max_mm3`` / ``V2_max_mm3`` cap each chamber too (a layout's
+    per-chamber capacities: the bound is then that layout's own floor).
+    ``chamber1_length_max_mm`` confines chamber 1 to the piston bore:
+    ``V1 <= A1 * chamber1_length_max_mm + V1_extra_mm3`` (the longest gas
+    column the housing leaves above the piston, plus ports).
+
+    Parameters
+    ----------
+    total_gas_mm3 : float
+        Largest total gas volume V1 + V2 allowed.
+    req : Requirements or None
+        Travel, charge limit, stiffness, gas left at full stroke and objective exponents
+        (default: the paper's unit).
+    seed : int
+        Seed of the differential evolution.
+    maxiter : int
+        Generation limit of the differential evolution.
+    V1_max_mm3, V2_max_mm3 : float or None
+        Largest chamber-1 / chamber-2 gas volume; None: only the total caps it.
+    chamber1_length_max_mm : float or None
+        Longest gas column above the piston; None: chamber 1 is not confined to the bore.
+    V1_extra_mm3 : float
+        Chamber-1 gas outside that column (ports), added to its cap.
+
+    Returns
+    -------
+    dict
+        ``total_gas_mm3``, ``linearity_error`` (the best objective, fraction), the chamber areas
+        ``A1_mm2``, ``A2_mm2`` and volumes ``V1_mm3``, ``V2_mm3`` that reach it, ``feasible``,
+        ``objective_exponents`` (dimensionless) and the caps asked for (``V1_max_mm3``,
+        ``V2_max_mm3``, ``chamber1_length_max_mm``; None where not given).
     """
     from .gas_spring import linearity_exact
 
@@ -660,11 +841,19 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
             kn = linearity_exact(A1, A2, V1, V2, p1, pmax, T, req.n_polytropic).mean_stiffness_N_per_mm
             k = kn / req.min_mean_stiffness_N_per_mm - 1
             gas_left = (V2 - A2 * T) / V2 - fmin
-            cons = np.array([(A1 - A2) / A1, 1 - (V1 + V2) / total_gas_mm3, k, gas_left])
+            rows = [(A1 - A2) / A1, 1 - (V1 + V2) / total_gas_mm3, k, gas_left]
+            if V1_max_mm3 is not None:
+                rows.append(1 - V1 / V1_max_mm3)
+            if V2_max_mm3 is not None:
+                rows.append(1 - V2 / V2_max_mm3)
+            if chamber1_length_max_mm is not None:
+                rows.append(1 - V1 / (A1 * chamber1_length_max_mm + V1_extra_mm3))
+            cons = np.array(rows)
         bad = ~np.isfinite(obj) | ~np.all(np.isfinite(cons), axis=0)
         return np.where(bad, 1.0, obj), np.where(bad[None, :], -1.0, cons)
 
-    bounds = [(100, 5000), (100, 5000), (1e3, total_gas_mm3), (1e3, total_gas_mm3)]
+    bounds = [(100, 5000), (100, 5000), (1e3, min(total_gas_mm3, V1_max_mm3 or np.inf)),
+              (1e3, min(total_gas_mm3, V2_max_mm3 or np.inf))]
     r = differential_evolution(lambda X: both(X.T)[0], bounds,
                                constraints=[NonlinearConstraint(lambda X: both(np.asarray(X).T)[1], 0, np.inf)],
                                seed=seed, popsize=20, maxiter=maxiter, tol=1e-8, polish=False, init="sobol",
@@ -688,7 +877,8 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
     obj, cons = both(x)
     return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(obj[0]), "A1_mm2": A1, "A2_mm2": A2,
             "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons >= -1e-6)),
-            "objective_exponents": list(ns)}
+            "objective_exponents": list(ns), "V1_max_mm3": V1_max_mm3, "V2_max_mm3": V2_max_mm3,
+            "chamber1_length_max_mm": chamber1_length_max_mm}
 
 
 # ---------------------------------------------------------------------------
@@ -696,7 +886,7 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
 # ---------------------------------------------------------------------------
 
 def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *, seed: int = 0,
-                 maxiter: int = 200) -> dict:
+                 maxiter: int = 200, maximise: Literal["total", "V1", "V2"] = "total") -> dict:
     """The largest gas volume ``V1 + V2`` a layout can hold in the requirements' envelope.
 
     Every constraint of :func:`~vvea_design.spring.requirements.evaluate_design`
@@ -706,15 +896,57 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
     piston would leave the whole housing to gas, for no spring) — only the
     linearity is not asked for. Since the packing-free bound
     (:func:`gas_volume_bound`) falls with the gas volume, the bound at this
-    capacity is a floor no design of the layout can beat. Returns the volume
-    and the design that holds it.
+    capacity is a floor no design of the layout can beat. ``maximise = "V1"``
+    or ``"V2"`` finds the largest single chamber instead (the layout's
+    per-chamber capacities).
+
+    Parameters
+    ----------
+    req : Requirements or None
+        The envelope and constraints (default: the paper's unit); the linearity objective is
+        dropped, and so is the bladder-strain limit unless ``optimise_cast_fill`` is set (then
+        the strain surrogate keeps it and the cast fill is searched too).
+    layout : str
+        Layout variant (a name of :data:`vvea_design.spring.design.LAYOUTS`).
+    seed : int
+        Seed of the differential evolution.
+    maxiter : int
+        Generation limit of the differential evolution.
+    maximise : {"total", "V1", "V2"}
+        What to make largest: the total gas volume V1 + V2, or one chamber's (mm³ each).
+
+    Returns
+    -------
+    dict
+        ``layout``, ``maximise``, ``total_gas_mm3`` (V1 + V2 of the design found), ``V1_mm3``,
+        ``V2_mm3``, ``bladder_cast_fill`` (fraction), ``bladder_strain_surrogate`` (fraction; None
+        without ``optimise_cast_fill``), ``feasible``, ``decision_vector`` (the decision variables,
+        mm and mm³), ``binding`` (constraints with margin < 0.001), ``housing_length_mm`` and
+        ``piston_diameter_mm``.
+
+    Raises
+    ------
+    ValueError
+        If ``maximise`` is not one of "total", "V1", "V2".
+    DesignError
+        If ``layout`` is unknown (the message lists the known ones).
     """
     req = req or Requirements()
-    r = replace(req, max_bladder_strain=None, objective="nominal", objective_n=None)
-    lay = get_layout(layout)
+    if maximise not in ("total", "V1", "V2"):
+        raise ValueError(f"maximise must be 'total', 'V1' or 'V2', got {maximise!r}")
+    # with a free cast fill the strain limit is part of what the bladder can hold (surrogate, then the
+    # final design's surrogate value); otherwise the capacity ignores an optional strain limit
+    strained = req.optimise_cast_fill
+    r = replace(req, objective="nominal", objective_n=None,
+                **({} if strained else {"max_bladder_strain": None}))
+    strain_fn = None
+    if strained:
+        from .strain_surrogate import population_strain as strain_fn
     names = constraint_names(r, layout)
     bounds = r.search_bounds(layout)
-    i1, i2 = lay.decision_variables.index("V1_mm3"), lay.decision_variables.index("V2_mm3")
+    dvars = r.decision_variables(layout)
+    i1, i2 = dvars.index("V1_mm3"), dvars.index("V2_mm3")
+    w1, w2 = {"total": (1.0, 1.0), "V1": (1.0, 0.0), "V2": (0.0, 1.0)}[maximise]
     scale = 1.0 / max(b[1] for b in bounds)
 
     class _Cap:
@@ -722,9 +954,9 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
 
         def __call__(self, X):
             XS = np.atleast_2d(np.asarray(X).T)
-            _, mar, ok = evaluate_population(XS, r, layout)
+            _, mar, ok = evaluate_population(XS, r, layout, strain_fn)
             self.count += XS.shape[0]
-            obj = np.where(ok, -(XS[:, i1] + XS[:, i2]) * scale, 1.0)
+            obj = np.where(ok, -(w1 * XS[:, i1] + w2 * XS[:, i2]) * scale, 1.0)
             return obj, mar
 
         def objective(self, x):
@@ -740,8 +972,14 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
                                 init="sobol", vectorized=True, updating="deferred")
     x, _ = _best_polish(prob, _starts(prob, de, bounds, 8), bounds)
     d = design_from_vector(x, r, layout)
-    ev = evaluate_design(d, r)
-    return {"layout": layout, "total_gas_mm3": d.V1_mm3 + d.V2_mm3, "V1_mm3": d.V1_mm3, "V2_mm3": d.V2_mm3,
+    strain = None
+    if strained:
+        from .strain_surrogate import design_strain
+
+        strain = design_strain(d)
+    ev = evaluate_design(d, r, bladder_strain=strain)
+    return {"layout": layout, "maximise": maximise, "total_gas_mm3": d.V1_mm3 + d.V2_mm3, "V1_mm3": d.V1_mm3,
+            "V2_mm3": d.V2_mm3, "bladder_cast_fill": d.fixed.bladder_cast_fill, "bladder_strain_surrogate": strain,
             "feasible": ev.feasible, "decision_vector": [float(v) for v in x],
             "binding": [n for n in names if ev.margins[n] < 1e-3],
             "housing_length_mm": d.housing_length_mm, "piston_diameter_mm": d.piston_diameter_mm}

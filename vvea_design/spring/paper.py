@@ -32,8 +32,26 @@ def _curve_rows(label: str, value: float, spring: GasSpring, x: np.ndarray) -> l
 def fig3_setpoints(x0_values_mm=(-5.0, 0.0, 5.0), base: GasSpring = PAPER_FIG5, num: int = 91):
     """Fig. 3: p1 from eq. 6 moves the zero crossing (setpoint) within ±5 mm.
 
-    Returns ``(springs, rows)``: one spring per setpoint and tidy curve rows
-    over x ∈ [-5, 40] mm.
+    Each spring keeps the reference geometry and p2 and takes p1 from eq. 6 so that
+    F(x0) = 0.
+
+    Parameters
+    ----------
+    x0_values_mm : sequence of float
+        Set points, the displacements where the force is to be zero.
+    base : GasSpring
+        Reference spring (geometry mm² / mm³, charge MPa, travel mm); default the paper's Fig. 5
+        configuration :data:`PAPER_FIG5`.
+    num : int
+        Samples per curve over x from -5 mm to the travel.
+
+    Returns
+    -------
+    springs : dict of float to GasSpring
+        One recharged spring per set point (key: x0, mm).
+    rows : list of dict
+        Tidy curve rows, one per sample and spring: ``series`` (the swept quantity's name with its
+        unit), ``value`` (its value), ``x_mm`` (displacement) and ``force_N`` (force, tension > 0).
     """
     x = np.linspace(-5.0, base.travel_mm, num)
     springs = {float(x0): base.with_pressures(base.p2_MPa, x0_mm=float(x0)) for x0 in x0_values_mm}
@@ -42,7 +60,26 @@ def fig3_setpoints(x0_values_mm=(-5.0, 0.0, 5.0), base: GasSpring = PAPER_FIG5, 
 
 
 def fig4_pressures(p2_values_MPa=(1.0, 2.0, 3.0, 4.0), base: GasSpring = PAPER_FIG5, num: int = 81):
-    """Fig. 4: raising p2 at a fixed p1/p2 ratio scales the whole curve (stiffness ∝ p2)."""
+    """Fig. 4: raising p2 at a fixed p1/p2 ratio scales the whole curve (stiffness ∝ p2).
+
+    Parameters
+    ----------
+    p2_values_MPa : sequence of float
+        Chamber-2 charges to draw; p1 keeps the reference's ratio p1/p2.
+    base : GasSpring
+        Reference spring (geometry mm² / mm³, charge MPa, travel mm); default the paper's Fig. 5
+        configuration :data:`PAPER_FIG5`.
+    num : int
+        Samples per curve over x from 0 to the travel.
+
+    Returns
+    -------
+    springs : dict of float to GasSpring
+        One spring per charge (key: p2, MPa).
+    rows : list of dict
+        Tidy curve rows, one per sample and spring: ``series`` (the swept quantity's name with its
+        unit), ``value`` (its value), ``x_mm`` (displacement) and ``force_N`` (force, tension > 0).
+    """
     x = base.x_mm(num)
     ratio = base.p1_MPa / base.p2_MPa
     springs = {float(p2): GasSpring(base.A1_mm2, base.A2_mm2, base.V1_mm3, base.V2_mm3, ratio * p2, p2,
@@ -55,6 +92,24 @@ def fig5_volumes(V2_values_mm3=(4.5e4, 5.5e4, 7.34e4, 9.0e4, 1.1e5), base: GasSp
     """Fig. 5: smaller V2 makes the curve progressive; 7.34e4 mm³ is the near-linear setting.
 
     Each curve keeps F(0) = 0 (p1 from eq. 7) and the charge of the reference.
+
+    Parameters
+    ----------
+    V2_values_mm3 : sequence of float
+        Chamber-2 gas volumes at x = 0 to draw.
+    base : GasSpring
+        Reference spring (geometry mm² / mm³, charge MPa, travel mm); default the paper's Fig. 5
+        configuration :data:`PAPER_FIG5`.
+    num : int
+        Samples per curve over x from 0 to the travel.
+
+    Returns
+    -------
+    springs : dict of float to GasSpring
+        One spring per volume (key: V2, mm³).
+    rows : list of dict
+        Tidy curve rows, one per sample and spring: ``series`` (the swept quantity's name with its
+        unit), ``value`` (its value), ``x_mm`` (displacement) and ``force_N`` (force, tension > 0).
     """
     x = base.x_mm(num)
     springs = {}
@@ -69,8 +124,21 @@ def fig5_volumes(V2_values_mm3=(4.5e4, 5.5e4, 7.34e4, 9.0e4, 1.1e5), base: GasSp
 def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) -> dict:
     """Linearity, deviation and force span of a spring next to the paper's printed numbers.
 
-    ``num = None`` (default): the exact metric over the continuous travel; an
-    int: on that many equally spaced samples (to compare with sampled data).
+    Parameters
+    ----------
+    spring : GasSpring
+        The spring to measure (mm², mm³, MPa, travel mm); default the paper's Fig. 5 reference.
+    num : int or None
+        None (default): the exact metric over the continuous travel; an int: the metric on that
+        many equally spaced samples (to compare with sampled data).
+
+    Returns
+    -------
+    dict
+        ``linearity_error`` (fraction), ``deviation_N`` (largest deviation from the least-squares
+        line, N), ``max_force_N`` (N), ``mean_stiffness_N_per_mm`` (N/mm),
+        ``stiffness_per_MPa_N_per_mm_per_MPa`` (mean stiffness per MPa of p2), ``samples`` (the
+        sampling used) and ``paper`` (the paper's printed numbers, :data:`PAPER_LINEARITY`).
     """
     if num is None:
         r = spring.linearity()
@@ -93,6 +161,17 @@ def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) ->
 
 
 def equal_area_variant(base: GasSpring = PAPER_FIG5) -> GasSpring:
-    """The reading the paper's numbers rule out: A1 = A2 = the 30 mm piston (≈ 6.3 %)."""
+    """The reading the paper's numbers rule out: A1 = A2 = the 30 mm piston (≈ 6.3 %).
+
+    Parameters
+    ----------
+    base : GasSpring
+        Spring whose chamber-2 area, volumes, p2 and travel are kept; default :data:`PAPER_FIG5`.
+
+    Returns
+    -------
+    GasSpring
+        Both chambers on ``base``'s chamber-2 area (mm²), both charged to its p2 (MPa), so F(0) = 0.
+    """
     return GasSpring(base.A2_mm2, base.A2_mm2, base.V1_mm3, base.V2_mm3, base.p2_MPa, base.p2_MPa,
                      base.travel_mm, base.n_polytropic)

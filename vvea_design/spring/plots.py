@@ -30,7 +30,24 @@ VARIABLE_LABELS = {
 
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
-    """Write ``fig`` as a PNG (parent folders created; no timestamp metadata) and return the path."""
+    """Write ``fig`` as a PNG (parent folders created; no timestamp metadata) and return the path.
+
+    A figure made with pyplot is closed after saving.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to write.
+    path : str or Path
+        Where to write the PNG.
+    dpi : int
+        Resolution, dots per inch.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, metadata=_META)
@@ -57,7 +74,25 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
     Four panels into ``fig`` (a new Figure by default). With ``adiabatic``
     the same charged spring compressed at n = 1.4 is drawn dashed next to the
     nominal curve. Linearity numbers are the exact (continuous) metric.
-    Returns the Figure.
+
+    Parameters
+    ----------
+    spring : GasSpring
+        The charged spring (mm², mm³, MPa, travel mm).
+    title : str
+        Figure title; empty: the linearity error, exponent and p2.
+    extra_charges_MPa : sequence of float
+        Further p2 charges drawn in grey on the force panel (p1 from eq. 6 each).
+    fig : matplotlib.figure.Figure or None
+        Figure to draw into (it must be empty); None: a new 10.5 × 7.5 in Figure.
+    adiabatic : bool
+        Also draw the same charged spring at n = 1.4 (dashed) when its own exponent is not 1.4.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four panels: force (N) with least-squares lines, deviation (N), local stiffness (N/mm) and
+        chamber pressures (MPa), over x (mm).
     """
     fig = fig or Figure(figsize=(10.5, 7.5))
     axes = fig.subplots(2, 2)
@@ -104,7 +139,26 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
     Feasible optima are joined by a line; a requirement value no design meets
     is drawn as a red cross on a separate "infeasible" strip under the axis
     (its least-violating design has no meaningful linearity), labelled with
-    the constraint it misses. Returns the Figure.
+    the constraint it misses.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`vvea_design.spring.optimise.pareto_front`: each with ``x_key``,
+        ``feasible``, ``linearity_error`` (fraction) and, when infeasible, ``binding`` or ``error``.
+    x_key : str
+        Row key of the swept requirement (e.g. ``max_mass_g``); its unit is the one in the key.
+    x_label : str
+        Label of the x axis, with its unit.
+    title : str
+        Axes title; empty: "Pareto front".
+    ax : matplotlib.axes.Axes or None
+        Axes to draw into; None: a new 7.5 × 4.8 in Figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure holding the axes; best linearity error in % on the y axis.
     """
     fig, ax = _axes(ax, (7.5, 4.8))
     xs = np.array([r[x_key] for r in rows], dtype=float)
@@ -134,7 +188,23 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
 
     Axes are labelled with names and units (volumes in 10³ mm³); the optimum
     marker is drawn unclipped, so it shows even on the edge of the map.
-    Returns the Figure.
+
+    Parameters
+    ----------
+    m : dict
+        A map of :func:`vvea_design.spring.optimise.linearity_map`: ``var_x``, ``var_y`` (decision
+        variable names, unit in the name), ``x``, ``y`` (axes), ``linearity`` (fraction, grid
+        ``[iy, ix]``), ``feasible`` (bool grid) and optionally ``margins`` (constraint name ->
+        margin grid, dimensionless; each zero line is drawn where it crosses the map).
+    optimum : tuple of float or None
+        ``(x, y)`` of the optimum in the variables' own units (mm, mm³); None: no marker.
+    ax : matplotlib.axes.Axes or None
+        Axes to draw into; None: a new 8.2 × 6.0 in Figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure holding the map and its colour bar (linearity error in %).
     """
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator

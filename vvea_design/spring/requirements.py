@@ -32,9 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from .design import DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive, get_layout
+from .design import (CHANNEL_GAP_MM, DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
+                     get_layout)
 from .gas_spring import linearity_exact
-from ..materials.silicones import get_silicone
+from ..materials.silicones import allowable_strain, get_silicone
 from ..messages import show
 
 __all__ = [
@@ -57,7 +58,11 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "V1_mm3": (5.0e3, 3.0e5),
     "V2_mm3": (5.0e3, 3.0e5),
     "V2_top_mm3": (0.0, 1.5e5),
+    "bladder_cast_fill": (0.1, 1.0),  # the strain surrogate is poor below 0.1 (docs/layout.md)
 }
+
+#: Bounds whose low end may be 0 (the others must be > 0).
+_ZERO_LOW = ("V2_top_mm3", "bladder_cast_fill")
 
 #: Polytropic exponents whose worst linearity each objective minimises (``nominal``: the design's n_polytropic).
 OBJECTIVES: dict[str, tuple[float, ...] | None] = {
@@ -100,6 +105,7 @@ class Requirements:
     objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
     objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead")  #: layout variants the optimiser chooses between
+    optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
     fixed: FixedParameters = field(default_factory=FixedParameters)
@@ -145,10 +151,19 @@ class Requirements:
         if unknown:
             raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {sorted(known_vars)}")
         for name, (lo, hi) in self.bounds.items():
-            low_ok = lo >= 0 if name == "V2_top_mm3" else lo > 0
+            low_ok = lo >= 0 if name in _ZERO_LOW else lo > 0
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
                 raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
-                                + (" (low may be 0)" if name == "V2_top_mm3" else ""))
+                                + (" (low may be 0)" if name in _ZERO_LOW else ""))
+        if self.bounds.get("bladder_cast_fill", (0.0, 1.0))[1] > 1.0:
+            raise SpecError(f"[bounds] bladder_cast_fill = {show(list(self.bounds['bladder_cast_fill']))}: a stroke "
+                            "fraction, the high end must be <= 1")
+        if not isinstance(self.optimise_cast_fill, bool):
+            raise SpecError(f"optimise_cast_fill must be true or false, got {show(self.optimise_cast_fill)}")
+        if self.optimise_cast_fill and self.max_bladder_strain is None:
+            # a free cast fill trades gas room for bladder strain: it needs a strain limit, by default the
+            # one the bladder check applies (the silicone's cyclic allowable)
+            object.__setattr__(self, "max_bladder_strain", allowable_strain(self.bladder_material))
         lo_D = self.bounds.get("outer_diameter_mm", DEFAULT_BOUNDS["outer_diameter_mm"])[0]
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
@@ -175,10 +190,51 @@ class Requirements:
         ns = OBJECTIVES[self.objective]
         return (float(self.n_polytropic),) if ns is None else ns
 
+    def decision_variables(self, layout: str = "inner_tube") -> tuple[str, ...]:
+        """The decision variables of ``layout``, plus ``bladder_cast_fill`` when ``optimise_cast_fill``.
+
+        Parameters
+        ----------
+        layout : str
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+            ``"bulkhead"``).
+
+        Returns
+        -------
+        tuple of str
+            Variable names in the optimiser's order, each with its unit in the name (mm, mm³;
+            ``bladder_cast_fill`` a fraction of the stroke).
+
+        Raises
+        ------
+        DesignError
+            If ``layout`` is unknown.
+        """
+        names = get_layout(layout).decision_variables
+        return names + ("bladder_cast_fill",) if self.optimise_cast_fill else names
+
     def search_bounds(self, layout: str = "inner_tube") -> list[tuple[float, float]]:
-        """Bounds per decision variable of ``layout``, clipped to the envelope."""
+        """Bounds per decision variable of ``layout``, clipped to the envelope.
+
+        Parameters
+        ----------
+        layout : str
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+            ``"bulkhead"``).
+
+        Returns
+        -------
+        list of tuple of float
+            ``(low, high)`` per variable of :meth:`decision_variables`, in its order and unit
+            (mm, mm³, fraction); the outer diameter's high end is at most ``max_outer_diameter_mm``.
+
+        Raises
+        ------
+        DesignError
+            If ``layout`` is unknown.
+        """
         out = []
-        for name in get_layout(layout).decision_variables:
+        for name in self.decision_variables(layout):
             lo, hi = self.bounds.get(name, DEFAULT_BOUNDS[name])
             if name == "outer_diameter_mm":
                 hi = min(hi, self.max_outer_diameter_mm)
@@ -186,6 +242,14 @@ class Requirements:
         return out
 
     def to_dict(self) -> dict[str, Any]:
+        """JSON/TOML-ready content (what a design file's ``spec`` holds).
+
+        Returns
+        -------
+        dict
+            Every field (units in the names), ``bounds`` as ``name -> [low, high]``, ``layouts``
+            and ``objective_n`` as lists, ``fixed`` as a nested dict.
+        """
         d = asdict(self)
         d["bounds"] = {k: list(v) for k, v in self.bounds.items()}
         d["layouts"] = list(self.layouts)
@@ -195,7 +259,28 @@ class Requirements:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "requirements") -> "Requirements":
-        """Build from a parsed TOML/JSON mapping; every error names ``source`` and the key."""
+        """Build from a parsed TOML/JSON mapping; every error names ``source`` and the key.
+
+        Parameters
+        ----------
+        data : dict
+            Top-level keys of :class:`Requirements` (units in the names) with optional ``bounds``
+            (``name -> [low, high]``) and ``fixed`` (fields of ``FixedParameters``) tables.
+        source : str
+            Name of where ``data`` came from (a file path), put in front of every error.
+
+        Returns
+        -------
+        Requirements
+            The validated requirements; keys not given keep their defaults.
+
+        Raises
+        ------
+        SpecError
+            For an unknown key, a value of the wrong type or out of range, a malformed table, or a
+            ``[fixed]`` copy of travel / polytropic exponent / safety factor that disagrees with the
+            top level.
+        """
         if not isinstance(data, dict):
             raise SpecError(f"{source}: expected a table of requirements, got {type(data).__name__}")
         known = {f.name for f in fields(cls)}
@@ -234,6 +319,10 @@ class Requirements:
                 if wsf is not None and wsf != top_sf:
                     raise SpecError(f"{source}: [fixed] wall_safety_factor = {show(wsf)} disagrees with the top-level "
                                     f"min_wall_safety_factor = {show(top_sf)}; set it once, at the top level")
+            elif key == "optimise_cast_fill":
+                if not isinstance(value, bool):
+                    raise SpecError(f"{source}: optimise_cast_fill must be true or false, got {show(value)}")
+                kwargs[key] = value
             elif key in ("bladder_material", "objective"):
                 if not isinstance(value, str):
                     raise SpecError(f"{source}: {key} must be a string, got {show(value)}")
@@ -255,7 +344,24 @@ class Requirements:
 
 
 def load_requirements(path: str | Path | None) -> Requirements:
-    """Read a requirements TOML file (``None`` = the built-in defaults)."""
+    """Read a requirements TOML file (``None`` = the built-in defaults).
+
+    Parameters
+    ----------
+    path : str or Path or None
+        The TOML file (UTF-8, a byte-order mark allowed); None: the paper's unit.
+
+    Returns
+    -------
+    Requirements
+        The validated requirements.
+
+    Raises
+    ------
+    SpecError
+        If the file does not exist, cannot be read, is not UTF-8 (names line and column) or not
+        valid TOML, or a value is wrong (:meth:`Requirements.from_dict`).
+    """
     if path is None:
         return Requirements()
     path = Path(path)
@@ -309,13 +415,35 @@ class Evaluation:
 
     @property
     def feasible(self) -> bool:
+        """Every margin >= 0 (to 1e-9)."""
         return all(m >= -1e-9 for m in self.margins.values())
 
     def binding(self, tol: float = 1e-3) -> list[str]:
-        """Constraints at (or beyond) their limit."""
+        """Constraints at (or beyond) their limit.
+
+        Parameters
+        ----------
+        tol : float
+            A constraint binds when its margin (scaled, dimensionless) is below this.
+
+        Returns
+        -------
+        list of str
+            Names of the binding or violated constraints, in the order of :attr:`margins`.
+        """
         return [k for k, m in self.margins.items() if m < tol]
 
     def performance(self) -> dict[str, float]:
+        """The design's performance figures (the ``performance`` block of the design JSON).
+
+        Returns
+        -------
+        dict
+            Linearity errors (fraction: nominal, n = 1, n = 1.4, objective) with the objective's
+            exponents, mean stiffness (N/mm, nominal and n = 1.4), stiffness per MPa of charge,
+            ``max_force_N``, ``mass_g``, ``peak_pressure_MPa``, ``p1_MPa``, ``housing_length_mm``,
+            ``total_gas_mm3`` and ``layout``.
+        """
         return {
             "linearity_error": self.linearity_error,
             "linearity_error_isothermal": self.linearity_isothermal,
@@ -335,14 +463,47 @@ class Evaluation:
         }
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            ``performance`` (:meth:`performance`), ``constraints`` (name -> scaled margin,
+            dimensionless, > 0 met) and ``constraint_details`` (name -> value, limit, unit, kind).
+        """
         return {"performance": self.performance(), "constraints": dict(self.margins),
                 "constraint_details": {k: dict(v) for k, v in self.details.items()}}
 
 
 def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Design:
-    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure."""
-    kw = {name: float(val) for name, val in zip(get_layout(layout).decision_variables, v)}
-    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=req.fixed, layout=layout)
+    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure.
+
+    Parameters
+    ----------
+    v : array_like
+        Values of :meth:`Requirements.decision_variables` of the layout in their order and units
+        (mm, mm³; ``bladder_cast_fill`` a fraction, clipped to [0, 1]).
+    req : Requirements
+        Gives the charge p2 (``max_charge_MPa``), the set point (mm) and the fixed parameters.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+
+    Returns
+    -------
+    Design
+        The design, charged to p2 = ``req.max_charge_MPa`` with p1 from the set point.
+
+    Raises
+    ------
+    DesignError
+        If the layout is unknown or the geometry cannot be drawn.
+    """
+    kw = {name: float(val) for name, val in zip(req.decision_variables(layout), v)}
+    fixed = req.fixed
+    if "bladder_cast_fill" in kw:
+        fixed = replace(fixed, bladder_cast_fill=min(max(kw.pop("bladder_cast_fill"), 0.0), 1.0))
+    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout)
 
 
 def _exponents(req: Requirements, report: bool = True) -> list[float]:
@@ -391,6 +552,8 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
         "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
         "bladder_room_compressed": {"value": g["bladder_clearance_compressed_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
         "bladder_room_expanded": {"value": g["bladder_clearance_expanded_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
+        "bladder_channel_room": {"value": g["bladder_cast_gap_mm"], "limit": CHANNEL_GAP_MM, "unit": "mm", "kind": "min",
+                                 "scale": t_bl},
         "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
     }
     for wall in _walls(layout):
@@ -419,6 +582,27 @@ def evaluate_design(design: Design, req: Requirements, bladder_strain: float | N
     ``req.max_charge_MPa`` unless p1 would exceed it (then p1 is the
     limiting chamber). Linearity is the exact (continuous) metric, at the
     nominal exponent and at n = 1 and n = 1.4.
+
+    Parameters
+    ----------
+    design : Design
+        The design as charged (geometry in mm, mm³; p1, p2 in MPa).
+    req : Requirements
+        The limits to check against.
+    bladder_strain : float or None
+        The design's bladder strain bound (fraction), required when ``req.max_bladder_strain``
+        is set.
+
+    Returns
+    -------
+    Evaluation
+        Linearity (fraction), stiffness (N/mm), force (N), peak pressure (MPa), mass (g) and every
+        constraint's margin (scaled, dimensionless, > 0 met) with its value, limit and unit.
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set and ``bladder_strain`` is None.
     """
     g = dict(design._g)
     g["V1_mm3"], g["V2_mm3"] = design.V1_mm3, design.V2_mm3
@@ -457,21 +641,57 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     nor the wall safety factors, which the sized walls meet whenever
     ``wall_capacity`` does); the same formulas as
     :func:`evaluate_design` (:func:`~vvea_design.spring.design.derive`).
-    ``strain_fn(g) -> (S,)`` gives the bladder strain when
+    ``strain_fn(g, cols) -> (S,)`` gives the bladder strain when
     ``req.max_bladder_strain`` is set (the optimiser's surrogate). With
     ``extremes`` a fourth array ``(4 E, S)`` holds the signed deviations
     over the force span (at both ends, interior max and min) for each of the
     ``E`` objective exponents: the objective is their largest magnitude, and
     they are smooth where the objective has kinks (the polish's epigraph).
+
+    Parameters
+    ----------
+    X : array_like
+        Decision vectors, shape ``(S, N)``, each in the order and units of
+        ``req.decision_variables(layout)`` (mm, mm³; the cast fill a fraction).
+    req : Requirements
+        The limits; the charge is ``req.max_charge_MPa``.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+    strain_fn : callable or None
+        ``strain_fn(g, cols)``: bladder strain bound (fraction) of each design from the derived
+        geometry ``g`` and the decision columns ``cols`` (name -> array); used only when
+        ``req.max_bladder_strain`` is set (None then counts as zero strain).
+    extremes : bool
+        Also return the signed deviations.
+
+    Returns
+    -------
+    objective : numpy.ndarray
+        Shape ``(S,)``: worst linearity error over the objective exponents (fraction); 1.0 for an
+        unbuildable design.
+    margins : numpy.ndarray
+        Shape ``(M, S)``: scaled, dimensionless margins (> 0 met); -1 for an unbuildable design.
+    buildable : numpy.ndarray
+        Shape ``(S,)``, bool: the geometry can be drawn and every value is finite.
+    extremes : numpy.ndarray
+        Only with ``extremes``: shape ``(4 E, S)``, signed deviations over the force span
+        (fraction).
+
+    Raises
+    ------
+    DesignError
+        If ``layout`` is unknown.
     """
     X = np.atleast_2d(np.asarray(X, dtype=float))
     lay = get_layout(layout)
-    cols = {name: X[:, i] for i, name in enumerate(lay.decision_variables)}
+    cols = {name: X[:, i] for i, name in enumerate(req.decision_variables(layout))}
     S = X.shape[0]
     p2 = np.full(S, req.max_charge_MPa)
     with np.errstate(all="ignore"):
         g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
-                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead)
+                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
+                   cast_fill=cols.get("bladder_cast_fill"))
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
@@ -498,10 +718,32 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
 
 
 def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool = False) -> list[str]:
-    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order
-    (``search``: only those :func:`evaluate_population` returns)."""
+    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order.
+
+    Parameters
+    ----------
+    req : Requirements
+        Optional limits (mass, adiabatic linearity, bladder strain) add their constraints.
+    layout : str
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
+        ``"bulkhead"``).
+    search : bool
+        Only the constraints :func:`evaluate_population` returns (no p2 charge, no wall safety
+        factors; the adiabatic linearity as its 8 smooth pieces).
+
+    Returns
+    -------
+    list of str
+        Constraint names in order.
+
+    Raises
+    ------
+    DesignError
+        If ``layout`` is unknown (only when ``search`` is false).
+    """
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
-             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "wall_capacity"]
+             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
+             "wall_capacity"]
     if search:
         names.remove("charge_p2")
     else:
@@ -524,5 +766,23 @@ def _margin(d: dict):
 
 
 def constraint_margins(design: Design, req: Requirements) -> dict[str, float]:
-    """Just the margins (positive = satisfied) of ``design`` against ``req``."""
+    """Just the margins (positive = satisfied) of ``design`` against ``req``.
+
+    Parameters
+    ----------
+    design : Design
+        The design as charged.
+    req : Requirements
+        The limits (without ``max_bladder_strain``: this passes no strain).
+
+    Returns
+    -------
+    dict of str to float
+        Constraint name -> scaled margin, dimensionless (> 0 met).
+
+    Raises
+    ------
+    ValueError
+        If ``req.max_bladder_strain`` is set (use :func:`evaluate_design` with the strain).
+    """
     return evaluate_design(design, req).margins

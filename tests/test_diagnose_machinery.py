@@ -1,0 +1,115 @@
+"""Tests of the numerical machinery under ``diagnose``: bounded solver, design assembly, Gram blocks and their
+per-fold reuse, the discretised sensor filter and the bounded column cache (small sizes, exact references)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import lsq_linear
+from scipy.signal import bilinear
+
+from vvea_design.identification import effects as fx
+from vvea_design.identification.effects import REGISTRY, FitData, baseline_columns
+from vvea_design.identification.identify import assemble, blocks, extend_blocks, fit_model, solve_bounded
+from vvea_design.identification.recordings import recordings_from_frame
+from vvea_design.identification.testbench import simulate, small_spec
+
+
+@pytest.fixture(scope="module")
+def D():
+    spec = small_spec(seed=5, g_N_per_mm_MPa=21.0, C_N=140.0, noise_N=4.0, noise_rho=0.8)
+    return FitData.from_recordings(recordings_from_frame(simulate(spec).frame, "sim"))
+
+
+def _objective(G, b, th):
+    return float(th @ G @ th - 2 * b @ th)
+
+
+def test_bounded_solver_equals_bvls_on_random_problems():
+    rng = np.random.default_rng(3)
+    n_bounded = 0
+    for _ in range(300):
+        p = int(rng.integers(2, 22))
+        X = rng.normal(size=(120, p)) * rng.uniform(0.01, 100.0, p)
+        if rng.uniform() < 0.3:
+            X[:, int(rng.integers(p))] = 0.0  # a column absent from this training part
+        y = X @ rng.normal(size=p) + 10 * rng.normal(size=120)
+        lo = np.where(rng.uniform(size=p) < 0.6, 0.0, -np.inf)
+        hi = np.where(rng.uniform(size=p) < 0.2, rng.uniform(0.1, 2.0, p), np.inf)
+        G, b = X.T @ X, X.T @ y
+        th = solve_bounded(G, b, lo, hi)
+        assert np.all(th >= lo - 1e-12) and np.all(th <= hi + 1e-12)
+        d = np.sqrt(np.diag(G))
+        d[d == 0] = 1.0
+        ref = lsq_linear(X / d, y, bounds=(lo * d, hi * d), method="bvls", tol=1e-14).x / d
+        n_bounded += not np.allclose(np.clip(th, lo, hi), np.linalg.lstsq(X, y, rcond=None)[0])
+        f, fr = _objective(G, b, th), _objective(G, b, ref)
+        assert f <= fr + 1e-9 * abs(fr)
+        live = np.diag(G) > 0
+        assert np.allclose((th * d)[live], (ref * d)[live], rtol=1e-7, atol=1e-7 * np.max(np.abs(ref * d)))
+    assert n_bounded > 100  # the active-set path was exercised, not only the unconstrained solve
+
+
+def test_assemble_equals_the_stacked_columns(D):
+    """One preallocated design equals eq. 14's columns, masked, with each effect's columns stacked and transformed."""
+    base = fit_model(D, ())
+    ctx = base.context(D)
+    ctx["model_force_N"] = base.predict(D)
+    ctx["residual_N"] = ctx["residual_all_N"] = D.y - ctx["model_force_N"]
+    cases = [
+        ((), {}),
+        (("gas_nonlinearity", "stiction"), {"gas_nonlinearity": 3e5, "stiction": 0.3}),
+        (("relief_valve", "thermal"), {"relief_valve": 400.0, "thermal": 2.0}),
+        (("stiction", "force_lag"), {"stiction": 0.3, "force_lag": 0.05}),
+    ]
+    for effects, shapes in cases:
+        X, params, groups = assemble(D, effects, shapes, ctx)
+        X0 = baseline_columns(D)[0].copy()
+        cols = [X0]
+        for e in effects:
+            m = REGISTRY[e].damping_mask(D, shapes[e], ctx)
+            if m is not None:
+                X0[m, 2:] = 0.0
+            cols.append(REGISTRY[e].columns(D, shapes[e], ctx))
+        ref = np.column_stack(cols)
+        for e in effects:
+            if REGISTRY[e].transforms_design:
+                ref = REGISTRY[e].transform(D, ref, shapes[e], ctx)
+        assert X.shape == ref.shape == (D.n, len(params))
+        np.testing.assert_array_equal(X, ref)
+        assert groups["eq14"] == slice(0, X0.shape[1])
+
+
+def test_grouped_cv_from_gram_blocks_equals_refitting_without_the_fold(D):
+    """Leave-experiments-out: the fold's solve from summed per-experiment blocks equals a least-squares refit without it."""
+    X, params, _ = assemble(D, ("friction_along_stroke",), {})
+    B = blocks(X, D.y, D.bounds, params)
+    free = np.full(len(params), -np.inf), np.full(len(params), np.inf)
+    folds = np.arange(D.n_exp) % 3
+    for f in range(3):
+        tr = np.flatnonzero(folds != f)
+        rows = np.isin(D.exp, tr)
+        th = solve_bounded(B.G[tr].sum(0), B.b[tr].sum(0), *free)
+        ref = np.linalg.lstsq(X[rows], D.y[rows], rcond=None)[0]
+        assert np.allclose(th, ref, rtol=1e-9, atol=1e-9 * np.max(np.abs(ref)))
+        te = np.flatnonzero(folds == f)
+        sse = B.sse(th, te)
+        for k, e in enumerate(te):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            ref_sse = float(np.sum((D.y[a:b] - X[a:b] @ th) ** 2))
+            assert abs(sse[k] - ref_sse) <= 1e-9 * ref_sse + 1e-13 * B.yy[e]  # yy - 2 b.th + th.G.th cancels down from yy
+    # and extending the blocks by new columns equals the blocks of the wider design
+    Xn = REGISTRY["pressure_friction"].columns(D, np.nan, {})
+    Bx = extend_blocks(B, X, Xn, D.y, D.bounds, REGISTRY["pressure_friction"].params(D))
+    Bf = blocks(np.column_stack([X, Xn]), D.y, D.bounds, list(params) + list(REGISTRY["pressure_friction"].params(D)))
+    np.testing.assert_allclose(Bx.G, Bf.G, rtol=1e-12, atol=1e-9)
+
+
+def test_second_order_filter_coefficients_equal_scipy_bilinear():
+    for lag in (0.003, 0.05, 0.7, 3.0):
+        for dt in (0.001, 0.02, 0.5):
+            wn = 2 * 0.7071 / lag
+            b, a = fx._bilinear_2nd_order(wn, 0.7071, 1.0 / dt)
+            br, ar = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt)
+            np.testing.assert_allclose(b, br, rtol=1e-13)
+            np.testing.assert_allclose(a, ar, rtol=1e-13, atol=1e-15)
