@@ -113,3 +113,16 @@ def test_second_order_filter_coefficients_equal_scipy_bilinear():
             br, ar = bilinear([wn**2], [1.0, 2 * 0.7071 * wn, wn**2], fs=1.0 / dt)
             np.testing.assert_allclose(b, br, rtol=1e-13)
             np.testing.assert_allclose(a, ar, rtol=1e-13, atol=1e-15)
+
+
+@pytest.mark.parametrize("eid", [e.id for e in REGISTRY.values() if e.transforms_design])
+def test_sensor_transforms_in_place_equal_the_copying_ones(D, eid):
+    """``transform(..., out=X)`` (assemble filters the design in place) equals the transform into a new array."""
+    eff = REGISTRY[eid]
+    X = np.column_stack([D.x, np.sin(3 * D.t), np.ones(D.n)])
+    shape = float(np.median(eff.grid(D, {})))
+    ref = eff.transform(D, X.copy(), shape, {})
+    Xi = X.copy()
+    got = eff.transform(D, Xi, shape, {}, out=Xi)
+    assert got is Xi
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())

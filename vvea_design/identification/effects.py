@@ -1096,14 +1096,6 @@ register(Leakage(
 
 
 # ================================================================== discovery operators
-def _into(res: np.ndarray, out: np.ndarray | None) -> np.ndarray:
-    """``res``, written into ``out`` when the caller gives a buffer (``Effect.transform``'s contract)."""
-    if out is None:
-        return res
-    out[...] = res
-    return out
-
-
 def _fine_grid(D: FitData, m: int):
     """Index arrays of :func:`_on_sample_grid` (cached): groups of experiments with the same spacing and lengths.
 
@@ -1147,7 +1139,7 @@ def _fine_grid(D: FitData, m: int):
     return out
 
 
-def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4) -> np.ndarray:
+def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.ndarray | None = None) -> np.ndarray:
     """Apply the causal filter ``op(X_fine, dt_fine)`` (along axis 1) per experiment on its full, uniform time grid.
 
     The samples left out at rest (start, turning point) still pass the
@@ -1157,9 +1149,10 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4) -> np.ndar
     the unit at rest at x = 0, before the first kept sample), filtered there
     (a discretisation finer than the sampling, which may be as coarse as the
     sensor's lag) and read back at the kept samples. Experiments of the same
-    spacing and length are filtered together.
+    spacing and length are filtered together. ``out`` may be ``X`` itself (filtered in place: the
+    fine grid is built from a copy of ``X`` and each experiment is read before it is written).
     """
-    out = np.empty_like(X)
+    out = np.empty_like(X) if out is None else out
     Xz = np.vstack([X, np.zeros((1, X.shape[1]))])
     dts = D.per_exp_dt()
     for dtf, exps, src0, src1, w, read in _fine_grid(D, int(substeps)):
@@ -1192,7 +1185,7 @@ class ForceLag(Effect):
             q = np.exp(-dt / tau)
             return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
 
-        return _into(_on_sample_grid(D, X, op), out)
+        return _on_sample_grid(D, X, op, out=out)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1244,10 +1237,11 @@ class ForceFilter(ForceLag):
         wn = 2 * self.zeta / lag
 
         def op(seg, dt):
-            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)  # Tustin, in closed form
+            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form
+            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
             return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
 
-        return _into(_on_sample_grid(D, X, op), out)
+        return _on_sample_grid(D, X, op, out=out)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)
