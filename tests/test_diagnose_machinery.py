@@ -142,3 +142,12 @@ def test_time_ripple_scan_reuses_the_phases_of_shared_samplings_exactly(D):
         ref += (re @ np.cos(ph)) ** 2 + (re @ np.sin(ph)) ** 2
     assert len({D.t[D.bounds[e] : D.bounds[e + 1]].tobytes() for e in range(D.n_exp)}) < D.n_exp  # shared samplings exist
     np.testing.assert_array_equal(REGISTRY["time_ripple"]._power(D, r, periods, rows), ref)
+
+
+def test_sensor_filter_in_chunks_of_experiments_is_bit_identical(D, monkeypatch):
+    """The fine time grid is filtered in bounded chunks of experiments (memory): no bit of the result moves."""
+    eff = REGISTRY["force_filter_lag"]
+    X = np.column_stack([D.x, np.sin(3 * D.t), np.ones(D.n)])
+    whole = eff.transform(D, X.copy(), 0.05, {})
+    monkeypatch.setattr(fx, "_FINE_GRID_BYTES", 1)  # one experiment per chunk
+    np.testing.assert_array_equal(eff.transform(D, X.copy(), 0.05, {}), whole)

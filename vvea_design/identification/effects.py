@@ -1143,6 +1143,10 @@ def _fine_grid(D: FitData, m: int):
     return out
 
 
+#: memory for one chunk of the fine time grid of :func:`_on_sample_grid` (bytes, its three arrays)
+_FINE_GRID_BYTES = 24 * 2**20
+
+
 def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.ndarray | None = None) -> np.ndarray:
     """Apply the causal filter ``op(X_fine, dt_fine)`` (along axis 1) per experiment on its full, uniform time grid.
 
@@ -1165,11 +1169,17 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
                 a, b = D.bounds[e], D.bounds[e + 1]
                 out[a:b] = op(X[a:b][None], dts[e])[0]
             continue
-        full = Xz[src0] * (1.0 - w)[..., None] + Xz[src1] * w[..., None]
-        res = op(full, dtf)
-        kept = np.take_along_axis(res, read[..., None], axis=1)
-        for j, e in enumerate(exps):
-            out[D.bounds[e] : D.bounds[e + 1]] = kept[j]
+        # in chunks of experiments: the fine grid of a whole group (substeps x its rows x every column)
+        # would be several times the design itself on large campaigns; each experiment is filtered
+        # alone along its time axis, so chunking changes no bit of the result
+        step = max(1, _FINE_GRID_BYTES // (3 * 8 * src0.shape[1] * max(1, X.shape[1])))
+        for c0 in range(0, len(exps), step):
+            sl = slice(c0, c0 + step)
+            full = Xz[src0[sl]] * (1.0 - w[sl])[..., None] + Xz[src1[sl]] * w[sl][..., None]
+            res = op(full, dtf)
+            kept = np.take_along_axis(res, read[sl][..., None], axis=1)
+            for j, e in enumerate(exps[sl]):
+                out[D.bounds[e] : D.bounds[e + 1]] = kept[j]
     return out
 
 
