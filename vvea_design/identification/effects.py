@@ -1157,12 +1157,18 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
     the unit at rest at x = 0, before the first kept sample), filtered there
     (a discretisation finer than the sampling, which may be as coarse as the
     sensor's lag) and read back at the kept samples. Experiments of the same
-    spacing and length are filtered together. ``out`` may be ``X`` itself (filtered in place: the
-    fine grid is built from a copy of ``X`` and each experiment is read before it is written).
+    spacing and length are filtered together. ``out`` may be ``X`` itself (filtered in place: each
+    chunk of experiments reads its own rows before it writes them, so no copy of ``X`` is made).
     """
     out = np.empty_like(X) if out is None else out
-    Xz = np.vstack([X, np.zeros((1, X.shape[1]))])
+    n = X.shape[0]
     dts = D.per_exp_dt()
+
+    def rows(src):  # rows of X, the zero row (index n: the unit at rest before the motion) as zeros
+        r = X[np.minimum(src, n - 1)]
+        r[src == n] = 0.0
+        return r
+
     for dtf, exps, src0, src1, w, read in _fine_grid(D, int(substeps)):
         if dtf is None:
             for e in exps:
@@ -1175,7 +1181,8 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
         step = max(1, _FINE_GRID_BYTES // (3 * 8 * src0.shape[1] * max(1, X.shape[1])))
         for c0 in range(0, len(exps), step):
             sl = slice(c0, c0 + step)
-            full = Xz[src0[sl]] * (1.0 - w[sl])[..., None] + Xz[src1[sl]] * w[sl][..., None]
+            # a chunk reads only its own experiments' rows, and writes them after: safe in place, no copy of X
+            full = rows(src0[sl]) * (1.0 - w[sl])[..., None] + rows(src1[sl]) * w[sl][..., None]
             res = op(full, dtf)
             kept = np.take_along_axis(res, read[sl][..., None], axis=1)
             for j, e in enumerate(exps[sl]):
