@@ -8,7 +8,6 @@ selection rule does what it says.
 """
 
 import numpy as np
-import pytest
 
 from vvea_design.identification import physbench as pb
 from vvea_design.identification.diagnose import (

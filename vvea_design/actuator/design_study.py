@@ -46,7 +46,7 @@ from ..spring.gas_spring import GasSpring
 from .figures import plot_design_map, plot_safety, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator, actuator_from_spring
 from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, RestToRestCase, solve_case_results
-from .ocp import Mesh, OcpResult, Regularisation
+from .ocp import Mesh, Regularisation
 from .rest_to_rest import Grid
 from .safety import SafetyStudy, solve_safety
 from .statistics import PAPER_TABLE5, table5_statistics

@@ -102,7 +102,6 @@ def simulate_inputs(actuator: Actuator, t_edges_s, tau_m_Nm, u_d, substeps: int 
     edges = np.asarray(t_edges_s, dtype=float)
     tau = np.asarray(tau_m_Nm, dtype=float)
     ud = np.nan_to_num(np.asarray(u_d, dtype=float))
-    N = len(edges) - 1
     m = int(substeps)
     K, B, M = actuator.K_Nm_per_rad, actuator.B_kgm2, actuator.M_kgm2
     h = np.diff(edges) / m  # sub-step length per interval

@@ -49,7 +49,6 @@ from pathlib import Path
 import numpy as np
 
 from .membrane import (
-    SLACK,
     TAUT,
     MembraneError,
     MembraneSolution,

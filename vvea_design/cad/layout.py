@@ -334,7 +334,7 @@ class Layout:
         if self.design.top_cap_mm <= c.fill_port_counterbore_depth_mm:
             raise CadError(f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g}) "
                            f"must exceed cad.fill_port_counterbore_depth_mm")
-        ps, rs = self.piston_seal, self.rod_seal
+        ps = self.piston_seal
         if f.piston_height_mm < 2.5 * ps.width_mm:
             raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
                            f"{ps.width_mm:g} mm ({ps.oring.name}); use >= {2.5 * ps.width_mm:g} mm or a smaller "

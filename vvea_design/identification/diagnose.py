@@ -51,7 +51,7 @@ import numpy as np
 
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
-from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Check, Effect, FitData
+from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Effect, FitData
 from .identify import ModelFit, assemble, blocks, extend_blocks, fit_model, relief_context, solve_bounded
 from .recordings import Recordings
 

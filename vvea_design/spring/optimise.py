@@ -22,13 +22,13 @@ and 2-D linearity maps over any two decision variables.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Callable, Literal
 
 import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
-from .design import DECISION_VARIABLES, LAYOUTS, Design, DesignError, get_layout
+from .design import LAYOUTS, Design, DesignError, get_layout
 from ..parallel import parallel_map
 from ..progress import progress_bar
 from .requirements import (

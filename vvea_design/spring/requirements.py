@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from .design import (CHANNEL_GAP_MM, DECISION_VARIABLES, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
+from .design import (CHANNEL_GAP_MM, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
                      get_layout)
 from .gas_spring import linearity_exact
 from ..materials.silicones import allowable_strain, get_silicone
