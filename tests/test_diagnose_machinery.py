@@ -151,3 +151,53 @@ def test_sensor_filter_in_chunks_of_experiments_is_bit_identical(D, monkeypatch)
     whole = eff.transform(D, X.copy(), 0.05, {})
     monkeypatch.setattr(fx, "_FINE_GRID_BYTES", 1)  # one experiment per chunk
     np.testing.assert_array_equal(eff.transform(D, X.copy(), 0.05, {}), whole)
+
+
+def _shifted_starts(D):
+    """D with every experiment starting at t = 0 on a kept sample (no rest row before the motion) and one irregular experiment."""
+    import dataclasses
+
+    t = D.t.copy()
+    for e in range(D.n_exp):
+        a = D.bounds[e]
+        t[a : D.bounds[e + 1]] -= t[a] if e % 2 else t[a] + 0.3 * D.per_exp_dt()[e]
+    a = D.bounds[1]
+    t[a + 5] = t[a + 4]  # two samples at one time: filtered on its kept samples
+    return dataclasses.replace(D, t=t, _cache={})
+
+
+@pytest.mark.parametrize("shift", [False, True])
+def test_sensor_filter_on_the_samples_equals_the_fine_grid_filter(D, shift):
+    """The sensor filters run on the samples (:func:`_substep_filter`) give what the filter on the fine, linearly
+    interpolated time grid gives (the direct reference), for first- and second-order filters and any start."""
+    from scipy.signal import lfilter
+
+    Dx = _shifted_starts(D) if shift else D
+    if shift:
+        assert any(g[0] is None for g in fx._fine_grid(Dx, 1))
+    X = np.column_stack([Dx.x + 1.0, np.sin(3 * Dx.t), np.ones(Dx.n), np.sign(Dx.v)])
+    for tau in (0.003, 0.05, 0.7, 3.0):
+        q = lambda dt: np.exp(-dt / tau)  # noqa: E731
+        first = lambda dt: ([1.0 - q(dt)], [1.0, -q(dt)])  # noqa: E731
+        second = lambda dt: fx._bilinear_2nd_order(2 * 0.5 / tau, 0.5, 1.0 / dt)  # noqa: E731
+        for ba in (first, second):
+            ref = fx._on_sample_grid(Dx, X, lambda seg, dt: lfilter(*ba(dt), seg, axis=1))
+            got = fx._filter_on_sample_grid(Dx, X, ba)
+            np.testing.assert_allclose(got, ref, rtol=0, atol=1e-9 * np.abs(ref).max())
+
+
+def test_thermal_state_and_lowpass_of_grouped_experiments_are_bit_identical(D):
+    """Experiments of one spacing are filtered together: the per-experiment filters' result, bit for bit."""
+    from scipy.signal import lfilter
+
+    dts = D.per_exp_dt()
+    for tau in (0.05, 1.0, 30.0):
+        h = np.zeros(D.n)
+        lp = np.zeros(D.n)
+        for e in range(D.n_exp):
+            a, b = D.bounds[e], D.bounds[e + 1]
+            q = np.exp(-dts[e] / tau)
+            h[a:b] = lfilter([tau * (1 - q) / dts[e]], [1.0, -q], np.diff(D.x[a:b], prepend=D.x[a]))
+            lp[a:b] = lfilter([1.0 - q], [1.0, -q], D.y[a:b], zi=np.array([q * D.y[a]]))[0]
+        np.testing.assert_array_equal(fx._thermal_state(D, tau, D.x), h)
+        np.testing.assert_array_equal(fx.lowpass(D, D.y, tau), lp)

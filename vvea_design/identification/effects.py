@@ -347,14 +347,39 @@ def lowpass(D: FitData, u: np.ndarray, tau_s: float) -> np.ndarray:
         The filtered signal, same unit as ``u``.
     """
     out = np.empty_like(u, dtype=float)
-    dt = D.per_exp_dt()
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        q = np.exp(-dt[e] / tau_s)
-        seg = u[a:b]
-        zi = np.array([q * seg[0]])
-        out[a:b] = lfilter([1.0 - q], [1.0, -q], seg, zi=zi)[0]
+    u = np.asarray(u, dtype=float)
+    for dt, idx, valid in _same_dt_blocks(D):  # experiments of one spacing filtered together (bit for bit the same)
+        q = np.exp(-dt / tau_s)
+        seg = u[idx]
+        out[idx[valid]] = lfilter([1.0 - q], [1.0, -q], seg, axis=1, zi=q * seg[:, :1])[0][valid]
     return out
+
+
+def _same_dt_blocks(D: FitData):
+    """Experiments grouped by their sample spacing, as padded row-index blocks (cached).
+
+    Each block: ``(dt, idx, valid)``: ``dt`` the spacing (s) of its
+    experiments, ``idx`` (n_e, longest) the rows of D per experiment (padded
+    with its last row), ``valid`` where ``idx`` is a real sample. A causal
+    filter run along axis 1 of ``u[idx]`` gives, on the valid samples, what
+    it gives experiment by experiment (padding only follows the end).
+    """
+    key = ("same_dt_blocks",)
+    if key not in D._cache:
+        dts = D.per_exp_dt()
+        groups: dict = {}
+        for e in range(D.n_exp):
+            if D.bounds[e + 1] > D.bounds[e]:
+                groups.setdefault(float(dts[e]), []).append(e)
+        out = []
+        for dt, exps in groups.items():
+            n_e = np.array([D.bounds[e + 1] - D.bounds[e] for e in exps])
+            j = np.arange(n_e.max())
+            valid = j[None, :] < n_e[:, None]
+            idx = np.array([D.bounds[e] for e in exps])[:, None] + np.minimum(j[None, :], n_e[:, None] - 1)
+            out.append((dt, idx, valid))
+        D._cache[key] = out
+    return D._cache[key]
 
 
 def _chamber_logs(D: FitData):
@@ -403,13 +428,13 @@ def thermal_state(D: FitData, tau_s: float, u: np.ndarray | None = None, name: s
 
 def _thermal_state(D: FitData, tau_s: float, u: np.ndarray) -> np.ndarray:
     h = np.zeros(D.n)
-    dts = D.per_exp_dt()
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        dx = np.diff(u[a:b], prepend=u[a])
-        q = np.exp(-dts[e] / tau_s)
-        gain = tau_s * (1 - q) / dts[e]
-        h[a:b] = lfilter([gain], [1.0, -q], dx)
+    u = np.asarray(u, dtype=float)
+    dx = np.diff(u, prepend=u[:1]) if D.n else u.copy()
+    dx[D.bounds[:-1][D.bounds[:-1] < D.n]] = 0.0  # each experiment starts at rest: no step into its first sample
+    for dt, idx, valid in _same_dt_blocks(D):  # experiments of one spacing filtered together (bit for bit the same)
+        q = np.exp(-dt / tau_s)
+        gain = tau_s * (1 - q) / dt
+        h[idx[valid]] = lfilter([gain], [1.0, -q], dx[idx], axis=1)[valid]
     return h
 
 
@@ -1190,6 +1215,105 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
     return out
 
 
+def _substep_filter(b, a, m: int):
+    """The digital filter ``(b, a)`` run on ``m`` substeps per sample of a linearly interpolated input, as one filter on the samples.
+
+    A causal filter (``lfilter`` convention, zero state before the first
+    input) applied to the fine grid of :func:`_on_sample_grid` -- the input
+    interpolated linearly between samples, ``m`` steps per sample interval --
+    and read at every ``m``-th step is, exactly (up to rounding), a filter of
+    the same order on the samples themselves: with the state-space form
+    ``s' = A s + B x, y = C s + D x`` of ``(b, a)``, one sample interval maps
+    ``S_{k+1} = A^m S_k + G0 u_k + G1 u_{k+1}`` (``G0, G1`` the sums of
+    ``A^(m-1-i) B`` weighted by ``1 - i/m`` and ``i/m``), and ``W_k = S_k -
+    G1 u_k`` gives the standard form ``W' = A^m W + (A^m G1 + G0) u, Y = C W
+    + (C G1 + D) u``. Its transfer function is built from its Markov
+    parameters (no subtraction of nearly equal polynomials).
+
+    Returns ``(bc, ac, br)``: the filter on the samples, and the numerator of
+    ``r_k = C A^(mk) G1`` (``W_0 = -G1 u_0``: the fine filter starts at rest
+    before ``u_0``, so ``y_k`` gets ``- u_0 r_k`` when ``u_0 != 0``).
+    """
+    from scipy.signal import tf2ss
+
+    b = np.atleast_1d(np.asarray(b, float)) / float(a[0])
+    a = np.atleast_1d(np.asarray(a, float)) / float(a[0])
+    N = max(len(a), len(b)) - 1
+    if N == 0:
+        return b, a, np.zeros(1)
+    A, B, C, Dd = tf2ss(np.r_[b, np.zeros(N + 1 - len(b))], np.r_[a, np.zeros(N + 1 - len(a))])
+    P = [np.eye(N)]
+    for _ in range(m):
+        P.append(A @ P[-1])
+    G0 = sum(P[m - 1 - i] @ B * (1.0 - i / m) for i in range(m))
+    G1 = sum(P[m - 1 - i] @ B * (i / m) for i in range(m))
+    Am = P[m]
+    ac = np.real(np.poly(Am)) if N > 1 else np.array([1.0, -Am[0, 0]])
+
+    def numerator(d0, v):  # transfer-function numerator of the Markov parameters d0, C v, C Am v, ...
+        h = [d0]
+        for _ in range(N):
+            h.append((C @ v).item())
+            v = Am @ v
+        return np.convolve(ac, h)[: N + 1]
+
+    bc = numerator((C @ G1 + Dd).item(), Am @ G1 + G0)
+    br = numerator((C @ G1).item(), Am @ G1)
+    return bc, ac, br
+
+
+def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out: np.ndarray | None = None) -> np.ndarray:
+    """:func:`_on_sample_grid` for a linear filter ``ba(dt) -> (b, a)``, computed on the samples (4 x less work, the same result).
+
+    The same filter as ``_on_sample_grid(D, X, lambda seg, dt: lfilter(*ba(dt), seg, axis=1), substeps)``:
+    the fine grid's input is linear between kept samples, so the fine filter
+    read at the samples is the exact filter :func:`_substep_filter` on the
+    uniform sample grid (the samples left out at rest filled in linearly,
+    from a zero row before the motion); equal to rounding (~1e-15 relative).
+    ``out`` may be ``X`` itself (in place, chunk by chunk, as :func:`_on_sample_grid`).
+    """
+    from scipy.signal import lfilter
+
+    out = np.empty_like(X) if out is None else out
+    n = X.shape[0]
+    dts = D.per_exp_dt()
+    m = int(substeps)
+    for dtc, exps, src0, src1, w, read in _fine_grid(D, 1):
+        if dtc is None:
+            for e in exps:
+                a, b = D.bounds[e], D.bounds[e + 1]
+                out[a:b] = lfilter(*ba(dts[e]), X[a:b], axis=0)
+            continue
+        bf, af = ba(dtc / m)
+        bc, ac, br = _substep_filter(bf, af, m)
+        L = src0.shape[1]
+        r = None
+        if np.any(src0[:, 0] != n):  # an experiment starts at t = 0 with a kept sample: the fine filter's start
+            r = lfilter(br, ac, np.r_[1.0, np.zeros(L - 1)])
+        interp = w != 0.0
+        step = max(1, _FINE_GRID_BYTES // (8 * L * max(1, X.shape[1])))
+        for c0 in range(0, len(exps), step):
+            sl = slice(c0, c0 + step)
+            s0 = src0[sl]
+            full = X[np.minimum(s0, n - 1)]
+            full[s0 == n] = 0.0
+            ii = interp[sl]
+            if ii.any():
+                wi = w[sl][ii][:, None]
+                s1 = src1[sl][ii]
+                r1 = X[np.minimum(s1, n - 1)]
+                r1[s1 == n] = 0.0
+                full[ii] = full[ii] * (1.0 - wi) + r1 * wi
+            u0 = full[:, 0, :].copy() if r is not None else None
+            res = lfilter(bc, ac, full, axis=1)
+            if r is not None:
+                res -= r[None, :, None] * u0[:, None, :]
+            kept = np.take_along_axis(res, read[sl][..., None], axis=1)
+            for j, e in enumerate(exps[sl]):
+                out[D.bounds[e] : D.bounds[e + 1]] = kept[j]
+    return out
+
+
 @dataclass(frozen=True)
 class ForceLag(Effect):
     def grid(self, D, ctx):
@@ -1202,11 +1326,11 @@ class ForceLag(Effect):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
         # motion (zero force state: every column of the model vanishes at rest at x = 0)
-        def op(seg, dt):
+        def ba(dt):
             q = np.exp(-dt / tau)
-            return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
+            return [1.0 - q], [1.0, -q]
 
-        return _on_sample_grid(D, X, op, out=out)
+        return _filter_on_sample_grid(D, X, ba, out=out)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1257,12 +1381,11 @@ class ForceFilter(ForceLag):
     def transform(self, D, X, lag, ctx, out=None):
         wn = 2 * self.zeta / lag
 
-        def op(seg, dt):
-            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form
-            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
-            return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
+        def ba(dt):
+            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form; from rest (see ForceLag)
+            return _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
 
-        return _on_sample_grid(D, X, op, out=out)
+        return _filter_on_sample_grid(D, X, ba, out=out)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)
