@@ -50,6 +50,7 @@ Residual sign convention everywhere: residual = measurement − model (N).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -1216,6 +1217,12 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
 
 
 def _substep_filter(b, a, m: int):
+    """:func:`_substep_filter_cached` for array coefficients (the same few filters recur across candidates and folds)."""
+    return _substep_filter_cached(tuple(np.atleast_1d(np.asarray(b, float))), tuple(np.atleast_1d(np.asarray(a, float))), int(m))
+
+
+@functools.lru_cache(maxsize=4096)
+def _substep_filter_cached(b: tuple, a: tuple, m: int):
     """The digital filter ``(b, a)`` run on ``m`` substeps per sample of a linearly interpolated input, as one filter on the samples.
 
     A causal filter (``lfilter`` convention, zero state before the first
@@ -1270,14 +1277,34 @@ def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out
     read at the samples is the exact filter :func:`_substep_filter` on the
     uniform sample grid (the samples left out at rest filled in linearly,
     from a zero row before the motion); equal to rounding (~1e-15 relative).
-    ``out`` may be ``X`` itself (in place, chunk by chunk, as :func:`_on_sample_grid`).
+    Columns never nonzero in the same experiment (eq. 14's one damping
+    column per valve) are filtered as one: the filter acts per experiment, so
+    this moves no bit. ``out`` may be ``X`` itself (in place, chunk by chunk,
+    as :func:`_on_sample_grid`).
     """
     from scipy.signal import lfilter
 
     out = np.empty_like(X) if out is None else out
-    n = X.shape[0]
+    n, p = X.shape
     dts = D.per_exp_dt()
     m = int(substeps)
+    # slots: per experiment, the column of X each filtered slot carries (columns dead in an experiment
+    # share a slot with the one alive there; a slot whose columns are all dead carries one of them: zeros)
+    live = np.logical_or.reduceat(X != 0.0, D.bounds[:-1], axis=0) if n and D.n_exp else np.ones((D.n_exp, p), bool)
+    merged: list = []  # [(experiments covered, [columns])]
+    for j in range(p):
+        for sup, cols in merged:
+            if not np.any(sup & live[:, j]):
+                sup |= live[:, j]
+                cols.append(j)
+                break
+        else:
+            merged.append((live[:, j].copy(), [j]))
+    slot = np.empty((D.n_exp, len(merged)), int)
+    for g, (_, cols) in enumerate(merged):
+        slot[:, g] = cols[0]
+        for j in cols[1:]:
+            slot[live[:, j], g] = j
     for dtc, exps, src0, src1, w, read in _fine_grid(D, 1):
         if dtc is None:
             for e in exps:
@@ -1291,26 +1318,36 @@ def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out
         if np.any(src0[:, 0] != n):  # an experiment starts at t = 0 with a kept sample: the fine filter's start
             r = lfilter(br, ac, np.r_[1.0, np.zeros(L - 1)])
         interp = w != 0.0
-        step = max(1, _FINE_GRID_BYTES // (8 * L * max(1, X.shape[1])))
+        nk = read.shape[1]
+        k = slot.shape[1]
+        step = max(1, _FINE_GRID_BYTES // (8 * L * max(1, k)))
         for c0 in range(0, len(exps), step):
             sl = slice(c0, c0 + step)
+            e_sl = exps[sl]
+            cs = slot[e_sl]  # (n_e, k)
             s0 = src0[sl]
-            full = X[np.minimum(s0, n - 1)]
-            full[s0 == n] = 0.0
+            # (n_e, slots, time): each experiment's slot filtered along the contiguous last axis
+            full = X[np.minimum(s0, n - 1)[:, None, :], cs[:, :, None]]
+            zero = s0 == n
+            if zero.any():
+                full.transpose(0, 2, 1)[zero] = 0.0
             ii = interp[sl]
             if ii.any():
+                ei, li = np.nonzero(ii)
                 wi = w[sl][ii][:, None]
                 s1 = src1[sl][ii]
-                r1 = X[np.minimum(s1, n - 1)]
+                r1 = X[np.minimum(s1, n - 1)[:, None], cs[ei]]
                 r1[s1 == n] = 0.0
-                full[ii] = full[ii] * (1.0 - wi) + r1 * wi
-            u0 = full[:, 0, :].copy() if r is not None else None
-            res = lfilter(bc, ac, full, axis=1)
+                full[ei, :, li] = full[ei, :, li] * (1.0 - wi) + r1 * wi
+            u0 = full[:, :, 0].copy() if r is not None else None
+            res = lfilter(bc, ac, full, axis=-1)
             if r is not None:
-                res -= r[None, :, None] * u0[:, None, :]
-            kept = np.take_along_axis(res, read[sl][..., None], axis=1)
-            for j, e in enumerate(exps[sl]):
-                out[D.bounds[e] : D.bounds[e + 1]] = kept[j]
+                res -= u0[:, :, None] * r[None, None, :]
+            kept = res[np.arange(len(e_sl))[:, None, None], np.arange(k)[None, :, None], read[sl][:, None, :]]  # (n_e, k, nk)
+            rows = D.bounds[e_sl][:, None] + np.arange(nk)  # every row of these experiments (the kept samples)
+            if k < p:
+                out[rows.ravel()] = 0.0  # the dead columns (their rows of X are read above: safe in place)
+            out[rows[:, None, :], cs[:, :, None]] = kept
     return out
 
 
