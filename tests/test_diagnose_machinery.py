@@ -201,3 +201,20 @@ def test_thermal_state_and_lowpass_of_grouped_experiments_are_bit_identical(D):
             lp[a:b] = lfilter([1.0 - q], [1.0, -q], D.y[a:b], zi=np.array([q * D.y[a]]))[0]
         np.testing.assert_array_equal(fx._thermal_state(D, tau, D.x), h)
         np.testing.assert_array_equal(fx.lowpass(D, D.y, tau), lp)
+
+
+@pytest.mark.parametrize("eid", [e.id for e in REGISTRY.values() if not e.needs])
+def test_columns_of_effects_without_needs_do_not_read_the_context(D, eid):
+    """``effect_columns`` caches the columns of effects without ``needs`` per shape: they must not depend on the context."""
+    eff = REGISTRY[eid]
+    rng = np.random.default_rng(1)
+    ctx = {k: rng.normal(size=D.n) * 50 for k in ("damping_force_N", "model_force_N", "residual_N", "residual_all_N")}
+    grid = np.asarray(eff.grid(D, ctx), float) if eff.shape is not None else np.array([np.nan])
+    if len(grid) == 0:
+        pytest.skip("no grid on this campaign")
+    shape = float(grid[len(grid) // 2])
+    ref = eff.columns(D, shape, ctx)
+    np.testing.assert_array_equal(eff.columns(D, shape, {}), ref)
+    got = fx.effect_columns(D, eff, shape, ctx)
+    np.testing.assert_array_equal(got, ref)
+    assert fx.effect_columns(D, eff, shape, {}) is got  # the second call is the cached array

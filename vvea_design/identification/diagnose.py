@@ -42,6 +42,7 @@ every table.
 
 from __future__ import annotations
 
+import inspect
 import json
 import time
 from dataclasses import asdict, dataclass, field
@@ -51,7 +52,7 @@ import numpy as np
 
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
-from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Effect, FitData
+from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Effect, FitData, effect_columns
 from .identify import ModelFit, assemble, blocks, extend_blocks, fit_model, relief_context, solve_bounded
 from .recordings import Recordings
 
@@ -738,16 +739,26 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
             th = solve_bounded(Bk.G[train].sum(0), Bk.b[train].sum(0), Bk.lower, Bk.upper)
             costs.append(Bk.sse(th, train).sum())
 
+    # a candidate that only filters the design (sensor dynamics, no columns of its own) over a model without
+    # such filters: its design is the current one, X0, filtered (what assemble would rebuild and filter)
+    only_filter = (_has_mask(eff) and eff.transforms_design and not eff.params(D) and eff.damping_mask(D, float(grid[0]), ctx) is None
+                   and not any(REGISTRY[o].transforms_design for o in cur.effects) and X0.shape[1] == len(cur.params))
     for gval in grid:
         sh = dict(cur.shapes)
         sh[cand] = float(gval)
-        if _has_mask(eff):
+        if only_filter:
+            X = X0.copy()
+            X = eff.transform(D, X, float(gval), ctx, out=X) if "out" in inspect.signature(eff.transform).parameters else eff.transform(D, X, float(gval), ctx)
+            Bk = blocks(X, D.y, D.bounds, cur.params)
+            del X
+            sl = slice(X0.shape[1], X0.shape[1])
+        elif _has_mask(eff):
             X, params, groups = assemble(D, cur.effects + (cand,), sh, ctx)
             Bk = blocks(X, D.y, D.bounds, params)
             del X  # not alive while the next grid value's design is built
             sl = groups[cand]
         else:
-            Xn = eff.columns(D, float(gval), ctx)
+            Xn = effect_columns(D, eff, float(gval), ctx)
             for o in cur.effects:  # sensor dynamics already in the model act on the new columns too
                 if REGISTRY[o].transforms_design:
                     Xn = REGISTRY[o].transform(D, Xn, cur.shapes.get(o, np.nan), ctx)

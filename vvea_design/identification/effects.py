@@ -75,6 +75,7 @@ __all__ = [
     "baseline_columns",
     "baseline_params",
     "fill_baseline",
+    "effect_columns",
     "chamber_remainders",
     "thermal_state",
     "lowpass",
@@ -244,6 +245,20 @@ def cached(D: FitData, key, make):
             break
         total -= _nbytes(c.pop(k0))
     return val
+
+
+def effect_columns(D: FitData, eff: "Effect", shape: float, ctx: dict) -> np.ndarray:
+    """``eff.columns(D, shape, ctx)``, cached per effect and shape value when the effect needs no context.
+
+    The columns of an effect without ``needs`` are a function of the campaign
+    and the shape alone (the same forces are rebuilt by every fold, round and
+    refit); those that read the context are always rebuilt. Cached: do not
+    modify the result in place.
+    """
+    if eff.needs:
+        return eff.columns(D, shape, ctx)
+    sv = float(shape)
+    return cached(D, ("columns", eff.id, sv if np.isfinite(sv) else None), lambda: eff.columns(D, shape, ctx))
 
 
 def baseline_columns(D: FitData) -> tuple[np.ndarray, list[Param]]:

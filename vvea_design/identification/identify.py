@@ -32,7 +32,7 @@ import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from .effects import REGISTRY, FitData, baseline_params, fill_baseline
+from .effects import REGISTRY, FitData, baseline_params, effect_columns, fill_baseline
 from .recordings import Recordings
 
 __all__ = [
@@ -112,7 +112,7 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
         m = eff.damping_mask(D, sv, ctx)
         if m is not None:
             X[m, 2:p0] = 0.0
-        c = eff.columns(D, sv, ctx)
+        c = effect_columns(D, eff, sv, ctx)
         if c.shape[1] != groups[eid].stop - groups[eid].start:
             raise ValueError(f"effect {eid!r} gives {c.shape[1]} columns for {groups[eid].stop - groups[eid].start} parameters")
         X[:, groups[eid]] = c
@@ -539,7 +539,7 @@ def fit_model(
                 X0, p0, _ = assemble(D, rest, shapes, ctx)
                 base.extend([X0, blocks(X0, D.y, D.bounds, p0)])
             X0, B0 = base
-            return extend_blocks(B0, X0, eff.columns(D, float(val), ctx), D.y, D.bounds, pe)
+            return extend_blocks(B0, X0, effect_columns(D, eff, float(val), ctx), D.y, D.bounds, pe)
 
         pe = eff.params(D)
 
