@@ -218,3 +218,15 @@ def test_columns_of_effects_without_needs_do_not_read_the_context(D, eid):
     got = fx.effect_columns(D, eff, shape, ctx)
     np.testing.assert_array_equal(got, ref)
     assert fx.effect_columns(D, eff, shape, {}) is got  # the second call is the cached array
+
+
+@pytest.mark.parametrize("eid", [e.id for e in REGISTRY.values() if e.transforms_design and not e.params(None)])
+def test_filter_only_candidate_design_equals_the_assembled_one(D, eid):
+    """The CV of a filter-only candidate filters the current design instead of rebuilding it: the same design, bit for bit."""
+    from vvea_design.identification import diagnose as dg
+
+    base = ("stiction", "thermal")
+    shapes = {"stiction": 8.0, "thermal": 1.5, eid: 0.05}
+    X0, _, _ = assemble(D, base, shapes, {})
+    X, _, _ = assemble(D, base + (eid,), shapes, {})
+    np.testing.assert_array_equal(dg._filtered_design(D, REGISTRY[eid], X0, 0.05, {}), X)

@@ -709,6 +709,14 @@ def _has_mask(eff: Effect) -> bool:
     return not eff.nested
 
 
+def _filtered_design(D: FitData, eff: Effect, X0: np.ndarray, shape: float, ctx: dict) -> np.ndarray:
+    """A copy of the design ``X0`` (a whole design, eq. 14's columns first) through the design filter of ``eff``, called as :func:`assemble` calls it."""
+    X = X0.copy()
+    sig = inspect.signature(eff.transform).parameters
+    kw = dict(({"out": X} if "out" in sig else {}), **({"eq14_first": True} if "eq14_first" in sig else {}))
+    return eff.transform(D, X, shape, ctx, **kw)
+
+
 def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
     """Held-out SSE per experiment (grouped CV over the training experiments) with ``cand`` added.
 
@@ -747,8 +755,7 @@ def _cv_sse(D, cur: ModelFit, base_blk, X0, ctx, cand, plan, fallback):
         sh = dict(cur.shapes)
         sh[cand] = float(gval)
         if only_filter:
-            X = X0.copy()
-            X = eff.transform(D, X, float(gval), ctx, out=X) if "out" in inspect.signature(eff.transform).parameters else eff.transform(D, X, float(gval), ctx)
+            X = _filtered_design(D, eff, X0, float(gval), ctx)
             Bk = blocks(X, D.y, D.bounds, cur.params)
             del X
             sl = slice(X0.shape[1], X0.shape[1])
