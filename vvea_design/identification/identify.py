@@ -157,6 +157,21 @@ class Blocks:
         return yy - 2 * b @ theta + np.einsum("i,eij,j->e", theta, G, theta)
 
 
+def _equal_runs(bounds: np.ndarray) -> list:
+    """``(e0, e1)``: runs of consecutive experiments with the same number of samples (a campaign's are usually all equal)."""
+    n = np.diff(bounds)
+    if len(n) == 0:
+        return []
+    cuts = np.flatnonzero(np.diff(n) != 0) + 1
+    return list(zip(np.r_[0, cuts].tolist(), np.r_[cuts, len(n)].tolist()))
+
+
+def _stacked(A: np.ndarray, bounds: np.ndarray, e0: int, e1: int) -> np.ndarray:
+    """Rows of experiments ``e0 .. e1-1`` (equal lengths) of ``A`` as a (experiments, samples, ...) stack (a view when ``A`` is contiguous)."""
+    k = e1 - e0
+    return A[bounds[e0] : bounds[e1]].reshape((k, (bounds[e1] - bounds[e0]) // k) + A.shape[1:])
+
+
 def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
     """Normal-equation blocks per experiment (``bounds`` = row offsets).
 
@@ -183,12 +198,12 @@ def blocks(X: np.ndarray, y: np.ndarray, bounds: np.ndarray, params) -> Blocks:
     G = np.empty((ne, p, p))
     b = np.empty((ne, p))
     yy = np.empty(ne)
-    for e in range(ne):
-        Xe = X[bounds[e] : bounds[e + 1]]
-        ye = y[bounds[e] : bounds[e + 1]]
-        G[e] = Xe.T @ Xe
-        b[e] = Xe.T @ ye
-        yy[e] = ye @ ye
+    for e0, e1 in _equal_runs(bounds):  # experiments of equal length side by side: one stacked product each
+        X3, y3 = _stacked(X, bounds, e0, e1), _stacked(y, bounds, e0, e1)
+        X3t = X3.transpose(0, 2, 1)
+        np.matmul(X3t, X3, out=G[e0:e1])
+        b[e0:e1] = np.matmul(X3t, y3[..., None])[..., 0]
+        yy[e0:e1] = np.matmul(y3[:, None, :], y3[..., None])[:, 0, 0]
     lo = np.array([q.lower for q in params], float)
     hi = np.array([q.upper for q in params], float)
     return Blocks(G, b, yy, np.diff(bounds), lo, hi)
@@ -224,14 +239,14 @@ def extend_blocks(base: Blocks, X0: np.ndarray, Xn: np.ndarray, y: np.ndarray, b
     G[:, :p0, :p0] = base.G
     b = np.empty((ne, p0 + k))
     b[:, :p0] = base.b
-    for e in range(ne):
-        sl = slice(bounds[e], bounds[e + 1])
-        Xe = Xn[sl]
-        c = X0[sl].T @ Xe
-        G[e, :p0, p0:] = c
-        G[e, p0:, :p0] = c.T
-        G[e, p0:, p0:] = Xe.T @ Xe
-        b[e, p0:] = Xe.T @ y[sl]
+    for e0, e1 in _equal_runs(bounds):
+        Xn3, X03, y3 = _stacked(Xn, bounds, e0, e1), _stacked(X0, bounds, e0, e1), _stacked(y, bounds, e0, e1)
+        Xn3t = Xn3.transpose(0, 2, 1)
+        c = np.matmul(X03.transpose(0, 2, 1), Xn3)
+        G[e0:e1, :p0, p0:] = c
+        G[e0:e1, p0:, :p0] = c.transpose(0, 2, 1)
+        G[e0:e1, p0:, p0:] = np.matmul(Xn3t, Xn3)
+        b[e0:e1, p0:] = np.matmul(Xn3t, y3[..., None])[..., 0]
     lo = np.r_[base.lower, [q.lower for q in params_new]]
     hi = np.r_[base.upper, [q.upper for q in params_new]]
     return Blocks(G, b, base.yy, base.n, lo, hi)
