@@ -252,8 +252,26 @@ def effect_columns(D: FitData, eff: "Effect", shape: float, ctx: dict) -> np.nda
 
     The columns of an effect without ``needs`` are a function of the campaign
     and the shape alone (the same forces are rebuilt by every fold, round and
-    refit); those that read the context are always rebuilt. Cached: do not
-    modify the result in place.
+    refit); those that read the context are always rebuilt.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign (x in mm, ẋ in mm/s, p2 in MPa, t in s, ...).
+    eff : Effect
+        The effect whose columns are wanted.
+    shape : float
+        Its shape parameter, in the unit of ``eff.shape`` (e.g. s for a time
+        constant, mm for a pitch); NaN for an effect without one.
+    ctx : dict
+        Context arrays per sample (``damping_force_N`` etc., N), read only by
+        effects that declare them in ``needs``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (D.n, number of the effect's amplitudes)
+        The effect's columns, each in the unit its amplitude multiplies (N per
+        amplitude unit). Cached: do not modify it in place.
     """
     if eff.needs:
         return eff.columns(D, shape, ctx)
