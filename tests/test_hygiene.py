@@ -451,7 +451,7 @@ def _public_methods(module):
                 fn = attr.__func__
             elif inspect.isfunction(attr):
                 fn = attr
-            else:  # properties, class attributes, nested classes
+            else:  # properties (functools.cached_property too), class attributes, nested classes
                 continue
             yield f"{cname}.{mname}", fn
 
