@@ -110,6 +110,8 @@ def compare(a: Path, b: Path, rtol: float) -> int:
             print(f"{f.stem}: not in {b}")
             continue
         ra, rb = json.loads(f.read_text()), json.loads(g.read_text())
+        ra.pop("source", None)  # where the file was read from
+        rb.pop("source", None)
         diffs: list = []
         _diff(ra, rb, "", rtol, diffs)
         res = [d for d in diffs if _is_result(d[0], ra)]
