@@ -64,7 +64,7 @@ DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm
 #: Parameters and fixed fields added after format_version 1 was first written: optional (their defaults are
 #: the layouts that do not use them), so older files still load.
 OPTIONAL_PARAMETER_KEYS = ("V1_annulus_mm3",)
-_OPTIONAL_FIXED = ("min_collar_mm", "cross_hole_mm")
+OPTIONAL_FIXED_KEYS = ("min_collar_mm", "cross_hole_mm")
 #: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
 TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
                   "constraint_details", "spec", "optimiser")
@@ -302,7 +302,7 @@ def _check_geometry_complete(data: dict, src: str) -> None:
         raise DesignFileError(f"{src}: missing object 'fixed' (wall thicknesses, end caps, materials, ...){hint}")
     if not isinstance(fixed, dict):
         raise DesignFileError(f"{src}: 'fixed' must be an object, got {type(fixed).__name__}")
-    missing = [f.name for f in dataclass_fields(FixedParameters) if f.name not in fixed and f.name not in _OPTIONAL_FIXED]
+    missing = [f.name for f in dataclass_fields(FixedParameters) if f.name not in fixed and f.name not in OPTIONAL_FIXED_KEYS]
     if missing:
         raise DesignFileError(f"{src}: fixed.{', fixed.'.join(missing)} missing{hint}")
     for key in ("travel_mm", "n_polytropic"):
