@@ -163,7 +163,10 @@ def test_annulus_top_layout_places_every_volume():
     d, f = ANN, ANN.fixed
     a_ann = math.pi * (d.outer_bore_radius_mm**2 - d.inner_tube_outer_radius_mm**2)
     assert a_ann * d.top_annulus_length_mm == pytest.approx(d.V1_annulus_mm3, rel=1e-12)
-    assert d.A1_mm2 * d.chamber1_length_mm + d.V1_annulus_mm3 == pytest.approx(d.V1_mm3, rel=1e-12)
+    # the slots through the inner tube's top end join the two; their gas is chamber 1's too
+    slots = f.cross_slot_fraction * math.pi * (d.inner_tube_outer_radius_mm**2 - (d.piston_diameter_mm / 2) ** 2) \
+        * f.cross_slot_mm
+    assert d.A1_mm2 * d.chamber1_length_mm + d.V1_annulus_mm3 + slots == pytest.approx(d.V1_mm3, rel=1e-12)
     # the housing length follows the bore column only (as in inner_tube); the annulus takes bladder length
     assert d.inner_length_mm == pytest.approx(d.chamber1_length_mm + f.piston_height_mm + f.travel_mm
                                               + f.fluid_clearance_mm)
@@ -182,8 +185,8 @@ def test_annulus_top_layout_places_every_volume():
     assert d.wall_safety_factors()["collar"] >= f.wall_safety_factor - 1e-9
     assert d.minimum_walls_mm()["collar"] <= d.collar_mm + 1e-9
     assert d.mass_breakdown_g()["collar"] == pytest.approx(a_ann * d.collar_mm * 2.7e-3, rel=0.02)
-    assert d.cross_hole_room_mm == pytest.approx(min(d.top_annulus_length_mm, d.chamber1_length_mm)
-                                                 - f.cross_hole_mm - 1.0)
+    assert d.cross_slot_room_mm == pytest.approx(min(d.top_annulus_length_mm, d.chamber1_length_mm)
+                                                 - f.cross_slot_mm - 1.0)
     # a thicker minimum collar shortens the bladder by exactly the difference
     thick = replace(d, fixed=replace(f, min_collar_mm=d.collar_mm + 2.0))
     assert thick.bladder_free_length_mm == pytest.approx(L - 2.0)
@@ -196,11 +199,11 @@ def test_annulus_top_constraints_are_reported():
 
     req = Requirements(layouts=("inner_tube", "annulus_top"))
     names = constraint_names(req, "annulus_top")
-    assert "cross_hole_room" in names and "wall_safety_collar" in names
-    assert "cross_hole_room" in constraint_names(req, "annulus_top", search=True)
-    assert "cross_hole_room" not in constraint_names(req, "bulkhead")
+    assert "cross_slot_room" in names and "wall_safety_collar" in names
+    assert "cross_slot_room" in constraint_names(req, "annulus_top", search=True)
+    assert "cross_slot_room" not in constraint_names(req, "bulkhead")
     short = replace(ANN, V1_annulus_mm3=100.0, V1_mm3=ANN.V1_mm3 - 8900.0)  # 100 mm³: a sliver of annulus
-    assert evaluate_design(short, req).margins["cross_hole_room"] < 0
+    assert evaluate_design(short, req).margins["cross_slot_room"] < 0
 
 
 def test_layout_errors_are_clear():

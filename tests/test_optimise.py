@@ -271,7 +271,7 @@ def test_annulus_top_wins_where_the_chamber_1_column_binds(tmp_path):
     d = r.design
     assert d.V1_annulus_mm3 > 0 and d.top_annulus_length_mm > 0
     assert d.V1_mm3 > d.A1_mm2 * d.chamber1_length_mm + 0.2 * d.V1_annulus_mm3  # chamber 1 is not just the column
-    assert r.evaluation.margins["cross_hole_room"] >= -1e-9 and r.evaluation.margins["wall_safety_collar"] >= -1e-9
+    assert r.evaluation.margins["cross_slot_room"] >= -1e-9 and r.evaluation.margins["wall_safety_collar"] >= -1e-9
     path = save_design(tmp_path / "d.json", r.evaluation, req)
     data = json.loads(path.read_text())
     assert data["parameters"]["layout"] == "annulus_top"

@@ -82,7 +82,7 @@ LAYOUTS: dict[str, LayoutVariant] = {
         DECISION_VARIABLES + ("V2_top_mm3",), True),
     "annulus_top": LayoutVariant(
         "annulus_top",
-        "chamber 1 fills the inner tube from the piston to the top cap and, through cross holes below the top cap, "
+        "chamber 1 fills the inner tube from the piston to the top cap and, through cross slots below the top cap, "
         "the annulus above a collar on the inner tube (V1_annulus); the collar is the top bladder clamp and the "
         "pressure wall between the chambers, chamber 2 is charged through the base",
         DECISION_VARIABLES + ("V1_annulus_mm3",), False, True),
@@ -145,7 +145,8 @@ class FixedParameters:
     fill_tube_outer_mm: float = 4.0  #: chamber-1 fill tube through the upper chamber-2 space (``bulkhead`` layout)
     fill_tube_bore_mm: float = 1.5  #: its bore (counted in V1)
     min_collar_mm: float = 2.0  #: thinnest collar plate above the top bladder clamp (``annulus_top`` layout)
-    cross_hole_mm: float = 2.0  #: cross holes joining the chamber-1 annulus to the bore below the top cap (``annulus_top``)
+    cross_slot_mm: float = 2.0  #: axial height of the slots in the inner tube's top end joining the chamber-1 annulus to the bore (``annulus_top``)
+    cross_slot_fraction: float = 1 / 3  #: share of the inner tube's circumference the slots take (their gas is in V1)
     wall_safety_factor: float = 2.0  #: walls are sized to this safety factor on yield (the requirements set it)
     wall_sizing_n: float = 1.4  #: walls carry the peak pressure of this polytropic exponent (1.4: a fast, adiabatic stroke)
     piston_height_mm: float = 10.0  #: working piston incl. seal grooves
@@ -180,6 +181,8 @@ class FixedParameters:
             raise DesignError(f"fixed.n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         if not 1.0 <= self.wall_sizing_n <= 1.67:
             raise DesignError(f"fixed.wall_sizing_n must be in [1, 1.67], got {show(self.wall_sizing_n)}")
+        if not self.cross_slot_fraction < 1.0:
+            raise DesignError(f"fixed.cross_slot_fraction must be in (0, 1), got {show(self.cross_slot_fraction)}")
         if self.fill_tube_bore_mm >= self.fill_tube_outer_mm:
             raise DesignError("fixed.fill_tube_bore_mm must be smaller than fixed.fill_tube_outer_mm")
         for key in ("housing_material", "rod_material", "support_ring_material"):
@@ -341,7 +344,10 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         L_a = Va / A_ann if top_annulus else np.zeros_like(V1)
     g["top_annulus_length_mm"] = L_a
     g["V1_annulus_mm3"] = Va * np.ones_like(L_a)
-    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"] - Va) / A1
+    # the slots through the inner tube's top end (annulus_top) hold chamber-1 gas too
+    v_slots = f.cross_slot_fraction * pi * (rio**2 - ri**2) * f.cross_slot_mm if top_annulus else np.zeros_like(V1)
+    g["cross_slot_volume_mm3"] = v_slots * np.ones_like(L_a)
+    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"] - Va - v_slots) / A1
     g["chamber1_length_mm"] = L1
     fluid_col = f.travel_mm + f.fluid_clearance_mm
     g["fluid_column_mm"] = np.full_like(L1, fluid_col)
@@ -409,7 +415,7 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     m = {
         "outer_tube": pi * (ro**2 - rb**2) * L_in * rho_h,
         "end_caps": pi * ro**2 * (t_cap + t_base) * rho_h,
-        "inner_tube": pi * (rio**2 - ri**2) * L_in * rho_h,
+        "inner_tube": (pi * (rio**2 - ri**2) * L_in - v_slots) * rho_h,
         "bulkhead": (pi * ri**2 * t_bh + (a_fo - a_fb) * L_top) * rho_h,
         "collar": A_ann * t_col * rho_h,  # the plate above the top clamp (the clamp itself is counted nowhere, as before)
         "piston": pi * ri**2 * f.piston_height_mm * rho_h,
@@ -427,8 +433,8 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     g["buildable"] = ((dp > f.rod_diameter_mm) & (g["annulus_gap_mm"] > f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm)
                       & (L1 > 0) & (V2 > disp) & (cast_gas > 0) & (L > 0) & (Vt >= 0) & (V2_ann > 0)
                       & (Va >= 0) & np.isfinite(p1))
-    # annulus_top: the cross holes below the top cap need room in the annulus and above the piston at x = 0
-    g["cross_hole_room_mm"] = (np.fmin(L_a, L1) - (f.cross_hole_mm + 1.0)) if top_annulus else np.full_like(L1, np.inf)
+    # annulus_top: the cross slots below the top cap need room in the annulus and above the piston at x = 0
+    g["cross_slot_room_mm"] = (np.fmin(L_a, L1) - (f.cross_slot_mm + 1.0)) if top_annulus else np.full_like(L1, np.inf)
     return g
 
 
@@ -600,10 +606,15 @@ class Design:
         return self._g["top_annulus_length_mm"]
 
     @property
-    def cross_hole_room_mm(self) -> float:
-        """``annulus_top``: room left for the cross holes below the top cap, in the annulus and above the piston
-        at x = 0 (``min(L_annulus, chamber1_length) - cross_hole_mm - 1``; inf in the other layouts), mm."""
-        return self._g["cross_hole_room_mm"]
+    def cross_slot_volume_mm3(self) -> float:
+        """``annulus_top``: chamber-1 gas in the slots through the inner tube's top end (part of V1; else 0), mm³."""
+        return self._g["cross_slot_volume_mm3"]
+
+    @property
+    def cross_slot_room_mm(self) -> float:
+        """``annulus_top``: room left for the cross slots below the top cap, in the annulus and above the piston
+        at x = 0 (``min(L_annulus, chamber1_length) - cross_slot_mm - 1``; inf in the other layouts), mm."""
+        return self._g["cross_slot_room_mm"]
 
     @property
     def fill_tube_volume_mm3(self) -> float:
@@ -749,7 +760,7 @@ class Design:
         clearance = f.fluid_clearance_mm
         out = {
             "wall_outer_tube": pi * (ro**2 - rb**2) * L_in,
-            "wall_inner_tube": pi * (rio**2 - ri**2) * L_in,
+            "wall_inner_tube": pi * (rio**2 - ri**2) * L_in - self._g["cross_slot_volume_mm3"],
             "wall_top_cap": pi * ro**2 * self.top_cap_mm,
             "wall_base": pi * ro**2 * self.base_mm,
             "wall_bulkhead": (A1 - a_fb) * self.bulkhead_mm,

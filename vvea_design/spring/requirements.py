@@ -558,7 +558,7 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
         "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
     }
     if get_layout(layout).has_top_annulus:
-        d["cross_hole_room"] = {"value": g["cross_hole_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
+        d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
     for wall in _walls(layout):
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
@@ -749,7 +749,7 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
              "wall_capacity"]
     if get_layout(layout).has_top_annulus:
-        names.append("cross_hole_room")
+        names.append("cross_slot_room")
     if search:
         names.remove("charge_p2")
     else:
