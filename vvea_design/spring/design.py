@@ -95,7 +95,7 @@ def get_layout(name: str) -> LayoutVariant:
     Parameters
     ----------
     name : str
-        A key of :data:`LAYOUTS` (``"inner_tube"`` or ``"bulkhead"``).
+        A key of :data:`LAYOUTS` (``"inner_tube"``, ``"bulkhead"`` or ``"annulus_top"``).
 
     Returns
     -------
