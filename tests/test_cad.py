@@ -517,6 +517,38 @@ def test_random_drawable_designs():
     check()
 
 
+@pytest.mark.slow
+def test_random_drawable_annulus_top_designs():
+    """Property: every annulus_top design the layout accepts is drawn exactly (chambers = V1, V2 to 1e-9) and
+    nothing collides at either stroke end."""
+    from hypothesis import HealthCheck, assume, given, settings
+    from hypothesis import strategies as st
+
+    @settings(max_examples=5, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    @given(dp=st.floats(26.0, 38.0), D=st.floats(54.0, 66.0), V1=st.floats(3.0e4, 6.0e4), a=st.floats(0.1, 0.4),
+           v2=st.floats(0.0, 1.0))
+    def check(dp, D, V1, a, v2):
+        try:
+            probe = Design(dp, D, V1, 1.0e5, layout="annulus_top", V1_annulus_mm3=a * V1)
+            lo = probe.displaced_volume_mm3 * 1.05 + 1.0
+            d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), layout="annulus_top",
+                       V1_annulus_mm3=a * V1)
+            Layout(d)
+        except (DesignError, CadError):
+            assume(False)
+            return
+        model = build_cad(d)
+        meas = model.measured()
+        assert meas["chamber_1_volume_mm3"] == pytest.approx(d.V1_mm3, rel=1e-9)
+        assert meas["chamber_2_volume_mm3"] == pytest.approx(d.V2_mm3, rel=1e-9)
+        for x in (0.0, d.fixed.travel_mm):
+            assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3
+        for s in model.export_solids().values():
+            assert s.is_valid and len(s.solids()) == 1
+
+    check()
+
+
 def test_a_new_part_is_one_table_entry(monkeypatch, tmp_path):
     """Adding one entry to the table (nothing else) gives a built, named, coloured part with its
     closed-form volume checked and its STEP/STL files written and counted (issue 9 item 4)."""
