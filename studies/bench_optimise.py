@@ -75,7 +75,10 @@ def main(seeds: list[int], quick: bool = False) -> None:
                    optimise(r, seed=0, progress=False, bladder_strain_fn=fe)))
     for label, r in UNSEEN.items():
         try:
-            print(_row(label, optimise(r, seed=0, progress=False)))
+            res = optimise(r, seed=0, progress=False)
+            fine = check_bladder(res.design)
+            print(_row(label, res) + f"\n{'':<40} bladder FE check of the optimum: strain bound "
+                  f"{100 * fine.strain_bound:.2f} %{', passes' if fine.passes else ', FAILS'}")
         except Infeasible as exc:
             print(f"{label:<40} infeasible:\n{exc}")
     print(f"load average after: {os.getloadavg()[0]:.2f}")

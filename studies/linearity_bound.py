@@ -27,7 +27,9 @@
 
 Done for the paper's requirements (isothermal and worst-of-n objectives, with
 the bladder cast at mid-stroke and with the cast fill as a decision variable)
-and for requirements the project was not tuned on. Writes bound.csv,
+and for requirements the project was not tuned on (with a figure of the short
+housing, 65 × 120 mm and 50 mm travel, where chamber 1 needs the annulus:
+bound_short_housing.png). Writes bound.csv,
 bound.png, capacity.json, budget.csv, budget.png, relaxations.csv into
 studies/results/linearity_bound/.
 """
@@ -267,7 +269,8 @@ def volume_budget(designs: dict, out: Path, envelope_length_mm: float) -> list[d
                          "bladder_clamps": "clamps", "bladder_silicone": "silicone",
                          "bladder_fluid_min_gap": "gap", "bladder_fluid_bulge_room": "bulge room",
                          "rod_in_fluid_column": "", "wall_bulkhead": "", "unused_length": "unused",
-                         "gas_chamber_1": "V1", "gas_chamber_2_annulus": "V2 annulus"}.get(key, "")
+                         "gas_chamber_1": "V1", "gas_chamber_1_annulus": "V1 ann.",
+                         "gas_chamber_2_annulus": "V2 annulus"}.get(key, "")
                 ax.text((left + v / 2) / 1e3, i, short, ha="center", va="center", fontsize=7,
                         color="w" if group in ("walls", "gas", "piston and rod", "fluid under the piston") else "k",
                         rotation=90)
@@ -343,6 +346,38 @@ def relaxations(out: Path) -> list[dict]:
     return rows
 
 
+#: The unseen requirements where chamber 1's bore column binds (the case annulus_top is for).
+SHORT = "65x120 mm, 50 mm travel, 80 N/mm"
+LAYOUT_COLORS = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
+
+
+def short_housing_figure(st: dict, rows: list[dict], out: Path) -> None:
+    """bound_short_housing.png: the packing-free bound of the short-housing requirements, each layout's
+    capacity, the bound there, its own floor and its optimum."""
+    fig = Figure(figsize=(8.6, 5.6))
+    ax = fig.subplots()
+    ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color="C0",
+            label="packing-free bound (eq. 5 only)")
+    for lay, d in st.get("layouts", {}).items():
+        c = LAYOUT_COLORS[lay]
+        cap = d["capacity_mm3"] / 1e3
+        ax.axvline(cap, color=c, ls=":", lw=1)
+        ax.plot([cap], [100 * d["bound_at_capacity"]], "o", color=c, mfc="w", ms=7,
+                label=f"{lay}: capacity {cap:.1f} × 10³ mm³, bound there {100 * d['bound_at_capacity']:.3f} %")
+        floor = d["bore_floor"] if lay != "annulus_top" else d["layout_floor"]
+        ax.plot([cap], [100 * floor], "_", color=c, ms=22, mew=2,
+                label=f"{lay}: its own floor{' (V1 in the bore)' if lay != 'annulus_top' else ''} {100 * floor:.3f} %")
+        ax.plot([d["total_gas_mm3"] / 1e3], [100 * d["optimum"]], "*", color=c, ms=14, mec="k",
+                label=f"{lay}: optimum {100 * d['optimum']:.3f} % ({d['gap_to_bound_at_capacity_pp']:+.3f} pp "
+                      f"to the bound at its capacity)")
+    ax.set(xlabel="total gas volume V1 + V2 [10³ mm³]", ylabel="linearity error at n = 1 [%]", ylim=(0, None),
+           title="65 × 120 mm, 50 mm travel, 80 N/mm at 4 MPa: the layouts against the bound")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    save_figure(fig, out / "bound_short_housing.png")
+
+
 def main(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     load0 = os.getloadavg()[0]
@@ -364,7 +399,7 @@ def main(out: Path, quick: bool = False) -> dict:
     relax = [] if quick else relaxations(out)
     vols = VOLUMES[::2] if quick else VOLUMES
     curves = {}
-    for label in ("paper, isothermal", "paper, worst of n = 1 and 1.4"):
+    for label in ("paper, isothermal", "paper, worst of n = 1 and 1.4", SHORT):
         if label in cases:
             curves[label] = parallel_map(_bound, [(v, cases[label]) for v in vols], description=f"bound: {label}",
                                          progress=False)
@@ -378,7 +413,7 @@ def main(out: Path, quick: bool = False) -> dict:
     fig = Figure(figsize=(8.6, 6.0))
     ax = fig.subplots()
     colors = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
-    for (label, rows), c in zip(curves.items(), ("C0", "C1")):
+    for (label, rows), c in zip(((k, v) for k, v in curves.items() if k != SHORT), ("C0", "C1")):
         ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color=c,
                 label=f"packing-free bound, {label.split(', ', 1)[1]} (eq. 5 only)")
         st = next(s for s in studies if s["case"] == label)
@@ -411,6 +446,8 @@ def main(out: Path, quick: bool = False) -> dict:
     ax.legend(fontsize=6.5, loc="upper right")
     fig.tight_layout()
     save_figure(fig, out / "bound.png")
+    if SHORT in curves:
+        short_housing_figure(next(s for s in studies if s["case"] == SHORT), curves[SHORT], out)
     for st in studies:
         st.pop("design", None)
         st.pop("layout_designs", None)
