@@ -93,6 +93,13 @@ class CadParameters:
                            f"{', '.join(f'{w:g}' for w in DYNAMIC_GLANDS)} mm, got {self.oring_cross_section_mm!r}")
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            Every feature size by name (mm; ``mould_shrinkage`` a fraction, counts integers).
+        """
         return asdict(self)
 
 
@@ -244,10 +251,33 @@ class Layout:
         return self.design.housing_length_mm
 
     def z_piston_bottom(self, x_mm: float = 0.0) -> float:
-        """Piston underside at displacement ``x_mm`` (x > 0 moves it down)."""
+        """Piston underside at displacement ``x_mm`` (x > 0 moves it down).
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            Height above the base's underside, mm.
+        """
         return self.z_base_top + self.design.fluid_column_mm - x_mm
 
     def z_piston_top(self, x_mm: float = 0.0) -> float:
+        """Piston top face (chamber 1's floor) at displacement ``x_mm``.
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            Height above the base's underside, mm.
+        """
         return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
 
     # ----------------------------------------------------------- bulkhead layout
@@ -313,7 +343,18 @@ class Layout:
 
     def slot_start_rad(self, k: int) -> float:
         """Start angle of slot ``k`` (slots centred at 45° + k 360°/n from +x: clear of the drawings' section
-        planes x = 0 and y = 0, so the sections show the inner tube whole), rad."""
+        planes x = 0 and y = 0, so the sections show the inner tube whole), rad.
+
+        Parameters
+        ----------
+        k : int
+            Slot number, 0 .. ``cad.cross_slots`` - 1.
+
+        Returns
+        -------
+        float
+            Angle from +x towards +y, rad.
+        """
         return math.pi / 4 + 2 * math.pi * k / self.cad.cross_slots - self.slot_angle_rad / 2
 
     @property

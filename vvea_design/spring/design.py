@@ -192,11 +192,37 @@ class FixedParameters:
                 raise DesignError(f"fixed.{key}: {exc}") from None
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            Every field by name (lengths mm, volumes mm³, masses g, fractions, material keys).
+        """
         return asdict(self)
 
     @classmethod
     def from_dict(cls, data, **override) -> "FixedParameters":
-        """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error."""
+        """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error.
+
+        Parameters
+        ----------
+        data : dict
+            Field name -> value (mm, mm³, g, fractions, material keys); the old wall names
+            (``outer_wall_mm`` ...) are read as the minimums.
+        **override
+            Fields that replace those of ``data``.
+
+        Returns
+        -------
+        FixedParameters
+            The validated parameters.
+
+        Raises
+        ------
+        DesignError
+            If ``data`` is not a mapping, names an unknown field or holds a bad value.
+        """
         if not isinstance(data, dict):
             raise DesignError(f"fixed parameters must be a table/object, got {type(data).__name__}")
         # files written before the walls were sized: their fixed walls become the minimums
@@ -698,6 +724,16 @@ class Design:
 
         The real bladder bulges between its clamps; this equal-volume cylinder
         is what the CAD draws as the chamber-2 gas domain at x = 0.
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            The sleeve's outer radius, mm.
         """
         L = self.bladder_free_length_mm
         gas = self.V2_annulus_mm3 - self.A2_mm2 * x_mm
@@ -708,7 +744,13 @@ class Design:
         return self._g["bladder_mid_radius_mm"]
 
     def bladder_shift_mm(self) -> dict[str, float]:
-        """Mean radial shift of the bladder from its cast shape at both stroke ends (+ outward), mm."""
+        """Mean radial shift of the bladder from its cast shape at both stroke ends (+ outward), mm.
+
+        Returns
+        -------
+        dict of str to float
+            ``compressed`` (x = 0) and ``expanded`` (x = travel), mm.
+        """
         return {"compressed": self._g["bladder_shift_compressed_mm"], "expanded": self._g["bladder_shift_expanded_mm"]}
 
     def bladder_clearance_mm(self) -> dict[str, float]:
@@ -717,6 +759,11 @@ class Design:
         The bladder's largest shift is ``bladder_bulge_factor`` times its mean
         shift: clamped at both ends it deflects about parabolically (peak = 1.5
         × mean), which the FE check (``vvea bladder``) confirms.
+
+        Returns
+        -------
+        dict of str to float
+            ``compressed`` (x = 0, to the inner tube) and ``expanded`` (x = travel, to the outer bore), mm.
         """
         return {"compressed": self._g["bladder_clearance_compressed_mm"],
                 "expanded": self._g["bladder_clearance_expanded_mm"]}
@@ -746,6 +793,16 @@ class Design:
         any slack), and the gas: chamber 1 (``V1``: the bore above the piston and,
         in ``annulus_top``, the annulus above the collar) and chamber 2 (``V2``,
         above the bulkhead and in the annulus).
+
+        Parameters
+        ----------
+        envelope_length_mm : float or None
+            Length of the envelope cylinder, mm (None: the housing length).
+
+        Returns
+        -------
+        dict of str to float
+            Item -> volume at x = 0, mm³; the items add up to ``pi/4 D^2 envelope_length``.
         """
         f, pi = self.fixed, math.pi
         H = self.housing_length_mm if envelope_length_mm is None else float(envelope_length_mm)
@@ -799,17 +856,43 @@ class Design:
                          self.fixed.travel_mm, self.fixed.n_polytropic)
 
     def with_charge(self, p2_MPa: float, setpoint_x0_mm: float | None = None) -> "Design":
-        """The same hardware charged differently (walls follow the new peak pressure)."""
+        """The same hardware charged differently (walls follow the new peak pressure).
+
+        Parameters
+        ----------
+        p2_MPa : float
+            Chamber-2 charge, MPa.
+        setpoint_x0_mm : float or None
+            Displacement of zero force, mm (None: this design's).
+
+        Returns
+        -------
+        Design
+            The recharged design (p1 follows from the set point).
+        """
         x0 = self.setpoint_x0_mm if setpoint_x0_mm is None else setpoint_x0_mm
         return replace(self, p2_MPa=p2_MPa, setpoint_x0_mm=x0)
 
     # --------------------------------------------------------------- strength
     def peak_pressures_MPa(self) -> dict[str, float]:
-        """Highest gas pressure of each chamber over a stroke at ``max(n, fixed.wall_sizing_n)``, MPa."""
+        """Highest gas pressure of each chamber over a stroke at ``max(n, fixed.wall_sizing_n)``, MPa.
+
+        Returns
+        -------
+        dict of str to float
+            ``chamber_1`` and ``chamber_2``, MPa.
+        """
         return {"chamber_1": self._g["peak_chamber_1_MPa"], "chamber_2": self._g["peak_chamber_2_MPa"]}
 
     def walls_mm(self) -> dict[str, float]:
-        """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout)."""
+        """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout, the collar plate only
+        in ``annulus_top``).
+
+        Returns
+        -------
+        dict of str to float
+            Wall name (:attr:`LayoutVariant.walls`) -> thickness, mm.
+        """
         out = {"outer_tube": self.outer_wall_mm, "inner_tube": self.inner_tube_wall_mm,
                "top_cap": self.top_cap_mm, "base": self.base_mm}
         if self.variant.has_bulkhead:
@@ -833,15 +916,37 @@ class Design:
         * ``collar`` (``annulus_top`` only): the annular plate between the
           chambers above the top bladder clamp, cantilevered from the inner
           tube, the same pressure, ``6 M / t^2`` (:func:`derive`).
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> peak stress, MPa.
         """
         return {w: self._g[f"stress_{w}_MPa"] for w in self.walls_mm()}
 
     def wall_safety_factors(self) -> dict[str, float]:
-        """Yield strength over peak stress, per wall."""
+        """Yield strength over peak stress, per wall.
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> safety factor (dimensionless; the inner tube's the smaller of yield and buckling).
+        """
         return {w: self._g[f"safety_{w}"] for w in self.walls_mm()}
 
     def minimum_walls_mm(self, safety_factor: float | None = None) -> dict[str, float]:
-        """Thinnest walls that carry the peak pressure with ``safety_factor`` (default: the design's), mm."""
+        """Thinnest walls that carry the peak pressure with ``safety_factor`` (default: the design's), mm.
+
+        Parameters
+        ----------
+        safety_factor : float or None
+            On yield (and on buckling for the inner tube), dimensionless; None: ``fixed.wall_safety_factor``.
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> thickness, mm, ignoring the manufacturable minimums (inf: no wall carries it).
+        """
         f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor,
                                                               min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6,
                                                               min_top_cap_mm=1e-6, min_base_mm=1e-6,
@@ -858,7 +963,13 @@ class Design:
 
     # ------------------------------------------------------------------- mass
     def mass_breakdown_g(self) -> dict[str, float]:
-        """Mass estimate per component from closed-form volumes, g."""
+        """Mass estimate per component from closed-form volumes, g.
+
+        Returns
+        -------
+        dict of str to float
+            Component -> mass, g (the bulkhead / collar only in their layouts).
+        """
         keys = ["outer_tube", "end_caps", "inner_tube", "piston", "rod", "bladder", "support_ring", "fluid",
                 "servo_and_valve"]
         if self.variant.has_bulkhead:
@@ -873,10 +984,24 @@ class Design:
 
     # ---------------------------------------------------------------- export
     def decision_vector(self) -> np.ndarray:
+        """The layout's decision variables in the optimiser's order.
+
+        Returns
+        -------
+        numpy.ndarray
+            Values of ``variant.decision_variables`` (mm, mm³).
+        """
         return np.array([getattr(self, n) for n in self.variant.decision_variables], dtype=float)
 
     def geometry_summary(self) -> dict[str, float]:
-        """Derived geometry (mm, mm², mm³) for the design JSON and the CAD."""
+        """Derived geometry (mm, mm², mm³) for the design JSON and the CAD.
+
+        Returns
+        -------
+        dict
+            ``layout`` and the derived radii, lengths (mm), wall thicknesses (mm) and volumes (mm³); the
+            layout's own quantities (``V2_top_mm3`` ..., ``V1_annulus_mm3`` ...) in its layout only.
+        """
         out = {
             "layout": self.layout,
             "outer_bore_radius_mm": self.outer_bore_radius_mm,
