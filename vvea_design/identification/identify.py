@@ -633,12 +633,17 @@ def fit_model(
         g = grids[e]
         shapes[e] = float(g[len(g) // 2]) if len(g) else np.nan
 
+    best_fit: dict = {}  # the best shape values a full fit was made at, and that fit (the final fit is often one of them)
+
     def train_sse(sh):
         X, params, _ = assemble(D, effects, sh, ctx)
         Bk = blocks(X, D.y, D.bounds, params)
         del X
         th = solve_bounded(Bk.G[rows].sum(0), Bk.b[rows].sum(0), Bk.lower, Bk.upper)
-        return float(Bk.sse(th, rows).sum()), th, Bk, params
+        res = (float(Bk.sse(th, rows).sum()), th, Bk, params)
+        if not best_fit or res[0] < best_fit["fit"][0]:
+            best_fit.update(key=tuple(sorted(sh.items())), fit=res)
+        return res
 
     grouped = None
     if memo is not None and memo_groups is not None:
@@ -712,7 +717,8 @@ def fit_model(
                     r = minimize_scalar(lambda z, back=back, cost=cost: cost(back(z)), bounds=(fwd(lo), fwd(hi)), method="bounded", options={"xatol": REGISTRY[e].shape_xtol})
                     if r.fun <= costs[k]:
                         shapes[e] = float(back(r.x))
-    sse, th, Bk, params = train_sse(shapes)
+    same = best_fit and best_fit["key"] == tuple(sorted(shapes.items()))
+    sse, th, Bk, params = best_fit["fit"] if same else train_sse(shapes)
     params, groups = _layout(D, effects)
     se = _cluster_se(Bk, th, rows)
     n_rows = int(Bk.n[rows].sum())
