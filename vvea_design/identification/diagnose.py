@@ -51,7 +51,7 @@ import numpy as np
 
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
-from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Effect, FitData
+from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, ZETA_RANGE, Effect, FitData, ForceFilter, filter_id, is_effect_id
 from .identify import ModelFit, assemble, blocks, extend_blocks, fit_model, relief_context, solve_bounded
 from .recordings import Recordings
 
@@ -305,7 +305,7 @@ class FinalModel:
     def from_dict(cls, d: dict) -> "FinalModel":
         if d.get("format") != "vvea-final-model":
             raise ValueError("not a vvea final-model file (format must be 'vvea-final-model')")
-        unknown = [e for e in d["effects"] if e not in REGISTRY]
+        unknown = [e for e in d["effects"] if not is_effect_id(e)]
         if unknown:
             raise ValueError(f"final model names unknown effect(s) {unknown}")
         params = tuple(
@@ -907,8 +907,63 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
         cur = best.fit
         if REGISTRY[best.id].shape is not None:  # the CV chose the shape on a coarse grid: refine it on the training experiments
             cur = fit_model(D, cur.effects, experiments=plan.train, shapes={k: v for k, v in cur.shapes.items() if k != best.id}, ctx=cur.ctx)
+        if isinstance(REGISTRY[best.id], ForceFilter):  # a sensor filter of a standard type: fit its damping ratio too
+            fid, cur = refine_filter_damping(D, cur, best.id, plan.train)
+            if fid != best.id:
+                sel[-1] = fid
+                trials[fid] = trials.pop(best.id)
+                cands = [c for c in cands if c != best.id]  # the standard type it grew from is not tested again beside it
     sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
+
+
+def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray, xtol: float = 0.002):
+    """Fit the damping ratio of the sensor filter ``eid`` of ``cur`` (and its lag again), on the experiments ``rows``.
+
+    The standard filter types (Butterworth ... critical) are tested in the
+    selection; the accepted one's damping ratio shapes the response at every
+    start and reversal of the motion, where a stiff valve's force changes
+    fastest, so it is fitted within :data:`ZETA_RANGE` (bounded scalar
+    search on the training SSE, lag fixed), then the lag at that ratio, then
+    the ratio again near its value. The result is the filter of that ratio
+    (id :func:`~vvea_design.identification.effects.filter_id`) when it
+    lowers the training SSE, else ``eid`` unchanged.
+
+    Returns ``(id, fit)``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    others = {k: v for k, v in cur.shapes.items() if k != eid}
+    at = cur.effects.index(eid)
+
+    def effects_with(fid):
+        return cur.effects[:at] + (fid,) + cur.effects[at + 1 :]
+
+    def fit_at(zeta, lag):
+        fid = filter_id(zeta)
+        return fid, fit_model(D, effects_with(fid), experiments=rows, shapes=dict(others, **{fid: lag}), ctx=cur.ctx, refine=False)
+
+    memo: dict = {}
+
+    def cost(zeta, lag):
+        key = (filter_id(zeta), round(float(np.log(lag)), 6))
+        if key not in memo:
+            memo[key] = fit_at(zeta, lag)[1].rmse_N
+        return memo[key]
+
+    lag = float(cur.shapes[eid])
+    z0 = float(REGISTRY[eid].zeta)
+    lo, hi = ZETA_RANGE
+    z = float(minimize_scalar(lambda q: cost(q, lag), bounds=(lo, hi), method="bounded", options={"xatol": xtol}).x)
+    z = z if cost(z, lag) < cost(z0, lag) else z0
+    r = minimize_scalar(lambda u: cost(z, np.exp(u)), bounds=(np.log(lag / 1.25), np.log(lag * 1.25)), method="bounded",
+                        options={"xatol": 1e-3})
+    lag = float(np.exp(r.x)) if r.fun < cost(z, lag) else lag
+    r = minimize_scalar(lambda q: cost(q, lag), bounds=(max(lo, z - 0.1), min(hi, z + 0.1)), method="bounded", options={"xatol": xtol})
+    z = float(r.x) if r.fun < cost(z, lag) else z
+    if cost(z, lag) >= cur.rmse_N:
+        return eid, cur
+    return fit_at(z, lag)
 
 
 def _cv_current(D: FitData, cur: ModelFit, plan: Plan):
@@ -1188,8 +1243,10 @@ def _effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings) -> 
     for k, eid in enumerate(sel):
         a, b = hsteps[k].rmse_N, hsteps[k + 1].rmse_N
         removed[eid] = None if a is None or b is None else a - b
-    for eid in list(settings.candidates) + [d for d in settings.discovery if d in sel or d in trials]:
-        if eid not in REGISTRY:
+    listed = list(settings.candidates) + [d for d in settings.discovery if d in sel or d in trials]
+    made = [d for d in dict.fromkeys(list(sel) + list(trials)) if d not in listed]  # fitted sensor filters (ids made from their ratio)
+    for eid in listed + made:
+        if not is_effect_id(eid):
             continue
         eff = REGISTRY[eid]
         acc = eid in sel

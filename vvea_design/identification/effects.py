@@ -50,6 +50,7 @@ Residual sign convention everywhere: residual = measurement − model (N).
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,6 +72,9 @@ __all__ = [
     "EFFECT_IDS",
     "DISCOVERY_IDS",
     "register",
+    "is_effect_id",
+    "filter_id",
+    "fitted_filter",
     "baseline_columns",
     "baseline_params",
     "fill_baseline",
@@ -632,8 +636,39 @@ class Effect:
         return P
 
 
+class _Registry(dict):
+    """The effect registry: a dict by id, plus effects created from their id on first use.
+
+    A sensor filter whose damping ratio was fitted is named by it
+    (``force_filter_lag_z0733``: zeta = 0.733, see :func:`filter_id`); such an
+    id is made on lookup (``REGISTRY[id]``) without being listed, so the
+    registry's listing stays the set of candidates.
+    """
+
+    def __missing__(self, key):
+        eff = _made_effect(key)
+        if eff is None:
+            raise KeyError(key)
+        return eff
+
+
+def _made_effect(key):
+    m = _FILTER_ID.fullmatch(str(key))
+    if m is None:
+        return None
+    eff = _MADE.get(key)
+    if eff is None:
+        eff = _MADE[key] = fitted_filter(int(m.group(1)) / 1000.0)
+    return eff
+
+
+def is_effect_id(key) -> bool:
+    """True when ``key`` names a registered effect or one made from its id (a fitted sensor filter)."""
+    return key in REGISTRY or _made_effect(key) is not None
+
+
 #: Every effect (catalogue and discovery operators), by id.
-REGISTRY: dict[str, Effect] = {}
+REGISTRY: dict[str, Effect] = _Registry()
 
 
 def register(effect: Effect) -> Effect:
@@ -1190,6 +1225,88 @@ def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.nd
     return out
 
 
+def _velocity_gaps(D: FitData, m: int):
+    """Per regular experiment (cached): the motion's velocity between samples minus its linear fill, on the fine grid of :func:`_on_sample_grid`.
+
+    The test machine moves with constant acceleration to a cruise speed and
+    back (``recordings``' motion profile), so between two samples the
+    velocity is not linear where a ramp starts or ends: it follows the ramp
+    at the acceleration ``a`` (the largest velocity change per sample
+    interval of the experiment, from rest before the first sample) up to the
+    neighbouring sample's speed, and crosses zero at a reversal at ``a``
+    (the time of the crossing from the sample on the ramp). Returns a list of
+    ``(e, dt_fine, gap, read)``: ``gap`` (n_fine,) the velocity (mm/s) minus
+    its linear fill, nonzero only in the intervals with a kink, ``read`` the
+    fine-grid positions of the kept samples; experiments without a gap are
+    left out.
+    """
+    key = ("velocity_gaps", m)
+    if key in D._cache:
+        return D._cache[key]
+    dts = D.per_exp_dt()
+    out = []
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        k = np.round((D.t[a:b] - min(D.t[a], 0.0)) / dts[e]).astype(int)
+        if not (len(k) > 1 and np.all(np.diff(k) > 0) and k[-1] <= 20 * len(k)):
+            continue
+        vk = D.v[a:b].astype(float)
+        lead = k[0] > 0
+        if lead:
+            k, vk = np.r_[0, k], np.r_[0.0, vk]
+        acc = float(np.max(np.abs(np.diff(vk)) / np.diff(k)))
+        if not (acc > 0 and np.isfinite(acc)):
+            continue
+        tau = np.arange(k[-1] * m + 1) / m
+        i = np.clip(np.searchsorted(k, tau, side="right") - 1, 0, len(k) - 2)
+        k0, k1, v0, v1 = k[i], k[i + 1], vk[i], vk[i + 1]
+        vlin = v0 + (v1 - v0) * (tau - k0) / (k1 - k0)
+        s0, s1 = np.abs(v0), np.abs(v1)
+        same = v0 * v1 >= 0.0
+        sig = np.sign(v0 + v1)
+        v_same = sig * np.where(s1 >= s0, np.minimum(s0 + acc * (tau - k0), s1), np.minimum(s0, s1 + acc * (k1 - tau)))
+        # a reversal inside the interval: the zero crossing follows the sample on the ramp (the slower one)
+        tA, tB = k0 + s0 / acc, k1 - s1 / acc
+        t_rev = np.where(s0 > s1 * (1 + 1e-9), tB, np.where(s1 > s0 * (1 + 1e-9), tA, 0.5 * (tA + tB)))
+        v_rev = np.sign(v0) * np.clip(acc * (t_rev - tau), -s1, s0)
+        gap = np.where(same, v_same, v_rev) - vlin
+        if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1e-300)):
+            continue
+        read = k * m
+        out.append((e, dts[e] / m, gap, read[1:] if lead else read))
+    D._cache[key] = out
+    return out
+
+
+def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
+    """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples (mm/s)."""
+    corr = np.zeros(D.n)
+    for e, dtf, gap, read in _velocity_gaps(D, int(substeps)):
+        corr[D.bounds[e] : D.bounds[e + 1]] = op(gap[None, :, None], dtf)[0, read, 0]
+    return corr
+
+
+def _filter_design(D: FitData, X: np.ndarray, op, out, eq14_first: bool) -> np.ndarray:
+    """The design ``X`` through the sensor filter ``op`` (:func:`_on_sample_grid`), eq. 14's damping columns with the motion's velocity between samples.
+
+    With ``eq14_first`` (``X`` is a whole design, eq. 14's columns first),
+    each damping column ``L(gamma) xdot`` is filtered as the velocity really
+    runs between samples (:func:`_velocity_gaps`: a ramp's end or a reversal
+    between two samples, where a stiff valve's force bends), not as the
+    straight line between them: linear filtering lets the two add.
+    """
+    vc = slice(2, 2 + len(D.valves)) if eq14_first and X.shape[1] >= 2 + len(D.valves) else None
+    share = None
+    if vc is not None:
+        v = D.v
+        safe = np.where(np.abs(v) > 0, v, 1.0)
+        share = np.where(np.abs(v)[:, None] > 0, X[:, vc] / safe[:, None], 0.0)  # 1 on the sample's valve column (0 where masked)
+    res = _on_sample_grid(D, X, op, out=out)
+    if share is not None:
+        res[:, vc] += share * _velocity_correction(D, op)[:, None]
+    return res
+
+
 @dataclass(frozen=True)
 class ForceLag(Effect):
     def grid(self, D, ctx):
@@ -1198,7 +1315,7 @@ class ForceLag(Effect):
     def columns(self, D, tau, ctx):
         return np.zeros((D.n, 0))
 
-    def transform(self, D, X, tau, ctx, out=None):
+    def transform(self, D, X, tau, ctx, out=None, eq14_first=False):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
         # motion (zero force state: every column of the model vanishes at rest at x = 0)
@@ -1206,7 +1323,7 @@ class ForceLag(Effect):
             q = np.exp(-dt / tau)
             return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
 
-        return _on_sample_grid(D, X, op, out=out)
+        return _filter_design(D, X, op, out, eq14_first)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1254,7 +1371,7 @@ class ForceFilter(ForceLag):
             return coarse
         return np.clip(tau, 0.003, 3.0) * np.geomspace(0.6, 2.5, 9)
 
-    def transform(self, D, X, lag, ctx, out=None):
+    def transform(self, D, X, lag, ctx, out=None, eq14_first=False):
         wn = 2 * self.zeta / lag
 
         def op(seg, dt):
@@ -1262,14 +1379,39 @@ class ForceFilter(ForceLag):
             bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
             return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
 
-        return _on_sample_grid(D, X, op, out=out)
+        return _filter_design(D, X, op, out, eq14_first)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)
+        kind = f"damping ratio {self.zeta:.3g}, fitted" if self.kind.startswith("fitted") else f"{self.kind}, damping ratio {self.zeta:.3g}"
         return (
-            f"The force reading passes a second-order filter ({self.kind}, damping ratio {self.zeta:.3g}, natural frequency {fn:.3g} Hz, "
+            f"The force reading passes a second-order filter ({kind}, natural frequency {fn:.3g} Hz, "
             f"lag {_fmt(lag, se, 's')}): sensor or amplifier dynamics, not the spring or damper."
         )
+
+
+#: id of a second-order force filter with a fitted damping ratio: ``force_filter_lag_z`` + 1000 zeta (4 digits)
+_FILTER_ID = re.compile(r"force_filter_lag_z(\d{4})")
+_MADE: dict = {}  #: fitted sensor filters made from their id
+ZETA_RANGE = (0.4, 1.6)  #: damping ratios a fitted sensor filter may take (underdamped amplifier .. nearly first order)
+
+
+def filter_id(zeta: float) -> str:
+    """Effect id of the second-order force filter with damping ratio ``zeta`` (rounded to 0.001; within :data:`ZETA_RANGE`)."""
+    z = float(zeta)
+    if not (ZETA_RANGE[0] - 1e-9 <= z <= ZETA_RANGE[1] + 1e-9):
+        raise ValueError(f"filter damping ratio zeta = {z:g} outside {ZETA_RANGE}")
+    return f"force_filter_lag_z{int(round(1000 * z)):04d}"
+
+
+def fitted_filter(zeta: float) -> "ForceFilter":
+    """The second-order force-reading filter with a fitted damping ratio ``zeta`` (not registered: made from its id)."""
+    z = round(float(zeta), 3)
+    return ForceFilter(filter_id(z), "second-order force-reading filter (fitted damping ratio)",
+                       "The measured force is the unit's force through a second-order filter.",
+                       f"f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta = {z:.3f} (fitted),  lag = 2 zeta/wn", (),
+                       Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=z,
+                       kind="fitted damping ratio")
 
 
 @dataclass(frozen=True)
