@@ -1532,34 +1532,59 @@ class TimeRipple(Effect):
     def grid(self, D, ctx):
         rows, dt = self._fast_rows(D)
         r = ctx["residual_N"]
-        periods = np.geomspace(3 * dt, 20.0, 300)
+        periods = np.geomspace(3 * dt, 40.0, 330)
         pw = self._power(D, r, periods, rows & (r != 0))
         if not np.any(pw):
             return np.array([])
         k = int(np.argmax(pw))
         if pw[k] < 5.0 * np.median(pw):  # no line stands out of the noise: nothing periodic to test
             return np.array([])
-        fine = periods[k] * np.linspace(0.97, 1.03, 301)
-        best = float(fine[int(np.argmax(self._power(D, r, fine, rows & (r != 0))))])
-        # and the longest experiments resolve it further
-        tmax = float(np.max(D.t)) if D.n else 1.0
-        step = 0.25 * best / max(tmax, best)
-        finer = best + step * np.linspace(-2, 2, 41) * best / best
-        best = float(finer[int(np.argmax(self._power(D, r, finer, np.ones(D.n, bool) & (r != 0))))])
-        return np.array([best * (1 - step / best), best, best * (1 + step / best)])
+        best = float(periods[k])
+        # the fast experiments are short against a slow ripple: the frequency is resolved by every experiment
+        # sampled at least 2.5 times per period (no aliasing), the longest ones most finely; scanned over the
+        # coarse estimate's uncertainty at an eighth of their resolution, then refined on the way
+        dts = D.per_exp_dt()
+        for _ in range(2):
+            ok = np.repeat(dts <= best / 2.5, D.n_per_exp) & (r != 0)
+            if not ok.any():
+                break
+            span = max(float(np.max(D.t[ok]) - np.min(D.t[ok])), best)
+            f0 = 1.0 / best
+            df = 1.0 / (8.0 * span)
+            half = min(0.15 * f0, 400 * df)
+            freqs = f0 + np.arange(-half, half + 0.5 * df, df)
+            freqs = freqs[freqs > 0]
+            pw = self._power(D, r, 1.0 / freqs, ok)
+            best = float(1.0 / freqs[int(np.argmax(pw))])
+            if half <= 3 * df:
+                break
+        step = 0.25 * best * best / max(float(np.max(D.t)) if D.n else 1.0, best)
+        return np.array([best - step, best, best + step])
 
     def columns(self, D, period, ctx):
         r = ctx.get("residual_all_N")
         if r is None:
             return np.zeros((D.n, 1))
-        col = np.zeros(D.n)
         w = 2 * np.pi / period
-        for e in range(D.n_exp):
-            a, b = D.bounds[e], D.bounds[e + 1]
-            c, s_ = np.cos(w * D.t[a:b]), np.sin(w * D.t[a:b])
-            re = r[a:b] - r[a:b].mean()
-            phi = np.arctan2(re @ c, re @ s_)
-            col[a:b] = np.sin(w * D.t[a:b] + phi)
+        sn, cs = np.sin(w * D.t), np.cos(w * D.t)
+        # the phase from a least-squares fit of sine, cosine and an offset to each experiment's residual
+        # (an experiment shorter than the period leaves sine and cosine far from orthogonal): the 3 x 3
+        # normal equations of all experiments at once
+        B = [sn, cs, np.ones(D.n)]
+        starts = D.bounds[:-1]
+        G = np.empty((D.n_exp, 3, 3))
+        rhs = np.empty((D.n_exp, 3))
+        for i in range(3):
+            rhs[:, i] = np.add.reduceat(B[i] * r, starts) if D.n else 0.0
+            for j in range(i, 3):
+                G[:, i, j] = G[:, j, i] = np.add.reduceat(B[i] * B[j], starts) if D.n else 0.0
+        ok = D.n_per_exp >= 3
+        coef = np.zeros((D.n_exp, 3))
+        if ok.any():
+            G[ok] += 1e-12 * np.trace(G[ok], axis1=1, axis2=2)[:, None, None] * np.eye(3)  # a period much longer than an experiment
+            coef[ok] = np.linalg.solve(G[ok], rhs[ok][..., None])[..., 0]
+        phi = np.repeat(np.arctan2(coef[:, 1], coef[:, 0]), D.n_per_exp)
+        col = np.sin(w * D.t + phi)
         return col[:, None]
 
     def describe(self, values, errors, period, se):
