@@ -1131,6 +1131,9 @@ def _param_estimates(fit: ModelFit, group: str, shape_se: dict | None = None, pr
         if eff.shape is not None:
             out.append(ParamEstimate(prefix + eff.shape.name, float(fit.shapes.get(group, np.nan)), float((shape_se or {}).get(group, np.nan)),
                                      eff.shape.unit, eff.shape.meaning + " (fold-jackknife s.e.)"))
+        if isinstance(eff, ForceFilter) and eff.kind.startswith("fitted"):
+            out.append(ParamEstimate(prefix + "zeta", float(eff.zeta), float("nan"), "1",
+                                     "damping ratio of the filter (fitted on the training experiments, lag fixed; no s.e.)"))
     return tuple(out)
 
 
