@@ -1231,20 +1231,25 @@ def _velocity_gaps(D: FitData, m: int):
     The test machine moves with constant acceleration to a cruise speed and
     back (``recordings``' motion profile), so between two samples the
     velocity is not linear where a ramp starts or ends: it follows the ramp
-    at the acceleration ``a`` (the largest velocity change per sample
-    interval of the experiment, from rest before the first sample) up to the
+    at the acceleration ``a`` (the largest velocity change per second between
+    samples of the experiment, from rest before the first sample) up to the
     neighbouring sample's speed, and crosses zero at a reversal at ``a``
-    (the time of the crossing from the sample on the ramp). Returns a list of
-    ``(e, dt_fine, gap, read)``: ``gap`` (n_fine,) the velocity (mm/s) minus
-    its linear fill, nonzero only in the intervals with a kink, ``read`` the
-    fine-grid positions of the kept samples; experiments without a gap are
-    left out.
+    (the time of the crossing from the sample on the ramp); where an
+    experiment's ramps fall between samples, ``a`` is the machine's (the
+    upper tenth of the experiments' values). Returns a list of
+    ``(e, dt_fine, gap, read)``: ``gap`` (n_fine, 2) the direction sign(ẋ)
+    and the velocity (mm/s) minus their linear fill, nonzero only in the
+    intervals with a kink, a start or a reversal (friction turns with the
+    motion at once, not along the straight line from the sample before),
+    ``read`` the fine-grid positions of the kept samples; experiments without
+    a gap are left out.
     """
     key = ("velocity_gaps", m)
     if key in D._cache:
         return D._cache[key]
     dts = D.per_exp_dt()
-    out = []
+    knots = {}
+    acc_e = np.zeros(D.n_exp)  # mm/s^2: each experiment's largest velocity change per second (a lower bound of the acceleration)
     for e in range(D.n_exp):
         a, b = D.bounds[e], D.bounds[e + 1]
         k = np.round((D.t[a:b] - min(D.t[a], 0.0)) / dts[e]).astype(int)
@@ -1254,7 +1259,14 @@ def _velocity_gaps(D: FitData, m: int):
         lead = k[0] > 0
         if lead:
             k, vk = np.r_[0, k], np.r_[0.0, vk]
-        acc = float(np.max(np.abs(np.diff(vk)) / np.diff(k)))
+        knots[e] = (k, vk, lead)
+        acc_e[e] = float(np.max(np.abs(np.diff(vk)) / np.diff(k))) / dts[e]
+    # one test machine: where the ramps are shorter than a sample interval (slow runs), the acceleration is
+    # the one the experiments that resolve their ramps show (the upper tenth of the campaign's values)
+    acc_machine = float(np.quantile(acc_e[acc_e > 0], 0.9)) if np.any(acc_e > 0) else 0.0
+    out = []
+    for e, (k, vk, lead) in knots.items():
+        acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
         if not (acc > 0 and np.isfinite(acc)):
             continue
         tau = np.arange(k[-1] * m + 1) / m
@@ -1269,8 +1281,11 @@ def _velocity_gaps(D: FitData, m: int):
         tA, tB = k0 + s0 / acc, k1 - s1 / acc
         t_rev = np.where(s0 > s1 * (1 + 1e-9), tB, np.where(s1 > s0 * (1 + 1e-9), tA, 0.5 * (tA + tB)))
         v_rev = np.sign(v0) * np.clip(acc * (t_rev - tau), -s1, s0)
-        gap = np.where(same, v_same, v_rev) - vlin
-        if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1e-300)):
+        vf = np.where(same, v_same, v_rev)
+        sk = np.sign(vk)
+        slin = sk[i] + (sk[i + 1] - sk[i]) * (tau - k0) / (k1 - k0)
+        gap = np.column_stack([np.sign(vf) - slin, vf - vlin])
+        if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1.0)):
             continue
         read = k * m
         out.append((e, dts[e] / m, gap, read[1:] if lead else read))
@@ -1279,10 +1294,10 @@ def _velocity_gaps(D: FitData, m: int):
 
 
 def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
-    """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples (mm/s)."""
-    corr = np.zeros(D.n)
+    """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples: (n, 2), sign and mm/s."""
+    corr = np.zeros((D.n, 2))
     for e, dtf, gap, read in _velocity_gaps(D, int(substeps)):
-        corr[D.bounds[e] : D.bounds[e + 1]] = op(gap[None, :, None], dtf)[0, read, 0]
+        corr[D.bounds[e] : D.bounds[e + 1]] = op(gap[None], dtf)[0, read]
     return corr
 
 
@@ -1292,18 +1307,22 @@ def _filter_design(D: FitData, X: np.ndarray, op, out, eq14_first: bool) -> np.n
     With ``eq14_first`` (``X`` is a whole design, eq. 14's columns first),
     each damping column ``L(gamma) xdot`` is filtered as the velocity really
     runs between samples (:func:`_velocity_gaps`: a ramp's end or a reversal
-    between two samples, where a stiff valve's force bends), not as the
-    straight line between them: linear filtering lets the two add.
+    between two samples, where a stiff valve's force bends), and the
+    friction column ``sign(xdot)`` turns at the start and the reversal
+    itself, not along the straight line between samples: linear filtering
+    lets the corrections add.
     """
-    vc = slice(2, 2 + len(D.valves)) if eq14_first and X.shape[1] >= 2 + len(D.valves) else None
+    vc = slice(1, 2 + len(D.valves)) if eq14_first and X.shape[1] >= 2 + len(D.valves) else None
     share = None
     if vc is not None:
-        v = D.v
-        safe = np.where(np.abs(v) > 0, v, 1.0)
-        share = np.where(np.abs(v)[:, None] > 0, X[:, vc] / safe[:, None], 0.0)  # 1 on the sample's valve column (0 where masked)
+        v = np.column_stack([D.s, np.repeat(D.v[:, None], len(D.valves), axis=1)])
+        safe = np.where(v != 0, v, 1.0)
+        share = np.where(v != 0, X[:, vc] / safe, 0.0)  # 1 on the sample's valve column (0 where masked) and on the sign
     res = _on_sample_grid(D, X, op, out=out)
     if share is not None:
-        res[:, vc] += share * _velocity_correction(D, op)[:, None]
+        c = _velocity_correction(D, op)
+        res[:, 1] += share[:, 0] * c[:, 0]
+        res[:, 2 : vc.stop] += share[:, 1:] * c[:, 1:2]
     return res
 
 
