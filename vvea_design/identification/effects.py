@@ -1236,13 +1236,14 @@ def _velocity_gaps(D: FitData, m: int):
     neighbouring sample's speed, and crosses zero at a reversal at ``a``
     (the time of the crossing from the sample on the ramp); where an
     experiment's ramps fall between samples, ``a`` is the machine's (the
-    upper tenth of the experiments' values). Returns a list of
-    ``(e, dt_fine, gap, read)``: ``gap`` (n_fine, 2) the direction sign(ẋ)
-    and the velocity (mm/s) minus their linear fill, nonzero only in the
-    intervals with a kink, a start or a reversal (friction turns with the
+    upper tenth of the experiments' values). Returns a list of groups of
+    experiments with the same spacing and lengths,
+    ``(exps, dt_fine, gaps, reads)``: ``gaps`` (n_e, n_fine, 2) the direction
+    sign(ẋ) and the velocity (mm/s) minus their linear fill, nonzero only in
+    the intervals with a kink, a start or a reversal (friction turns with the
     motion at once, not along the straight line from the sample before),
-    ``read`` the fine-grid positions of the kept samples; experiments without
-    a gap are left out.
+    ``reads`` the fine-grid positions of the kept samples; experiments
+    without a gap are left out.
     """
     key = ("velocity_gaps", m)
     if key in D._cache:
@@ -1289,6 +1290,11 @@ def _velocity_gaps(D: FitData, m: int):
             continue
         read = k * m
         out.append((e, dts[e] / m, gap, read[1:] if lead else read))
+    # experiments of the same fine spacing and lengths filtered together
+    groups: dict = {}
+    for e, dtf, gap, read in out:
+        groups.setdefault((round(float(dtf), 15), len(gap), len(read)), []).append((e, dtf, gap, read))
+    out = [(np.array([q[0] for q in g]), g[0][1], np.stack([q[2] for q in g]), np.stack([q[3] for q in g])) for g in groups.values()]
     D._cache[key] = out
     return out
 
@@ -1296,8 +1302,10 @@ def _velocity_gaps(D: FitData, m: int):
 def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
     """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples: (n, 2), sign and mm/s."""
     corr = np.zeros((D.n, 2))
-    for e, dtf, gap, read in _velocity_gaps(D, int(substeps)):
-        corr[D.bounds[e] : D.bounds[e + 1]] = op(gap[None], dtf)[0, read]
+    for exps, dtf, gaps, reads in _velocity_gaps(D, int(substeps)):
+        res = np.take_along_axis(op(gaps, dtf), reads[..., None], axis=1)
+        for j, e in enumerate(exps):
+            corr[D.bounds[e] : D.bounds[e + 1]] = res[j]
     return corr
 
 
@@ -1312,17 +1320,18 @@ def _filter_design(D: FitData, X: np.ndarray, op, out, eq14_first: bool) -> np.n
     itself, not along the straight line between samples: linear filtering
     lets the corrections add.
     """
-    vc = slice(1, 2 + len(D.valves)) if eq14_first and X.shape[1] >= 2 + len(D.valves) else None
     share = None
-    if vc is not None:
-        v = np.column_stack([D.s, np.repeat(D.v[:, None], len(D.valves), axis=1)])
-        safe = np.where(v != 0, v, 1.0)
-        share = np.where(v != 0, X[:, vc] / safe, 0.0)  # 1 on the sample's valve column (0 where masked) and on the sign
+    if eq14_first and X.shape[1] >= 2 + len(D.valves):
+        # eq. 14's sign column, and each sample's own valve column (the others are zero), over sign and velocity:
+        # 1, or 0 where a term masked the damping column (relief valve open)
+        rows, vcol = np.arange(D.n), 2 + D.valve_idx
+        share = np.column_stack([np.where(D.s != 0, X[:, 1] * D.s, 0.0),
+                                 np.where(D.v != 0, X[rows, vcol] / np.where(D.v != 0, D.v, 1.0), 0.0)])
     res = _on_sample_grid(D, X, op, out=out)
     if share is not None:
-        c = _velocity_correction(D, op)
-        res[:, 1] += share[:, 0] * c[:, 0]
-        res[:, 2 : vc.stop] += share[:, 1:] * c[:, 1:2]
+        c = _velocity_correction(D, op) * share
+        res[:, 1] += c[:, 0]
+        res[rows, vcol] += c[:, 1]
     return res
 
 
@@ -1560,24 +1569,27 @@ class TimeRipple(Effect):
             return np.array([])
         best = float(periods[k])
         # the fast experiments are short against a slow ripple: the frequency is resolved by every experiment
-        # sampled at least 2.5 times per period (no aliasing), the longest ones most finely; scanned over the
-        # coarse estimate's uncertainty at an eighth of their resolution, then refined on the way
+        # sampled at least 2.5 times per period (no aliasing), the longest ones most finely: scanned over the
+        # coarse estimate's uncertainty (+-15 %) at an eighth of their resolution; then over +-3 of those
+        # steps by all experiments (aliasing puts no other line that close) at an eighth of theirs
         dts = D.per_exp_dt()
-        for _ in range(2):
-            ok = np.repeat(dts <= best / 2.5, D.n_per_exp) & (r != 0)
-            if not ok.any():
-                break
+        live = r != 0
+        ok = np.repeat(dts <= best / 2.5, D.n_per_exp) & live
+        if ok.any():
             span = max(float(np.max(D.t[ok]) - np.min(D.t[ok])), best)
-            f0 = 1.0 / best
-            df = 1.0 / (8.0 * span)
+            f0, df = 1.0 / best, 1.0 / (8.0 * span)
             half = min(0.15 * f0, 400 * df)
             freqs = f0 + np.arange(-half, half + 0.5 * df, df)
             freqs = freqs[freqs > 0]
-            pw = self._power(D, r, 1.0 / freqs, ok)
-            best = float(1.0 / freqs[int(np.argmax(pw))])
-            if half <= 3 * df:
-                break
-        step = 0.25 * best * best / max(float(np.max(D.t)) if D.n else 1.0, best)
+            best = float(1.0 / freqs[int(np.argmax(self._power(D, r, 1.0 / freqs, ok)))])
+        else:
+            df = 0.05 / best
+        span_all = max(float(np.max(D.t[live]) - np.min(D.t[live])), best) if live.any() else best
+        f0, df2 = 1.0 / best, min(1.0 / (8.0 * span_all), df)
+        freqs = f0 + np.arange(-3 * df, 3 * df + 0.5 * df2, df2)
+        freqs = freqs[freqs > 0]
+        best = float(1.0 / freqs[int(np.argmax(self._power(D, r, 1.0 / freqs, live)))])
+        step = best * best * df2
         return np.array([best - step, best, best + step])
 
     def columns(self, D, period, ctx):
