@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import pytest
 import typer
 
 
@@ -22,3 +23,55 @@ def make_app(register) -> typer.Typer:
 
 #: The shared example campaigns (CI clones the repository with shared/ beside it).
 SHARED_RECORDINGS = Path(__file__).resolve().parents[2] / "shared" / "recordings"
+
+
+#: The repository root.
+REPO = Path(__file__).resolve().parents[1]
+
+
+def shared_once(tmp_path_factory, name: str, build):
+    """Run ``build(folder)`` once per test session, across pytest-xdist workers, and return
+    ``(folder, info)`` where ``info`` is the JSON-able value ``build`` returned.
+
+    The first worker that asks builds into ``<session basetemp>/<name>`` under an exclusive
+    ``flock``; the others wait for it and read the result. A failed build leaves no marker,
+    so the next caller builds again (and fails the same way, visibly).
+    """
+    import fcntl
+    import json
+    import os
+    import shutil
+
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the controller's basetemp, shared by the workers
+    folder = root / name
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            done = root / f"{name}.done.json"
+            if not done.exists():
+                shutil.rmtree(folder, ignore_errors=True)
+                folder.mkdir()
+                done.write_text(json.dumps(build(folder) or {}))
+            return folder, json.loads(done.read_text())
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+@pytest.fixture(scope="session")
+def reference_cad_run(tmp_path_factory):
+    """``vvea cad cad/design.json --out DIR`` (renders, drawings and BOM included), run once per
+    test session and shared by the CAD, drawing, sync and CLI tests: ``(out_dir, exit_code, output)``."""
+
+    def build(folder):
+        from typer.testing import CliRunner
+
+        from vvea_design.cli.cad import register
+
+        res = CliRunner().invoke(make_app(register), ["cad", str(REPO / "cad" / "design.json"),
+                                                      "--out", str(folder / "cad")])
+        return {"exit_code": res.exit_code, "output": res.output}
+
+    folder, info = shared_once(tmp_path_factory, "reference_cad_run", build)
+    return folder / "cad", info["exit_code"], info["output"]

@@ -41,11 +41,16 @@ STEP_FILES = tuple(f"{p.name}.step" for p in cadpkg.PARTS if "step" in p.files)
 
 @pytest.fixture(scope="module", params=list(DESIGNS), ids=list(DESIGNS))
 def built(request, tmp_path_factory):
-    """(name, design, model, out_dir, manifest) -- built and written once per design."""
+    """(name, design, model, out_dir, manifest) -- built and written once per design. The reference
+    design's files are the session's shared `vvea cad cad/design.json` run (renders included)."""
     d = DESIGNS[request.param]
-    out = tmp_path_factory.mktemp(f"cad_{request.param}")
     model = build_cad(d)
-    manifest = write_cad(d, out, renders=(request.param == "reference"), show_progress=False, model=model)
+    if request.param == "reference":
+        out, exit_code, output = request.getfixturevalue("reference_cad_run")
+        assert exit_code == 0, output
+        return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
+    out = tmp_path_factory.mktemp(f"cad_{request.param}")
+    manifest = write_cad(d, out, renders=False, show_progress=False, model=model)
     return request.param, d, model, out, manifest
 
 
@@ -343,7 +348,8 @@ def test_glb_scenes(built):
 
 
 def test_exports_are_byte_stable(built, tmp_path):
-    """A second build and export of the same design, in the same process, gives identical bytes."""
+    """A second build and export of the same design, in this process, gives the bytes and numbers of the
+    `vvea cad` run (possibly in another process)."""
     name, d, _, out, manifest = built
     if name != "reference":
         pytest.skip("byte stability is the exporter's property: checked on the reference design (time)")

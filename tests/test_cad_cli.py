@@ -32,10 +32,10 @@ def design_json(tmp_path_factory):
     return save_design(path, evaluate_design(REFERENCE, req), req)
 
 
-def test_cad_command_writes_the_set(app, design_json, tmp_path):
-    out = tmp_path / "cad"
-    res = CliRunner().invoke(app, ["cad", str(design_json), "--out", str(out), "--no-renders"])
-    assert res.exit_code == 0, res.output
+def test_cad_command_writes_the_set(reference_cad_run):
+    """`vvea cad cad/design.json` (the session's shared run, renders, drawings and BOM included)."""
+    out, exit_code, output = reference_cad_run
+    assert exit_code == 0, output
     manifest = json.loads((out / "manifest.json").read_text())
     for stem in ("housing", "housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap", "piston",
                  "bladder", "support_ring", "mould_half_a", "mould_half_b", "mould_core"):
@@ -43,6 +43,8 @@ def test_cad_command_writes_the_set(app, design_json, tmp_path):
     assert (out / "assembly.step").is_file()
     assert (out / "gas_chamber_1.stl").is_file() and (out / "gas_chamber_2.stl").is_file()
     assert manifest["measured"]["chamber_1_volume_mm3"]["cad"] == pytest.approx(REFERENCE.V1_mm3, rel=0.01)
+    assert "CAD vs design" in output and "drawings: 6 sheets (unit_section, " in output and "bom.csv" in output
+    assert f"wrote {len(manifest['files'])} files" in output
 
 
 def test_cad_command_bad_design_is_a_clear_error(app, design_json, tmp_path):

@@ -1,4 +1,7 @@
-"""Tests of the diagnosis: effect registry, selection honesty, discovery, noise floor, typed report, CLI, shared campaigns."""
+"""Tests of the diagnosis: effect registry, selection honesty, discovery, noise floor, typed report, CLI.
+
+The small benchmark is in test_diagnose_bench.py, the shared campaigns in test_diagnose_shared.py (their own
+modules so that pytest-xdist can run them beside this one)."""
 
 from __future__ import annotations
 
@@ -23,8 +26,8 @@ from vvea_design.identification.diagnose import (
     write_diagnosis,
 )
 from vvea_design.identification.effects import CATALOGUE, DISCOVERY, EFFECT_IDS, REGISTRY, Effect, FitData, Param
-from vvea_design.identification.recordings import read_recordings, recordings_from_frame
-from vvea_design.identification.testbench import BenchmarkCase, case_spec, run_case, simulate, small_spec, summarise_benchmark
+from vvea_design.identification.recordings import recordings_from_frame
+from vvea_design.identification.testbench import BenchmarkCase, case_spec, simulate, small_spec
 from vvea_design.spring.design_file import spring_from_json
 
 SHARED = SHARED_RECORDINGS
@@ -51,37 +54,6 @@ def test_no_if_chains_on_effect_ids_outside_the_registry():
         text = (src / name).read_text()
         for eid in REGISTRY:
             assert f'== "{eid}"' not in text and f'"{eid}" in ' not in text, (name, eid)
-
-
-# -- a small benchmark on the unit-test bench: every catalogue effect at a clear SNR, and null campaigns ----
-SMALL_CASES = [BenchmarkCase("single", (eid,), (5.0,), 1000 + k, "small") for k, eid in enumerate(EFFECT_IDS)]
-SMALL_CASES[EFFECT_IDS.index("relief_valve")] = BenchmarkCase("single", ("relief_valve",), (4.0,), 123, "small")
-NULL_CASES = [BenchmarkCase("null", (), (), 2000 + k, "small") for k in range(3)]
-
-
-@pytest.fixture(scope="module")
-def small_bench():
-    return [run_case(c) for c in SMALL_CASES + NULL_CASES]
-
-
-def test_small_benchmark_detects_each_effect(small_bench):
-    for r in small_bench[: len(SMALL_CASES)]:
-        (eid,) = r["effects"]
-        assert r["snr"][eid] == pytest.approx(5.0 if eid != "relief_valve" else 4.0, rel=0.05)
-        assert r["detected"][eid], f"{eid} not detected: accepted {r['accepted']}"
-        assert not r["false_positives"], f"{eid}: spurious {r['false_positives']}"
-        gap = r["heldout_baseline_N"] - r["heldout_true_N"]
-        if gap > 0.2:
-            assert r["heldout_baseline_N"] - r["heldout_final_N"] >= 0.5 * gap, eid
-
-
-def test_small_benchmark_null_campaigns_accept_nothing(small_bench):
-    nulls = small_bench[len(SMALL_CASES) :]
-    assert all(r["accepted"] == [] and r["discovered"] == [] for r in nulls)
-    assert all(r["heldout_final_N"] == r["heldout_baseline_N"] for r in nulls)
-    s = summarise_benchmark(small_bench)
-    assert s["null"]["false_positive_rate"] == 0.0
-    assert set(s["per_effect"]) == set(EFFECT_IDS)
 
 
 def test_case_spec_is_deterministic():
@@ -232,24 +204,6 @@ def test_small_campaigns_do_not_crash(tmp_path, n_exp):
         assert r.to_dict()["heldout_rmse_N"]["final"] is None
     write_diagnosis(d, tmp_path)
     assert "Note" in (tmp_path / "summary.md").read_text()
-
-
-# -- the shared campaigns ------------------------------------------------------------------------------------
-@pytest.mark.parametrize(
-    "name, expected",
-    [("campaign_a", set()), ("campaign_b", {"quadratic_damping"}), ("campaign_c", {"gas_nonlinearity", "stiction"})],
-)
-def test_shared_campaigns_accept_exactly_the_readme_effects(name, expected):
-    d = diagnose(read_recordings(SHARED / f"{name}.csv"), DiagnoseSettings(learner=False))
-    r = d.report
-    assert set(r.accepted_catalogue_ids) == expected
-    assert [e.id for e in r.accepted if not e.catalogue] == []
-    h = r.heldout
-    assert h.final_N <= 2.0 * r.noise_floor_N
-    if expected:
-        assert h.final_N < 0.5 * h.baseline_N
-    else:
-        assert h.final_N == h.baseline_N
 
 
 # -- CLI ----------------------------------------------------------------------------------------------------

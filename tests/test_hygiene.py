@@ -256,12 +256,18 @@ def test_the_unit_report_reads_only_what_the_pipeline_result_has():
     from vvea_design.pipeline import UnitDesign
     from vvea_design.report import html
 
+    from vvea_design.actuator.design_study import DesignStudy
+    from vvea_design.report.bom import BillOfMaterials
+    from vvea_design.report.drawing import DrawingSet
+
+    lazy = dict(DesignStudy=DesignStudy, BillOfMaterials=BillOfMaterials, DrawingSet=DrawingSet)  # TYPE_CHECKING-only
     members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
-    hints = typing.get_type_hints(UnitDesign)
+    hints = typing.get_type_hints(UnitDesign, localns=lazy)
     for name in members:
         want = typing.get_type_hints(getattr(html.UnitResult, name).fget, vars(html) | vars(sys.modules[
-            "vvea_design.pipeline"]))["return"]
-        have = hints[name] if name in hints else typing.get_type_hints(getattr(UnitDesign, name).fget)["return"]
+            "vvea_design.pipeline"]) | lazy)["return"]
+        have = hints[name] if name in hints else typing.get_type_hints(getattr(UnitDesign, name).fget,
+                                                                        localns=lazy)["return"]
         assert want == have, f"UnitResult.{name}: {want} but UnitDesign.{name}: {have}"
 
 

@@ -18,21 +18,23 @@ import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import __version__
-from .actuator.design_study import DesignStudy, run_design_study
 from .actuator.model import Actuator, actuator_from_spring
 from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
-from .report.bom import BillOfMaterials
-from .report.drawing import DrawingSet
 from .spring.curve import SpringCurve, spring_curve
 from .spring.design_file import save_design
 from .spring.gas_spring import GasSpring
 from .spring.optimise import Infeasible, OptimisationResult, optimise
 from .spring.requirements import Requirements
+
+if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them (`vvea spring` stays light)
+    from .actuator.design_study import DesignStudy
+    from .report.bom import BillOfMaterials
+    from .report.drawing import DrawingSet
 
 __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
            "Infeasible"]
@@ -284,6 +286,8 @@ def design_unit(
     t = step("actuator_study")
     study = None
     if actuator_study:
+        from .actuator.design_study import run_design_study
+
         study = run_design_study(res.design, out_dir=act_dir, **(study_options or {}))
         files["actuator_study_json"] = Path(study.files.summary_json)
     seconds["actuator_study"] = time.perf_counter() - t
