@@ -1309,8 +1309,8 @@ def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
     return corr
 
 
-def _filter_design(D: FitData, X: np.ndarray, op, out, eq14_first: bool) -> np.ndarray:
-    """The design ``X`` through the sensor filter ``op`` (:func:`_on_sample_grid`), eq. 14's damping columns with the motion's velocity between samples.
+def _filter_design(D: FitData, X: np.ndarray, ba, out, eq14_first: bool) -> np.ndarray:
+    """The design ``X`` through the sensor filter ``ba(dt_fine) -> (b, a)`` (:func:`_on_sample_grid`), eq. 14's damping columns with the motion's velocity between samples.
 
     With ``eq14_first`` (``X`` is a whole design, eq. 14's columns first),
     each damping column ``L(gamma) xdot`` is filtered as the velocity really
@@ -1327,6 +1327,9 @@ def _filter_design(D: FitData, X: np.ndarray, op, out, eq14_first: bool) -> np.n
         rows, vcol = np.arange(D.n), 2 + D.valve_idx
         share = np.column_stack([np.where(D.s != 0, X[:, 1] * D.s, 0.0),
                                  np.where(D.v != 0, X[rows, vcol] / np.where(D.v != 0, D.v, 1.0), 0.0)])
+    def op(seg, dt):
+        return lfilter(*ba(dt), seg, axis=1)  # from rest (see ForceLag)
+
     res = _on_sample_grid(D, X, op, out=out)
     if share is not None:
         c = _velocity_correction(D, op) * share
@@ -1347,11 +1350,11 @@ class ForceLag(Effect):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
         # motion (zero force state: every column of the model vanishes at rest at x = 0)
-        def op(seg, dt):
+        def ba(dt):
             q = np.exp(-dt / tau)
-            return lfilter([1.0 - q], [1.0, -q], seg, axis=1)
+            return [1.0 - q], [1.0, -q]
 
-        return _filter_design(D, X, op, out, eq14_first)
+        return _filter_design(D, X, ba, out, eq14_first)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1402,12 +1405,11 @@ class ForceFilter(ForceLag):
     def transform(self, D, X, lag, ctx, out=None, eq14_first=False):
         wn = 2 * self.zeta / lag
 
-        def op(seg, dt):
-            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form
-            bz, az = _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
-            return lfilter(bz, az, seg, axis=1)  # from rest (see ForceLag)
+        def ba(dt):
+            # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form; from rest (see ForceLag)
+            return _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
 
-        return _filter_design(D, X, op, out, eq14_first)
+        return _filter_design(D, X, ba, out, eq14_first)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)
