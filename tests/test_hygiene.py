@@ -1,5 +1,6 @@
 """Library hygiene (issue 9 item 6): no backend switch on import, one version, the entry points,
-declared dependencies, and numpydoc docstrings with units on every public function."""
+declared dependencies, and numpydoc docstrings with units on every public function and on every public
+method of a public class."""
 
 import ast
 import importlib
@@ -427,6 +428,124 @@ def test_public_functions_document_parameters_returns_and_units(module):
         if p:
             problems[name] = p
     assert not problems, "\n".join(f"{module}.{k}: {'; '.join(v)}" for k, v in problems.items())
+
+
+def _public_methods(module):
+    """The public methods of the public classes of ``module``: (``Class.method``, function) pairs.
+
+    A public class is defined in ``module`` (not imported into it), has no leading underscore and is in
+    ``__all__`` when the module has one. Its public methods are the plain, static and class methods
+    defined in its own body whose name has no leading underscore; properties, dunders and inherited
+    methods are left out (an inherited method is checked in the class that defines it).
+    """
+    names = getattr(module, "__all__", None)
+    for cname, cls in vars(module).items():
+        if cname.startswith("_") or not inspect.isclass(cls) or cls.__module__ != module.__name__:
+            continue
+        if names is not None and cname not in names:
+            continue
+        for mname, attr in vars(cls).items():
+            if mname.startswith("_"):
+                continue
+            if isinstance(attr, (staticmethod, classmethod)):
+                fn = attr.__func__
+            elif inspect.isfunction(attr):
+                fn = attr
+            else:  # properties (functools.cached_property too), class attributes, nested classes
+                continue
+            yield f"{cname}.{mname}", fn
+
+
+#: Modules whose public methods are not yet documented because other engineers rewrite them in this
+#: session (issue 12: spring/design.py and cad/layout.py; issue 10: identification/effects.py and
+#: identification/diagnose.py). Editing their docstrings in parallel would conflict with those edits; the
+#: coordinator documents them after the merges and removes them from this set. The test below fails when
+#: a module listed here has no undocumented method left, so the set cannot go stale.
+PENDING_METHOD_DOCS = {
+    "vvea_design.spring.design",
+    "vvea_design.cad.layout",
+    "vvea_design.identification.effects",
+    "vvea_design.identification.diagnose",
+}
+
+
+def _method_problems(module: str) -> dict[str, list[str]]:
+    mod = importlib.import_module(module)
+    problems = {}
+    for name, fn in _public_methods(mod):
+        p = docstring_problems(fn)
+        if p:
+            problems[name] = p
+    return problems
+
+
+@pytest.mark.parametrize("module", [m for m in MODULES if _public_module(m)])
+def test_public_methods_document_parameters_returns_and_units(module):
+    problems = _method_problems(module)
+    if module in PENDING_METHOD_DOCS:
+        assert problems, f"{module} has no undocumented public method left: remove it from PENDING_METHOD_DOCS"
+        pytest.xfail(f"{module}: {len(problems)} public methods still to document (PENDING_METHOD_DOCS)")
+    assert not problems, "\n".join(f"{module}.{k}: {'; '.join(v)}" for k, v in problems.items())
+
+
+def test_pending_method_docs_names_real_modules():
+    assert PENDING_METHOD_DOCS <= {m for m in MODULES if _public_module(m)}
+
+
+def test_the_method_check_finds_an_undocumented_method():
+    class Thing:
+        def grow(self, by_mm: float, factor: float) -> float:
+            """Grow the thing.
+
+            Parameters
+            ----------
+            by_mm : float
+                Growth.
+            """
+            return by_mm * factor
+
+        @classmethod
+        def make(cls, size_mm: float) -> "Thing":
+            """A thing of ``size_mm``.
+
+            Parameters
+            ----------
+            size_mm : float
+                Size.
+
+            Returns
+            -------
+            Thing
+                A new thing.
+            """
+            return cls()
+
+        @staticmethod
+        def scale(x):
+            return 2 * x
+
+        @property
+        def size_mm(self) -> float:
+            return 1.0
+
+        def _private(self, x):
+            return x
+
+    class Sub(Thing):
+        pass
+
+    module = type(sys)("fake_module")
+    module.Thing, module.Sub, module.__all__ = Thing, Sub, ["Thing", "Sub"]
+    Thing.__module__ = Sub.__module__ = "fake_module"
+    found = dict(_public_methods(module))
+    assert set(found) == {"Thing.grow", "Thing.make", "Thing.scale"}  # no property, private or inherited method
+    assert docstring_problems(found["Thing.make"]) == []  # cls is not a parameter to document
+    grow = docstring_problems(found["Thing.grow"])
+    assert any("'factor' not in" in s for s in grow) and "no 'Returns' section" in grow
+    assert "'by_mm'" not in " ".join(grow)  # self is skipped, by_mm is documented
+    assert docstring_problems(found["Thing.scale"]) == ["no docstring"]
+    module.__all__ = ["Sub"]
+    assert dict(_public_methods(module)) == {}  # Thing is not public; Sub defines nothing itself
 
 
 def test_the_docstring_check_finds_what_is_missing():

@@ -100,7 +100,14 @@ class CaseResult:
         return self.valid and self.verified and math.isfinite(self.rmse_rad)
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary."""
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: ``A_rad`` (rad), ``T_s`` (s), ``setting``, ``rmse_rad`` (rad, NaN when
+            not solved), ``valid``, ``verified``, ``status``, ``start``.
+        """
         return asdict(self)
 
 
@@ -119,7 +126,15 @@ class SettingSummary:
     mean_rmse_rad: float  #: mean rmse over the cases where every setting is usable
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary."""
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: ``name``, ``K_Nm_per_rad`` (N m/rad), ``D_min_Nms_per_rad`` and
+            ``D_max_Nms_per_rad`` (N m s/rad), the case counts ``n_cases``, ``n_solved``, ``n_valid``,
+            ``n_unverified`` and ``mean_rmse_rad`` (rad).
+        """
         return asdict(self)
 
 
@@ -138,7 +153,16 @@ class Comparison:
     paper_meanrmse_other_over_vvea: float | None  #: the paper's Table 5 ratio for VVEA (context)
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary."""
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: ``other``, the case counts (``n_cases``, ``n_excluded``,
+            ``design_beats``, ``design_worse``), ``fraction_design_beats`` (fraction),
+            ``meanrmse_other_over_design`` (dimensionless ratio) and the paper's Table 5 values
+            (``paper_vvea_beats``, ``paper_meanrmse_other_over_vvea``); ``None`` where not defined.
+        """
         return asdict(self)
 
 
@@ -154,7 +178,15 @@ class StudyTiming:
     rest_to_rest_cpu_seconds: float  #: CPU time of the rest-to-rest solves (all processes)
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary."""
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: ``rest_to_rest_and_safety_s``, ``figures_s``, ``total_s`` (wall clock,
+            s), ``workers`` (count), ``solver_seconds`` (summed IPOPT wall time, s) and
+            ``rest_to_rest_cpu_seconds`` (CPU time, s).
+        """
         return asdict(self)
 
 
@@ -173,6 +205,12 @@ class StudyFiles:
 
         Names, not paths, so that a study written in a temporary folder and moved into place
         (``outputs.output_dir``) names no folder that no longer exists.
+
+        Returns
+        -------
+        dict of str to str or None
+            JSON-ready: field name (``results_csv``, ``summary_json``, ``map_png``, ``trajectory_png``,
+            ``safety_png``) to the file's base name, or ``None`` when the file was not written.
         """
         return {k: (Path(v).name if v is not None else None) for k, v in asdict(self).items()}
 
@@ -203,14 +241,40 @@ class DesignStudy:
     best: dict = field(default_factory=dict, repr=False)  #: OcpResult per setting at ``trajectory_case``
 
     def comparison(self, other: str) -> Comparison:
-        """The comparison with the setting called ``other``."""
+        """The comparison with the setting called ``other``.
+
+        Parameters
+        ----------
+        other : str
+            Name of a reference setting of the study (``"VVEA"``, ``"SEA"``, ``"LWR"`` by default).
+
+        Returns
+        -------
+        Comparison
+            The design against ``other`` over the cases where both are usable.
+
+        Raises
+        ------
+        KeyError
+            When the study has no comparison with ``other`` (the message lists the ones it has).
+        """
         for c in self.comparisons:
             if c.other == other:
                 return c
         raise KeyError(f"no comparison with {other!r}; have {[c.other for c in self.comparisons]}")
 
     def report_tables(self) -> list[tuple[str, tuple[str, ...], list[tuple]]]:
-        """Tables for a report: (title, header, rows) each; numbers rounded for reading."""
+        """Tables for a report: (title, header, rows) each; numbers rounded for reading.
+
+        Returns
+        -------
+        list of (str, tuple of str, list of tuple)
+            Three tables, each as (title, column headers, rows of formatted cells; ``"-"`` for a missing or
+            non-finite number): the rest-to-rest comparison of the design with each reference (fractions
+            as percent, rmse ratios dimensionless), the settings over the grid (K in N m/rad, D range in
+            N m s/rad, mean rmse in rad) and the torque-step cases of the design and of the paper's VVEA
+            (t95 in ms, mean and max D in N m s/rad, status).
+        """
         def f(x, fmt):
             return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
@@ -243,7 +307,17 @@ class DesignStudy:
         return sum(s.n_unverified for s in self.settings)
 
     def to_dict(self) -> dict:
-        """JSON-ready summary (what ``design_study.json`` holds)."""
+        """JSON-ready summary (what ``design_study.json`` holds).
+
+        Returns
+        -------
+        dict
+            JSON-ready: the design actuator and the references (their fields, SI), the grid (``A_rad`` in
+            rad, ``T_s`` in s), mesh, starts, regularisation, per-setting summaries, comparisons, the number
+            of cases left out as unverified, both torque-step studies, timing (s), file names, the
+            trajectory figure's case (``A_rad``, ``T_s``) and every case result (see the ``to_dict`` of
+            each part).
+        """
         return {
             "actuator": asdict(self.actuator),
             "references": [asdict(a) for a in self.references],

@@ -129,7 +129,28 @@ class Actuator:
         return math.sqrt(self.K_Nm_per_rad / self.M_kgm2) / (2 * math.pi)
 
     def with_(self, **changes) -> "Actuator":
-        """A copy with some fields changed (validated)."""
+        """A copy with some fields changed (validated).
+
+        Parameters
+        ----------
+        **changes
+            Field names of :class:`Actuator` and their new values, in the fields' units (``K_Nm_per_rad`` in
+            N m/rad, ``D_min_Nms_per_rad`` / ``D_max_Nms_per_rad`` in N m s/rad, ``B_kgm2`` / ``M_kgm2`` in
+            kg m², ``u_d_max`` in N m rad⁻¹ s⁻², ``tau_m_max_Nm`` in N m).
+
+        Returns
+        -------
+        Actuator
+            A new actuator; the fields not named keep their values.
+
+        Raises
+        ------
+        ValueError
+            When a changed value breaks a field rule (a stiffness, inertia or limit not positive and finite,
+            a damping bound negative, ``D_max < D_min``, an empty name).
+        TypeError
+            When a name in ``changes`` is not a field of :class:`Actuator`.
+        """
         return replace(self, **changes)
 
 

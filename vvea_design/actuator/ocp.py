@@ -372,7 +372,14 @@ class Regularisation:
                 raise ValueError(f"Regularisation.{f} must be a finite number >= 0, got {v!r}")
 
     def weights(self) -> np.ndarray:
-        """The NLP parameter values ``[u_d, tau_rate]``."""
+        """The NLP parameter values ``[u_d, tau_rate]``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (2,): the two penalty weights (dimensionless; they multiply normalised, dimensionless
+            penalty terms).
+        """
         return np.array([self.u_d, self.tau_rate], dtype=float)
 
 
@@ -494,11 +501,43 @@ class RestToRestSolver:
         return self.cols[act.variable_damping]
 
     def interval_seconds(self, T_s: float) -> np.ndarray:
-        """Physical interval lengths (s) for period ``T_s``."""
+        """Physical interval lengths (s) for period ``T_s``.
+
+        Parameters
+        ----------
+        T_s : float
+            Period of the rest-to-rest reference; the horizon is two periods.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (N,) for the mesh's N intervals: each interval's length in s (they sum to ``2 T_s``).
+        """
         return self.cols[True].h * T_s
 
     def guess_from(self, other: OcpResult, actuator: Actuator, A_rad: float, T_s: float) -> np.ndarray:
-        """A start for ``actuator`` built from any solution on this mesh (D clipped into range)."""
+        """A start for ``actuator`` built from any solution on this mesh (D clipped into range).
+
+        When ``other`` was not solved on this mesh at this period (other shape or other collocation
+        times), its states are first resampled onto this mesh as in :meth:`guess_from_other_mesh`.
+
+        Parameters
+        ----------
+        other : OcpResult
+            A rest-to-rest solution (of any setting), whose physical states ``Z`` and inputs ``U`` seed the start.
+        actuator : Actuator
+            The setting the start is for; its damping range and damping-rate limit clip the start's D and u_d.
+        A_rad : float
+            Reference amplitude of the case to solve.
+        T_s : float
+            Reference period of the case to solve.
+
+        Returns
+        -------
+        numpy.ndarray
+            Decision vector of this solver's NLP for ``actuator`` (scaled, dimensionless variables:
+            angles / A, speeds · T / A, D / its scale, inputs / their limits), usable as ``w0``.
+        """
         col = self._col(actuator)
         pv = col.params(actuator, A_rad, T_s)
         Zp = np.array(other.Z, dtype=float)
@@ -519,6 +558,23 @@ class RestToRestSolver:
         new interval's midpoint. D is clipped into ``actuator``'s range. Used to
         polish a coarse-mesh multi-start optimum on a fine mesh with one
         warm-started solve (see :data:`WARM_START_IPOPT`).
+
+        Parameters
+        ----------
+        other : OcpResult
+            A rest-to-rest solution on any mesh, for the same case.
+        actuator : Actuator
+            The setting the start is for (its damping range and damping-rate limit clip D and u_d).
+        A_rad : float
+            Reference amplitude of the case to solve.
+        T_s : float
+            Reference period of the case to solve.
+
+        Returns
+        -------
+        numpy.ndarray
+            Decision vector of this solver's NLP for ``actuator`` (scaled, dimensionless variables), usable
+            as ``w0``.
         """
         col = self._col(actuator)
         pv = col.params(actuator, A_rad, T_s)
@@ -533,6 +589,27 @@ class RestToRestSolver:
 
         Exact when the solution is feasible for ``actuator`` (e.g. the SEA
         solution, D ≡ 0, for iVVEA): same mesh, same objective, same value.
+        No solve is run: the start of :meth:`guess_from` is evaluated on this solver's tracking cost.
+
+        Parameters
+        ----------
+        other : OcpResult
+            A rest-to-rest solution of another setting.
+        actuator : Actuator
+            The setting the candidate is for.
+        A_rad : float
+            Reference amplitude of the case.
+        T_s : float
+            Reference period of the case.
+        status : str, optional
+            Status string recorded in the result (default ``"adopted"``).
+
+        Returns
+        -------
+        OcpResult
+            The candidate: ``objective`` is the tracking integral in rad² s, ``success`` is ``other``'s,
+            0 iterations and 0 s; ``extra`` holds ``rmse_rad`` (rad), ``valid`` (95 % rule),
+            ``peak_q_up_rad`` (rad), ``A_rad``, ``T_s`` and ``setting``.
         """
         w = self.guess_from(other, actuator, A_rad, T_s)
         col = self._col(actuator)
@@ -691,7 +768,8 @@ class TorqueStepSolver:
         D_cost_ref_Nms_per_rad
             ``D_min`` inside the damping cost (default: the actuator's).
         w0
-            Initial guess (decision vector of the matching solver).
+            Initial guess (decision vector of the matching solver: scaled, dimensionless variables, e.g.
+            ``OcpResult.w`` of an earlier solve); default zeros with D at its lower bound.
 
         Returns
         -------
@@ -699,6 +777,11 @@ class TorqueStepSolver:
             ``extra`` holds ``J_tau``, ``J_D``, ``J_m`` (unweighted integrals),
             ``mean_D_Nms_per_rad``, ``t95_s`` (first time τ >= 0.95 τ_ref) and
             ``max_D_Nms_per_rad``.
+
+        Raises
+        ------
+        ValueError
+            When ``tau_ref_Nm`` is zero or not finite.
         """
         if not (math.isfinite(tau_ref_Nm) and tau_ref_Nm != 0):
             raise ValueError(f"tau_ref_Nm must be a non-zero torque in N m, got {tau_ref_Nm!r}")

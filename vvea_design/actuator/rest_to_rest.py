@@ -44,11 +44,24 @@ class Grid:
                 raise ValueError(f"Grid.{name} must be a non-empty list of positive numbers, got {v!r}")
 
     def cases(self) -> list[tuple[float, float]]:
-        """All (A, T) pairs, A-major."""
+        """All (A, T) pairs, A-major.
+
+        Returns
+        -------
+        list of (float, float)
+            Every (amplitude in rad, period in s) pair; all periods of the first amplitude first.
+        """
         return [(A, T) for A in self.A_rad for T in self.T_s]
 
     def repeated(self) -> dict[str, list[float]]:
-        """Values that occur more than once (equal to the 6 significant digits of a case id), per axis."""
+        """Values that occur more than once (equal to the 6 significant digits of a case id), per axis.
+
+        Returns
+        -------
+        dict of str to list of float
+            ``"A_rad"`` (rad) and/or ``"T_s"`` (s) to the repeated values (rounded to 6 significant
+            digits); an axis without repeats is absent, so an empty dict means no repeats.
+        """
         out = {}
         for name in ("A_rad", "T_s"):
             seen: dict[str, int] = {}
@@ -60,7 +73,13 @@ class Grid:
         return out
 
     def unique(self) -> "Grid":
-        """The grid with every repeated value kept once (first occurrence, order kept)."""
+        """The grid with every repeated value kept once (first occurrence, order kept).
+
+        Returns
+        -------
+        Grid
+            A new grid whose amplitudes (rad) and periods (s) are distinct to 6 significant digits.
+        """
         def once(v):
             keep: dict[str, float] = {}
             for x in v:

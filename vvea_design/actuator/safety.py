@@ -52,14 +52,43 @@ class TorqueStepCase:
     seconds: float  #: solver wall time
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary (the fields except ``name``)."""
+        """Plain-JSON dictionary (the fields except ``name``).
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name, SI: ``status``, ``success``, ``objective`` (Table-6 cost),
+            ``J_tau_N2m2s`` (N² m² s), ``J_D`` ((N m s/rad)² s), ``J_m_N2m2s`` (N² m² s),
+            ``mean_D_Nms_per_rad`` / ``max_D_Nms_per_rad`` / ``final_D_Nms_per_rad`` (N m s/rad),
+            ``t95_s`` (s), ``final_tau_Nm`` (N m) and ``seconds`` (solver wall time, s).
+        """
         d = asdict(self)
         d.pop("name")
         return d
 
     @classmethod
     def from_result(cls, name: str, r: OcpResult) -> "TorqueStepCase":
-        """From a :class:`~vvea_design.actuator.ocp.TorqueStepSolver` result."""
+        """From a :class:`~vvea_design.actuator.ocp.TorqueStepSolver` result.
+
+        Parameters
+        ----------
+        name : str
+            Case label, e.g. ``"variable D 12.1-200"`` or ``"fixed D 31"``.
+        r : OcpResult
+            Result of :meth:`~vvea_design.actuator.ocp.TorqueStepSolver.solve`; its ``extra`` must hold
+            ``J_tau``, ``J_D``, ``J_m``, ``mean_D_Nms_per_rad``, ``max_D_Nms_per_rad`` and ``t95_s``.
+
+        Returns
+        -------
+        TorqueStepCase
+            The case, SI; ``final_D_Nms_per_rad`` (N m s/rad) and ``final_tau_Nm`` (N m) are the
+            trajectory's last grid-point values.
+
+        Raises
+        ------
+        KeyError
+            When ``r.extra`` lacks one of the torque-step numbers (``r`` is not a torque-step result).
+        """
         return cls(name, r.status, r.success, r.objective, r.extra["J_tau"], r.extra["J_D"], r.extra["J_m"],
                    r.extra["mean_D_Nms_per_rad"], r.extra["max_D_Nms_per_rad"], r.extra["t95_s"],
                    float(r.D_Nms_per_rad[-1]), float(r.tau_Nm[-1]), r.seconds)
@@ -79,7 +108,23 @@ class SafetyStudy:
     results: dict = field(repr=False, default_factory=dict)  #: OcpResult per case name (trajectories)
 
     def case(self, name: str) -> TorqueStepCase:
-        """The case called ``name``."""
+        """The case called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Case label as in :attr:`TorqueStepCase.name`.
+
+        Returns
+        -------
+        TorqueStepCase
+            The first case with that name.
+
+        Raises
+        ------
+        KeyError
+            When no case has that name (the message lists the names there are).
+        """
         for c in self.cases:
             if c.name == name:
                 return c
@@ -91,7 +136,17 @@ class SafetyStudy:
         return self.case(self.variable_case)
 
     def to_dict(self) -> dict:
-        """JSON summary (the format of ``safety.json``)."""
+        """JSON summary (the format of ``safety.json``).
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``cases`` (case name to :meth:`TorqueStepCase.to_dict`, SI), ``variable_case``,
+            ``variable_start_won``, ``variable_start_objectives`` (start to its objective, ``None`` when it
+            failed), ``variable_D_settles_near_min_at_s`` (s or ``None``), ``setup`` (K, B, M, τ_ref,
+            weights, mesh, damping range; SI), ``paper`` (the paper's numbers, for context) and
+            ``wall_seconds`` (time of all solves, s, 2 decimals).
+        """
         return {
             "cases": {c.name: c.to_dict() for c in self.cases},
             "variable_case": self.variable_case,

@@ -75,7 +75,15 @@ class Verification:
     max_bound_violation: float  #: largest bound excess relative to the bound's scale (0 = none)
 
     def to_dict(self) -> dict:
-        """Plain-JSON dictionary of the fields."""
+        """Plain-JSON dictionary of the fields.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: ``verified``, ``reason``, ``resim_rmse_rad`` (rad),
+            ``rmse_rel_error`` (fraction), ``max_q_deviation_rad`` (rad) and ``max_bound_violation``
+            (fraction of the bound's scale, 0 = none).
+        """
         return asdict(self)
 
 

@@ -272,6 +272,23 @@ class MooneyRivlin:
 
     @classmethod
     def neo_hookean(cls, shear_modulus_MPa: float) -> "MooneyRivlin":
+        """The neo-Hookean solid of a given shear modulus (``C10 = G/2``, ``C01 = 0``).
+
+        Parameters
+        ----------
+        shear_modulus_MPa : float
+            Small-strain shear modulus G, MPa.
+
+        Returns
+        -------
+        MooneyRivlin
+            The material with ``C10_MPa = shear_modulus_MPa / 2`` and ``C01_MPa = 0``.
+
+        Raises
+        ------
+        MembraneError
+            When ``shear_modulus_MPa`` is not a finite number > 0.
+        """
         return cls(0.5 * shear_modulus_MPa, 0.0)
 
     @property

@@ -73,6 +73,14 @@ class ORing:
                 f"{self.inner_diameter_mm:.2f} x {self.cross_section_mm:.2f} mm")
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the ring.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``name`` (order name), ``code`` (ISO 3601-1 / AS568 size code),
+            ``inner_diameter_mm`` and ``cross_section_mm`` (mm) and ``standard``.
+        """
         return {"name": self.name, "code": self.code, "inner_diameter_mm": self.inner_diameter_mm,
                 "cross_section_mm": self.cross_section_mm, "standard": "ISO 3601-1 class A / AS568"}
 
@@ -105,6 +113,15 @@ class Gland:
         return math.pi / 4 * self.oring.cross_section_mm**2 / (self.depth_mm * self.width_mm)
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the gland, its ring and its fit.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``kind`` (``"piston"`` or ``"rod"``), ``oring`` (:meth:`ORing.to_dict`),
+            ``depth_mm``, ``width_mm``, ``sliding_diameter_mm``, ``groove_diameter_mm`` (mm) and the
+            fractions ``stretch``, ``squeeze`` and ``fill``.
+        """
         return {"kind": self.kind, "oring": self.oring.to_dict(), "depth_mm": self.depth_mm,
                 "width_mm": self.width_mm, "sliding_diameter_mm": self.sliding_diameter_mm,
                 "groove_diameter_mm": self.groove_diameter_mm, "stretch": self.stretch,

@@ -155,7 +155,23 @@ class Blocks:
     upper: np.ndarray
 
     def sse(self, theta: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
-        """Sum of squared residuals per experiment for parameters ``theta``."""
+        """Sum of squared residuals per experiment for parameters ``theta``.
+
+        Computed from the blocks alone: ``yy - 2 b·θ + θᵀ G θ`` per experiment, no pass over the samples.
+
+        Parameters
+        ----------
+        theta : numpy.ndarray
+            Shape (p,): amplitudes in the units of the design's parameters (one per column).
+        rows : numpy.ndarray, optional
+            Experiments to evaluate: integer indices or a boolean mask over the experiments
+            (dimensionless); default all.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n_exp,) or (len(rows),): the sum of squared force residuals of each experiment, N^2.
+        """
         G, b, yy = (self.G, self.b, self.yy) if rows is None else (self.G[rows], self.b[rows], self.yy[rows])
         return yy - 2 * b @ theta + np.einsum("i,eij,j->e", theta, G, theta)
 
@@ -370,12 +386,44 @@ class ModelFit:
         return {q.name: float(v) for q, v in zip(self.params, self.se)}
 
     def effect_values(self, effect_id: str) -> dict[str, float]:
-        """Amplitude name -> value of one effect (``"eq14"`` for the baseline)."""
+        """Amplitude name -> value of one effect (``"eq14"`` for the baseline).
+
+        Parameters
+        ----------
+        effect_id : str
+            An effect id of this model (a key of :attr:`groups`), or ``"eq14"`` for the baseline.
+
+        Returns
+        -------
+        dict of str to float
+            Parameter name to fitted value, each in its parameter's own unit (see ``params``).
+
+        Raises
+        ------
+        KeyError
+            When ``effect_id`` is not part of this model.
+        """
         sl = self.groups[effect_id]
         return {q.name: float(v) for q, v in zip(self.params[sl], self.theta[sl])}
 
     def effect_errors(self, effect_id: str) -> dict[str, float]:
-        """Amplitude name -> cluster-robust standard error of one effect."""
+        """Amplitude name -> cluster-robust standard error of one effect.
+
+        Parameters
+        ----------
+        effect_id : str
+            An effect id of this model (a key of :attr:`groups`), or ``"eq14"`` for the baseline.
+
+        Returns
+        -------
+        dict of str to float
+            Parameter name to standard error (experiments as clusters), in the parameter's own unit.
+
+        Raises
+        ------
+        KeyError
+            When ``effect_id`` is not part of this model.
+        """
         sl = self.groups[effect_id]
         return {q.name: float(v) for q, v in zip(self.params[sl], self.se[sl])}
 
@@ -386,7 +434,26 @@ class ModelFit:
         return self.context(D)
 
     def context(self, D: FitData) -> dict:
-        """Context rebuilt from this fit on ``D``: its damping force and its force without model-force terms."""
+        """Context rebuilt from this fit on ``D``: its damping force and its force without model-force terms.
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign's samples (x in mm, ẋ in mm/s, p2 in MPa, valve in deg, times in s, force in N).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Arrays of shape (n,) over the samples of ``D``, in N: ``"damping_force_N"`` (the baseline's
+            L(γ)ẋ, see :meth:`damping_force`); ``"residual_all_N"`` when the fit context has one of the same
+            length (kept as fitted); ``"model_force_N"`` when an effect of the model needs it (the model's
+            force with its model-force terms left at zero).
+
+        Raises
+        ------
+        ValueError
+            When ``D`` has another number of valve positions than the model (see :meth:`damping_force`).
+        """
         ctx = {"damping_force_N": self.damping_force(D)}
         keep = self.ctx.get("residual_all_N")  # per-experiment nuisance terms keep the residual they were fitted with
         if keep is not None and len(keep) == D.n:
@@ -397,15 +464,58 @@ class ModelFit:
         return ctx
 
     def design(self, D: FitData) -> np.ndarray:
-        """Design matrix of this model on ``D``."""
+        """Design matrix of this model on ``D``.
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign's samples (x in mm, ẋ in mm/s, p2 in MPa, valve in deg, times in s, force in N).
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n, p): one row per sample, one column per parameter, each column in its own unit
+            (e.g. MPa mm for ``p2 x``, mm/s for ``ẋ``, dimensionless for ``sign(ẋ)``), such that
+            ``design(D) @ theta`` is a force in N.
+        """
         return assemble(D, self.effects, self.shapes, self._ctx_for(D))[0]
 
     def predict(self, D: FitData) -> np.ndarray:
-        """Model force (N) at the samples of ``D``."""
+        """Model force (N) at the samples of ``D``.
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign's samples (x in mm, ẋ in mm/s, p2 in MPa, valve in deg, times in s, force in N).
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n,): the fitted model's force at every sample, N (tension positive).
+        """
         return self.design(D) @ self.theta
 
     def contribution(self, D: FitData, effect_id: str) -> np.ndarray:
-        """Force (N) the effect adds relative to the same model (same amplitudes) without it."""
+        """Force (N) the effect adds relative to the same model (same amplitudes) without it.
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign's samples (x in mm, ẋ in mm/s, p2 in MPa, valve in deg, times in s, force in N).
+        effect_id : str
+            An effect id of this model.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n,): model force minus the force of the model without ``effect_id`` (its other
+            amplitudes unchanged), N, per sample.
+
+        Raises
+        ------
+        KeyError
+            When ``effect_id`` is not part of this model.
+        """
         ctx = self._ctx_for(D)
         f = assemble(D, self.effects, self.shapes, ctx)[0] @ self.theta  # one design alive at a time
         others = tuple(e for e in self.effects if e != effect_id)
@@ -415,7 +525,24 @@ class ModelFit:
         return f - Xo @ self.theta[keep]
 
     def damping_force(self, D: FitData) -> np.ndarray:
-        """Linear damping force L(γ)ẋ of the fitted baseline (N)."""
+        """Linear damping force L(γ)ẋ of the fitted baseline (N).
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign's samples (x in mm, ẋ in mm/s, p2 in MPa, valve in deg, times in s, force in N).
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (n,): each sample's velocity times the fitted damping coefficient (N s/mm) of its valve
+            position, N.
+
+        Raises
+        ------
+        ValueError
+            When ``D`` has another number of valve positions than the model has damping parameters.
+        """
         L = self.theta[2 : self.groups["eq14"].stop]  # one damping column per valve, zero at the other valves' samples
         if len(L) != len(D.valves):
             raise ValueError(f"the model has {len(L)} valve damping parameters, the data {len(D.valves)} valve positions")
@@ -810,6 +937,15 @@ class Identifiability:
         return {n for grp in self.inseparable for n in grp} | set(self.no_data)
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the fields.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``n_parameters`` and ``n_experiments`` (counts), ``condition_number``
+            (dimensionless), ``inseparable`` (groups of parameter names), ``no_data`` (parameter names),
+            ``errors_reliable`` and ``messages``.
+        """
         return asdict(self)
 
 

@@ -191,6 +191,14 @@ class UnitGeometry:
     travel_mm: float
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the fields.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``A1_mm2`` and ``A2_mm2`` (mm²), ``V1_mm3`` and ``V2_mm3`` (mm³, at x = 0) and
+            ``travel_mm`` (mm).
+        """
         return asdict(self)
 
 
@@ -238,6 +246,15 @@ class CampaignGrid:
         return len(self.pressures_MPa) * len(self.valves_deg) * len(self.speeds_mm_s)
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the fields.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``pressures_MPa`` (MPa), ``valves_deg`` (deg), ``speeds_mm_s`` (mm/s), ``samples``
+            (per experiment), ``accel_mm_s2`` (mm/s²), ``pause_s`` (s), ``substeps`` (per sample interval)
+            and ``shuffle``.
+        """
         return asdict(self)
 
 
@@ -329,10 +346,32 @@ class BenchParameters:
             raise ValueError(f"unknown effect(s) {bad}; known: {list(EFFECTS)}")
 
     def on(self, effect: str) -> bool:
+        """Whether an effect is switched on in this campaign.
+
+        Parameters
+        ----------
+        effect : str
+            Effect id (one of the bench's ``EFFECTS``, e.g. ``"thermal"``).
+
+        Returns
+        -------
+        bool
+            True when ``effect`` is in :attr:`effects`; False for an effect that is off or unknown.
+        """
         return effect in self.effects
 
     def effect_parameters(self) -> dict:
-        """Parameters of the effects that are on, by effect id (physical units in the names)."""
+        """Parameters of the effects that are on, by effect id (physical units in the names).
+
+        Returns
+        -------
+        dict of str to dict
+            Effect id to its parameters, each name carrying its unit (e.g. ``thermal``: ``tau2_s``,
+            ``tau1_s`` in s and ``kappa``, dimensionless; ``relief_valve``: ``cracking_force_N`` in N,
+            ``cracking_dp_MPa`` in MPa, ``spring_N_per_mm``, ``seat_diameter_mm``; ``quadratic_damping``:
+            the transition speed in mm/s per valve and the orifice table per valve, area in mm², hydraulic
+            diameter in mm). Effects that are off are absent.
+        """
         g = self.geometry
         out = {}
         for e in self.effects:
@@ -370,6 +409,16 @@ class BenchParameters:
         return out
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of every parameter.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name, units in the names (N, mm, MPa, s, Hz, rad): the nested
+            ``geometry`` and ``grid`` as dicts, ``effects`` as a list, and the per-valve dicts
+            ``L_N_s_per_mm`` (N s/mm) and ``turbulent_transition_mm_s`` (mm/s) keyed by the valve angle
+            in deg as text.
+        """
         d = asdict(self)
         d["L_N_s_per_mm"] = {str(k): v for k, v in self.L_N_s_per_mm.items()}
         d["turbulent_transition_mm_s"] = {str(k): v for k, v in self.turbulent_transition_mm_s.items()}
@@ -817,7 +866,17 @@ class BenchTruth:
     run_order: pd.DataFrame  #: experiment, p2_MPa, valve_deg, speed_mm_s in run order
 
     def to_dict(self) -> dict:
-        """JSON-able summary (no per-row arrays)."""
+        """JSON-able summary (no per-row arrays).
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``effects`` (ids switched on), ``effect_parameters`` (see
+            :meth:`BenchParameters.effect_parameters`), ``noise_N`` (marginal noise RMS, N), ``noise_rho``
+            (AR(1) correlation, dimensionless), ``parameters`` (:meth:`BenchParameters.to_dict`) and
+            ``p2_start_MPa`` (chamber-2 pressure at the start of each experiment in run order, MPa);
+            non-finite numbers inside ``effect_parameters`` and ``parameters`` become ``None``.
+        """
         return dict(
             effects=list(self.effects),
             effect_parameters=_jsonable(self.effect_parameters),

@@ -117,7 +117,22 @@ class Recordings:
         return int((self.experiments["velocity_method"] == "savgol").sum())
 
     def subset(self, experiment_ids) -> "Recordings":
-        """The campaign restricted to the given experiment identifiers (run order kept)."""
+        """The campaign restricted to the given experiment identifiers (run order kept).
+
+        Parameters
+        ----------
+        experiment_ids : iterable
+            Experiment identifiers (compared as text with the ``experiment`` column); an identifier that
+            is not in the campaign selects nothing.
+
+        Returns
+        -------
+        Recordings
+            A new campaign with the samples and experiment rows of those experiments, in their original
+            order, ``rows_read`` set to its number of samples and ``rows_left_out`` to 0; the derived
+            columns (``exp_index``, ``campaign_time_s``, ...), the displacement noise (mm) and the notes
+            are those of the full campaign, not recomputed.
+        """
         keep = set(map(str, experiment_ids))
         d = self.data[self.data["experiment"].isin(keep)].reset_index(drop=True)
         e = self.experiments[self.experiments["experiment"].isin(keep)].reset_index(drop=True)

@@ -60,6 +60,14 @@ class Silicone:
                 raise ValueError(f"silicone {self.name!r}: {key} must be a positive number, got {v!r}")
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the datasheet values.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``name``, ``shear_modulus_MPa`` (MPa), ``elongation_at_break`` (fraction),
+            ``hardness`` (Shore, as on the datasheet), ``tensile_strength_MPa`` (MPa) and ``source``.
+        """
         return {
             "name": self.name,
             "shear_modulus_MPa": self.shear_modulus_MPa,
@@ -154,7 +162,18 @@ class StrainCriterion:
             raise ValueError(f"criterion {self.name!r}: cap must be > 0, got {self.cap!r}")
 
     def allowable(self, silicone: Silicone) -> float:
-        """Allowable engineering strain for ``silicone``, fraction."""
+        """Allowable engineering strain for ``silicone``, fraction.
+
+        Parameters
+        ----------
+        silicone : Silicone
+            The material; its ``elongation_at_break`` (fraction) is divided by :attr:`divisor`.
+
+        Returns
+        -------
+        float
+            ``min(elongation_at_break / divisor, cap)``, engineering strain as a fraction (0.5 = 50 %).
+        """
         return min(silicone.elongation_at_break / self.divisor, self.cap)
 
     @property
@@ -163,6 +182,13 @@ class StrainCriterion:
         return f if math.isinf(self.cap) else f"min({f}, {self.cap:g})"
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the criterion.
+
+        Returns
+        -------
+        dict of str to str
+            ``name`` and ``formula`` (e.g. ``"min(elongation_at_break / 10, 0.25)"`` for ``cyclic``).
+        """
         return {"name": self.name, "formula": self.formula}
 
 

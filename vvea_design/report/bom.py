@@ -56,6 +56,15 @@ class BomLine:
         return None if self.unit_mass_g is None else self.unit_mass_g * self.quantity
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the line (the keys of :data:`CSV_COLUMNS`).
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``item``, ``part``, ``description``, ``category``, ``material``, ``standard``,
+            ``size``, ``quantity`` (count), ``unit_volume_mm3`` (mm³), ``unit_mass_g`` and
+            ``total_mass_g`` (g; ``None`` when unknown), ``in_unit``, ``file`` and ``note``.
+        """
         return {"item": self.item, "part": self.part, "description": self.description, "category": self.category,
                 "material": self.material, "standard": self.standard, "size": self.size,
                 "quantity": self.quantity, "unit_volume_mm3": self.unit_volume_mm3,
@@ -80,6 +89,16 @@ class BillOfMaterials:
         return float(sum(line.total_mass_g for line in self.lines if line.in_unit and line.total_mass_g is not None))
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the lines and the totals.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``lines`` (:meth:`BomLine.to_dict` each), ``silicone`` (name),
+            ``bladder_volume_mm3``, ``mould_void_mm3`` and ``silicone_to_mix_mm3`` (mm³),
+            ``silicone_to_mix_g`` (g), ``pour_allowance`` (fraction), ``unit_mass_g`` (g) and
+            ``mass_source`` (how the masses were obtained).
+        """
         return {"lines": [line.to_dict() for line in self.lines], "silicone": self.silicone,
                 "bladder_volume_mm3": self.bladder_volume_mm3, "mould_void_mm3": self.mould_void_mm3,
                 "silicone_to_mix_mm3": self.silicone_to_mix_mm3, "silicone_to_mix_g": self.silicone_to_mix_g,
@@ -87,7 +106,14 @@ class BillOfMaterials:
                 "mass_source": "made parts: CAD volume x density; bought parts: design's servo_and_valve_mass_g"}
 
     def csv_text(self) -> str:
-        """The lines as CSV (columns :data:`CSV_COLUMNS`), volumes and masses rounded to 0.01."""
+        """The lines as CSV (columns :data:`CSV_COLUMNS`), volumes and masses rounded to 0.01.
+
+        Returns
+        -------
+        str
+            The CSV text: a header row, then one row per line; volumes in mm³ and masses in g with two
+            decimals, ``None`` as an empty cell, booleans as ``true`` / ``false``; one newline after each row.
+        """
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
         w.writerow(CSV_COLUMNS)

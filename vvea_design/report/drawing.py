@@ -176,6 +176,13 @@ class Dim:
         return abs(self.b[1] - self.a[1]) if self.axis == "z" else abs(self.b[0] - self.a[0])
 
     def label(self) -> str:
+        """The text written on the dimension line.
+
+        Returns
+        -------
+        str
+            :attr:`text` when set, else the measured length :attr:`value_mm` in mm with two decimals.
+        """
         return self.text or f"{self.value_mm:.2f}"
 
 
@@ -802,6 +809,15 @@ class DrawingSet:
     scales: tuple[float, ...]
 
     def to_dict(self) -> dict:
+        """Plain-JSON dictionary of the files and scales.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``sheets`` (names in page order), ``svg`` (one path per sheet, as text), ``pdf``
+            (path of the multi-page PDF) and ``scales`` (per sheet, drawing length per model length,
+            dimensionless; 2.0 is 2:1).
+        """
         return {"sheets": list(self.sheets), "svg": [str(p) for p in self.svg], "pdf": str(self.pdf),
                 "scales": list(self.scales)}
 
