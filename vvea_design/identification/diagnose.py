@@ -929,7 +929,25 @@ def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray,
     (id :func:`~vvea_design.identification.effects.filter_id`) when it
     lowers the training SSE, else ``eid`` unchanged.
 
-    Returns ``(id, fit)``.
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    cur : ModelFit
+        The current model; ``eid`` among its effects, its lag (s) in ``cur.shapes``.
+    eid : str
+        Id of the accepted second-order filter (a :class:`~vvea_design.identification.effects.ForceFilter`).
+    rows : numpy.ndarray of int
+        Training experiments (indices 0 .. n_exp-1).
+    xtol : float
+        Tolerance of the damping-ratio search (dimensionless).
+
+    Returns
+    -------
+    fid : str
+        Id of the filter with the fitted damping ratio (or ``eid``).
+    fit : ModelFit
+        ``cur`` with that filter, its lag (s) refitted, on ``rows``.
     """
     from scipy.optimize import minimize_scalar
 

@@ -663,7 +663,18 @@ def _made_effect(key):
 
 
 def is_effect_id(key) -> bool:
-    """True when ``key`` names a registered effect or one made from its id (a fitted sensor filter)."""
+    """True when ``key`` names a registered effect or one made from its id (a fitted sensor filter).
+
+    Parameters
+    ----------
+    key : str
+        An effect id (e.g. ``"thermal"`` or ``"force_filter_lag_z0733"``).
+
+    Returns
+    -------
+    bool
+        Whether ``REGISTRY[key]`` gives an effect.
+    """
     return key in REGISTRY or _made_effect(key) is not None
 
 
@@ -1427,7 +1438,23 @@ ZETA_RANGE = (0.4, 1.6)  #: damping ratios a fitted sensor filter may take (unde
 
 
 def filter_id(zeta: float) -> str:
-    """Effect id of the second-order force filter with damping ratio ``zeta`` (rounded to 0.001; within :data:`ZETA_RANGE`)."""
+    """Effect id of the second-order force filter with damping ratio ``zeta`` (rounded to 0.001).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio (dimensionless), within :data:`ZETA_RANGE`.
+
+    Returns
+    -------
+    str
+        ``force_filter_lag_z`` + 1000 zeta on 4 digits (``force_filter_lag_z0733`` for 0.733).
+
+    Raises
+    ------
+    ValueError
+        If ``zeta`` lies outside :data:`ZETA_RANGE`.
+    """
     z = float(zeta)
     if not (ZETA_RANGE[0] - 1e-9 <= z <= ZETA_RANGE[1] + 1e-9):
         raise ValueError(f"filter damping ratio zeta = {z:g} outside {ZETA_RANGE}")
@@ -1435,7 +1462,18 @@ def filter_id(zeta: float) -> str:
 
 
 def fitted_filter(zeta: float) -> "ForceFilter":
-    """The second-order force-reading filter with a fitted damping ratio ``zeta`` (not registered: made from its id)."""
+    """The second-order force-reading filter with a fitted damping ratio (not registered: made from its id).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio (dimensionless), within :data:`ZETA_RANGE`; rounded to 0.001.
+
+    Returns
+    -------
+    ForceFilter
+        The filter effect, id :func:`filter_id` (``zeta``), its shape the lag 2 zeta/omega_n in s.
+    """
     z = round(float(zeta), 3)
     return ForceFilter(filter_id(z), "second-order force-reading filter (fitted damping ratio)",
                        "The measured force is the unit's force through a second-order filter.",
