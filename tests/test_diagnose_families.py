@@ -94,9 +94,9 @@ def test_second_order_sensor_filter_is_modelled_to_the_noise(tmp_path):
     assert r.accepted_catalogue_ids == ()
     acc = [e.id for e in r.accepted]
     assert any("lag" in i for i in acc)
-    # 24 experiments: 97 % of the error goes, not all of it (the full-size benchmark campaigns, 135
-    # experiments, come to <= 2 x noise; this small one stays at ~6 x)
-    assert r.heldout.final_N <= 0.04 * r.heldout.baseline_N
+    # the fitted damping ratio (0.9) and the motion between samples take this small campaign to the noise
+    # too (1.1 x; it stayed at ~6 x with the standard types and straight lines between samples)
+    assert r.heldout.final_N <= 2.0 * truth.noise_N
 
 
 def test_backward_step_drops_a_catalogue_effect_explained_away_by_a_later_one(tmp_path):
