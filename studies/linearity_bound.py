@@ -6,7 +6,8 @@
   linearity any layout could reach under the requirements (charges <= the
   limit with F(0) = 0, stiffness, gas left at full stroke), ignoring where
   the gas goes (exact metric, `optimise.gas_volume_bound`).
-* **Capacity** of each layout variant: the largest V1 + V2 it holds in the
+* **Capacity** of each layout variant (``inner_tube``, ``bulkhead``,
+  ``annulus_top``): the largest V1 + V2 it holds in the
   envelope with its sized walls, piston, fluid column and bladder while
   meeting every requirement but the linearity (`optimise.gas_capacity`).
   The bound at that capacity is a floor no design of the layout can beat.
@@ -26,7 +27,9 @@
 
 Done for the paper's requirements (isothermal and worst-of-n objectives, with
 the bladder cast at mid-stroke and with the cast fill as a decision variable)
-and for requirements the project was not tuned on. Writes bound.csv,
+and for requirements the project was not tuned on (with a figure of the short
+housing, 65 × 120 mm and 50 mm travel, where chamber 1 needs the annulus:
+bound_short_housing.png). Writes bound.csv,
 bound.png, capacity.json, budget.csv, budget.png, relaxations.csv into
 studies/results/linearity_bound/.
 """
@@ -138,13 +141,21 @@ def case_study(label: str, req: Requirements) -> dict:
         floor = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"])
         lay["layout_floor"] = floor["linearity_error"]
         lay["layout_floor_V1_V2_mm3"] = [floor["V1_mm3"], floor["V2_mm3"]]
-        # tighter: chamber 1 confined to the piston bore (V1 <= A1 * the longest column + ports)
+        # tighter: chamber 1 confined to the piston bore (V1 <= A1 * the longest column + ports); annulus_top puts
+        # chamber-1 gas outside the bore, so its only floor is the layout floor
         L1, extra = chamber1_length_max_mm(req, s.layout)
-        bore = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"],
-                                chamber1_length_max_mm=L1, V1_extra_mm3=extra)
+        if get_layout(s.layout).has_top_annulus:
+            bore = floor
+        else:
+            bore = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"],
+                                    V2_max_mm3=lay["V2_max_mm3"], chamber1_length_max_mm=L1, V1_extra_mm3=extra)
         lay["chamber1_length_max_mm"] = L1
         lay["bore_floor"] = bore["linearity_error"]
-        lay["bore_floor_A1_V1_V2"] = [bore["A1_mm2"], bore["V1_mm3"], bore["V2_mm3"]]
+        lay["bore_floor_A1_V1_V2"] = [bore.get("A1_mm2"), bore["V1_mm3"], bore["V2_mm3"]]
+        if s.layout == res.layout:
+            d = res.design
+            lay["V1_annulus_mm3"] = d.V1_annulus_mm3
+            lay["chamber1_column_mm"] = d.chamber1_length_mm
         lay["gap_to_bore_floor_pp"] = 100 * (lay["optimum"] - lay["bore_floor"])
         lay["gap_to_bound_at_capacity_pp"] = 100 * (lay["optimum"] - lay["bound_at_capacity"])
         lay["gap_to_bound_at_own_gas_pp"] = 100 * (lay["optimum"] - lay["bound_at_own_gas"])
@@ -166,6 +177,7 @@ BUDGET_ITEMS = {
                   "the pressure needs 4 mm"),
     "wall_bulkhead": ("walls", "bulkhead", "pressure-sized; the price of freeing the housing length from V1"),
     "wall_fill_tube": ("walls", "chamber-1 fill tube wall", "necessary in the bulkhead layout"),
+    "wall_collar": ("walls", "collar plate (annulus_top)", "pressure-sized; the price of chamber-1 gas in the annulus"),
     "piston": ("piston and rod", "piston with two seal grooves", "necessary"),
     "rod_in_fluid_column": ("piston and rod", "rod inside the fluid column", "necessary"),
     "fluid_swept_by_stroke": ("fluid under the piston", "fluid under the piston, swept by the stroke", "necessary: the piston sweeps "
@@ -181,7 +193,8 @@ BUDGET_ITEMS = {
     "bladder_fluid_bulge_room": ("fluid in the bladder", "fluid in the bladder: room for its inward bulge at x = 0",
                                  "recoverable by casting the bladder nearer x = 0, bounded by its strain "
                                  "(optimise_cast_fill)"),
-    "gas_chamber_1": ("gas", "gas, chamber 1 (V1)", "gas"),
+    "gas_chamber_1": ("gas", "gas, chamber 1 (V1) in the bore (and the slots)", "gas"),
+    "gas_chamber_1_annulus": ("gas", "gas, chamber 1 in the annulus above the collar (annulus_top)", "gas"),
     "gas_chamber_2_above_bulkhead": ("gas", "gas, chamber 2 above the bulkhead", "gas"),
     "gas_chamber_2_annulus": ("gas", "gas, chamber 2 around the bladder", "gas"),
     "unused_length": ("unused", "envelope length the housing does not use", "unused"),
@@ -256,7 +269,8 @@ def volume_budget(designs: dict, out: Path, envelope_length_mm: float) -> list[d
                          "bladder_clamps": "clamps", "bladder_silicone": "silicone",
                          "bladder_fluid_min_gap": "gap", "bladder_fluid_bulge_room": "bulge room",
                          "rod_in_fluid_column": "", "wall_bulkhead": "", "unused_length": "unused",
-                         "gas_chamber_1": "V1", "gas_chamber_2_annulus": "V2 annulus"}.get(key, "")
+                         "gas_chamber_1": "V1", "gas_chamber_1_annulus": "V1 ann.",
+                         "gas_chamber_2_annulus": "V2 annulus"}.get(key, "")
                 ax.text((left + v / 2) / 1e3, i, short, ha="center", va="center", fontsize=7,
                         color="w" if group in ("walls", "gas", "piston and rod", "fluid under the piston") else "k",
                         rotation=90)
@@ -332,6 +346,38 @@ def relaxations(out: Path) -> list[dict]:
     return rows
 
 
+#: The unseen requirements where chamber 1's bore column binds (the case annulus_top is for).
+SHORT = "65x120 mm, 50 mm travel, 80 N/mm"
+LAYOUT_COLORS = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
+
+
+def short_housing_figure(st: dict, rows: list[dict], out: Path) -> None:
+    """bound_short_housing.png: the packing-free bound of the short-housing requirements, each layout's
+    capacity, the bound there, its own floor and its optimum."""
+    fig = Figure(figsize=(8.6, 5.6))
+    ax = fig.subplots()
+    ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color="C0",
+            label="packing-free bound (eq. 5 only)")
+    for lay, d in st.get("layouts", {}).items():
+        c = LAYOUT_COLORS[lay]
+        cap = d["capacity_mm3"] / 1e3
+        ax.axvline(cap, color=c, ls=":", lw=1)
+        ax.plot([cap], [100 * d["bound_at_capacity"]], "o", color=c, mfc="w", ms=7,
+                label=f"{lay}: capacity {cap:.1f} × 10³ mm³, bound there {100 * d['bound_at_capacity']:.3f} %")
+        floor = d["bore_floor"] if lay != "annulus_top" else d["layout_floor"]
+        ax.plot([cap], [100 * floor], "_", color=c, ms=22, mew=2,
+                label=f"{lay}: its own floor{' (V1 in the bore)' if lay != 'annulus_top' else ''} {100 * floor:.3f} %")
+        ax.plot([d["total_gas_mm3"] / 1e3], [100 * d["optimum"]], "*", color=c, ms=14, mec="k",
+                label=f"{lay}: optimum {100 * d['optimum']:.3f} % ({d['gap_to_bound_at_capacity_pp']:+.3f} pp "
+                      f"to the bound at its capacity)")
+    ax.set(xlabel="total gas volume V1 + V2 [10³ mm³]", ylabel="linearity error at n = 1 [%]", ylim=(0, None),
+           title="65 × 120 mm, 50 mm travel, 80 N/mm at 4 MPa: the layouts against the bound")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    save_figure(fig, out / "bound_short_housing.png")
+
+
 def main(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     load0 = os.getloadavg()[0]
@@ -353,7 +399,7 @@ def main(out: Path, quick: bool = False) -> dict:
     relax = [] if quick else relaxations(out)
     vols = VOLUMES[::2] if quick else VOLUMES
     curves = {}
-    for label in ("paper, isothermal", "paper, worst of n = 1 and 1.4"):
+    for label in ("paper, isothermal", "paper, worst of n = 1 and 1.4", SHORT):
         if label in cases:
             curves[label] = parallel_map(_bound, [(v, cases[label]) for v in vols], description=f"bound: {label}",
                                          progress=False)
@@ -366,8 +412,8 @@ def main(out: Path, quick: bool = False) -> dict:
                             r["V2_mm3"]])
     fig = Figure(figsize=(8.6, 6.0))
     ax = fig.subplots()
-    colors = {"inner_tube": "C2", "bulkhead": "C3"}
-    for (label, rows), c in zip(curves.items(), ("C0", "C1")):
+    colors = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
+    for (label, rows), c in zip(((k, v) for k, v in curves.items() if k != SHORT), ("C0", "C1")):
         ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color=c,
                 label=f"packing-free bound, {label.split(', ', 1)[1]} (eq. 5 only)")
         st = next(s for s in studies if s["case"] == label)
@@ -400,6 +446,8 @@ def main(out: Path, quick: bool = False) -> dict:
     ax.legend(fontsize=6.5, loc="upper right")
     fig.tight_layout()
     save_figure(fig, out / "bound.png")
+    if SHORT in curves:
+        short_housing_figure(next(s for s in studies if s["case"] == SHORT), curves[SHORT], out)
     for st in studies:
         st.pop("design", None)
         st.pop("layout_designs", None)
@@ -415,8 +463,10 @@ def main(out: Path, quick: bool = False) -> dict:
                   f"(capacity {d['capacity_mm3']:>7.0f}; V1 <= {d['V1_max_mm3']:.0f}, V2 <= {d['V2_max_mm3']:.0f}) mm³  "
                   f"bound at own gas {100 * d['bound_at_own_gas']:.3f} %, at capacity {100 * d['bound_at_capacity']:.3f} % "
                   f"(gap {d['gap_to_bound_at_capacity_pp']:+.3f} pp), layout floor {100 * d['layout_floor']:.3f} % "
-                  f"(gap {d['gap_to_layout_floor_pp']:+.3f} pp), with V1 in the bore (column <= "
-                  f"{d['chamber1_length_max_mm']:.1f} mm) {100 * d['bore_floor']:.3f} % (gap {d['gap_to_bore_floor_pp']:+.3f} pp)")
+                  f"(gap {d['gap_to_layout_floor_pp']:+.3f} pp)"
+                  + ("; chamber 1 also in the annulus (no bore floor)" if lay == "annulus_top" else
+                     f", with V1 in the bore (column <= {d['chamber1_length_max_mm']:.1f} mm) "
+                     f"{100 * d['bore_floor']:.3f} % (gap {d['gap_to_bore_floor_pp']:+.3f} pp)"))
         if st.get("bladder_strain_fe") is not None:
             print(f"{'':<42} cast fill {st['bladder_cast_fill']:.3f}, FE strain bound {100 * st['bladder_strain_fe']:.2f} %,"
                   f" n = 1: {100 * st['optimum_isothermal']:.3f} %, n = 1.4: {100 * st['optimum_adiabatic']:.3f} %")

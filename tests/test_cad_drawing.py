@@ -162,3 +162,19 @@ def test_bom_csv(model, tmp_path):
 def test_bom_unknown_silicone(model):
     with pytest.raises(ValueError, match="silicone"):
         bill_of_materials(model, "unobtainium")
+
+
+def test_annulus_top_drawings_dimension_the_collar():
+    """The annulus_top layout's sheets: every anchor on the outline, the collar dimensioned on the section and
+    on the inner tube (it is part of it), a plain top cap, the chamber-2 port through the base noted."""
+    from test_cad_cases import OTHERS
+
+    m = build_cad(OTHERS["annulus_top_short"])
+    specs = {s.name: s for s in sheet_specs(m)}
+    for spec in specs.values():
+        assert spec.dims and check_anchors(spec) == [], spec.name
+    for name in ("unit_section", "housing_inner_tube"):
+        assert any("(collar)" in d.label() for d in specs[name].dims), name
+    assert not any("clamp" in d.label() for d in specs["housing_top_cap"].dims)
+    assert any("Chamber-2 fill port" in n for n in specs["housing_base"].notes)
+    assert any("slots" in n for n in specs["housing_inner_tube"].notes)

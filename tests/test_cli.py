@@ -65,7 +65,8 @@ def test_bad_inputs_exit_with_messages(tmp_path, design_json):
 
 def test_infeasible_spec_exits_3_and_names_the_constraint(tmp_path):
     spec = tmp_path / "tight.toml"
-    spec.write_text("max_outer_diameter_mm = 36.0\nmin_mean_stiffness_N_per_mm = 150.0\n")
+    # one layout: the exit code and message are the point here (the library's multi-layout report: test_optimise)
+    spec.write_text('max_outer_diameter_mm = 36.0\nmin_mean_stiffness_N_per_mm = 150.0\nlayouts = ["inner_tube"]\n')
     res = runner.invoke(app, ["optimise", "--spec", str(spec), "--out", str(tmp_path / "o.json")])
     assert res.exit_code == 3
     assert "no design meets the requirements" in res.output

@@ -1,6 +1,7 @@
 """Design geometry: every volume has a place, areas and lengths are consistent, errors are clear."""
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -154,6 +155,57 @@ def test_bulkhead_layout_places_every_volume():
     assert d.V2_capacity_mm3 > today.V2_capacity_mm3 - 1.0 or d.housing_length_mm < today.housing_length_mm + 30
 
 
+ANN = Design(34.0, 59.5, 52000.0, 80000.0, layout="annulus_top", V1_annulus_mm3=9000.0)
+
+
+def test_annulus_top_layout_places_every_volume():
+    """Issue 12: chamber 1 = the bore above the piston + the annulus above the collar; the collar is sized."""
+    d, f = ANN, ANN.fixed
+    a_ann = math.pi * (d.outer_bore_radius_mm**2 - d.inner_tube_outer_radius_mm**2)
+    assert a_ann * d.top_annulus_length_mm == pytest.approx(d.V1_annulus_mm3, rel=1e-12)
+    # the slots through the inner tube's top end join the two; their gas is chamber 1's too
+    slots = f.cross_slot_fraction * math.pi * (d.inner_tube_outer_radius_mm**2 - (d.piston_diameter_mm / 2) ** 2) \
+        * f.cross_slot_mm
+    assert d.A1_mm2 * d.chamber1_length_mm + d.V1_annulus_mm3 + slots == pytest.approx(d.V1_mm3, rel=1e-12)
+    # the housing length follows the bore column only (as in inner_tube); the annulus takes bladder length
+    assert d.inner_length_mm == pytest.approx(d.chamber1_length_mm + f.piston_height_mm + f.travel_mm
+                                              + f.fluid_clearance_mm)
+    L = d.bladder_free_length_mm
+    assert L == pytest.approx(d.inner_length_mm - 2 * f.bladder_clamp_mm - d.collar_mm - d.top_annulus_length_mm)
+    r0 = d.bladder_equivalent_outer_radius_mm(0.0)
+    assert math.pi * (d.outer_bore_radius_mm**2 - r0**2) * L == pytest.approx(d.V2_mm3, rel=1e-12)
+    # collar: a ring cantilevered from the inner tube, sized for chamber 2 minus chamber 1 at the safety factor
+    assert "collar" in d.walls_mm() and "bulkhead" not in d.walls_mm()
+    rb, rio = d.outer_bore_radius_mm, d.inner_tube_outer_radius_mm
+    p = d._g["collar_pressure_MPa"]
+    peaks = d.peak_pressures_MPa()
+    assert p >= peaks["chamber_2"] - d.p1_MPa  # at least the peak chamber-2 pressure over the charge of chamber 1
+    m = p / rio * ((rb**3 - rio**3) / 3 - rio * (rb**2 - rio**2) / 2)  # moment per unit root circumference
+    assert d.wall_stresses_MPa()["collar"] == pytest.approx(6 * m / d.collar_mm**2, rel=1e-12)
+    assert d.wall_safety_factors()["collar"] >= f.wall_safety_factor - 1e-9
+    assert d.minimum_walls_mm()["collar"] <= d.collar_mm + 1e-9
+    assert d.mass_breakdown_g()["collar"] == pytest.approx(a_ann * d.collar_mm * 2.7e-3, rel=0.02)
+    assert d.cross_slot_room_mm == pytest.approx(min(d.top_annulus_length_mm, d.chamber1_length_mm)
+                                                 - f.cross_slot_mm - 1.0)
+    # a thicker minimum collar shortens the bladder by exactly the difference
+    thick = replace(d, fixed=replace(f, min_collar_mm=d.collar_mm + 2.0))
+    assert thick.bladder_free_length_mm == pytest.approx(L - 2.0)
+    assert d.geometry_summary()["V1_annulus_mm3"] == d.V1_annulus_mm3
+
+
+def test_annulus_top_constraints_are_reported():
+    """The layout's own constraints (cross-hole room, collar strength) are reported and can fail."""
+    from vvea_design.spring.requirements import Requirements, constraint_names, evaluate_design
+
+    req = Requirements(layouts=("inner_tube", "annulus_top"))
+    names = constraint_names(req, "annulus_top")
+    assert "cross_slot_room" in names and "wall_safety_collar" in names
+    assert "cross_slot_room" in constraint_names(req, "annulus_top", search=True)
+    assert "cross_slot_room" not in constraint_names(req, "bulkhead")
+    short = replace(ANN, V1_annulus_mm3=100.0, V1_mm3=ANN.V1_mm3 - 8900.0)  # 100 mm³: a sliver of annulus
+    assert evaluate_design(short, req).margins["cross_slot_room"] < 0
+
+
 def test_layout_errors_are_clear():
     with pytest.raises(DesignError, match="unknown layout"):
         Design(35.4, 59.5, 48800.0, 102000.0, layout="sideways")
@@ -161,6 +213,12 @@ def test_layout_errors_are_clear():
         Design(35.4, 59.5, 48800.0, 102000.0, V2_top_mm3=100.0)
     with pytest.raises(DesignError, match="V2_top_mm3"):
         Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=1.5e5)
+    with pytest.raises(DesignError, match="only the 'annulus_top' layout"):
+        Design(35.4, 59.5, 48800.0, 102000.0, V1_annulus_mm3=100.0)
+    with pytest.raises(DesignError, match="plus V1_annulus_mm3"):
+        Design(35.4, 59.5, 48800.0, 102000.0, layout="annulus_top", V1_annulus_mm3=48800.0)
+    with pytest.raises(DesignError, match="V1_annulus_mm3 must be"):
+        Design(35.4, 59.5, 48800.0, 102000.0, layout="annulus_top", V1_annulus_mm3=-1.0)
 
 
 def test_population_formulas_are_the_designs():
@@ -170,7 +228,7 @@ def test_population_formulas_are_the_designs():
 
     req = Requirements()
     rng = np.random.default_rng(3)
-    for layout, base in (("inner_tube", REF), ("bulkhead", BULK)):
+    for layout, base in (("inner_tube", REF), ("bulkhead", BULK), ("annulus_top", ANN)):
         X = base.decision_vector() * rng.uniform(0.93, 1.07, (12, base.decision_vector().size))
         obj, mar, ok = evaluate_population(X, req, layout)
         assert ok.any()
@@ -182,16 +240,19 @@ def test_population_formulas_are_the_designs():
                                        rtol=1e-10, atol=1e-12)
 
 
-@pytest.mark.parametrize("layout", ["inner_tube", "bulkhead"])
+@pytest.mark.parametrize("layout", ["inner_tube", "bulkhead", "annulus_top"])
 def test_volume_budget_accounts_for_every_mm3_of_the_envelope(layout):
     """Issue 12: walls, piston, rod, fluid, bladder, clamps and gas add up to the envelope cylinder."""
     top = 4735.0 if layout == "bulkhead" else 0.0
+    ann = 6000.0 if layout == "annulus_top" else 0.0
+    dp = 32.0 if layout == "annulus_top" else 35.42  # the shorter bladder holds the larger piston's stroke
 
     def at_capacity(fixed):  # V2 = its capacity (the walls follow V2's peak pressure: a fixed point)
         v2 = 90000.0
         for _ in range(30):
-            v2 = Design(35.42, 59.5, 48820.0, v2, layout=layout, V2_top_mm3=top, fixed=fixed).V2_capacity_mm3
-        return Design(35.42, 59.5, 48820.0, v2, layout=layout, V2_top_mm3=top, fixed=fixed)
+            v2 = Design(dp, 59.5, 48820.0 + ann, v2, layout=layout, V2_top_mm3=top, V1_annulus_mm3=ann,
+                        fixed=fixed).V2_capacity_mm3
+        return Design(dp, 59.5, 48820.0 + ann, v2, layout=layout, V2_top_mm3=top, V1_annulus_mm3=ann, fixed=fixed)
 
     d = at_capacity(FixedParameters())
     assert d.bladder_clearance_mm()["compressed"] == pytest.approx(0.0, abs=1e-4)
@@ -201,7 +262,8 @@ def test_volume_budget_accounts_for_every_mm3_of_the_envelope(layout):
         assert sum(b.values()) == pytest.approx(envelope, rel=1e-12)
         assert min(b.values()) >= -1e-9
         assert b["unused_length"] == pytest.approx(math.pi / 4 * d.outer_diameter_mm**2 * (0 if H is None else 7.5))
-    gas = b["gas_chamber_1"] + b["gas_chamber_2_above_bulkhead"] + b["gas_chamber_2_annulus"]
+    gas = b["gas_chamber_1"] + b["gas_chamber_1_annulus"] + b["gas_chamber_2_above_bulkhead"] + b["gas_chamber_2_annulus"]
+    assert b["gas_chamber_1_annulus"] == ann and (b["wall_collar"] > 0) == (layout == "annulus_top")
     assert gas == pytest.approx(d.V1_mm3 + d.V2_mm3, rel=1e-12)
     fluid = (b["fluid_swept_by_stroke"] + b["fluid_clearance_under_piston"] + b["bladder_fluid_min_gap"]
              + b["bladder_fluid_bulge_room"])

@@ -27,7 +27,8 @@ from typing import Any
 from .materials.silicones import SILICONES
 from .materials.structural import STRUCTURAL
 from .spring.design import LAYOUTS, FixedParameters
-from .spring.design_file import DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION
+from .spring.design_file import (DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION, OPTIONAL_FIXED_KEYS,
+                                 OPTIONAL_PARAMETER_KEYS)
 from .spring.gas_spring import GasSpring
 from .spring.requirements import DEFAULT_BOUNDS, Requirements
 
@@ -102,7 +103,7 @@ def fixed_schema(all_required: bool = False) -> dict[str, Any]:
     out = {"type": "object", "description": FixedParameters.__doc__.strip(), "properties": props,
            "additionalProperties": False}
     if all_required:
-        out["required"] = [f.name for f in fields(FixedParameters)]
+        out["required"] = [f.name for f in fields(FixedParameters) if f.name not in OPTIONAL_FIXED_KEYS]
     return out
 
 
@@ -139,7 +140,7 @@ def design_schema() -> dict[str, Any]:
     """
     gs_notes = _comments(GasSpring)
     params = {k: {"type": "number", **({"description": gs_notes[k]} if k in gs_notes else {})}
-              for k in DESIGN_PARAMETER_KEYS}
+              for k in DESIGN_PARAMETER_KEYS + OPTIONAL_PARAMETER_KEYS}
     params["layout"] = {"type": "string", "enum": list(LAYOUTS), "description": "layout variant (docs/layout.md)"}
     spec = requirements_schema()
     spec = {k: v for k, v in spec.items() if k not in ("$schema", "$id", "title")}

@@ -31,10 +31,11 @@ def cone(r0: float, r1: float, start: Sequence[float], direction: Sequence[float
     return Solid.make_cone(r0, r1, length, Plane(tuple(start), z_dir=tuple(direction)))
 
 
-def revolved(profile_rz: Sequence[tuple[float, float]]) -> Solid:
-    """Full revolution about Z of a closed (r, z) polygon (r >= 0), mm."""
+def revolved(profile_rz: Sequence[tuple[float, float]], angle_deg: float = 360.0) -> Solid:
+    """Revolution about Z of a closed (r, z) polygon (r >= 0), mm: full, or ``angle_deg`` from the +x axis
+    towards +y."""
     face = Plane.XZ * Polygon(*[(r, z) for r, z in profile_rz], align=None)
-    return single_solid(revolve(face, Axis.Z, 360))
+    return single_solid(revolve(face, Axis.Z, angle_deg))
 
 
 def single_solid(shape) -> Solid:

@@ -86,7 +86,9 @@ def support_ring(lay: Layout) -> Solid:
     """Printed support ring: fills the annulus over the lower clamp length, holds the
     bladder's lower cuff in its groove, and passes the fluid through
     ``cad.ring_channels`` axial channels (inside the bladder) fed by an annular
-    collector groove in its underside (over the base channels).
+    collector groove in its underside (over the base channels). In the
+    ``annulus_top`` layout the chamber-2 port from the base runs through it
+    outside the bladder's bead.
 
     Parameters
     ----------
@@ -106,6 +108,8 @@ def support_ring(lay: Layout) -> Solid:
     for k in range(c.ring_channels):
         a = 2 * math.pi * k / c.ring_channels
         tools.append(cylinder(dc / 2, z0 - 1.0, z1 + 1.0, x=rc * math.cos(a), y=rc * math.sin(a)))
+    if lay.has_top_annulus:  # the chamber-2 port from the base continues through the ring, outside the bead
+        tools.append(cylinder(lay.fill_port_d / 2, z0 - 1.0, z1 + 1.0, y=lay.r_port2))
     return cut(body, *tools)
 
 
@@ -137,6 +141,8 @@ def support_ring_volume_mm3(lay: Layout) -> float:
     v -= math.pi * ((ro + e) ** 2 - ro**2 + ri**2 - (ri - e) ** 2) * lb
     v -= lay.cad.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
     v -= math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
+    if lay.has_top_annulus:
+        v -= math.pi * (lay.fill_port_d / 2) ** 2 * h
     return v
 
 

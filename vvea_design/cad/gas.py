@@ -14,7 +14,10 @@ In the ``bulkhead`` layout chamber 1 ends at the bulkhead and includes the
 fill tube's bore up to the top cap (it is charged through it); chamber 2
 also fills the inner-tube bore above the bulkhead, outside the fill tube
 (``V2_top_mm3``), so its domain is two solids (joined through the top cap's
-ports, which are not drawn). The dead volumes (ports, default 0) are not drawn.
+ports, which are not drawn). In the ``annulus_top`` layout chamber 1 is the
+bore above the piston, the slots in the inner tube's top end and the annulus
+above the collar (``V1_annulus_mm3``): one solid. The dead volumes (ports,
+default 0) are not drawn.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from build123d import Compound
 
 from ._shapes import cylinder, fuse, ring
 from .layout import Layout
+from .parts import cross_slots
 
 __all__ = ["gas_chamber_1", "gas_chamber_2"]
 
@@ -45,6 +49,10 @@ def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
     Solid
         The gas domain in the assembly frame, mm; its volume is ``V1 - dead_volume_1 + A1 x`` (mm³).
     """
+    if lay.has_top_annulus:
+        return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap),
+                    ring(lay.r_inner_tube, lay.r_bore, lay.z_collar1, lay.z_cap),
+                    *cross_slots(lay, lay.r_piston, lay.r_inner_tube))
     if not lay.has_bulkhead:
         return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
     return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_bulkhead0),

@@ -66,11 +66,12 @@ class CadParameters:
     pin_clearance_mm: float = 0.1  #: radial clearance of the pin holes
     stl_tolerance_mm: float = 0.05  #: STL linear deflection
     stl_angular_tolerance_rad: float = 0.1  #: STL angular deflection
+    cross_slots: int = 4  #: slots in the inner tube's top end (``annulus_top``; they share ``fixed.cross_slot_fraction``)
 
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in ("ring_channels", "vents"):
+            if f.name in ("ring_channels", "vents", "cross_slots"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                     raise CadError(f"cad.{f.name} must be an integer >= 1, got {v!r}")
                 continue
@@ -92,6 +93,13 @@ class CadParameters:
                            f"{', '.join(f'{w:g}' for w in DYNAMIC_GLANDS)} mm, got {self.oring_cross_section_mm!r}")
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            Every feature size by name (mm; ``mould_shrinkage`` a fraction, counts integers).
+        """
         return asdict(self)
 
 
@@ -197,7 +205,8 @@ class Layout:
 
     @property
     def r_port2(self) -> float:
-        """Chamber-2 fill port radius (gas side, outside the bladder bead)."""
+        """Chamber-2 fill port radius (gas side, outside the bladder bead; through the top clamp, or in
+        ``annulus_top`` through the base and the support ring)."""
         return 0.5 * (self.r_bladder_out + self.bead_mm + self.r_bore)
 
     @property
@@ -242,10 +251,33 @@ class Layout:
         return self.design.housing_length_mm
 
     def z_piston_bottom(self, x_mm: float = 0.0) -> float:
-        """Piston underside at displacement ``x_mm`` (x > 0 moves it down)."""
+        """Piston underside at displacement ``x_mm`` (x > 0 moves it down).
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            Height above the base's underside, mm.
+        """
         return self.z_base_top + self.design.fluid_column_mm - x_mm
 
     def z_piston_top(self, x_mm: float = 0.0) -> float:
+        """Piston top face (chamber 1's floor) at displacement ``x_mm``.
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            Height above the base's underside, mm.
+        """
         return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
 
     # ----------------------------------------------------------- bulkhead layout
@@ -288,6 +320,43 @@ class Layout:
         """Where the riser from the space above the bulkhead meets the cross port (+y)."""
         return 0.5 * (self.r_fill_tube_out + self.r_piston)
 
+    # ----------------------------------------------------------- annulus_top layout
+    @property
+    def has_top_annulus(self) -> bool:
+        """Chamber-1 gas also in the annulus above a collar on the inner tube (``annulus_top``)."""
+        return self.design.variant.has_top_annulus
+
+    @property
+    def z_collar1(self) -> float:
+        """Top of the collar (bottom of the chamber-1 annulus); the top cap's underside in the other layouts."""
+        return self.z_cap - self.design.top_annulus_length_mm
+
+    @property
+    def slot_height(self) -> float:
+        """Axial height of the slots in the inner tube's top end (``annulus_top``), mm."""
+        return self.design.fixed.cross_slot_mm
+
+    @property
+    def slot_angle_rad(self) -> float:
+        """Angle each slot takes of the inner tube's circumference, rad."""
+        return 2 * math.pi * self.design.fixed.cross_slot_fraction / self.cad.cross_slots
+
+    def slot_start_rad(self, k: int) -> float:
+        """Start angle of slot ``k`` (slots centred at 45° + k 360°/n from +x: clear of the drawings' section
+        planes x = 0 and y = 0, so the sections show the inner tube whole), rad.
+
+        Parameters
+        ----------
+        k : int
+            Slot number, 0 .. ``cad.cross_slots`` - 1.
+
+        Returns
+        -------
+        float
+            Angle from +x towards +y, rad.
+        """
+        return math.pi / 4 + 2 * math.pi * k / self.cad.cross_slots - self.slot_angle_rad / 2
+
     @property
     def clamp(self) -> float:
         return self.design.fixed.bladder_clamp_mm
@@ -304,8 +373,11 @@ class Layout:
 
     @property
     def z_free1(self) -> float:
-        """Top of the bladder's free length (underside of the top clamp)."""
-        return self.z_cap - self.clamp
+        """Top of the bladder's free length (underside of the top clamp; in ``annulus_top`` of the collar,
+        which is the clamp plus the collar plate, below the chamber-1 annulus)."""
+        if not self.has_top_annulus:
+            return self.z_cap - self.clamp
+        return self.z_collar1 - self.design.collar_mm - self.clamp
 
     @property
     def z_bladder0(self) -> float:
@@ -371,5 +443,14 @@ class Layout:
                 raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
             if self.r_fill_tube_out >= 0.5 * self.r_piston:
                 raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
+        if self.has_top_annulus:
+            d = self.design
+            if d.cross_slot_room_mm < 0:
+                raise CadError(f"no room for the cross slots ({f.cross_slot_mm:g} mm, fixed.cross_slot_mm) below the top "
+                               f"cap: the chamber-1 annulus is {d.top_annulus_length_mm:.2f} mm and the column above the "
+                               f"piston {d.chamber1_length_mm:.2f} mm long; each needs >= {f.cross_slot_mm + 1:g} mm "
+                               f"(increase V1_annulus_mm3 or V1_mm3)")
+            if self.z_free1 - self.cuff < self.z_free0 + self.cuff:
+                raise CadError("the collar and the chamber-1 annulus leave the bladder no free length")
         if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
             raise CadError("bladder free length too short for its cuffs")

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 
-from build123d import Solid
+from build123d import Axis, Solid
 
-from ._shapes import bar, cut, cylinder, fuse, ring
+from ._shapes import bar, cut, cylinder, fuse, revolved, ring
 from .layout import Layout
 from .bladder import bladder as _bladder
 
@@ -37,6 +37,15 @@ def housing(lay: Layout) -> Solid:
       from the fluid column (``r_channel_a``) and from the support ring
       (``r_ring_channel``) into both valve bores.
 
+    In the ``annulus_top`` layout the top clamp is a **collar** on the inner
+    tube (``z_free1 .. z_collar1``: the clamp with the cuff's groove, then the
+    collar plate), the annulus above it is chamber-1 gas, joined to the bore
+    by ``cad.cross_slots`` slots cut into the inner tube's top end
+    (:func:`cross_slots`); the top cap has only the chamber-1 port, and
+    chamber 2 is charged through an axial port in the base (``+y``,
+    ``r_port2``) that continues through the support ring outside the
+    bladder's bead.
+
     Parameters
     ----------
     lay : Layout
@@ -53,7 +62,7 @@ def housing(lay: Layout) -> Solid:
         ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
         ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
         cylinder(lay.r_outer, z1, zt),  # top cap
-        ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1),  # top bladder clamp
+        ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1),  # top bladder clamp (annulus_top: collar)
         cylinder(lay.r_outer, 0.0, z0),  # base
     )
     if lay.has_bulkhead:  # bulkhead web and the chamber-1 fill tube (part of the inner tube)
@@ -73,6 +82,14 @@ def housing(lay: Layout) -> Solid:
         rc = lay.cross_port_d / 2
         tools.append(cylinder(rc, z1 - 0.01, lay.z_cross_port, y=lay.y_cross_riser))
         tools.append(bar(rc, (0, lay.y_cross_riser, lay.z_cross_port), (0, 1, 0), lay.r_port2 - lay.y_cross_riser))
+    if lay.has_top_annulus:
+        # chamber 1 only through the top cap; chamber 2 through the base (see below); the slots join the annulus
+        ports = [(lay.r_port1, z1 - 0.01)]
+        tools.extend(cross_slots(lay, lay.r_piston - 0.01, lay.r_inner_tube + 0.01, 0.01))
+        tools.append(cylinder(lay.fill_port_d / 2, -1.0, z0 + 0.01, y=lay.r_port2))
+        cb = c.fill_port_counterbore_mm / 2
+        if lay.r_port2 + cb < lay.r_outer - 0.8:
+            tools.append(cylinder(cb, -1.0, c.fill_port_counterbore_depth_mm, y=lay.r_port2))
     # fill ports (chamber 1 at +y over the piston or on the axis, chamber 2 at +y outside the bladder)
     for r_port, z_start in ports:
         tools.append(cylinder(lay.fill_port_d / 2, z_start, zt + 1, y=r_port))
@@ -105,6 +122,19 @@ def housing(lay: Layout) -> Solid:
     return cut(body, *tools)
 
 
+def cross_slots(lay: Layout, r_in: float, r_out: float, above: float = 0.0) -> list[Solid]:
+    """The ``annulus_top`` layout's slots through the inner tube's top end: ``cad.cross_slots`` annular
+    sectors ``r_in .. r_out``, from ``slot_height`` below the top cap's underside to ``above`` over it, mm."""
+    z1 = lay.z_cap
+    out = []
+    for k in range(lay.cad.cross_slots):
+        a0 = math.degrees(lay.slot_start_rad(k))
+        s = revolved([(r_in, z1 - lay.slot_height), (r_out, z1 - lay.slot_height), (r_out, z1 + above),
+                      (r_in, z1 + above)], angle_deg=math.degrees(lay.slot_angle_rad))
+        out.append(s.rotate(Axis.Z, a0))
+    return out
+
+
 def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]:
     """The housing's machined parts: slices of the united :func:`housing`, mm.
 
@@ -134,6 +164,10 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
         "housing_inner_tube": cylinder(lay.r_inner_tube, z0, z1),
         "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
     }
+    if lay.has_top_annulus:  # the collar is part of the inner tube; the top cap is a plain cap
+        regions["housing_inner_tube"] = fuse(cylinder(lay.r_inner_tube, z0, z1),
+                                             ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1))
+        regions["housing_top_cap"] = cylinder(big, z1, zt + 1.0)
     from ._shapes import single_solid
 
     return {name: single_solid(h.intersect(region)) for name, region in regions.items()}

@@ -154,6 +154,12 @@ def _inner_tube_mm3(lay: Layout) -> float:
         d = lay.design
         v += math.pi * (lay.r_piston**2 - lay.r_fill_tube_bore**2) * d.bulkhead_mm
         v += math.pi * (lay.r_fill_tube_out**2 - lay.r_fill_tube_bore**2) * d.top_space_length_mm
+    if lay.has_top_annulus:  # + the collar, minus the bladder's upper cuff (its groove) and the slots
+        ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
+        v += math.pi * (lay.r_bore**2 - lay.r_inner_tube**2) * (lay.z_collar1 - lay.z_free1)
+        v -= math.pi * (ro**2 - ri**2) * (lay.z_bladder1 - lay.z_free1)
+        v -= math.pi * ((ro + e) ** 2 - ro**2 + ri**2 - (ri - e) ** 2) * lb
+        v -= lay.design.cross_slot_volume_mm3
     return v
 
 

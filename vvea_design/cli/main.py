@@ -60,7 +60,7 @@ def _print_evaluation(ev, title: str) -> None:
                 "max_force_N", "mass_g", "peak_pressure_MPa", "p1_MPa", "housing_length_mm"):
         v = perf[key]
         t.add_row(key, f"{100 * v:.3f} %" if key.startswith("linearity_error") else f"{v:.4g}")
-    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "V2_top_mm3", "A1_mm2", "A2_mm2"):
+    for name in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "V2_top_mm3", "V1_annulus_mm3", "A1_mm2", "A2_mm2"):
         t.add_row(name, f"{getattr(ev.design, name):.5g}")
     for wall, t_mm in ev.design.walls_mm().items():
         t.add_row(f"wall {wall} [mm]", f"{t_mm:.3g}")

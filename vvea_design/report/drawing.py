@@ -330,6 +330,8 @@ def _unit_spec(model: CadModel) -> SheetSpec:
         Leader((0.0 if lay.has_bulkhead else lay.r_port1, zt - 1.0),
                f"chamber 1 fill port Ø{(2 * lay.r_fill_tube_bore) if lay.has_bulkhead else lay.fill_port_d:.2f}"
                + (" (fill tube through the bulkhead)" if lay.has_bulkhead else "") + ", M5 counterbore", "right"),
+        Leader((lay.r_port2, 1.0), f"chamber 2 fill port Ø{lay.fill_port_d:.2f} through base and support ring",
+               "right") if lay.has_top_annulus else
         Leader((lay.r_port2, zt - 2.0), f"chamber 2 fill port Ø{lay.fill_port_d:.2f}", "right"),
         Leader((0.5 * (ps.groove_diameter_mm / 2 + lay.r_piston), g_z),
                f"2x O-ring {ps.oring.code}: {ps.oring.inner_diameter_mm:.2f} x {ps.oring.cross_section_mm:.2f}",
@@ -344,6 +346,16 @@ def _unit_spec(model: CadModel) -> SheetSpec:
                "right"),
         Leader((lay.r_piston - 0.5, zgt), "piston at full stroke (dashed)", "right"),
     ]
+    if lay.has_top_annulus:  # the collar (top bladder clamp + plate) and the chamber-1 annulus above it
+        zcol = lay.z_collar1
+        dims.append(Dim("z", (-lay.r_bore, lay.z_free1), (-lay.r_bore, zcol), "left",
+                        f"{zcol - lay.z_free1:.2f} (collar)"))
+        leaders += [
+            Leader((-0.5 * (lay.r_inner_tube + lay.r_bore), 0.5 * (lay.z_free1 + zcol)),
+                   f"collar on the inner tube: top bladder clamp + plate {d.collar_mm:.2f}", "left"),
+            Leader((0.5 * (lay.r_inner_tube + lay.r_bore), 0.5 * (zcol + zc)),
+                   f"gas chamber 1 (annulus, joined to the bore by {c.cross_slots} slots at 45°)", "right"),
+        ]
     return SheetSpec(
         "unit_section", "Spring-damper unit: section A-A", regions, dims, leaders, _general_notes(model),
         material="see parts list (bom.csv)", view_note="Section A-A, aligned: left half in the valve plane (y = 0), "
@@ -373,6 +385,23 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
                 Dim("u", (-R, z1), (R, z1), "top", f"Ø{2 * R:.2f}"),
                 Dim("u", (-lay.r_bore, z1), (lay.r_bore, z1), "top", f"Ø{2 * lay.r_bore:.2f}")]
         leaders = [Leader((R - 0.5 * d.outer_wall_mm, 0.5 * (z0 + z1)), f"wall {d.outer_wall_mm:.2f}")]
+    elif name == "housing_inner_tube" and lay.has_top_annulus:
+        ri, zcol = lay.r_inner_tube, lay.z_collar1
+        dims = [Dim("z", (-ri, z0), (-ri, z1), "left"),
+                Dim("z", (-R, lay.z_free1), (-R, zcol), "left", f"{zcol - lay.z_free1:.2f} (collar)"),
+                Dim("z", (-ri, zcol), (-ri, z1), "left"),
+                Dim("u", (-ri, z1), (ri, z1), "top", f"Ø{2 * ri:.2f}"),
+                Dim("u", (-R, zcol), (R, zcol), "top", f"Ø{2 * R:.2f}"),
+                Dim("u", (-lay.r_piston, z0), (lay.r_piston, z0), "bottom", _fit_text(2 * lay.r_piston, "H8"))]
+        leaders = [Leader((ri - 0.5 * d.inner_tube_wall_mm, 0.5 * (z0 + lay.z_free1)),
+                          f"wall {d.inner_tube_wall_mm:.2f}; bore Ra 0.4"),
+                   Leader((0.5 * (ri + R), zcol - 0.5), f"collar plate {d.collar_mm:.2f} over the bladder clamp"),
+                   Leader((-(lay.r_bladder_out + 0.1), lay.z_free1 + 0.5 * lay.cuff),
+                          "bladder cuff groove (fits the cast bladder)", "left")]
+        notes += [_general_notes(model)[1],
+                  f"Top end: {c.cross_slots} slots {math.degrees(lay.slot_angle_rad):.1f}° wide x "
+                  f"{lay.slot_height:.2f} deep, centred at 45° + k·{360 / c.cross_slots:g}° (chamber 1: bore to annulus).",
+                  "Collar to outer-tube bore: static seal (not drawn)."]
     elif name == "housing_inner_tube":
         dims = [Dim("z", (-R, z0), (-R, z1), "left"),
                 Dim("u", (-R, z1), (R, z1), "top", f"Ø{2 * R:.2f}"),
@@ -407,6 +436,18 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
         notes += [_general_notes(model)[2], _general_notes(model)[4],
                   f"Servo mount: 2x M3 (tap drill Ø{c.servo_screw_core_mm:g}) x {c.servo_screw_depth_mm:g} deep, "
                   f"±{lay.throttle_d / 2 + 3.5:.2f} either side of the throttle bore."]
+        if lay.has_top_annulus:
+            notes.append(f"Chamber-2 fill port: Ø{lay.fill_port_d:.2f} through at y = +{lay.r_port2:.2f}"
+                         + (f", M5 counterbore Ø{c.fill_port_counterbore_mm:g} x {c.fill_port_counterbore_depth_mm:g}"
+                            if lay.r_port2 + c.fill_port_counterbore_mm / 2 < lay.r_outer - 0.8 else "")
+                         + "; continues through the support ring.")
+    elif name == "housing_top_cap" and lay.has_top_annulus:
+        dims = [Dim("z", (-R, zc), (-R, zt), "left"),
+                Dim("u", (-R, zt), (R, zt), "top", f"Ø{2 * R:.2f}"),
+                Dim("u", (0.0, zt), (lay.r_port1, zt), "top", f"{lay.r_port1:.2f} (port 1 axis)", on_axis=True)]
+        leaders = [Leader((lay.r_port1, zt - 1.0), f"Ø{lay.fill_port_d:.2f} through (chamber 1), M5 counterbore "
+                                                   f"Ø{c.fill_port_counterbore_mm:g} x {c.fill_port_counterbore_depth_mm:g}")]
+        notes.append("Plain cap: the top bladder clamp is the inner tube's collar; chamber 2 is charged through the base.")
     elif name == "housing_top_cap":
         dims = [Dim("z", (-R, zc), (-R, zt), "left"),
                 Dim("z", (-lay.r_bore, lay.z_free1), (-lay.r_bore, zc), "left", f"{zc - lay.z_free1:.2f} (clamp)"),

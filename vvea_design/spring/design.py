@@ -61,6 +61,12 @@ class LayoutVariant:
     summary: str
     decision_variables: tuple[str, ...]
     has_bulkhead: bool  #: a bulkhead closes chamber 1; the inner-tube space above it is chamber-2 gas
+    has_top_annulus: bool = False  #: chamber-1 gas also fills the annulus above a collar (the top bladder clamp)
+
+    @property
+    def walls(self) -> tuple[str, ...]:
+        """The pressure walls :func:`derive` sizes in this layout (names of :data:`WALLS`)."""
+        return WALLS[:4] + (("bulkhead",) if self.has_bulkhead else ()) + (("collar",) if self.has_top_annulus else ())
 
 
 #: The layouts the optimiser chooses between.
@@ -74,6 +80,12 @@ LAYOUTS: dict[str, LayoutVariant] = {
         "a bulkhead closes chamber 1 inside the inner tube; the inner-tube space above it (V2_top) is "
         "chamber-2 gas, ported to the annulus through the top cap, so the housing length is free of V1",
         DECISION_VARIABLES + ("V2_top_mm3",), True),
+    "annulus_top": LayoutVariant(
+        "annulus_top",
+        "chamber 1 fills the inner tube from the piston to the top cap and, through cross slots below the top cap, "
+        "the annulus above a collar on the inner tube (V1_annulus); the collar is the top bladder clamp and the "
+        "pressure wall between the chambers, chamber 2 is charged through the base",
+        DECISION_VARIABLES + ("V1_annulus_mm3",), False, True),
 }
 
 
@@ -83,7 +95,7 @@ def get_layout(name: str) -> LayoutVariant:
     Parameters
     ----------
     name : str
-        A key of :data:`LAYOUTS` (``"inner_tube"`` or ``"bulkhead"``).
+        A key of :data:`LAYOUTS` (``"inner_tube"``, ``"bulkhead"`` or ``"annulus_top"``).
 
     Returns
     -------
@@ -104,8 +116,9 @@ def get_layout(name: str) -> LayoutVariant:
 #: draws them (>= 0.5 mm) beside the cuff's sealing bead when the gap is >= 10/9 mm (``cad.layout``); with a margin.
 CHANNEL_GAP_MM = 1.15
 
-#: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout).
-WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead")
+#: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout, the collar only in
+#: ``annulus_top``; :attr:`LayoutVariant.walls` lists a layout's).
+WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar")
 
 #: Old names of the wall fields (design files written before the walls were sized): now the minimums.
 _LEGACY_FIXED = {"outer_wall_mm": "min_outer_wall_mm", "inner_tube_wall_mm": "min_inner_tube_wall_mm",
@@ -131,6 +144,9 @@ class FixedParameters:
     min_bulkhead_mm: float = 4.0  #: thinnest bulkhead web (``bulkhead`` layout: a web left when boring the inner tube)
     fill_tube_outer_mm: float = 4.0  #: chamber-1 fill tube through the upper chamber-2 space (``bulkhead`` layout)
     fill_tube_bore_mm: float = 1.5  #: its bore (counted in V1)
+    min_collar_mm: float = 2.0  #: thinnest collar plate above the top bladder clamp (``annulus_top`` layout)
+    cross_slot_mm: float = 2.0  #: axial height of the slots in the inner tube's top end joining the chamber-1 annulus to the bore (``annulus_top``)
+    cross_slot_fraction: float = 1 / 3  #: share of the inner tube's circumference the slots take (their gas is in V1)
     wall_safety_factor: float = 2.0  #: walls are sized to this safety factor on yield (the requirements set it)
     wall_sizing_n: float = 1.4  #: walls carry the peak pressure of this polytropic exponent (1.4: a fast, adiabatic stroke)
     piston_height_mm: float = 10.0  #: working piston incl. seal grooves
@@ -165,6 +181,8 @@ class FixedParameters:
             raise DesignError(f"fixed.n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         if not 1.0 <= self.wall_sizing_n <= 1.67:
             raise DesignError(f"fixed.wall_sizing_n must be in [1, 1.67], got {show(self.wall_sizing_n)}")
+        if not self.cross_slot_fraction < 1.0:
+            raise DesignError(f"fixed.cross_slot_fraction must be in (0, 1), got {show(self.cross_slot_fraction)}")
         if self.fill_tube_bore_mm >= self.fill_tube_outer_mm:
             raise DesignError("fixed.fill_tube_bore_mm must be smaller than fixed.fill_tube_outer_mm")
         for key in ("housing_material", "rod_material", "support_ring_material"):
@@ -174,11 +192,37 @@ class FixedParameters:
                 raise DesignError(f"fixed.{key}: {exc}") from None
 
     def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            Every field by name (lengths mm, volumes mm³, masses g, fractions, material keys).
+        """
         return asdict(self)
 
     @classmethod
     def from_dict(cls, data, **override) -> "FixedParameters":
-        """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error."""
+        """Build from a mapping (a TOML table or the design JSON's ``fixed``); unknown keys are an error.
+
+        Parameters
+        ----------
+        data : dict
+            Field name -> value (mm, mm³, g, fractions, material keys); the old wall names
+            (``outer_wall_mm`` ...) are read as the minimums.
+        **override
+            Fields that replace those of ``data``.
+
+        Returns
+        -------
+        FixedParameters
+            The validated parameters.
+
+        Raises
+        ------
+        DesignError
+            If ``data`` is not a mapping, names an unknown field or holds a bad value.
+        """
         if not isinstance(data, dict):
             raise DesignError(f"fixed parameters must be a table/object, got {type(data).__name__}")
         # files written before the walls were sized: their fixed walls become the minimums
@@ -198,7 +242,8 @@ class FixedParameters:
 # ---------------------------------------------------------------------------
 
 def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2_MPa, setpoint_x0_mm,
-           fixed: FixedParameters, bulkhead: bool, cast_fill=None) -> dict[str, np.ndarray]:
+           fixed: FixedParameters, bulkhead: bool, cast_fill=None, V1_annulus_mm3=0.0,
+           top_annulus: bool = False) -> dict[str, np.ndarray]:
     """Every derived quantity of a design, from its decision variables (arrays broadcast).
 
     The single source of the geometry, strength and mass formulas: :class:`Design`
@@ -216,6 +261,17 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     bulkhead: simply supported circular plates. When no wall can carry the
     pressure the minimum is drawn and ``wall_capacity`` (value/limit) says so.
 
+    In the ``annulus_top`` layout (``top_annulus``) the top bladder clamp is a
+    collar on the inner tube: ``V1_annulus_mm3`` of chamber-1 gas fills the
+    annulus between the tubes above it (length ``V1_annulus / (pi (rb^2 -
+    rio^2))``), the collar is a plate ``clamp + t`` long, ``t`` sized as a
+    ring cantilevered from the inner tube (its seal on the outer bore carries
+    no axial load) under the largest chamber-2 minus chamber-1 pressure:
+    root moment per unit circumference ``M = p/rio ((rb^3 - rio^3)/3 -
+    rio (rb^2 - rio^2)/2)``, ``sigma = 6 M / t^2`` (the hoop stiffening of the
+    ring is neglected: conservative). The bladder's free length loses
+    ``t + L_annulus``.
+
     Parameters
     ----------
     piston_diameter_mm, outer_diameter_mm : float or array
@@ -229,10 +285,14 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     fixed : FixedParameters
         Everything the optimiser does not change (walls' minimums, safety factor, bladder, materials).
     bulkhead : bool
-        The ``bulkhead`` layout (else ``inner_tube``).
+        The ``bulkhead`` layout (else ``inner_tube`` or ``annulus_top``).
     cast_fill : float or array, optional
         Stroke fraction at which the bladder has its cast shape, per design
         (when the optimiser varies it); default ``fixed.bladder_cast_fill``.
+    V1_annulus_mm3 : float or array
+        Chamber-1 gas in the annulus above the collar, mm³ (``annulus_top`` only; part of ``V1_mm3``).
+    top_annulus : bool
+        The ``annulus_top`` layout.
 
     Returns
     -------
@@ -249,6 +309,7 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     V1 = np.asarray(V1_mm3, dtype=float)
     V2 = np.asarray(V2_mm3, dtype=float)
     Vt = np.asarray(V2_top_mm3, dtype=float) if bulkhead else np.zeros_like(V2)
+    Va = np.asarray(V1_annulus_mm3, dtype=float) if top_annulus else np.zeros_like(V1)
     p2 = np.asarray(p2_MPa, dtype=float)
     x0 = np.asarray(setpoint_x0_mm, dtype=float)
     T, n = f.travel_mm, f.n_polytropic
@@ -288,9 +349,14 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         t_cap = np.fmax(f.min_top_cap_mm, np.sqrt(kp * P2_peak * rb**2 / sa))
         t_base = np.fmax(f.min_base_mm, np.sqrt(kp * P2_peak * rb**2 / sa))
         t_bh = np.fmax(f.min_bulkhead_mm, np.sqrt(kp * dP_bulkhead * ri**2 / sa)) if bulkhead else np.zeros_like(rb)
+        rio = ri + t_i
+        # collar (annulus_top): a ring cantilevered from the inner tube, root moment per unit circumference
+        m_collar = dP_bulkhead / rio * ((rb**3 - rio**3) / 3 - rio * (rb**2 - rio**2) / 2)
+        t_col = np.fmax(f.min_collar_mm, np.sqrt(6 * m_collar / sa)) if top_annulus else np.zeros_like(rb)
+        g["collar_pressure_MPa"] = dP_bulkhead if top_annulus else np.zeros_like(P2_peak)
     g["outer_wall_mm"], g["inner_tube_wall_mm"] = t_o, t_i
     g["top_cap_mm"], g["base_mm"], g["bulkhead_mm"] = t_cap, t_base, t_bh
-    rio = ri + t_i
+    g["collar_mm"] = t_col
     g["outer_bore_radius_mm"], g["inner_tube_outer_radius_mm"] = rb, rio
     g["annulus_gap_mm"] = rb - rio
     # axial stack
@@ -299,14 +365,22 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     L_top = Vt / (A1 - a_fo) if bulkhead else np.zeros_like(V1)
     g["top_space_length_mm"] = L_top
     g["fill_tube_volume_mm3"] = a_fb * (t_bh + L_top) if bulkhead else np.zeros_like(V1)
-    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"]) / A1
+    A_ann = pi * (rb**2 - rio**2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        L_a = Va / A_ann if top_annulus else np.zeros_like(V1)
+    g["top_annulus_length_mm"] = L_a
+    g["V1_annulus_mm3"] = Va * np.ones_like(L_a)
+    # the slots through the inner tube's top end (annulus_top) hold chamber-1 gas too
+    v_slots = f.cross_slot_fraction * pi * (rio**2 - ri**2) * f.cross_slot_mm if top_annulus else np.zeros_like(V1)
+    g["cross_slot_volume_mm3"] = v_slots * np.ones_like(L_a)
+    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"] - Va - v_slots) / A1
     g["chamber1_length_mm"] = L1
     fluid_col = f.travel_mm + f.fluid_clearance_mm
     g["fluid_column_mm"] = np.full_like(L1, fluid_col)
     L_in = L1 + f.piston_height_mm + fluid_col + t_bh + L_top
     g["inner_length_mm"] = L_in
     g["housing_length_mm"] = t_cap + L_in + t_base
-    L = L_in - 2 * f.bladder_clamp_mm
+    L = L_in - 2 * f.bladder_clamp_mm - t_col - L_a
     g["bladder_free_length_mm"] = L
     g["rod_length_mm"] = np.full_like(L1, fluid_col) + t_base + f.travel_mm + 10.0
     # chamber 2 around the bladder
@@ -351,6 +425,8 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         }
         if bulkhead:
             st["bulkhead"] = kp * dP_bulkhead * ri**2 / t_bh**2
+        if top_annulus:
+            st["collar"] = 6 * m_collar / t_col**2
         for w, v in st.items():
             g[f"stress_{w}_MPa"] = v
             g[f"safety_{w}"] = np.where(v > 0, mat.yield_MPa / v, np.inf)
@@ -365,8 +441,9 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     m = {
         "outer_tube": pi * (ro**2 - rb**2) * L_in * rho_h,
         "end_caps": pi * ro**2 * (t_cap + t_base) * rho_h,
-        "inner_tube": pi * (rio**2 - ri**2) * L_in * rho_h,
+        "inner_tube": (pi * (rio**2 - ri**2) * L_in - v_slots) * rho_h,
         "bulkhead": (pi * ri**2 * t_bh + (a_fo - a_fb) * L_top) * rho_h,
+        "collar": A_ann * t_col * rho_h,  # the plate above the top clamp (the clamp itself is counted nowhere, as before)
         "piston": pi * ri**2 * f.piston_height_mm * rho_h,
         "rod": pi / 4 * f.rod_diameter_mm**2 * g["rod_length_mm"] * rho_r,
         "bladder": 2 * pi * g["bladder_mid_radius_mm"] * f.bladder_thickness_mm * (L + 2 * f.bladder_clamp_mm)
@@ -381,7 +458,9 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     # what cannot be drawn at all (Design raises DesignError for these)
     g["buildable"] = ((dp > f.rod_diameter_mm) & (g["annulus_gap_mm"] > f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm)
                       & (L1 > 0) & (V2 > disp) & (cast_gas > 0) & (L > 0) & (Vt >= 0) & (V2_ann > 0)
-                      & np.isfinite(p1))
+                      & (Va >= 0) & np.isfinite(p1))
+    # annulus_top: the cross slots below the top cap need room in the annulus and above the piston at x = 0
+    g["cross_slot_room_mm"] = (np.fmin(L_a, L1) - (f.cross_slot_mm + 1.0)) if top_annulus else np.full_like(L1, np.inf)
     return g
 
 
@@ -411,6 +490,7 @@ class Design:
     fixed: FixedParameters = field(default_factory=FixedParameters)
     layout: str = "inner_tube"  #: a key of :data:`LAYOUTS`
     V2_top_mm3: float = 0.0  #: chamber-2 gas above the bulkhead (``bulkhead`` layout only)
+    V1_annulus_mm3: float = 0.0  #: chamber-1 gas in the annulus above the collar (``annulus_top`` only; part of V1)
 
     def __post_init__(self) -> None:
         f = self.fixed
@@ -424,6 +504,12 @@ class Design:
             raise DesignError(f"V2_top_mm3 must be a number >= 0, got {show(v)}")
         if not lay.has_bulkhead and v != 0:
             raise DesignError(f"V2_top_mm3 = {v:g}: only the 'bulkhead' layout has chamber-2 gas above chamber 1 "
+                              f"(this design's layout is {self.layout!r})")
+        v = self.V1_annulus_mm3
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+            raise DesignError(f"V1_annulus_mm3 must be a number >= 0, got {show(v)}")
+        if not lay.has_top_annulus and v != 0:
+            raise DesignError(f"V1_annulus_mm3 = {v:g}: only the 'annulus_top' layout has chamber-1 gas in the annulus "
                               f"(this design's layout is {self.layout!r})")
         if not isinstance(self.p2_MPa, (int, float)) or not math.isfinite(self.p2_MPa) or self.p2_MPa <= 0:
             raise DesignError(f"p2_MPa must be > 0, got {show(self.p2_MPa)}")
@@ -444,7 +530,8 @@ class Design:
             )
         if not self.chamber1_length_mm > 0:
             raise DesignError(f"V1_mm3 ({self.V1_mm3:g}) must exceed fixed.dead_volume_1_mm3 ({f.dead_volume_1_mm3:g})"
-                              + (" plus the fill tube's bore" if lay.has_bulkhead else ""))
+                              + (" plus the fill tube's bore" if lay.has_bulkhead else "")
+                              + (" plus V1_annulus_mm3" if lay.has_top_annulus else ""))
         if self.V2_mm3 <= self.displaced_volume_mm3:
             raise DesignError(
                 f"chamber 2 bottoms out inside the stroke: V2_mm3 ({self.V2_mm3:.0f}) <= A2 * travel "
@@ -459,12 +546,14 @@ class Design:
                 f"cast shape plus the dead volume{' and V2_top_mm3' if lay.has_bulkhead else ''}; increase V2_mm3"
             )
         if not self.bladder_free_length_mm > 0:
-            raise DesignError(f"the bladder clamps take the whole inner length ({self.inner_length_mm:.1f} mm)")
+            raise DesignError(f"the bladder clamps{', the collar and the chamber-1 annulus' if lay.has_top_annulus else ''}"
+                              f" take the whole inner length ({self.inner_length_mm:.1f} mm)")
 
     @cached_property
     def _g(self) -> dict[str, float]:
         g = derive(self.piston_diameter_mm, self.outer_diameter_mm, self.V1_mm3, self.V2_mm3, self.V2_top_mm3,
-                   self.p2_MPa, self.setpoint_x0_mm, self.fixed, self.variant.has_bulkhead)
+                   self.p2_MPa, self.setpoint_x0_mm, self.fixed, self.variant.has_bulkhead,
+                   V1_annulus_mm3=self.V1_annulus_mm3, top_annulus=self.variant.has_top_annulus)
         return {k: (bool(v) if k == "buildable" else float(v)) for k, v in g.items()}
 
     @property
@@ -508,6 +597,11 @@ class Design:
         """Bulkhead web, sized (>= fixed.min_bulkhead_mm); 0 without a bulkhead, mm."""
         return self._g["bulkhead_mm"]
 
+    @property
+    def collar_mm(self) -> float:
+        """Collar plate above the top bladder clamp, sized (>= fixed.min_collar_mm); 0 outside ``annulus_top``, mm."""
+        return self._g["collar_mm"]
+
     # ------------------------------------------------------------------ radii
     @property
     def outer_bore_radius_mm(self) -> float:
@@ -531,6 +625,22 @@ class Design:
     def top_space_length_mm(self) -> float:
         """Length of the chamber-2 space above the bulkhead (0 without one), mm."""
         return self._g["top_space_length_mm"]
+
+    @property
+    def top_annulus_length_mm(self) -> float:
+        """Length of the chamber-1 annulus between the collar and the top cap (``annulus_top``; else 0), mm."""
+        return self._g["top_annulus_length_mm"]
+
+    @property
+    def cross_slot_volume_mm3(self) -> float:
+        """``annulus_top``: chamber-1 gas in the slots through the inner tube's top end (part of V1; else 0), mm³."""
+        return self._g["cross_slot_volume_mm3"]
+
+    @property
+    def cross_slot_room_mm(self) -> float:
+        """``annulus_top``: room left for the cross slots below the top cap, in the annulus and above the piston
+        at x = 0 (``min(L_annulus, chamber1_length) - cross_slot_mm - 1``; inf in the other layouts), mm."""
+        return self._g["cross_slot_room_mm"]
 
     @property
     def fill_tube_volume_mm3(self) -> float:
@@ -614,6 +724,16 @@ class Design:
 
         The real bladder bulges between its clamps; this equal-volume cylinder
         is what the CAD draws as the chamber-2 gas domain at x = 0.
+
+        Parameters
+        ----------
+        x_mm : float
+            Piston displacement, mm (x > 0 extends the spring).
+
+        Returns
+        -------
+        float
+            The sleeve's outer radius, mm.
         """
         L = self.bladder_free_length_mm
         gas = self.V2_annulus_mm3 - self.A2_mm2 * x_mm
@@ -624,7 +744,13 @@ class Design:
         return self._g["bladder_mid_radius_mm"]
 
     def bladder_shift_mm(self) -> dict[str, float]:
-        """Mean radial shift of the bladder from its cast shape at both stroke ends (+ outward), mm."""
+        """Mean radial shift of the bladder from its cast shape at both stroke ends (+ outward), mm.
+
+        Returns
+        -------
+        dict of str to float
+            ``compressed`` (x = 0) and ``expanded`` (x = travel), mm.
+        """
         return {"compressed": self._g["bladder_shift_compressed_mm"], "expanded": self._g["bladder_shift_expanded_mm"]}
 
     def bladder_clearance_mm(self) -> dict[str, float]:
@@ -633,6 +759,11 @@ class Design:
         The bladder's largest shift is ``bladder_bulge_factor`` times its mean
         shift: clamped at both ends it deflects about parabolically (peak = 1.5
         × mean), which the FE check (``vvea bladder``) confirms.
+
+        Returns
+        -------
+        dict of str to float
+            ``compressed`` (x = 0, to the inner tube) and ``expanded`` (x = travel, to the outer bore), mm.
         """
         return {"compressed": self._g["bladder_clearance_compressed_mm"],
                 "expanded": self._g["bladder_clearance_expanded_mm"]}
@@ -653,14 +784,25 @@ class Design:
         The envelope is a cylinder of the outer diameter and ``envelope_length_mm``
         (default: the housing length); what the housing does not use is
         ``unused_length``. Items: the walls (outer tube, inner tube, top cap,
-        base, bulkhead, fill-tube wall), the piston, the rod inside the fluid
+        base, bulkhead, fill-tube wall, collar plate), the piston, the rod inside the fluid
         column, the fluid under the piston (the stroke's swept column and the
         clearance left at full stroke), the bladder clamps (support ring and
         top clamp over the annulus), the bladder's silicone, the fluid inside
         the bladder at x = 0 split into the ``bladder_min_gap_mm`` layer on the
         inner tube and the rest (the room the inward bulge at x = 0 needs, plus
-        any slack), and the gas: chamber 1 (``V1``) and chamber 2 (``V2``,
+        any slack), and the gas: chamber 1 (``V1``: the bore above the piston and,
+        in ``annulus_top``, the annulus above the collar) and chamber 2 (``V2``,
         above the bulkhead and in the annulus).
+
+        Parameters
+        ----------
+        envelope_length_mm : float or None
+            Length of the envelope cylinder, mm (None: the housing length).
+
+        Returns
+        -------
+        dict of str to float
+            Item -> volume at x = 0, mm³; the items add up to ``pi/4 D^2 envelope_length``.
         """
         f, pi = self.fixed, math.pi
         H = self.housing_length_mm if envelope_length_mm is None else float(envelope_length_mm)
@@ -675,11 +817,12 @@ class Design:
         clearance = f.fluid_clearance_mm
         out = {
             "wall_outer_tube": pi * (ro**2 - rb**2) * L_in,
-            "wall_inner_tube": pi * (rio**2 - ri**2) * L_in,
+            "wall_inner_tube": pi * (rio**2 - ri**2) * L_in - self._g["cross_slot_volume_mm3"],
             "wall_top_cap": pi * ro**2 * self.top_cap_mm,
             "wall_base": pi * ro**2 * self.base_mm,
             "wall_bulkhead": (A1 - a_fb) * self.bulkhead_mm,
             "wall_fill_tube": (a_fo - a_fb) * self.top_space_length_mm,
+            "wall_collar": pi * (rb**2 - rio**2) * self.collar_mm,
             "piston": A1 * f.piston_height_mm,
             "rod_in_fluid_column": a_rod * self.fluid_column_mm,
             "fluid_swept_by_stroke": (A1 - a_rod) * f.travel_mm,
@@ -688,7 +831,8 @@ class Design:
             "bladder_silicone": pi * (self.bladder_outer_radius_mm**2 - self.bladder_inner_radius_mm**2) * L,
             "bladder_fluid_min_gap": gap,
             "bladder_fluid_bulge_room": fluid_x0 - gap,
-            "gas_chamber_1": self.V1_mm3,
+            "gas_chamber_1": self.V1_mm3 - self.V1_annulus_mm3,
+            "gas_chamber_1_annulus": self.V1_annulus_mm3,
             "gas_chamber_2_above_bulkhead": self.V2_top_mm3,
             "gas_chamber_2_annulus": self.V2_mm3 - self.V2_top_mm3,
             "unused_length": pi * ro**2 * (H - self.housing_length_mm),
@@ -712,21 +856,49 @@ class Design:
                          self.fixed.travel_mm, self.fixed.n_polytropic)
 
     def with_charge(self, p2_MPa: float, setpoint_x0_mm: float | None = None) -> "Design":
-        """The same hardware charged differently (walls follow the new peak pressure)."""
+        """The same hardware charged differently (walls follow the new peak pressure).
+
+        Parameters
+        ----------
+        p2_MPa : float
+            Chamber-2 charge, MPa.
+        setpoint_x0_mm : float or None
+            Displacement of zero force, mm (None: this design's).
+
+        Returns
+        -------
+        Design
+            The recharged design (p1 follows from the set point).
+        """
         x0 = self.setpoint_x0_mm if setpoint_x0_mm is None else setpoint_x0_mm
         return replace(self, p2_MPa=p2_MPa, setpoint_x0_mm=x0)
 
     # --------------------------------------------------------------- strength
     def peak_pressures_MPa(self) -> dict[str, float]:
-        """Highest gas pressure of each chamber over a stroke at ``max(n, fixed.wall_sizing_n)``, MPa."""
+        """Highest gas pressure of each chamber over a stroke at ``max(n, fixed.wall_sizing_n)``, MPa.
+
+        Returns
+        -------
+        dict of str to float
+            ``chamber_1`` and ``chamber_2``, MPa.
+        """
         return {"chamber_1": self._g["peak_chamber_1_MPa"], "chamber_2": self._g["peak_chamber_2_MPa"]}
 
     def walls_mm(self) -> dict[str, float]:
-        """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout)."""
+        """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout, the collar plate only
+        in ``annulus_top``).
+
+        Returns
+        -------
+        dict of str to float
+            Wall name (:attr:`LayoutVariant.walls`) -> thickness, mm.
+        """
         out = {"outer_tube": self.outer_wall_mm, "inner_tube": self.inner_tube_wall_mm,
                "top_cap": self.top_cap_mm, "base": self.base_mm}
         if self.variant.has_bulkhead:
             out["bulkhead"] = self.bulkhead_mm
+        if self.variant.has_top_annulus:
+            out["collar"] = self.collar_mm
         return out
 
     def wall_stresses_MPa(self) -> dict[str, float]:
@@ -741,35 +913,69 @@ class Design:
           chamber-2 pressure, ``3 (3 + nu) p a^2 / (8 t^2)``.
         * ``bulkhead`` (its layout only): the same plate over the piston bore,
           the largest chamber-2 minus chamber-1 pressure.
+        * ``collar`` (``annulus_top`` only): the annular plate between the
+          chambers above the top bladder clamp, cantilevered from the inner
+          tube, the same pressure, ``6 M / t^2`` (:func:`derive`).
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> peak stress, MPa.
         """
         return {w: self._g[f"stress_{w}_MPa"] for w in self.walls_mm()}
 
     def wall_safety_factors(self) -> dict[str, float]:
-        """Yield strength over peak stress, per wall."""
+        """Yield strength over peak stress, per wall.
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> safety factor (dimensionless; the inner tube's the smaller of yield and buckling).
+        """
         return {w: self._g[f"safety_{w}"] for w in self.walls_mm()}
 
     def minimum_walls_mm(self, safety_factor: float | None = None) -> dict[str, float]:
-        """Thinnest walls that carry the peak pressure with ``safety_factor`` (default: the design's), mm."""
+        """Thinnest walls that carry the peak pressure with ``safety_factor`` (default: the design's), mm.
+
+        Parameters
+        ----------
+        safety_factor : float or None
+            On yield (and on buckling for the inner tube), dimensionless; None: ``fixed.wall_safety_factor``.
+
+        Returns
+        -------
+        dict of str to float
+            Wall name -> thickness, mm, ignoring the manufacturable minimums (inf: no wall carries it).
+        """
         f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor,
                                                               min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6,
                                                               min_top_cap_mm=1e-6, min_base_mm=1e-6,
-                                                              min_bulkhead_mm=1e-6)
+                                                              min_bulkhead_mm=1e-6, min_collar_mm=1e-6)
         if safety_factor is None:
             f = replace(f, min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6, min_top_cap_mm=1e-6,
-                        min_base_mm=1e-6, min_bulkhead_mm=1e-6)
+                        min_base_mm=1e-6, min_bulkhead_mm=1e-6, min_collar_mm=1e-6)
         g = derive(self.piston_diameter_mm, self.outer_diameter_mm, self.V1_mm3, self.V2_mm3, self.V2_top_mm3,
-                   self.p2_MPa, self.setpoint_x0_mm, f, self.variant.has_bulkhead)
+                   self.p2_MPa, self.setpoint_x0_mm, f, self.variant.has_bulkhead,
+                   V1_annulus_mm3=self.V1_annulus_mm3, top_annulus=self.variant.has_top_annulus)
         keys = {"outer_tube": "outer_wall_mm", "inner_tube": "inner_tube_wall_mm", "top_cap": "top_cap_mm",
-                "base": "base_mm", "bulkhead": "bulkhead_mm"}
+                "base": "base_mm", "bulkhead": "bulkhead_mm", "collar": "collar_mm"}
         return {w: (float(g[keys[w]]) if np.isfinite(g[keys[w]]) else math.inf) for w in self.walls_mm()}
 
     # ------------------------------------------------------------------- mass
     def mass_breakdown_g(self) -> dict[str, float]:
-        """Mass estimate per component from closed-form volumes, g."""
+        """Mass estimate per component from closed-form volumes, g.
+
+        Returns
+        -------
+        dict of str to float
+            Component -> mass, g (the bulkhead / collar only in their layouts).
+        """
         keys = ["outer_tube", "end_caps", "inner_tube", "piston", "rod", "bladder", "support_ring", "fluid",
                 "servo_and_valve"]
         if self.variant.has_bulkhead:
             keys.insert(3, "bulkhead")
+        if self.variant.has_top_annulus:
+            keys.insert(3, "collar")
         return {k: self._g[f"mass_{k}_g"] for k in keys}
 
     @property
@@ -778,10 +984,24 @@ class Design:
 
     # ---------------------------------------------------------------- export
     def decision_vector(self) -> np.ndarray:
+        """The layout's decision variables in the optimiser's order.
+
+        Returns
+        -------
+        numpy.ndarray
+            Values of ``variant.decision_variables`` (mm, mm³).
+        """
         return np.array([getattr(self, n) for n in self.variant.decision_variables], dtype=float)
 
     def geometry_summary(self) -> dict[str, float]:
-        """Derived geometry (mm, mm², mm³) for the design JSON and the CAD."""
+        """Derived geometry (mm, mm², mm³) for the design JSON and the CAD.
+
+        Returns
+        -------
+        dict
+            ``layout`` and the derived radii, lengths (mm), wall thicknesses (mm) and volumes (mm³); the
+            layout's own quantities (``V2_top_mm3`` ..., ``V1_annulus_mm3`` ...) in its layout only.
+        """
         out = {
             "layout": self.layout,
             "outer_bore_radius_mm": self.outer_bore_radius_mm,
@@ -804,4 +1024,7 @@ class Design:
         if self.variant.has_bulkhead:
             out.update(V2_top_mm3=self.V2_top_mm3, top_space_length_mm=self.top_space_length_mm,
                        fill_tube_volume_mm3=self.fill_tube_volume_mm3)
+        if self.variant.has_top_annulus:
+            out.update(V1_annulus_mm3=self.V1_annulus_mm3, top_annulus_length_mm=self.top_annulus_length_mm,
+                       collar_mm=self.collar_mm)
         return out

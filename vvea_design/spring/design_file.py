@@ -7,9 +7,11 @@ Layout (``format_version`` 1)::
       "format_version": 1,
       "parameters": {piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3,
                      A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
-                     setpoint_x0_mm, layout, V2_top_mm3},
+                     setpoint_x0_mm, layout, V2_top_mm3, V1_annulus_mm3},
       (layout: a key of spring.design.LAYOUTS; V2_top_mm3: chamber-2 gas above
-       the bulkhead, 0 in the inner_tube layout)
+       the bulkhead, 0 outside the bulkhead layout; V1_annulus_mm3: chamber-1
+       gas in the annulus above the collar, 0 outside the annulus_top layout,
+       optional in files written before that layout existed)
       "fixed":       {every FixedParameters field},
       "geometry":    {derived lengths/radii/volumes, for reading},
       "performance": {linearity_error, linearity_error_isothermal (n = 1),
@@ -59,6 +61,10 @@ PARAMETER_KEYS = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3",
                   "p1_MPa", "p2_MPa", "travel_mm", "n_polytropic")
 #: Parameters that shape the geometry beyond eq. 5: required by :func:`load_design_dict`.
 DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm3")
+#: Parameters and fixed fields added after format_version 1 was first written: optional (their defaults are
+#: the layouts that do not use them), so older files still load.
+OPTIONAL_PARAMETER_KEYS = ("V1_annulus_mm3",)
+OPTIONAL_FIXED_KEYS = ("min_collar_mm", "cross_slot_mm", "cross_slot_fraction")
 #: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
 TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
                   "constraint_details", "spec", "optimiser")
@@ -121,6 +127,7 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
             "setpoint_x0_mm": d.setpoint_x0_mm,
             "layout": d.layout,
             "V2_top_mm3": d.V2_top_mm3,
+            "V1_annulus_mm3": d.V1_annulus_mm3,
         },
         "fixed": d.fixed.to_dict(),
         "geometry": d.geometry_summary(),
@@ -215,7 +222,7 @@ def _check_envelope(data: Any, src: str) -> None:
     params = data.get("parameters")
     if not isinstance(params, dict):
         raise DesignFileError(f"{src}: missing object 'parameters'")
-    unknown = sorted(set(params) - set(DESIGN_PARAMETER_KEYS))
+    unknown = sorted(set(params) - set(DESIGN_PARAMETER_KEYS) - set(OPTIONAL_PARAMETER_KEYS))
     if unknown:
         raise DesignFileError(f"{src}: unknown key(s) {unknown} in 'parameters'; known: {', '.join(DESIGN_PARAMETER_KEYS)}")
     for key in PARAMETER_KEYS:
@@ -283,6 +290,10 @@ def _check_geometry_complete(data: dict, src: str) -> None:
     if isinstance(vt, bool) or not isinstance(vt, (int, float)) or not math.isfinite(vt):
         raise DesignFileError(f"{src}: parameters.V2_top_mm3 must be a finite number (0 in the inner_tube layout), "
                               f"got {vt!r}")
+    va = p.get("V1_annulus_mm3", 0.0)
+    if isinstance(va, bool) or not isinstance(va, (int, float)) or not math.isfinite(va):
+        raise DesignFileError(f"{src}: parameters.V1_annulus_mm3 must be a finite number (0 outside the annulus_top "
+                              f"layout), got {va!r}")
     fixed = data.get("fixed")
     hint = ("; a design file must hold every fixed parameter (write it with `vvea optimise`, or copy the "
             "missing ones from the defaults: " + ", ".join(f"{k} = {v!r}" for k, v in FixedParameters().to_dict().items())
@@ -291,7 +302,7 @@ def _check_geometry_complete(data: dict, src: str) -> None:
         raise DesignFileError(f"{src}: missing object 'fixed' (wall thicknesses, end caps, materials, ...){hint}")
     if not isinstance(fixed, dict):
         raise DesignFileError(f"{src}: 'fixed' must be an object, got {type(fixed).__name__}")
-    missing = [f.name for f in dataclass_fields(FixedParameters) if f.name not in fixed]
+    missing = [f.name for f in dataclass_fields(FixedParameters) if f.name not in fixed and f.name not in OPTIONAL_FIXED_KEYS]
     if missing:
         raise DesignFileError(f"{src}: fixed.{', fixed.'.join(missing)} missing{hint}")
     for key in ("travel_mm", "n_polytropic"):
@@ -337,6 +348,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             fixed=fixed,
             layout=p["layout"],
             V2_top_mm3=p["V2_top_mm3"],
+            V1_annulus_mm3=p.get("V1_annulus_mm3", 0.0),
         )
     except (DesignError, TypeError) as exc:
         raise DesignFileError(f"{src}: {exc}") from None

@@ -540,7 +540,8 @@ def _g_cols(x, req, layout):
     cols = {name: np.atleast_1d(float(v)) for name, v in zip(req.decision_variables(layout), x)}
     g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                cols.get("V2_top_mm3", np.zeros(1)), np.full(1, req.max_charge_MPa), req.setpoint_x0_mm,
-               req.fixed, lay.has_bulkhead, cast_fill=cols.get("bladder_cast_fill"))
+               req.fixed, lay.has_bulkhead, cast_fill=cols.get("bladder_cast_fill"),
+               V1_annulus_mm3=cols.get("V1_annulus_mm3", np.zeros(1)), top_annulus=lay.has_top_annulus)
     return g, cols
 
 
@@ -569,7 +570,8 @@ def _pareto_point(args) -> dict:
            "mean_stiffness_at_max_charge_N_per_mm": ev.details["mean_stiffness"]["value"],
            "outer_diameter_mm": ev.design.outer_diameter_mm,
            "binding": ",".join(ev.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9])}
-    row.update({n: float(getattr(ev.design, n)) for n in LAYOUTS["bulkhead"].decision_variables})
+    row.update({n: float(getattr(ev.design, n)) for n in dict.fromkeys(v for lay in LAYOUTS.values()
+                                                                      for v in lay.decision_variables)})
     return row
 
 

@@ -58,11 +58,12 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "V1_mm3": (5.0e3, 3.0e5),
     "V2_mm3": (5.0e3, 3.0e5),
     "V2_top_mm3": (0.0, 1.5e5),
+    "V1_annulus_mm3": (0.0, 1.5e5),
     "bladder_cast_fill": (0.1, 1.0),  # the strain surrogate is poor below 0.1 (docs/layout.md)
 }
 
 #: Bounds whose low end may be 0 (the others must be > 0).
-_ZERO_LOW = ("V2_top_mm3", "bladder_cast_fill")
+_ZERO_LOW = ("V2_top_mm3", "V1_annulus_mm3", "bladder_cast_fill")
 
 #: Polytropic exponents whose worst linearity each objective minimises (``nominal``: the design's n_polytropic).
 OBJECTIVES: dict[str, tuple[float, ...] | None] = {
@@ -104,7 +105,7 @@ class Requirements:
     n_polytropic: float = 1.0  #: 1 isothermal ... 1.4 adiabatic (the design's nominal law: stiffness, setpoint)
     objective: str = "nominal"  #: nominal | isothermal | adiabatic | worst (of n = 1 and 1.4)
     objective_n: tuple[float, ...] | None = None  #: or: minimise the worst linearity over these exponents
-    layouts: tuple[str, ...] = ("inner_tube", "bulkhead")  #: layout variants the optimiser chooses between
+    layouts: tuple[str, ...] = ("inner_tube", "bulkhead", "annulus_top")  #: layout variants the optimiser chooses between
     optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
     bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
@@ -556,6 +557,8 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
                                  "scale": t_bl},
         "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
     }
+    if get_layout(layout).has_top_annulus:
+        d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
     for wall in _walls(layout):
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
@@ -571,7 +574,7 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
 
 
 def _walls(layout: str) -> tuple[str, ...]:
-    return WALLS if get_layout(layout).has_bulkhead else WALLS[:4]
+    return get_layout(layout).walls
 
 
 def evaluate_design(design: Design, req: Requirements, bladder_strain: float | None = None) -> Evaluation:
@@ -691,7 +694,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     with np.errstate(all="ignore"):
         g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                    cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
-                   cast_fill=cols.get("bladder_cast_fill"))
+                   cast_fill=cols.get("bladder_cast_fill"), V1_annulus_mm3=cols.get("V1_annulus_mm3", np.zeros(S)),
+                   top_annulus=lay.has_top_annulus)
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
@@ -744,6 +748,8 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
              "wall_capacity"]
+    if get_layout(layout).has_top_annulus:
+        names.append("cross_slot_room")
     if search:
         names.remove("charge_p2")
     else:
