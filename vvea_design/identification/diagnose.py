@@ -810,6 +810,13 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
         snr = eff_rms / max(res_rms, 1e-300)
         if eff.catalogue:
             sig = tuple(eff.signature(D, fit_c.effect_values(cand), fit_c.shapes.get(cand, np.nan), contrib))
+        # the backward step's force test, already here: a term below keep_noise x the floor of the model with it
+        # would be dropped there anyway, after a selection round spent beside it
+        floor_c = noise_floor_N(D, D.y - fit_c.predict(D))
+        floor_c = min(noise, floor_c) if np.isfinite(floor_c) else noise
+        small = eff_rms < settings.keep_noise * floor_c
+    else:
+        small, floor_c = False, noise
     sig_ok = all(c.passed for c in sig)
     reasons = []
     if gain < settings.min_gain:
@@ -822,7 +829,9 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
         reasons.append(f"effect RMS {snr:.2f} x residual < {settings.min_snr:g}")
     if fit_c is not None and not sig_ok:
         reasons.append("fails its physical signature: " + "; ".join(c.detail for c in sig if not c.passed))
-    passes = gain >= settings.min_gain and consistent and stable and fit_c is not None and snr >= settings.min_snr and sig_ok
+    if small:
+        reasons.append(f"its force ({eff_rms:.3g} N RMS) is below {settings.keep_noise:g} x the noise floor ({floor_c:.3g} N)")
+    passes = gain >= settings.min_gain and consistent and stable and fit_c is not None and snr >= settings.min_snr and sig_ok and not small
     ev = Evidence(rnd, gain, t, n_improved, len(fold_ids), n_halved, snr, eff_rms, res_rms, sig_ok, None, bool(passes), tuple(reasons))
     return _Trial(cand, new_sse, shape, ev, fit_c, sig)
 
