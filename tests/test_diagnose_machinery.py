@@ -74,7 +74,7 @@ def test_assemble_equals_the_stacked_columns(D):
         ref = np.column_stack(cols)
         for e in effects:
             if REGISTRY[e].transforms_design:
-                ref = REGISTRY[e].transform(D, ref, shapes[e], ctx)
+                ref = REGISTRY[e].transform(D, ref, shapes[e], ctx, eq14_first=True)  # the whole design, eq. 14 first
         assert X.shape == ref.shape == (D.n, len(params))
         np.testing.assert_array_equal(X, ref)
         assert groups["eq14"] == slice(0, X0.shape[1])

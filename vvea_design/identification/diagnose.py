@@ -52,7 +52,19 @@ import numpy as np
 
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
-from .effects import DISCOVERY_IDS, EFFECT_IDS, REFERENCE_NOTE, REGISTRY, Effect, FitData, effect_columns
+from .effects import (
+    DISCOVERY_IDS,
+    EFFECT_IDS,
+    REFERENCE_NOTE,
+    REGISTRY,
+    ZETA_RANGE,
+    Effect,
+    FitData,
+    ForceFilter,
+    effect_columns,
+    filter_id,
+    is_effect_id,
+)
 from .identify import ModelFit, assemble, blocks, extend_blocks, fit_model, relief_context, solve_bounded
 from .recordings import Recordings
 
@@ -306,7 +318,7 @@ class FinalModel:
     def from_dict(cls, d: dict) -> "FinalModel":
         if d.get("format") != "vvea-final-model":
             raise ValueError("not a vvea final-model file (format must be 'vvea-final-model')")
-        unknown = [e for e in d["effects"] if e not in REGISTRY]
+        unknown = [e for e in d["effects"] if not is_effect_id(e)]
         if unknown:
             raise ValueError(f"final model names unknown effect(s) {unknown}")
         params = tuple(
@@ -828,6 +840,13 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
         snr = eff_rms / max(res_rms, 1e-300)
         if eff.catalogue:
             sig = tuple(eff.signature(D, fit_c.effect_values(cand), fit_c.shapes.get(cand, np.nan), contrib))
+        # the backward step's force test, already here: a term below keep_noise x the floor of the model with it
+        # would be dropped there anyway, after a selection round spent beside it
+        floor_c = noise_floor_N(D, D.y - fit_c.predict(D))
+        floor_c = min(noise, floor_c) if np.isfinite(floor_c) else noise
+        small = eff_rms < settings.keep_noise * floor_c
+    else:
+        small, floor_c = False, noise
     sig_ok = all(c.passed for c in sig)
     reasons = []
     if gain < settings.min_gain:
@@ -840,7 +859,9 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
         reasons.append(f"effect RMS {snr:.2f} x residual < {settings.min_snr:g}")
     if fit_c is not None and not sig_ok:
         reasons.append("fails its physical signature: " + "; ".join(c.detail for c in sig if not c.passed))
-    passes = gain >= settings.min_gain and consistent and stable and fit_c is not None and snr >= settings.min_snr and sig_ok
+    if small:
+        reasons.append(f"its force ({eff_rms:.3g} N RMS) is below {settings.keep_noise:g} x the noise floor ({floor_c:.3g} N)")
+    passes = gain >= settings.min_gain and consistent and stable and fit_c is not None and snr >= settings.min_snr and sig_ok and not small
     ev = Evidence(rnd, gain, t, n_improved, len(fold_ids), n_halved, snr, eff_rms, res_rms, sig_ok, None, bool(passes), tuple(reasons))
     return _Trial(cand, new_sse, shape, ev, fit_c, sig)
 
@@ -925,8 +946,81 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
         cur = best.fit
         if REGISTRY[best.id].shape is not None:  # the CV chose the shape on a coarse grid: refine it on the training experiments
             cur = fit_model(D, cur.effects, experiments=plan.train, shapes={k: v for k, v in cur.shapes.items() if k != best.id}, ctx=cur.ctx)
+        if isinstance(REGISTRY[best.id], ForceFilter):  # a sensor filter of a standard type: fit its damping ratio too
+            fid, cur = refine_filter_damping(D, cur, best.id, plan.train)
+            if fid != best.id:
+                sel[-1] = fid
+                trials[fid] = trials.pop(best.id)
+                cands = [c for c in cands if c != best.id]  # the standard type it grew from is not tested again beside it
     sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
+
+
+def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray, xtol: float = 0.002):
+    """Fit the damping ratio of the sensor filter ``eid`` of ``cur`` (and its lag again), on the experiments ``rows``.
+
+    The standard filter types (Butterworth ... critical) are tested in the
+    selection; the accepted one's damping ratio shapes the response at every
+    start and reversal of the motion, where a stiff valve's force changes
+    fastest, so it is fitted within :data:`ZETA_RANGE` (bounded scalar
+    search on the training SSE, lag fixed), then the lag at that ratio, then
+    the ratio again near its value. The result is the filter of that ratio
+    (id :func:`~vvea_design.identification.effects.filter_id`) when it
+    lowers the training SSE, else ``eid`` unchanged.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    cur : ModelFit
+        The current model; ``eid`` among its effects, its lag (s) in ``cur.shapes``.
+    eid : str
+        Id of the accepted second-order filter (a :class:`~vvea_design.identification.effects.ForceFilter`).
+    rows : numpy.ndarray of int
+        Training experiments (indices 0 .. n_exp-1).
+    xtol : float
+        Tolerance of the damping-ratio search (dimensionless).
+
+    Returns
+    -------
+    fid : str
+        Id of the filter with the fitted damping ratio (or ``eid``).
+    fit : ModelFit
+        ``cur`` with that filter, its lag (s) refitted, on ``rows``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    others = {k: v for k, v in cur.shapes.items() if k != eid}
+    at = cur.effects.index(eid)
+
+    def effects_with(fid):
+        return cur.effects[:at] + (fid,) + cur.effects[at + 1 :]
+
+    def fit_at(zeta, lag):
+        fid = filter_id(zeta)
+        return fid, fit_model(D, effects_with(fid), experiments=rows, shapes=dict(others, **{fid: lag}), ctx=cur.ctx, refine=False)
+
+    memo: dict = {}
+
+    def cost(zeta, lag):
+        key = (filter_id(zeta), round(float(np.log(lag)), 6))
+        if key not in memo:
+            memo[key] = fit_at(zeta, lag)[1].rmse_N
+        return memo[key]
+
+    lag = float(cur.shapes[eid])
+    z0 = float(REGISTRY[eid].zeta)
+    lo, hi = ZETA_RANGE
+    z = float(minimize_scalar(lambda q: cost(q, lag), bounds=(lo, hi), method="bounded", options={"xatol": xtol}).x)
+    z = z if cost(z, lag) < cost(z0, lag) else z0
+    r = minimize_scalar(lambda u: cost(z, np.exp(u)), bounds=(np.log(lag / 1.25), np.log(lag * 1.25)), method="bounded",
+                        options={"xatol": 1e-3})
+    lag = float(np.exp(r.x)) if r.fun < cost(z, lag) else lag
+    r = minimize_scalar(lambda q: cost(q, lag), bounds=(max(lo, z - 0.1), min(hi, z + 0.1)), method="bounded", options={"xatol": xtol})
+    z = float(r.x) if r.fun < cost(z, lag) else z
+    if cost(z, lag) >= cur.rmse_N:
+        return eid, cur
+    return fit_at(z, lag)
 
 
 def _cv_current(D: FitData, cur: ModelFit, plan: Plan):
@@ -1094,6 +1188,9 @@ def _param_estimates(fit: ModelFit, group: str, shape_se: dict | None = None, pr
         if eff.shape is not None:
             out.append(ParamEstimate(prefix + eff.shape.name, float(fit.shapes.get(group, np.nan)), float((shape_se or {}).get(group, np.nan)),
                                      eff.shape.unit, eff.shape.meaning + " (fold-jackknife s.e.)"))
+        if isinstance(eff, ForceFilter) and eff.kind.startswith("fitted"):
+            out.append(ParamEstimate(prefix + "zeta", float(eff.zeta), float("nan"), "1",
+                                     "damping ratio of the filter (fitted on the training experiments, lag fixed; no s.e.)"))
     return tuple(out)
 
 
@@ -1206,8 +1303,10 @@ def _effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings) -> 
     for k, eid in enumerate(sel):
         a, b = hsteps[k].rmse_N, hsteps[k + 1].rmse_N
         removed[eid] = None if a is None or b is None else a - b
-    for eid in list(settings.candidates) + [d for d in settings.discovery if d in sel or d in trials]:
-        if eid not in REGISTRY:
+    listed = list(settings.candidates) + [d for d in settings.discovery if d in sel or d in trials]
+    made = [d for d in dict.fromkeys(list(sel) + list(trials)) if d not in listed]  # fitted sensor filters (ids made from their ratio)
+    for eid in listed + made:
+        if not is_effect_id(eid):
             continue
         eff = REGISTRY[eid]
         acc = eid in sel

@@ -51,6 +51,7 @@ Residual sign convention everywhere: residual = measurement − model (N).
 from __future__ import annotations
 
 import functools
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -72,6 +73,9 @@ __all__ = [
     "EFFECT_IDS",
     "DISCOVERY_IDS",
     "register",
+    "is_effect_id",
+    "filter_id",
+    "fitted_filter",
     "baseline_columns",
     "baseline_params",
     "fill_baseline",
@@ -691,8 +695,50 @@ class Effect:
         return P
 
 
+class _Registry(dict):
+    """The effect registry: a dict by id, plus effects created from their id on first use.
+
+    A sensor filter whose damping ratio was fitted is named by it
+    (``force_filter_lag_z0733``: zeta = 0.733, see :func:`filter_id`); such an
+    id is made on lookup (``REGISTRY[id]``) without being listed, so the
+    registry's listing stays the set of candidates.
+    """
+
+    def __missing__(self, key):
+        eff = _made_effect(key)
+        if eff is None:
+            raise KeyError(key)
+        return eff
+
+
+def _made_effect(key):
+    m = _FILTER_ID.fullmatch(str(key))
+    if m is None:
+        return None
+    eff = _MADE.get(key)
+    if eff is None:
+        eff = _MADE[key] = fitted_filter(int(m.group(1)) / 1000.0)
+    return eff
+
+
+def is_effect_id(key) -> bool:
+    """True when ``key`` names a registered effect or one made from its id (a fitted sensor filter).
+
+    Parameters
+    ----------
+    key : str
+        An effect id (e.g. ``"thermal"`` or ``"force_filter_lag_z0733"``).
+
+    Returns
+    -------
+    bool
+        Whether ``REGISTRY[key]`` gives an effect.
+    """
+    return key in REGISTRY or _made_effect(key) is not None
+
+
 #: Every effect (catalogue and discovery operators), by id.
-REGISTRY: dict[str, Effect] = {}
+REGISTRY: dict[str, Effect] = _Registry()
 
 
 def register(effect: Effect) -> Effect:
@@ -1384,6 +1430,120 @@ def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out
     return out
 
 
+def _velocity_gaps(D: FitData, m: int):
+    """Per regular experiment (cached): the motion's velocity between samples minus its linear fill, on the fine grid of :func:`_on_sample_grid`.
+
+    The test machine moves with constant acceleration to a cruise speed and
+    back (``recordings``' motion profile), so between two samples the
+    velocity is not linear where a ramp starts or ends: it follows the ramp
+    at the acceleration ``a`` (the largest velocity change per second between
+    samples of the experiment, from rest before the first sample) up to the
+    neighbouring sample's speed, and crosses zero at a reversal at ``a``
+    (the time of the crossing from the sample on the ramp); where an
+    experiment's ramps fall between samples, ``a`` is the machine's (the
+    upper tenth of the experiments' values). Returns a list of groups of
+    experiments with the same spacing and lengths,
+    ``(exps, dt_fine, gaps, reads)``: ``gaps`` (n_e, n_fine, 2) the direction
+    sign(ẋ) and the velocity (mm/s) minus their linear fill, nonzero only in
+    the intervals with a kink, a start or a reversal (friction turns with the
+    motion at once, not along the straight line from the sample before),
+    ``reads`` the fine-grid positions of the kept samples; experiments
+    without a gap are left out.
+    """
+    key = ("velocity_gaps", m)
+    if key in D._cache:
+        return D._cache[key]
+    dts = D.per_exp_dt()
+    knots = {}
+    acc_e = np.zeros(D.n_exp)  # mm/s^2: each experiment's largest velocity change per second (a lower bound of the acceleration)
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        k = np.round((D.t[a:b] - min(D.t[a], 0.0)) / dts[e]).astype(int)
+        if not (len(k) > 1 and np.all(np.diff(k) > 0) and k[-1] <= 20 * len(k)):
+            continue
+        vk = D.v[a:b].astype(float)
+        lead = k[0] > 0
+        if lead:
+            k, vk = np.r_[0, k], np.r_[0.0, vk]
+        knots[e] = (k, vk, lead)
+        acc_e[e] = float(np.max(np.abs(np.diff(vk)) / np.diff(k))) / dts[e]
+    # one test machine: where the ramps are shorter than a sample interval (slow runs), the acceleration is
+    # the one the experiments that resolve their ramps show (the upper tenth of the campaign's values)
+    acc_machine = float(np.quantile(acc_e[acc_e > 0], 0.9)) if np.any(acc_e > 0) else 0.0
+    out = []
+    for e, (k, vk, lead) in knots.items():
+        acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
+        if not (acc > 0 and np.isfinite(acc)):
+            continue
+        tau = np.arange(k[-1] * m + 1) / m
+        i = np.clip(np.searchsorted(k, tau, side="right") - 1, 0, len(k) - 2)
+        k0, k1, v0, v1 = k[i], k[i + 1], vk[i], vk[i + 1]
+        vlin = v0 + (v1 - v0) * (tau - k0) / (k1 - k0)
+        s0, s1 = np.abs(v0), np.abs(v1)
+        same = v0 * v1 >= 0.0
+        sig = np.sign(v0 + v1)
+        v_same = sig * np.where(s1 >= s0, np.minimum(s0 + acc * (tau - k0), s1), np.minimum(s0, s1 + acc * (k1 - tau)))
+        # a reversal inside the interval: the zero crossing follows the sample on the ramp (the slower one)
+        tA, tB = k0 + s0 / acc, k1 - s1 / acc
+        t_rev = np.where(s0 > s1 * (1 + 1e-9), tB, np.where(s1 > s0 * (1 + 1e-9), tA, 0.5 * (tA + tB)))
+        v_rev = np.sign(v0) * np.clip(acc * (t_rev - tau), -s1, s0)
+        vf = np.where(same, v_same, v_rev)
+        sk = np.sign(vk)
+        slin = sk[i] + (sk[i + 1] - sk[i]) * (tau - k0) / (k1 - k0)
+        gap = np.column_stack([np.sign(vf) - slin, vf - vlin])
+        if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1.0)):
+            continue
+        read = k * m
+        out.append((e, dts[e] / m, gap, read[1:] if lead else read))
+    # experiments of the same fine spacing and lengths filtered together
+    groups: dict = {}
+    for e, dtf, gap, read in out:
+        groups.setdefault((round(float(dtf), 15), len(gap), len(read)), []).append((e, dtf, gap, read))
+    out = [(np.array([q[0] for q in g]), g[0][1], np.stack([q[2] for q in g]), np.stack([q[3] for q in g])) for g in groups.values()]
+    D._cache[key] = out
+    return out
+
+
+def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
+    """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples: (n, 2), sign and mm/s."""
+    corr = np.zeros((D.n, 2))
+    for exps, dtf, gaps, reads in _velocity_gaps(D, int(substeps)):
+        res = np.take_along_axis(op(gaps, dtf), reads[..., None], axis=1)
+        for j, e in enumerate(exps):
+            corr[D.bounds[e] : D.bounds[e + 1]] = res[j]
+    return corr
+
+
+def _filter_design(D: FitData, X: np.ndarray, ba, out, eq14_first: bool) -> np.ndarray:
+    """The design ``X`` through the sensor filter ``ba(dt_fine) -> (b, a)`` (:func:`_on_sample_grid`), eq. 14's damping columns with the motion's velocity between samples.
+
+    With ``eq14_first`` (``X`` is a whole design, eq. 14's columns first),
+    each damping column ``L(gamma) xdot`` is filtered as the velocity really
+    runs between samples (:func:`_velocity_gaps`: a ramp's end or a reversal
+    between two samples, where a stiff valve's force bends), and the
+    friction column ``sign(xdot)`` turns at the start and the reversal
+    itself, not along the straight line between samples: linear filtering
+    lets the corrections add.
+    """
+    share = None
+    if eq14_first and X.shape[1] >= 2 + len(D.valves):
+        # eq. 14's sign column, and each sample's own valve column (the others are zero), over sign and velocity:
+        # 1, or 0 where a term masked the damping column (relief valve open)
+        rows, vcol = np.arange(D.n), 2 + D.valve_idx
+        share = np.column_stack([np.where(D.s != 0, X[:, 1] * D.s, 0.0),
+                                 np.where(D.v != 0, X[rows, vcol] / np.where(D.v != 0, D.v, 1.0), 0.0)])
+
+    def op(seg, dt):
+        return lfilter(*ba(dt), seg, axis=1)  # from rest (see ForceLag)
+
+    res = _filter_on_sample_grid(D, X, ba, out=out)  # the same filter as _on_sample_grid with op, on the samples
+    if share is not None:
+        c = _velocity_correction(D, op) * share
+        res[:, 1] += c[:, 0]
+        res[rows, vcol] += c[:, 1]
+    return res
+
+
 @dataclass(frozen=True)
 class ForceLag(Effect):
     def grid(self, D, ctx):
@@ -1392,7 +1552,7 @@ class ForceLag(Effect):
     def columns(self, D, tau, ctx):
         return np.zeros((D.n, 0))
 
-    def transform(self, D, X, tau, ctx, out=None):
+    def transform(self, D, X, tau, ctx, out=None, eq14_first=False):
         # the reading is the unit's force through a first-order lag: every column of the model is lagged
         # (exact and still linear in the amplitudes); the sensor starts from the unit at rest before the
         # motion (zero force state: every column of the model vanishes at rest at x = 0)
@@ -1400,7 +1560,7 @@ class ForceLag(Effect):
             q = np.exp(-dt / tau)
             return [1.0 - q], [1.0, -q]
 
-        return _filter_on_sample_grid(D, X, ba, out=out)
+        return _filter_design(D, X, ba, out, eq14_first)
 
     def describe(self, values, errors, tau, se):
         return (
@@ -1448,21 +1608,73 @@ class ForceFilter(ForceLag):
             return coarse
         return np.clip(tau, 0.003, 3.0) * np.geomspace(0.6, 2.5, 9)
 
-    def transform(self, D, X, lag, ctx, out=None):
+    def transform(self, D, X, lag, ctx, out=None, eq14_first=False):
         wn = 2 * self.zeta / lag
 
         def ba(dt):
             # bilinear (Tustin) discretisation of wn^2/(s^2 + 2 zeta wn s + wn^2), in closed form; from rest (see ForceLag)
             return _bilinear_2nd_order(wn, self.zeta, 1.0 / dt)
 
-        return _filter_on_sample_grid(D, X, ba, out=out)
+        return _filter_design(D, X, ba, out, eq14_first)
 
     def describe(self, values, errors, lag, se):
         fn = 2 * self.zeta / lag / (2 * np.pi)
+        kind = f"damping ratio {self.zeta:.3g}, fitted" if self.kind.startswith("fitted") else f"{self.kind}, damping ratio {self.zeta:.3g}"
         return (
-            f"The force reading passes a second-order filter ({self.kind}, damping ratio {self.zeta:.3g}, natural frequency {fn:.3g} Hz, "
+            f"The force reading passes a second-order filter ({kind}, natural frequency {fn:.3g} Hz, "
             f"lag {_fmt(lag, se, 's')}): sensor or amplifier dynamics, not the spring or damper."
         )
+
+
+#: id of a second-order force filter with a fitted damping ratio: ``force_filter_lag_z`` + 1000 zeta (4 digits)
+_FILTER_ID = re.compile(r"force_filter_lag_z(\d{4})")
+_MADE: dict = {}  #: fitted sensor filters made from their id
+ZETA_RANGE = (0.4, 1.6)  #: damping ratios a fitted sensor filter may take (underdamped amplifier .. nearly first order)
+
+
+def filter_id(zeta: float) -> str:
+    """Effect id of the second-order force filter with damping ratio ``zeta`` (rounded to 0.001).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio (dimensionless), within :data:`ZETA_RANGE`.
+
+    Returns
+    -------
+    str
+        ``force_filter_lag_z`` + 1000 zeta on 4 digits (``force_filter_lag_z0733`` for 0.733).
+
+    Raises
+    ------
+    ValueError
+        If ``zeta`` lies outside :data:`ZETA_RANGE`.
+    """
+    z = float(zeta)
+    if not (ZETA_RANGE[0] - 1e-9 <= z <= ZETA_RANGE[1] + 1e-9):
+        raise ValueError(f"filter damping ratio zeta = {z:g} outside {ZETA_RANGE}")
+    return f"force_filter_lag_z{int(round(1000 * z)):04d}"
+
+
+def fitted_filter(zeta: float) -> "ForceFilter":
+    """The second-order force-reading filter with a fitted damping ratio (not registered: made from its id).
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio (dimensionless), within :data:`ZETA_RANGE`; rounded to 0.001.
+
+    Returns
+    -------
+    ForceFilter
+        The filter effect, id :func:`filter_id` (``zeta``), its shape the lag 2 zeta/omega_n in s.
+    """
+    z = round(float(zeta), 3)
+    return ForceFilter(filter_id(z), "second-order force-reading filter (fitted damping ratio)",
+                       "The measured force is the unit's force through a second-order filter.",
+                       f"f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta = {z:.3f} (fitted),  lag = 2 zeta/wn", (),
+                       Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=z,
+                       kind="fitted damping ratio")
 
 
 @dataclass(frozen=True)
@@ -1583,34 +1795,62 @@ class TimeRipple(Effect):
     def grid(self, D, ctx):
         rows, dt = self._fast_rows(D)
         r = ctx["residual_N"]
-        periods = np.geomspace(3 * dt, 20.0, 300)
+        periods = np.geomspace(3 * dt, 40.0, 330)
         pw = self._power(D, r, periods, rows & (r != 0))
         if not np.any(pw):
             return np.array([])
         k = int(np.argmax(pw))
         if pw[k] < 5.0 * np.median(pw):  # no line stands out of the noise: nothing periodic to test
             return np.array([])
-        fine = periods[k] * np.linspace(0.97, 1.03, 301)
-        best = float(fine[int(np.argmax(self._power(D, r, fine, rows & (r != 0))))])
-        # and the longest experiments resolve it further
-        tmax = float(np.max(D.t)) if D.n else 1.0
-        step = 0.25 * best / max(tmax, best)
-        finer = best + step * np.linspace(-2, 2, 41) * best / best
-        best = float(finer[int(np.argmax(self._power(D, r, finer, np.ones(D.n, bool) & (r != 0))))])
-        return np.array([best * (1 - step / best), best, best * (1 + step / best)])
+        best = float(periods[k])
+        # the fast experiments are short against a slow ripple: the frequency is resolved by every experiment
+        # sampled at least 2.5 times per period (no aliasing), the longest ones most finely: scanned over the
+        # coarse estimate's uncertainty (+-15 %) at an eighth of their resolution; then over +-3 of those
+        # steps by all experiments (aliasing puts no other line that close) at an eighth of theirs
+        dts = D.per_exp_dt()
+        live = r != 0
+        ok = np.repeat(dts <= best / 2.5, D.n_per_exp) & live
+        if ok.any():
+            span = max(float(np.max(D.t[ok]) - np.min(D.t[ok])), best)
+            f0, df = 1.0 / best, 1.0 / (8.0 * span)
+            half = min(0.15 * f0, 400 * df)
+            freqs = f0 + np.arange(-half, half + 0.5 * df, df)
+            freqs = freqs[freqs > 0]
+            best = float(1.0 / freqs[int(np.argmax(self._power(D, r, 1.0 / freqs, ok)))])
+        else:
+            df = 0.05 / best
+        span_all = max(float(np.max(D.t[live]) - np.min(D.t[live])), best) if live.any() else best
+        f0, df2 = 1.0 / best, min(1.0 / (8.0 * span_all), df)
+        freqs = f0 + np.arange(-3 * df, 3 * df + 0.5 * df2, df2)
+        freqs = freqs[freqs > 0]
+        best = float(1.0 / freqs[int(np.argmax(self._power(D, r, 1.0 / freqs, live)))])
+        step = best * best * df2
+        return np.array([best - step, best, best + step])
 
     def columns(self, D, period, ctx):
         r = ctx.get("residual_all_N")
         if r is None:
             return np.zeros((D.n, 1))
-        col = np.zeros(D.n)
         w = 2 * np.pi / period
-        for e in range(D.n_exp):
-            a, b = D.bounds[e], D.bounds[e + 1]
-            c, s_ = np.cos(w * D.t[a:b]), np.sin(w * D.t[a:b])
-            re = r[a:b] - r[a:b].mean()
-            phi = np.arctan2(re @ c, re @ s_)
-            col[a:b] = np.sin(w * D.t[a:b] + phi)
+        sn, cs = np.sin(w * D.t), np.cos(w * D.t)
+        # the phase from a least-squares fit of sine, cosine and an offset to each experiment's residual
+        # (an experiment shorter than the period leaves sine and cosine far from orthogonal): the 3 x 3
+        # normal equations of all experiments at once
+        B = [sn, cs, np.ones(D.n)]
+        starts = D.bounds[:-1]
+        G = np.empty((D.n_exp, 3, 3))
+        rhs = np.empty((D.n_exp, 3))
+        for i in range(3):
+            rhs[:, i] = np.add.reduceat(B[i] * r, starts) if D.n else 0.0
+            for j in range(i, 3):
+                G[:, i, j] = G[:, j, i] = np.add.reduceat(B[i] * B[j], starts) if D.n else 0.0
+        ok = D.n_per_exp >= 3
+        coef = np.zeros((D.n_exp, 3))
+        if ok.any():
+            G[ok] += 1e-12 * np.trace(G[ok], axis1=1, axis2=2)[:, None, None] * np.eye(3)  # a period much longer than an experiment
+            coef[ok] = np.linalg.solve(G[ok], rhs[ok][..., None])[..., 0]
+        phi = np.repeat(np.arctan2(coef[:, 1], coef[:, 0]), D.n_per_exp)
+        col = np.sin(w * D.t + phi)
         return col[:, None]
 
     def describe(self, values, errors, period, se):

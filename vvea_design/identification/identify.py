@@ -120,7 +120,10 @@ def assemble(D: FitData, effects=(), shapes: dict | None = None, ctx: dict | Non
     for eid in effects:
         eff = REGISTRY[eid]
         if eff.transforms_design:
-            if "out" in inspect.signature(eff.transform).parameters:
+            sig = inspect.signature(eff.transform).parameters
+            if "eq14_first" in sig:  # the whole design, eq. 14's columns first (sensor filters treat its damping columns)
+                X = eff.transform(D, X, shapes.get(eid, np.nan), ctx, out=X, eq14_first=True)
+            elif "out" in sig:
                 X = eff.transform(D, X, shapes.get(eid, np.nan), ctx, out=X)  # X is ours: transformed in place
             else:
                 X = eff.transform(D, X, shapes.get(eid, np.nan), ctx)
