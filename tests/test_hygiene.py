@@ -456,17 +456,6 @@ def _public_methods(module):
             yield f"{cname}.{mname}", fn
 
 
-#: Modules whose public methods are not yet documented because other engineers rewrite them in this
-#: session (issue 12: spring/design.py and cad/layout.py; issue 10: identification/effects.py and
-#: identification/diagnose.py). Editing their docstrings in parallel would conflict with those edits; the
-#: coordinator documents them after the merges and removes them from this set. The test below fails when
-#: a module listed here has no undocumented method left, so the set cannot go stale.
-PENDING_METHOD_DOCS = {
-    "vvea_design.identification.effects",
-    "vvea_design.identification.diagnose",
-}
-
-
 def _method_problems(module: str) -> dict[str, list[str]]:
     mod = importlib.import_module(module)
     problems = {}
@@ -480,14 +469,7 @@ def _method_problems(module: str) -> dict[str, list[str]]:
 @pytest.mark.parametrize("module", [m for m in MODULES if _public_module(m)])
 def test_public_methods_document_parameters_returns_and_units(module):
     problems = _method_problems(module)
-    if module in PENDING_METHOD_DOCS:
-        assert problems, f"{module} has no undocumented public method left: remove it from PENDING_METHOD_DOCS"
-        pytest.xfail(f"{module}: {len(problems)} public methods still to document (PENDING_METHOD_DOCS)")
     assert not problems, "\n".join(f"{module}.{k}: {'; '.join(v)}" for k, v in problems.items())
-
-
-def test_pending_method_docs_names_real_modules():
-    assert PENDING_METHOD_DOCS <= {m for m in MODULES if _public_module(m)}
 
 
 def test_the_method_check_finds_an_undocumented_method():

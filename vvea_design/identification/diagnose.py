@@ -134,6 +134,13 @@ class ParamEstimate:
     meaning: str = ""
 
     def to_dict(self) -> dict:
+        """The estimate as JSON.
+
+        Returns
+        -------
+        dict
+            ``value`` and ``std_error`` in ``unit`` (None where not finite), ``unit``, ``meaning``.
+        """
         return dict(value=_f(self.value), std_error=_f(self.std_error), unit=self.unit, meaning=self.meaning)
 
 
@@ -156,6 +163,14 @@ class Evidence:
     reasons: tuple = ()
 
     def to_dict(self) -> dict:
+        """The evidence as JSON.
+
+        Returns
+        -------
+        dict
+            Every field (RMS values in N, gains and t statistics dimensionless; None where not finite),
+            ``reasons`` as a list of sentences.
+        """
         d = {k: _j(v) for k, v in asdict(self).items()}
         d["reasons"] = list(self.reasons)
         return d
@@ -178,6 +193,14 @@ class EffectReport:
     heldout_rmse_removed_N: float | None = None  #: held-out RMS before minus after adding this term
 
     def to_dict(self) -> dict:
+        """The tested term as JSON (one entry of the report's ``effects``).
+
+        Returns
+        -------
+        dict
+            ``id``, ``catalogue``, ``accepted``, texts, ``parameters`` by name (values in their units),
+            ``evidence``, ``signature`` checks and ``heldout_rmse_removed_N`` (N).
+        """
         return dict(
             id=self.id,
             catalogue=self.catalogue,
@@ -212,6 +235,13 @@ class ResidualFeature:
     bins: tuple
 
     def worst(self) -> ResidualBin:
+        """The bin with the largest residual RMS.
+
+        Returns
+        -------
+        ResidualBin
+            Its range, sample count and residual statistics (N).
+        """
         return max(self.bins, key=lambda b: b.rms_N)
 
 
@@ -285,7 +315,23 @@ class FinalModel:
         return "eq14" + "".join(f" + {e}" for e in self.effects)
 
     def predict(self, D: FitData) -> np.ndarray:
-        """Force (N) of the final model at the samples of ``D`` (new motions of the same unit)."""
+        """Force of the final model at the samples of ``D`` (new motions of the same unit).
+
+        Parameters
+        ----------
+        D : FitData
+            The new motions (their valve positions must have been in the fit).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(D.n,)`` predicted force reading (N).
+
+        Raises
+        ------
+        ValueError
+            A valve position of ``D`` was not in the fitted campaign (named, in deg).
+        """
         missing = sorted(set(D.valves) - set(self.valves))
         if missing:
             raise ValueError(f"valve position(s) {missing} deg were not in the fitted campaign (fitted: {list(self.valves)})")
@@ -300,6 +346,15 @@ class FinalModel:
         return fit.predict(D)
 
     def to_dict(self) -> dict:
+        """The final model as JSON (``final_model.json``; :meth:`from_dict` reads it back).
+
+        Returns
+        -------
+        dict
+            ``format``, ``version``, the model string, effect ids, shape values and parameters (in their
+            units), valve positions (deg), the reference unit (mm², mm³, MPa, mm), ``rmse_N`` (N), the
+            residual sign convention and each term's equation.
+        """
         return dict(
             format="vvea-final-model",
             version=1,
@@ -316,6 +371,23 @@ class FinalModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> "FinalModel":
+        """The final model from its JSON (:meth:`to_dict`).
+
+        Parameters
+        ----------
+        d : dict
+            The parsed ``final_model.json``.
+
+        Returns
+        -------
+        FinalModel
+            Ready to :meth:`predict` new motions.
+
+        Raises
+        ------
+        ValueError
+            Not a final-model file, or it names an effect this version does not know.
+        """
         if d.get("format") != "vvea-final-model":
             raise ValueError("not a vvea final-model file (format must be 'vvea-final-model')")
         unknown = [e for e in d["effects"] if not is_effect_id(e)]
@@ -389,7 +461,16 @@ class DiagnosisReport:
         return tuple(e.id for e in self.accepted if e.catalogue)
 
     def to_dict(self) -> dict:
-        """The JSON report (contract keys of ``shared/specs/diagnosis-report.md`` plus the evidence)."""
+        """The JSON report (contract keys of ``shared/specs/diagnosis-report.md`` plus the evidence).
+
+        Returns
+        -------
+        dict
+            The source, the reference unit and row counts, ``noise_floor_N`` (N), ``baseline`` (eq. 14 fit),
+            ``final_model``, ``heldout_rmse_N`` (N, baseline and final), ``effects``,
+            ``unexplained_structure`` with where it sits, the leftover learner's check, the worst experiments,
+            notes, the settings and ``runtime_s`` (s).
+        """
         fm = self.final_model
         return dict(
             source=self.source,

@@ -156,6 +156,20 @@ class FitData:
         ``at_rest``) are left out, because friction is set-valued there;
         :attr:`rows_left_out` counts them. ``reference`` is the unit's gas
         spring (its chamber areas, V1, V2 and travel shape the gas terms).
+
+        Parameters
+        ----------
+        rec : Recordings
+            The campaign as read (mm, mm/s, N, MPa, deg, s columns).
+        reference : GasSpring
+            The unit the gas terms are shaped with (default: the paper's Fig. 5 unit).
+        drop_rest : bool
+            Leave out the samples at rest.
+
+        Returns
+        -------
+        FitData
+            Samples in run order, experiments renumbered 0..n-1 (``bounds`` are their row ranges).
         """
         d = rec.data[~rec.data["at_rest"].to_numpy()] if drop_rest else rec.data
         valve = d["valve_deg"].to_numpy(float)
@@ -183,7 +197,13 @@ class FitData:
         )
 
     def per_exp_dt(self) -> np.ndarray:
-        """Median sample spacing (s) of each experiment."""
+        """Median sample spacing of each experiment (cached).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n_exp,)`` spacing in s (1 s for an experiment with a single sample).
+        """
         key = ("dt",)
         if key not in self._cache:
             dt = np.ones(self.n_exp)
@@ -215,6 +235,13 @@ class Check:
     detail: str
 
     def to_dict(self) -> dict:
+        """The check as JSON.
+
+        Returns
+        -------
+        dict
+            ``name``, ``passed`` (bool) and ``detail`` (the numbers behind the verdict, as text).
+        """
         return dict(name=self.name, passed=bool(self.passed), detail=self.detail)
 
 
@@ -624,26 +651,100 @@ class Effect:
 
     # -- fitting ---------------------------------------------------------
     def params(self, D: FitData) -> tuple:
-        """Amplitude parameters for campaign ``D`` (per valve for some effects)."""
+        """Amplitude parameters for campaign ``D`` (per valve for some effects).
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+
+        Returns
+        -------
+        tuple of Param
+            One per design column of :meth:`columns`, in that order (units in ``Param.unit``).
+        """
         return self.amplitudes
 
     def grid(self, D: FitData, ctx: dict) -> np.ndarray:
-        """Shape-parameter values to search (``[nan]`` without a shape)."""
+        """Shape-parameter values to search (``[nan]`` without a shape).
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+        ctx : dict
+            The context of the current model (keys in :attr:`needs`: forces in N).
+
+        Returns
+        -------
+        numpy.ndarray
+            Values of the shape parameter in its own unit, ``shape.unit`` (e.g. s for a time constant, mm for
+            a pitch).
+        """
         return _NAN
 
     def columns(self, D: FitData, shape: float, ctx: dict) -> np.ndarray:
-        """Design columns ``(n, k)`` of the amplitudes at shape value ``shape``."""
+        """Design columns ``(n, k)`` of the amplitudes at shape value ``shape``.
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+        shape : float
+            The shape parameter in its own unit, ``shape.unit`` (e.g. s for a time constant, mm for a pitch;
+            nan without one).
+        ctx : dict
+            The context of the current model (keys in :attr:`needs`: forces in N).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(D.n, k)``: force in N per unit of each amplitude (the amplitudes' units cancel), one column per
+            :meth:`params` entry.
+        """
         raise NotImplementedError
 
     def damping_mask(self, D: FitData, shape: float, ctx: dict) -> np.ndarray | None:
-        """Samples whose linear damping column this effect replaces (None: none)."""
+        """Samples whose linear damping column this effect replaces (None: none).
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+        shape : float
+            The shape parameter in its own unit, ``shape.unit`` (e.g. s for a time constant, mm for a pitch;
+            nan without one).
+        ctx : dict
+            The context of the current model (forces in N).
+
+        Returns
+        -------
+        numpy.ndarray or None
+            ``(D.n,)`` bool, True where eq. 14's ``L(γ)ẋ`` column is zeroed (e.g. the relief valve open).
+        """
         return None
 
     def transform(self, D: FitData, X: np.ndarray, shape: float, ctx: dict, out: np.ndarray | None = None) -> np.ndarray:
         """The whole design matrix as the effect changes it (sensor dynamics); identity by default.
 
-        ``out``: where to write the result (may be ``X`` itself: the design is then transformed in
-        place, without a second copy); a new array when None.
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+        X : numpy.ndarray
+            ``(D.n, p)`` design columns (N per unit amplitude).
+        shape : float
+            The shape parameter, in ``shape.unit`` (e.g. a lag in s).
+        ctx : dict
+            The context of the current model (forces in N).
+        out : numpy.ndarray, optional
+            Where to write the result, N per unit amplitude (may be ``X`` itself: the design is then transformed in place,
+            without a second copy); a new array when None.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(D.n, p)`` transformed design (N per unit amplitude); ``X`` itself for the identity.
         """
         return X
 
@@ -664,11 +765,42 @@ class Effect:
 
     # -- meaning -----------------------------------------------------------
     def signature(self, D: FitData, values: dict, shape: float, contribution: np.ndarray) -> list[Check]:
-        """Physical signature checks of a fitted instance (catalogue effects)."""
+        """Physical signature checks of a fitted instance (catalogue effects).
+
+        Parameters
+        ----------
+        D : FitData
+            The campaign.
+        values : dict
+            Fitted amplitudes by parameter name (their units in :meth:`params`).
+        shape : float
+            The fitted shape parameter in its own unit, ``shape.unit`` (e.g. s for a time constant).
+        contribution : numpy.ndarray
+            ``(D.n,)`` the effect's fitted force at the samples (N).
+
+        Returns
+        -------
+        list of Check
+            Empty for effects without checks (discovery operators).
+        """
         return []
 
     def describe(self, values: dict, errors: dict, shape: float, shape_se: float) -> str:
-        """The fitted effect in one sentence with its numbers."""
+        """The fitted effect in one sentence with its numbers.
+
+        Parameters
+        ----------
+        values, errors : dict
+            Fitted amplitudes and their standard errors by parameter name (units in :meth:`params`).
+        shape, shape_se : float
+            The fitted shape parameter and its standard error in its own unit, ``shape.unit`` (e.g. s for a
+            time constant, mm for a pitch).
+
+        Returns
+        -------
+        str
+            The sentence an engineer reads in the report (units written out).
+        """
         return self.physics
 
     # -- unit-test bench ---------------------------------------------------
@@ -678,18 +810,76 @@ class Effect:
     bench_linear: bool = True
 
     def bench_force(self, P: dict, cols: dict, spec) -> np.ndarray:
-        """Force (N) this effect adds to eq. 14 on the unit-test bench (``cols``: x, v, p2, valve, ctime_h, exp, t)."""
+        """Force this effect adds to eq. 14 on the unit-test bench (``testbench``, not the proof's simulator).
+
+        Parameters
+        ----------
+        P : dict
+            The effect's bench parameters (:meth:`bench_random`, units in their keys).
+        cols : dict
+            Bench signals: ``x`` (mm), ``v`` (mm/s), ``p2`` (MPa), ``valve`` (deg), ``ctime_h`` (h), ``exp``
+            (index), ``t`` (s).
+        spec : CampaignSpec
+            The bench campaign (its reference unit and grid).
+
+        Returns
+        -------
+        numpy.ndarray
+            The added force per sample (N).
+        """
         raise NotImplementedError(f"{self.id} has no bench force")
 
     def bench_random(self, rng: np.random.Generator, spec) -> dict:
-        """Random bench parameters of strength 1."""
+        """Random bench parameters of strength 1.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The seeded generator of the case.
+        spec : CampaignSpec
+            The bench campaign.
+
+        Returns
+        -------
+        dict
+            Parameters for :meth:`bench_force`, units in their keys; ``bench_strength`` names the one scaled
+            to reach a target SNR.
+        """
         raise NotImplementedError(f"{self.id} has no bench force")
 
     def bench_strength_range(self, cols: dict, spec) -> tuple[float, float]:
-        """Bisection range of the strength (effects not linear in strength)."""
+        """Bisection range of the strength (effects not linear in strength).
+
+        Parameters
+        ----------
+        cols : dict
+            Bench signals (see :meth:`bench_force`).
+        spec : CampaignSpec
+            The bench campaign.
+
+        Returns
+        -------
+        tuple of float
+            Lowest and highest strength searched, in the unit of the ``bench_strength`` parameter (e.g. N, MPa
+            or s: its key names it).
+        """
         return (1e-6, 10.0)
 
     def bench_with_strength(self, P: dict, s: float) -> dict:
+        """Bench parameters with the strength set.
+
+        Parameters
+        ----------
+        P : dict
+            Bench parameters (:meth:`bench_random`).
+        s : float
+            The strength, in the unit of the ``bench_strength`` parameter (e.g. N, MPa or s: its key names it).
+
+        Returns
+        -------
+        dict
+            A copy of ``P`` with ``P[bench_strength] = s``.
+        """
         P = dict(P)
         P[self.bench_strength] = s
         return P
