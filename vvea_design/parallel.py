@@ -49,7 +49,14 @@ class Terminated(BaseException):
 
 
 def _die_with_parent(parent_pid: int) -> None:
-    """Worker initializer: end this worker when the parent process dies."""
+    """Worker initializer: end this worker when the parent process dies.
+
+    A forked worker also inherits the parent's SIGTERM handler of :func:`_sigterm_raises` (the pool
+    starts its workers on the first submit, inside it); the worker would catch the resulting
+    exception as a failed item and go on, so :func:`_stop_now` waited 5 s per worker before killing
+    it. The worker gets the default action back: SIGTERM ends it at once.
+    """
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if sys.platform.startswith("linux"):
         try:
             import ctypes
