@@ -197,8 +197,8 @@ class Requirements:
         Parameters
         ----------
         layout : str
-            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
-            ``"bulkhead"``).
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+            ``"bulkhead"`` or ``"annulus_top"``).
 
         Returns
         -------
@@ -220,8 +220,8 @@ class Requirements:
         Parameters
         ----------
         layout : str
-            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
-            ``"bulkhead"``).
+            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+            ``"bulkhead"`` or ``"annulus_top"``).
 
         Returns
         -------
@@ -487,8 +487,8 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     req : Requirements
         Gives the charge p2 (``max_charge_MPa``), the set point (mm) and the fixed parameters.
     layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
-        ``"bulkhead"``).
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+        ``"bulkhead"`` or ``"annulus_top"``).
 
     Returns
     -------
@@ -659,8 +659,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     req : Requirements
         The limits; the charge is ``req.max_charge_MPa``.
     layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
-        ``"bulkhead"``).
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+        ``"bulkhead"`` or ``"annulus_top"``).
     strain_fn : callable or None
         ``strain_fn(g, cols)``: bladder strain bound (fraction) of each design from the derived
         geometry ``g`` and the decision columns ``cols`` (name -> array); used only when
@@ -729,8 +729,8 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     req : Requirements
         Optional limits (mass, adiabatic linearity, bladder strain) add their constraints.
     layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"`` or
-        ``"bulkhead"``).
+        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+        ``"bulkhead"`` or ``"annulus_top"``).
     search : bool
         Only the constraints :func:`evaluate_population` returns (no p2 charge, no wall safety
         factors; the adiabatic linearity as its 8 smooth pieces).

@@ -13,7 +13,8 @@ scales the pressure, not the shape):
 with ``R`` the cast mid radius, ``L`` the free length, ``H`` the wall. The
 surrogate is a polynomial in the logarithms of these groups for the logarithm
 of the strain bound, fitted by least squares to FE runs over the design space
-of both layouts (``python studies/bladder_surrogate.py``, which writes the
+of the ``inner_tube`` and ``bulkhead`` layouts (not yet refitted with ``annulus_top`` designs;
+``python studies/bladder_surrogate.py``, which writes the
 coefficients to ``strain_surrogate.json`` beside this module and states the
 held-out error). The optimiser uses it in the global search and corrects it
 with the FE itself before the final check (:func:`vvea_design.spring.optimise.optimise`).
