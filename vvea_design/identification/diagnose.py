@@ -915,7 +915,8 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
         fit_c = fit_model(D, cur.effects + (cand,), experiments=tr, shapes=sh, ctx=ctx_c)
         contrib = fit_c.contribution(D, cand)
         mtr = np.isin(D.exp, tr)
-        res_c = D.y[mtr] - fit_c.predict(D)[mtr]
+        res_all = D.y - fit_c.predict(D)  # one design built for the residual of both checks below
+        res_c = res_all[mtr]
         eff_rms = float(np.sqrt(np.mean(contrib[mtr] ** 2)))
         res_rms = float(np.sqrt(np.mean(res_c**2)))
         snr = eff_rms / max(res_rms, 1e-300)
@@ -923,7 +924,8 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
             sig = tuple(eff.signature(D, fit_c.effect_values(cand), fit_c.shapes.get(cand, np.nan), contrib))
         # the backward step's force test, already here: a term below keep_noise x the floor of the model with it
         # would be dropped there anyway, after a selection round spent beside it
-        floor_c = noise_floor_N(D, D.y - fit_c.predict(D))
+        floor_c = noise_floor_N(D, res_all)
+        del res_all
         floor_c = min(noise, floor_c) if np.isfinite(floor_c) else noise
         small = eff_rms < settings.keep_noise * floor_c
     else:
@@ -1004,6 +1006,7 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
             tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
             trials[c] = tri
             round_trials.append(tri)
+        del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
         passing = [t for t in round_trials if t.evidence is not None and t.evidence.passes]
         disc = [t for t in passing if not REGISTRY[t.id].catalogue]
         cat = [t for t in passing if REGISTRY[t.id].catalogue]

@@ -429,22 +429,23 @@ def _same_dt_blocks(D: FitData):
     filter run along axis 1 of ``u[idx]`` gives, on the valid samples, what
     it gives experiment by experiment (padding only follows the end).
     """
-    key = ("same_dt_blocks",)
-    if key not in D._cache:
-        dts = D.per_exp_dt()
-        groups: dict = {}
-        for e in range(D.n_exp):
-            if D.bounds[e + 1] > D.bounds[e]:
-                groups.setdefault(float(dts[e]), []).append(e)
-        out = []
-        for dt, exps in groups.items():
-            n_e = np.array([D.bounds[e + 1] - D.bounds[e] for e in exps])
-            j = np.arange(n_e.max())
-            valid = j[None, :] < n_e[:, None]
-            idx = np.array([D.bounds[e] for e in exps])[:, None] + np.minimum(j[None, :], n_e[:, None] - 1)
-            out.append((dt, idx, valid))
-        D._cache[key] = out
-    return D._cache[key]
+    return cached(D, ("same_dt_blocks",), lambda: _make_same_dt_blocks(D))
+
+
+def _make_same_dt_blocks(D: FitData):
+    dts = D.per_exp_dt()
+    groups: dict = {}
+    for e in range(D.n_exp):
+        if D.bounds[e + 1] > D.bounds[e]:
+            groups.setdefault(float(dts[e]), []).append(e)
+    out = []
+    for dt, exps in groups.items():
+        n_e = np.array([D.bounds[e + 1] - D.bounds[e] for e in exps])
+        j = np.arange(n_e.max())
+        valid = j[None, :] < n_e[:, None]
+        idx = np.array([D.bounds[e] for e in exps])[:, None] + np.minimum(j[None, :], n_e[:, None] - 1)
+        out.append((dt, idx, valid))
+    return out
 
 
 def _chamber_logs(D: FitData):
@@ -453,15 +454,15 @@ def _chamber_logs(D: FitData):
     Returns ``u2 = -ln(1 - A2 x/V2)``, ``u1 = ln(1 + A1 x/V1)``,
     ``f2 = A2 V2/(V2 - A2 x)``, ``f1 = (p1/p2) A1 V1/(V1 + A1 x)``.
     """
-    key = ("chambers",)
-    if key not in D._cache:
+    def make():
         ref = D.reference
         A1, A2, V1, V2 = ref.A1_mm2, ref.A2_mm2, ref.V1_mm3, ref.V2_mm3
         ratio = ref.p1_MPa / ref.p2_MPa if ref.p2_MPa > 0 else A2 / A1
         c2 = np.clip(1 - A2 * D.x / V2, 0.05, None)
         c1 = np.clip(1 + A1 * D.x / V1, 0.05, None)
-        D._cache[key] = (-np.log(c2), np.log(c1), A2 / c2, ratio * A1 / c1)
-    return D._cache[key]
+        return (-np.log(c2), np.log(c1), A2 / c2, ratio * A1 / c1)
+
+    return cached(D, ("chambers",), make)
 
 
 def thermal_state(D: FitData, tau_s: float, u: np.ndarray | None = None, name: str = "x") -> np.ndarray:
@@ -548,8 +549,7 @@ def _stop_operator(D: FitData, r_mm: float) -> np.ndarray:
 
 def _travel_since_reversal(D: FitData) -> np.ndarray:
     """|x - x at the last start or reversal| (mm), per experiment."""
-    key = ("travel_since_rev",)
-    if key not in D._cache:
+    def make():
         d = np.zeros(D.n)
         s = D.s
         for e in range(D.n_exp):
@@ -559,22 +559,23 @@ def _travel_since_reversal(D: FitData) -> np.ndarray:
             for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
                 x0 = x[0] if lo == 0 else x[lo - 1]
                 d[a + lo : a + hi] = np.abs(x[lo:hi] - x0)
-        D._cache[key] = d
-    return D._cache[key]
+        return d
+
+    return cached(D, ("travel_since_rev",), make)
 
 
 def _first_ramp(D: FitData) -> np.ndarray:
     """True on the samples before the first reversal of each experiment (the ramp that starts from rest)."""
-    key = ("first_ramp",)
-    if key not in D._cache:
+    def make():
         m = np.zeros(D.n, bool)
         s = D.s
         for e in range(D.n_exp):
             a, b = D.bounds[e], D.bounds[e + 1]
             cuts = np.flatnonzero(np.diff(s[a:b]) != 0) + 1
             m[a : a + (cuts[0] if len(cuts) else b - a)] = True
-        D._cache[key] = m
-    return D._cache[key]
+        return m
+
+    return cached(D, ("first_ramp",), make)
 
 
 def _periodogram_peaks(u: np.ndarray, y: np.ndarray, periods: np.ndarray, n_peaks: int = 3) -> np.ndarray:
@@ -1122,7 +1123,11 @@ class QuadraticDamping(Effect):
 
     def columns(self, D, m, ctx):
         q = D.v * np.abs(D.v) ** (m - 1.0)
-        return np.column_stack([q * (D.valve_idx == j) for j in range(len(D.valves))])
+        out = np.zeros((D.n, len(D.valves)))  # filled in place: no per-valve copies of q to stack (memory on large campaigns)
+        for j in range(len(D.valves)):
+            on = D.valve_idx == j
+            out[on, j] = q[on]
+        return out
 
     def signature(self, D, values, m, contribution):
         spd = np.abs(D.v)
@@ -1404,9 +1409,10 @@ def _fine_grid(D: FitData, m: int):
     of the kept samples; experiments with irregular timing are in the group
     ``dt_fine = None`` (filtered on their kept samples).
     """
-    key = ("finegrid", m)
-    if key in D._cache:
-        return D._cache[key]
+    return cached(D, ("finegrid", m), lambda: _make_fine_grid(D, m))
+
+
+def _make_fine_grid(D: FitData, m: int):
     dts = D.per_exp_dt()
     groups: dict = {}
     irregular = []
@@ -1434,12 +1440,11 @@ def _fine_grid(D: FitData, m: int):
                     np.array([q[3] for q in items]), np.array([q[4] for q in items])))
     if irregular:
         out.append((None, np.array(irregular), None, None, None, None))
-    D._cache[key] = out
     return out
 
 
 #: memory for one chunk of the fine time grid of :func:`_on_sample_grid` (bytes, its three arrays)
-_FINE_GRID_BYTES = 24 * 2**20
+_FINE_GRID_BYTES = 8 * 2**20
 
 
 def _on_sample_grid(D: FitData, X: np.ndarray, op, substeps: int = 4, out: np.ndarray | None = None) -> np.ndarray:
@@ -1640,9 +1645,10 @@ def _velocity_gaps(D: FitData, m: int):
     ``reads`` the fine-grid positions of the kept samples; experiments
     without a gap are left out.
     """
-    key = ("velocity_gaps", m)
-    if key in D._cache:
-        return D._cache[key]
+    return cached(D, ("velocity_gaps", m), lambda: _make_velocity_gaps(D, m))
+
+
+def _make_velocity_gaps(D: FitData, m: int):
     dts = D.per_exp_dt()
     knots = {}
     acc_e = np.zeros(D.n_exp)  # mm/s^2: each experiment's largest velocity change per second (a lower bound of the acceleration)
@@ -1660,7 +1666,17 @@ def _velocity_gaps(D: FitData, m: int):
     # one test machine: where the ramps are shorter than a sample interval (slow runs), the acceleration is
     # the one the experiments that resolve their ramps show (the upper tenth of the campaign's values)
     acc_machine = float(np.quantile(acc_e[acc_e > 0], 0.9)) if np.any(acc_e > 0) else 0.0
-    out = []
+    # experiments of the same fine spacing and lengths are filtered together: each group's (n_e, n_fine, 2)
+    # array is allocated once and filled experiment by experiment (no list of per-experiment arrays stacked
+    # into a second copy: memory on large campaigns)
+    count: dict = {}  # (fine spacing, fine length, kept samples) -> experiments
+    for e, (k, vk, lead) in knots.items():
+        acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
+        if acc > 0 and np.isfinite(acc):
+            key = (round(float(dts[e] / m), 15), int(k[-1] * m + 1), len(k) - int(lead))
+            count[key] = count.get(key, 0) + 1
+    # per group: [experiments, gaps (n_e, n_fine, 2), reads (n_e, kept), number filled, fine spacing of its first]
+    slots = {key: [np.empty(c, int), np.empty((c, key[1], 2)), np.empty((c, key[2]), int), 0, None] for key, c in count.items()}
     for e, (k, vk, lead) in knots.items():
         acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
         if not (acc > 0 and np.isfinite(acc)):
@@ -1680,17 +1696,21 @@ def _velocity_gaps(D: FitData, m: int):
         vf = np.where(same, v_same, v_rev)
         sk = np.sign(vk)
         slin = sk[i] + (sk[i + 1] - sk[i]) * (tau - k0) / (k1 - k0)
-        gap = np.column_stack([np.sign(vf) - slin, vf - vlin])
+        sl = slots[(round(float(dts[e] / m), 15), len(tau), len(k) - int(lead))]
+        j = sl[3]
+        gap = sl[1][j]
+        gap[:, 0] = np.sign(vf) - slin
+        gap[:, 1] = vf - vlin
         if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1.0)):
             continue
         read = k * m
-        out.append((e, dts[e] / m, gap, read[1:] if lead else read))
-    # experiments of the same fine spacing and lengths filtered together
-    groups: dict = {}
-    for e, dtf, gap, read in out:
-        groups.setdefault((round(float(dtf), 15), len(gap), len(read)), []).append((e, dtf, gap, read))
-    out = [(np.array([q[0] for q in g]), g[0][1], np.stack([q[2] for q in g]), np.stack([q[3] for q in g])) for g in groups.values()]
-    D._cache[key] = out
+        sl[0][j], sl[2][j], sl[3] = e, read[1:] if lead else read, j + 1
+        if sl[4] is None:
+            sl[4] = dts[e] / m
+    out = []
+    for exps, gaps, reads, filled, dtf in slots.values():
+        if filled:  # experiments without a gap left out (a copy only when some were)
+            out.append((exps[:filled], dtf, gaps if filled == len(gaps) else gaps[:filled].copy(), reads[:filled]))
     return out
 
 
@@ -1728,7 +1748,8 @@ def _filter_design(D: FitData, X: np.ndarray, ba, out, eq14_first: bool) -> np.n
 
     res = _filter_on_sample_grid(D, X, ba, out=out)  # the same filter as _on_sample_grid with op, on the samples
     if share is not None:
-        c = _velocity_correction(D, op) * share
+        c = _velocity_correction(D, op)
+        c *= share  # in place: no third (n, 2) array
         res[:, 1] += c[:, 0]
         res[rows, vcol] += c[:, 1]
     return res
