@@ -9,6 +9,9 @@ Prints (and writes ``timings.json`` under ``--out``, default
 - ten copies of it concatenated as one campaign (1,350 experiments, ~406,000
   rows; experiment ids made distinct): ``diagnose`` time and peak memory
   against one campaign -- targets <= 10 x the time and <= 600 MB peak;
+  for both sizes the peak resident memory per stage of ``diagnose``
+  (baseline and noise floor, selection -- with the round and candidate
+  where it peaked --, final fits, learner check), sampled from a thread;
 - ``--cases``: campaigns of the independent physics bench that were the
   slowest of ``studies/diagnosis_benchmark.py`` (effect:seed, the benchmark's
   own seeds), each a full 135-experiment diagnosis -- target <= 15 s.
@@ -43,6 +46,54 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 
+class _RssByStage:
+    """Peak resident memory (``VmRSS`` from ``/proc/self/status``, MB) per stage of ``diagnose``, sampled by a thread every 20 ms.
+
+    The stage is the last progress message of ``diagnose`` (baseline, each
+    selection round's candidate, final fits, learner); Linux only (elsewhere
+    nothing is recorded).
+    """
+
+    def __init__(self):
+        import threading
+
+        self.stage, self.peaks, self._stop = "before diagnose", {}, threading.Event()
+        self._ok = Path("/proc/self/status").exists()
+        self._t = threading.Thread(target=self._run, daemon=True)
+        self._t.start()
+
+    def _rss(self) -> float:
+        for line in open("/proc/self/status"):
+            if line.startswith("VmRSS"):
+                return int(line.split()[1]) / 1024.0
+        return float("nan")
+
+    def _run(self):
+        while self._ok and not self._stop.is_set():
+            r = self._rss()
+            if r > self.peaks.get(self.stage, 0.0):
+                self.peaks[self.stage] = r
+            self._stop.wait(0.02)
+
+    def say(self, msg: str) -> None:
+        self.stage = msg
+
+    def stop(self) -> dict:
+        self._stop.set()
+        self._t.join()
+        return self.peaks
+
+
+def _stage_summary(peaks: dict) -> dict:
+    """Peak RSS (MB) per stage group (selection rounds as one, with the candidate where the peak was)."""
+    out: dict = {}
+    for st, r in peaks.items():
+        grp = "selection" if st.startswith("round ") or st == "selection" else st
+        if r > out.get(grp, (0.0, ""))[0]:
+            out[grp] = (r, st)
+    return {k: dict(peak_rss_MB=v[0], at=v[1]) for k, v in out.items()}
+
+
 def _one(path: str, copies: int, learner: bool, trace: bool = False) -> dict:
     """Run in a child process: read ``copies`` concatenated copies of ``path``, fit eq. 14, diagnose."""
     import pandas as pd
@@ -72,10 +123,14 @@ def _one(path: str, copies: int, learner: bool, trace: bool = False) -> dict:
     t2 = time.perf_counter()
     if trace:
         tracemalloc.start()
+    stages = None if trace else _RssByStage()
     c2 = time.process_time()
-    d = diagnose(rec, DiagnoseSettings(learner=learner))
+    d = diagnose(rec, DiagnoseSettings(learner=learner), progress=None if stages is None else stages.say)
     c3 = time.process_time()
     t3 = time.perf_counter()
+    if stages is not None:
+        stages.say("after diagnose")
+        stages = _stage_summary(stages.stop())
     heap = tracemalloc.get_traced_memory()[1] / 2**20 if trace else None
     return dict(
         copies=copies,
@@ -88,6 +143,7 @@ def _one(path: str, copies: int, learner: bool, trace: bool = False) -> dict:
         peak_rss_after_read_MB=rss_read,
         peak_rss_MB=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         diagnose_heap_peak_MB=heap,
+        peak_rss_by_stage=stages,
         accepted=[e.id for e in d.report.accepted],
         heldout_rmse_N=[d.report.heldout.baseline_N, d.report.heldout.final_N],
         noise_floor_N=d.report.noise_floor_N,
@@ -162,6 +218,9 @@ def main(argv=None) -> dict:
             f"peak RSS {r['peak_rss_after_read_MB']:.0f} MB after reading, {r['peak_rss_MB']:.0f} MB in all{heap} "
             f"-> {', '.join(r['accepted']) or 'none'}"
         )
+        if r.get("peak_rss_by_stage"):
+            print("    peak RSS by stage of diagnose: " + "; ".join(
+                f"{k} {v['peak_rss_MB']:.0f} MB" + (f" ({v['at']})" if v["at"] != k else "") for k, v in r["peak_rss_by_stage"].items()))
     for c in res["cases"]:
         print(f"benchmark campaign {c['case']} ({c['n_experiments']} experiments): diagnose {c['diagnose_s']:.1f} s "
               f"({c['diagnose_cpu_s']:.1f} s CPU), peak RSS {c['peak_rss_MB']:.0f} MB -> {', '.join(c['accepted']) or 'none'}")

@@ -230,3 +230,41 @@ def test_filter_only_candidate_design_equals_the_assembled_one(D, eid):
     X0, _, _ = assemble(D, base, shapes, {})
     X, _, _ = assemble(D, base + (eid,), shapes, {})
     np.testing.assert_array_equal(dg._filtered_design(D, REGISTRY[eid], X0, 0.05, {}), X)
+
+
+def test_cache_budget_counts_every_entry_and_eviction_moves_no_bit(D, monkeypatch):
+    """Every entry of a FitData's cache (columns, fine grids, velocity gaps, ...) counts against its byte budget, and
+    what an evicted entry is rebuilt into is bit for bit what the roomy cache held (memory on large campaigns)."""
+    import dataclasses
+
+    from scipy.signal import lfilter
+
+    def run(Dc):
+        op = lambda seg, dt: lfilter([1.0 - np.exp(-dt / 0.05)], [1.0, -np.exp(-dt / 0.05)], seg, axis=1)  # noqa: E731
+        out = []
+        for _ in range(2):  # the second pass reads what survived in the cache (or rebuilds it)
+            out.append(fx._velocity_correction(Dc, op))
+            out.append(REGISTRY["force_filter_lag"].transform(Dc, np.column_stack([Dc.x, np.ones(Dc.n)]), 0.05, {}))
+            out += [fx.effect_columns(Dc, REGISTRY[e], s, {}) for e, s in (("stiction", 2.0), ("quadratic_damping", 1.6), ("thermal", 3.0))]
+            out.append(fx._travel_since_reversal(Dc))
+            sizes = [fx._nbytes(v) for v in Dc._cache.values()]
+            assert sum(sizes) <= fx.CACHE_BYTES or len(sizes) == 1
+        return out
+
+    roomy = run(dataclasses.replace(D, _cache={}))
+    monkeypatch.setattr(fx, "CACHE_BYTES", 3 * 8 * D.n)  # three columns' worth: most entries are evicted and rebuilt
+    tight = run(dataclasses.replace(D, _cache={}))
+    for a, b in zip(roomy, tight):
+        np.testing.assert_array_equal(a.view(np.int64), b.view(np.int64))
+
+
+def test_quadratic_damping_columns_put_each_sample_on_its_valve(D):
+    """K(gamma) columns: xdot |xdot|^(m-1) in the column of the sample's valve, zero in the others."""
+    m = 1.7
+    X = REGISTRY["quadratic_damping"].columns(D, m, {})
+    assert X.shape == (D.n, len(D.valves))
+    q = D.v * np.abs(D.v) ** (m - 1.0)
+    for j, g in enumerate(D.valves):
+        on = D.valve == g
+        np.testing.assert_array_equal(X[on, j], q[on])
+        assert not np.any(X[~on, j])

@@ -246,10 +246,12 @@ class Check:
 
 
 #: The column cache of a FitData holds at most this many arrays of its length, and at most
-#: CACHE_BYTES in all (memory stays bounded on large campaigns: 64 MB is all of a 135-experiment
-#: campaign's columns, and ~40 columns of a campaign ten times that size).
+#: CACHE_BYTES in all, every entry counted (columns, filter grids, velocity gaps). 40 MB is just above
+#: what the column limit gives a 135-experiment campaign (~40,000 rows: 120 columns, 39 MB), so a
+#: campaign of that size caches as before, and a larger one holds no more than that (a campaign ten
+#: times the size: ~12 columns; at 64 MB the cache was the largest resident item of its diagnosis).
 CACHE_COLUMNS = 120
-CACHE_BYTES = 64e6
+CACHE_BYTES = 40e6
 
 
 def _nbytes(v) -> int:
@@ -1123,10 +1125,9 @@ class QuadraticDamping(Effect):
 
     def columns(self, D, m, ctx):
         q = D.v * np.abs(D.v) ** (m - 1.0)
-        out = np.zeros((D.n, len(D.valves)))  # filled in place: no per-valve copies of q to stack (memory on large campaigns)
+        out = np.empty((D.n, len(D.valves)))  # q 1{valve j} filled in place: no per-valve copies of q to stack (memory on large campaigns)
         for j in range(len(D.valves)):
-            on = D.valve_idx == j
-            out[on, j] = q[on]
+            np.multiply(q, D.valve_idx == j, out=out[:, j])
         return out
 
     def signature(self, D, values, m, contribution):
@@ -1184,7 +1185,15 @@ class ReliefValve(Effect):
         # c F_open with c near 1 (bounded), then r of the further rise
         m = self.damping_mask(D, F_open, ctx)
         damp = ctx["damping_force_N"]
-        return np.column_stack([D.s * m * F_open, m * (damp - D.s * F_open)])
+        s = D.s
+        # [s m F_open, m (damp - s F_open)], the same operations filled in place (memory on large campaigns)
+        out = np.empty((D.n, 2))
+        np.multiply(s, m, out=out[:, 0])
+        out[:, 0] *= F_open
+        np.multiply(s, F_open, out=out[:, 1])
+        np.subtract(damp, out[:, 1], out=out[:, 1])
+        np.multiply(m, out[:, 1], out=out[:, 1])
+        return out
 
     def signature(self, D, values, F_open, contribution):
         return [
@@ -1638,12 +1647,14 @@ def _velocity_gaps(D: FitData, m: int):
     experiment's ramps fall between samples, ``a`` is the machine's (the
     upper tenth of the experiments' values). Returns a list of groups of
     experiments with the same spacing and lengths,
-    ``(exps, dt_fine, gaps, reads)``: ``gaps`` (n_e, n_fine, 2) the direction
-    sign(ẋ) and the velocity (mm/s) minus their linear fill, nonzero only in
-    the intervals with a kink, a start or a reversal (friction turns with the
-    motion at once, not along the straight line from the sample before),
-    ``reads`` the fine-grid positions of the kept samples; experiments
-    without a gap are left out.
+    ``(exps, dt_fine, (n_e, n_fine), nz, vals, reads)``: the gaps (n_e,
+    n_fine, 2), the direction sign(ẋ) and the velocity (mm/s) minus their
+    linear fill, are nonzero only in the intervals with a kink, a start or a
+    reversal (friction turns with the motion at once, not along the straight
+    line from the sample before), so only their nonzero fine-grid rows are
+    kept: ``vals`` (len(nz), 2) at the flat rows ``nz`` of the (n_e * n_fine,
+    2) array (:func:`_dense_gaps` restores it); ``reads`` the fine-grid
+    positions of the kept samples; experiments without a gap are left out.
     """
     return cached(D, ("velocity_gaps", m), lambda: _make_velocity_gaps(D, m))
 
@@ -1666,59 +1677,67 @@ def _make_velocity_gaps(D: FitData, m: int):
     # one test machine: where the ramps are shorter than a sample interval (slow runs), the acceleration is
     # the one the experiments that resolve their ramps show (the upper tenth of the campaign's values)
     acc_machine = float(np.quantile(acc_e[acc_e > 0], 0.9)) if np.any(acc_e > 0) else 0.0
-    # experiments of the same fine spacing and lengths are filtered together: each group's (n_e, n_fine, 2)
-    # array is allocated once and filled experiment by experiment (no list of per-experiment arrays stacked
-    # into a second copy: memory on large campaigns)
-    count: dict = {}  # (fine spacing, fine length, kept samples) -> experiments
+    # experiments of the same fine spacing and lengths are filtered together. Group by group, one
+    # (n_e, n_fine, 2) array is filled experiment by experiment and kept compact: the gaps are zero
+    # outside the few intervals with a kink, a start or a reversal, so only the nonzero fine-grid rows
+    # are stored (:func:`_velocity_correction` restores the dense group; memory on large campaigns)
+    members: dict = {}  # (fine spacing, fine length, kept samples) -> experiments
     for e, (k, vk, lead) in knots.items():
         acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
         if acc > 0 and np.isfinite(acc):
-            key = (round(float(dts[e] / m), 15), int(k[-1] * m + 1), len(k) - int(lead))
-            count[key] = count.get(key, 0) + 1
-    # per group: [experiments, gaps (n_e, n_fine, 2), reads (n_e, kept), number filled, fine spacing of its first]
-    slots = {key: [np.empty(c, int), np.empty((c, key[1], 2)), np.empty((c, key[2]), int), 0, None] for key, c in count.items()}
-    for e, (k, vk, lead) in knots.items():
-        acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
-        if not (acc > 0 and np.isfinite(acc)):
-            continue
-        tau = np.arange(k[-1] * m + 1) / m
-        i = np.clip(np.searchsorted(k, tau, side="right") - 1, 0, len(k) - 2)
-        k0, k1, v0, v1 = k[i], k[i + 1], vk[i], vk[i + 1]
-        vlin = v0 + (v1 - v0) * (tau - k0) / (k1 - k0)
-        s0, s1 = np.abs(v0), np.abs(v1)
-        same = v0 * v1 >= 0.0
-        sig = np.sign(v0 + v1)
-        v_same = sig * np.where(s1 >= s0, np.minimum(s0 + acc * (tau - k0), s1), np.minimum(s0, s1 + acc * (k1 - tau)))
-        # a reversal inside the interval: the zero crossing follows the sample on the ramp (the slower one)
-        tA, tB = k0 + s0 / acc, k1 - s1 / acc
-        t_rev = np.where(s0 > s1 * (1 + 1e-9), tB, np.where(s1 > s0 * (1 + 1e-9), tA, 0.5 * (tA + tB)))
-        v_rev = np.sign(v0) * np.clip(acc * (t_rev - tau), -s1, s0)
-        vf = np.where(same, v_same, v_rev)
-        sk = np.sign(vk)
-        slin = sk[i] + (sk[i + 1] - sk[i]) * (tau - k0) / (k1 - k0)
-        sl = slots[(round(float(dts[e] / m), 15), len(tau), len(k) - int(lead))]
-        j = sl[3]
-        gap = sl[1][j]
-        gap[:, 0] = np.sign(vf) - slin
-        gap[:, 1] = vf - vlin
-        if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1.0)):
-            continue
-        read = k * m
-        sl[0][j], sl[2][j], sl[3] = e, read[1:] if lead else read, j + 1
-        if sl[4] is None:
-            sl[4] = dts[e] / m
+            members.setdefault((round(float(dts[e] / m), 15), int(k[-1] * m + 1), len(k) - int(lead)), []).append(e)
     out = []
-    for exps, gaps, reads, filled, dtf in slots.values():
-        if filled:  # experiments without a gap left out (a copy only when some were)
-            out.append((exps[:filled], dtf, gaps if filled == len(gaps) else gaps[:filled].copy(), reads[:filled]))
+    for (_, n_fine, n_kept), exps_g in members.items():
+        exps, reads, gaps = np.empty(len(exps_g), int), np.empty((len(exps_g), n_kept), int), np.empty((len(exps_g), n_fine, 2))
+        j, dtf = 0, None
+        for e in exps_g:
+            k, vk, lead = knots[e]
+            acc = max(acc_e[e], acc_machine) * dts[e]  # per sample interval
+            tau = np.arange(k[-1] * m + 1) / m
+            i = np.clip(np.searchsorted(k, tau, side="right") - 1, 0, len(k) - 2)
+            k0, k1, v0, v1 = k[i], k[i + 1], vk[i], vk[i + 1]
+            vlin = v0 + (v1 - v0) * (tau - k0) / (k1 - k0)
+            s0, s1 = np.abs(v0), np.abs(v1)
+            same = v0 * v1 >= 0.0
+            sig = np.sign(v0 + v1)
+            v_same = sig * np.where(s1 >= s0, np.minimum(s0 + acc * (tau - k0), s1), np.minimum(s0, s1 + acc * (k1 - tau)))
+            # a reversal inside the interval: the zero crossing follows the sample on the ramp (the slower one)
+            tA, tB = k0 + s0 / acc, k1 - s1 / acc
+            t_rev = np.where(s0 > s1 * (1 + 1e-9), tB, np.where(s1 > s0 * (1 + 1e-9), tA, 0.5 * (tA + tB)))
+            v_rev = np.sign(v0) * np.clip(acc * (t_rev - tau), -s1, s0)
+            vf = np.where(same, v_same, v_rev)
+            sk = np.sign(vk)
+            slin = sk[i] + (sk[i + 1] - sk[i]) * (tau - k0) / (k1 - k0)
+            gap = gaps[j]
+            gap[:, 0] = np.sign(vf) - slin
+            gap[:, 1] = vf - vlin
+            if not np.any(np.abs(gap) > 1e-12 * max(float(np.max(np.abs(vk))), 1.0)):
+                continue  # experiments without a gap are left out
+            read = k * m
+            exps[j], reads[j] = e, read[1:] if lead else read
+            if dtf is None:
+                dtf = dts[e] / m
+            j += 1
+        if j:
+            flat = gaps[:j].reshape(-1, 2)
+            nz = np.flatnonzero(np.any(flat.view(np.int64) != 0, axis=1))  # every bit kept (a -0.0 too)
+            out.append((exps[:j].copy(), dtf, (j, n_fine), nz, flat[nz], reads[:j].copy()))
+        del gaps
     return out
+
+
+def _dense_gaps(shape: tuple, nz: np.ndarray, vals: np.ndarray) -> np.ndarray:
+    """The (n_e, n_fine, 2) gaps of one group of :func:`_velocity_gaps` from its nonzero fine-grid rows."""
+    g = np.zeros((shape[0] * shape[1], 2))
+    g[nz] = vals
+    return g.reshape(shape + (2,))
 
 
 def _velocity_correction(D: FitData, op, substeps: int = 4) -> np.ndarray:
     """``op`` (a causal filter ``op(seg, dt_fine)`` along axis 1) of :func:`_velocity_gaps`, read at the kept samples: (n, 2), sign and mm/s."""
     corr = np.zeros((D.n, 2))
-    for exps, dtf, gaps, reads in _velocity_gaps(D, int(substeps)):
-        res = np.take_along_axis(op(gaps, dtf), reads[..., None], axis=1)
+    for exps, dtf, shape, nz, vals, reads in _velocity_gaps(D, int(substeps)):
+        res = np.take_along_axis(op(_dense_gaps(shape, nz, vals), dtf), reads[..., None], axis=1)
         for j, e in enumerate(exps):
             corr[D.bounds[e] : D.bounds[e + 1]] = res[j]
     return corr
