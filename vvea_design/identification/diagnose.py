@@ -608,9 +608,10 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
 
     dts = D.per_exp_dt()
     groups: dict[int, list] = {}
+    s_all = D.s  # sign(xdot) of every sample, once (the property computes it over the whole campaign at each call)
     for e in range(D.n_exp):
         a, b = D.bounds[e], D.bounds[e + 1]
-        s = D.s[a:b]
+        s = s_all[a:b]
         cuts = np.flatnonzero(np.diff(s) != 0) + 1
         for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
             lo = lo + (hi - lo) // 6  # transients after start and reversal are misfit, not noise: skip a sixth of the ramp
