@@ -22,6 +22,14 @@ OTHERS = {
     "annulus_top_short": Design(34.373592304325015, 65.0, 45706.09615792426, 108669.22305813522, layout="annulus_top",
                                 V1_annulus_mm3=12516.61122629605, fixed=FixedParameters(travel_mm=50.0)),
 }
+#: A cupped piston (`fixed.piston_pocket`): the optimum of examples/paper_tight.toml (`vvea optimise --spec
+#: examples/paper_tight.toml`, seed 0: bulkhead, pocket 4,046 mm³, floor 4.37 mm, bladder cast near x = 0).
+#: Drawn in the default run by tests/test_cad.py's pocket tests (piston, chamber 1, interference), in full in the
+#: slow run (SLOW).
+POCKET = Design(36.25872487311745, 59.5, 55396.278750715785, 111402.24160741588, layout="bulkhead",
+                V2_top_mm3=9391.457271224454,
+                fixed=FixedParameters(piston_pocket=True, fluid_clearance_mm=0.5, min_base_mm=11.0,
+                                      bladder_cast_fill=0.14958958987549847))
 #: Extra designs for the slow run (other sizes and fixed parameters; the default run draws one design per
 #: layout, the reference, and the bladder cast near x = 0).
 SLOW = {
@@ -30,5 +38,6 @@ SLOW = {
     "d36_D62": Design(36.0, 62.0, 50000.0, 110000.0),
     "travel30_dead": Design(32.0, 57.0, 42000.0, 80000.0,
                             fixed=FixedParameters(travel_mm=30.0, dead_volume_1_mm3=2000.0, dead_volume_2_mm3=3000.0)),
+    "pocket_tight": POCKET,
 }
 DESIGNS = {"reference": REFERENCE, **OTHERS}
