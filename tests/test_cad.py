@@ -609,14 +609,13 @@ def test_piston_pocket_is_drawn_exactly():
     0, mid and full stroke in every layout, the drawn top faces still project to A1, nothing collides."""
     from dataclasses import replace
 
-    from test_cad_cases import OTHERS, POCKET
+    from test_cad_cases import OTHERS, POCKET, SLOW
 
     from vvea_design.cad import gas_chamber_1, piston_faces_mm2
     from vvea_design.report.drawing import sheet_specs
 
     pocketed = {"bulkhead": POCKET}
-    for key in ("pareto_k50", "annulus_top_short"):  # inner_tube and annulus_top with the pocket
-        d = OTHERS[key]
+    for d in (SLOW["pareto_k50"], OTHERS["annulus_top_short"]):  # inner_tube and annulus_top with the pocket
         pocketed[d.layout] = replace(d, fixed=replace(d.fixed, piston_pocket=True))
     for layout, d in pocketed.items():
         lay = Layout(d)
