@@ -484,15 +484,17 @@ def test_random_drawable_designs():
     from hypothesis import HealthCheck, given, settings
     from hypothesis import strategies as st
 
-    @settings(max_examples=6, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
-    @given(dp=st.floats(26.0, 40.0), D=st.floats(52.0, 66.0), V1=st.floats(3.0e4, 7.0e4), v2=st.floats(0.0, 1.0))
-    def check(dp, D, V1, v2):
+    @settings(max_examples=8, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    @given(dp=st.floats(26.0, 40.0), D=st.floats(52.0, 66.0), V1=st.floats(3.0e4, 7.0e4), v2=st.floats(0.0, 1.0),
+           pocket=st.booleans())
+    def check(dp, D, V1, v2, pocket):
         from hypothesis import assume
 
         try:
-            probe = Design(dp, D, V1, 1.0e5)
+            fx = FixedParameters(piston_pocket=pocket)  # issue 12: the cupped piston too
+            probe = Design(dp, D, V1, 1.0e5, fixed=fx)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
-            d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0))
+            d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), fixed=fx)
             Layout(d)
         except (DesignError, CadError):
             assume(False)
@@ -502,6 +504,8 @@ def test_random_drawable_designs():
         assert meas["chamber_1_volume_mm3"] == pytest.approx(d.V1_mm3, rel=0.01)
         assert meas["chamber_2_volume_mm3"] == pytest.approx(d.V2_mm3, rel=0.01)
         assert meas["piston_area_A2_mm2"] == pytest.approx(d.A2_mm2, rel=0.01)
+        assert meas["piston_area_A1_mm2"] == pytest.approx(d.A1_mm2, rel=1e-9)
+        assert model.parts["piston"].volume == pytest.approx(piston_volume_mm3(model.layout), rel=1e-9)
         for x in (0.0, d.fixed.travel_mm):
             assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3
         for s in model.export_solids().values():
