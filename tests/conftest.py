@@ -75,3 +75,19 @@ def reference_cad_run(tmp_path_factory):
 
     folder, info = shared_once(tmp_path_factory, "reference_cad_run", build)
     return folder / "cad", info["exit_code"], info["output"]
+
+
+#: Test modules whose tests and module fixtures cost the most CPU (measured with ``--durations=0`` at idle),
+#: most expensive first. They are handed out first (``--no-loadscope-reorder`` in pyproject's addopts keeps
+#: this order; xdist's own reorder is by test count), so the two workers end together instead of one
+#: finishing a long module alone. The modules that read the shared reference CAD run (test_cad_sync,
+#: test_cad_drawing, test_cad_cli) are not listed: they come after test_cad has started building it.
+HEAVY_FIRST = ("test_cad.py", "test_pipeline.py", "test_optimise.py", "test_study_actuator.py", "test_diagnose.py",
+               "test_diagnose_families.py", "test_diagnose_bench.py", "test_bladder.py", "test_design_study.py",
+               "test_hygiene.py", "test_identify.py", "test_diagnose_shared.py")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """Heavy modules first (a stable sort: the order inside a module is kept)."""
+    rank = {name: i for i, name in enumerate(HEAVY_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))

@@ -484,15 +484,17 @@ def test_random_drawable_designs():
     from hypothesis import HealthCheck, given, settings
     from hypothesis import strategies as st
 
-    @settings(max_examples=6, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
-    @given(dp=st.floats(26.0, 40.0), D=st.floats(52.0, 66.0), V1=st.floats(3.0e4, 7.0e4), v2=st.floats(0.0, 1.0))
-    def check(dp, D, V1, v2):
+    @settings(max_examples=8, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    @given(dp=st.floats(26.0, 40.0), D=st.floats(52.0, 66.0), V1=st.floats(3.0e4, 7.0e4), v2=st.floats(0.0, 1.0),
+           pocket=st.booleans())
+    def check(dp, D, V1, v2, pocket):
         from hypothesis import assume
 
         try:
-            probe = Design(dp, D, V1, 1.0e5)
+            fx = FixedParameters(piston_pocket=pocket)  # issue 12: the cupped piston too
+            probe = Design(dp, D, V1, 1.0e5, fixed=fx)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
-            d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0))
+            d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), fixed=fx)
             Layout(d)
         except (DesignError, CadError):
             assume(False)
@@ -502,6 +504,8 @@ def test_random_drawable_designs():
         assert meas["chamber_1_volume_mm3"] == pytest.approx(d.V1_mm3, rel=0.01)
         assert meas["chamber_2_volume_mm3"] == pytest.approx(d.V2_mm3, rel=0.01)
         assert meas["piston_area_A2_mm2"] == pytest.approx(d.A2_mm2, rel=0.01)
+        assert meas["piston_area_A1_mm2"] == pytest.approx(d.A1_mm2, rel=1e-9)
+        assert model.parts["piston"].volume == pytest.approx(piston_volume_mm3(model.layout), rel=1e-9)
         for x in (0.0, d.fixed.travel_mm):
             assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3
         for s in model.export_solids().values():
@@ -601,3 +605,46 @@ def test_the_channel_room_constraint_is_what_the_support_ring_needs():
     assert Layout(ok).ring_channel_d >= 0.5
     with pytest.raises(CadError, match="support-ring fluid channels"):
         Layout(with_gap(CHANNEL_GAP_MM - 0.1))
+
+
+# ------------------------------------------------------------------ piston pocket (issue 12)
+def test_piston_pocket_is_drawn_exactly():
+    """The cupped piston: its pocket is the design's (closed form vs solid), chamber 1 is V1 + A1 x to 1e-6 at
+    0, mid and full stroke in every layout, the drawn top faces still project to A1, nothing collides."""
+    from dataclasses import replace
+
+    from test_cad_cases import OTHERS, POCKET, SLOW
+
+    from vvea_design.cad import gas_chamber_1, piston_faces_mm2
+    from vvea_design.report.drawing import sheet_specs
+
+    pocketed = {"bulkhead": POCKET}
+    for d in (SLOW["pareto_k50"], OTHERS["annulus_top_short"]):  # inner_tube and annulus_top with the pocket
+        pocketed[d.layout] = replace(d, fixed=replace(d.fixed, piston_pocket=True))
+    for layout, d in pocketed.items():
+        lay = Layout(d)
+        assert lay.has_piston_pocket and d.piston_pocket_volume_mm3 > 2000.0, layout
+        p = piston(lay, 0.0)
+        assert p.volume == pytest.approx(piston_volume_mm3(lay), rel=1e-9)
+        cup = Layout(replace(d, fixed=replace(d.fixed, piston_pocket=False)))
+        assert piston(cup, 0.0).volume - p.volume == pytest.approx(d.piston_pocket_volume_mm3, rel=1e-9)
+        areas = piston_faces_mm2(p, lay, 0.0)
+        assert areas["A1_mm2"] == pytest.approx(d.A1_mm2, rel=1e-9) and areas["A2_mm2"] == pytest.approx(d.A2_mm2, rel=1e-9)
+        for x in (0.0, 0.5 * d.fixed.travel_mm, d.fixed.travel_mm):
+            assert gas_chamber_1(lay, x).volume == pytest.approx(d.V1_mm3 + d.A1_mm2 * x, rel=1e-6), (layout, x)
+    model = build_cad(POCKET)
+    for x in (0.0, 0.5 * POCKET.fixed.travel_mm, POCKET.fixed.travel_mm):
+        assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3, x
+    assert model.measured()["chamber_1_volume_mm3"] == pytest.approx(POCKET.V1_mm3, rel=1e-6)
+    piston_sheet = next(s for s in sheet_specs(model) if s.name == "piston")
+    assert any("(pocket)" in dim.text for dim in piston_sheet.dims)
+
+
+def test_piston_pocket_needs_a_wall_under_the_seal_groove():
+    from dataclasses import replace
+
+    from test_cad_cases import POCKET
+
+    thin = replace(POCKET, fixed=replace(POCKET.fixed, piston_pocket_wall_mm=2.0))
+    with pytest.raises(CadError, match="fixed.piston_pocket_wall_mm = 2 mm leaves 0.57 mm"):
+        Layout(thin)

@@ -57,10 +57,10 @@ def test_regression_case(case):
 
 
 def _regenerate() -> None:  # pragma: no cover - maintenance
-    from test_cad_cases import DESIGNS
+    from test_cad_cases import DESIGNS, SLOW
 
     cases = []
-    for name, d in DESIGNS.items():
+    for name, d in {**DESIGNS, **{k: SLOW[k] for k in ("pareto_D55", "pareto_k50")}}.items():
         dd = asdict(d)
         defaults = asdict(FixedParameters())
         dd["fixed"] = {k: v for k, v in dd["fixed"].items() if defaults[k] != v}

@@ -278,3 +278,105 @@ def test_volume_budget_accounts_for_every_mm3_of_the_envelope(layout):
     assert early["bladder_fluid_bulge_room"] == pytest.approx(0.0, abs=1.0)
     assert early["bladder_fluid_min_gap"] == pytest.approx(b["bladder_fluid_min_gap"], rel=1e-2)
     assert e.V2_mm3 > d.V2_mm3 + 0.8 * b["bladder_fluid_bulge_room"]
+
+
+# ------------------------------------------------------------------ piston pocket (issue 12)
+POCKET = FixedParameters(piston_pocket=True)
+
+
+@pytest.mark.parametrize("base", [REF, BULK, ANN], ids=["inner_tube", "bulkhead", "annulus_top"])
+def test_piston_pocket_holds_chamber_1_gas_in_every_layout(base):
+    """The pocket's gas is part of V1: the bore column shrinks by pocket/A1, the spring is unchanged."""
+    d = replace(base, fixed=replace(base.fixed, piston_pocket=True))
+    f = d.fixed
+    a, depth = d.piston_pocket_radius_mm, d.piston_pocket_depth_mm
+    assert a == pytest.approx(d.piston_diameter_mm / 2 - f.piston_pocket_wall_mm)
+    assert depth == pytest.approx(f.piston_height_mm - d.piston_floor_mm) and depth > 0
+    assert d.piston_pocket_volume_mm3 == pytest.approx(math.pi * a**2 * depth, rel=1e-12)
+    assert d.chamber1_length_mm == pytest.approx(base.chamber1_length_mm - d.piston_pocket_volume_mm3 / d.A1_mm2)
+    assert d.housing_length_mm == pytest.approx(base.housing_length_mm - d.piston_pocket_volume_mm3 / d.A1_mm2)
+    # gas-spring physics unchanged: V1 is still the chamber-1 gas at x = 0
+    assert d.p1_MPa == base.p1_MPa and d.gas_spring.V1_mm3 == base.V1_mm3
+    # the floor is a wall: sized, reported, in the summary; the budget still adds up to the envelope
+    assert d.walls_mm()["piston_floor"] == d.piston_floor_mm and "piston_floor" not in base.walls_mm()
+    assert d.wall_safety_factors()["piston_floor"] >= f.wall_safety_factor - 1e-9
+    assert d.geometry_summary()["piston_pocket_volume_mm3"] == d.piston_pocket_volume_mm3
+    assert "piston_pocket_volume_mm3" not in base.geometry_summary()
+    b = d.volume_budget_mm3()
+    assert sum(b.values()) == pytest.approx(math.pi / 4 * d.outer_diameter_mm**2 * d.housing_length_mm, rel=1e-12)
+    assert b["gas_chamber_1_piston_pocket"] == d.piston_pocket_volume_mm3
+    assert b["piston"] == pytest.approx(d.A1_mm2 * f.piston_height_mm - d.piston_pocket_volume_mm3)
+    gas = sum(v for k, v in b.items() if k.startswith("gas_"))
+    assert gas == pytest.approx(d.V1_mm3 + d.V2_mm3, rel=1e-12)
+    # mass: the cupped piston in the rod's material (one turned part with the rod)
+    rho = 7.85e-3
+    assert d.mass_breakdown_g()["piston"] == pytest.approx((d.A1_mm2 * f.piston_height_mm
+                                                            - d.piston_pocket_volume_mm3) * rho, rel=1e-12)
+
+
+def test_piston_floor_moment_solves_the_plate_equation():
+    """The closed form against an independent numerical solution of the axisymmetric plate (scipy solve_bvp):
+    annular plate b..a clamped at the rod, free to rotate at the pocket wall, uniform pressure on b..a plus the
+    rim's load as a line load at a."""
+    import numpy as np
+    from scipy.integrate import solve_bvp
+
+    from vvea_design.spring.design import piston_floor_moment
+
+    nu = 0.29
+    for rp, a, b in ((18.1, 15.1, 4.0), (12.0, 8.5, 4.0), (25.0, 22.0, 3.0)):
+        # unknowns: slope th = w' and Mr (per unit pressure, D = 1); equilibrium d(r Mr)/dr - Mt = r Q,
+        # Mr = -(th' + nu th / r), Mt = -(th / r + nu th'), Q = (rp^2 - r^2) / (2 r)
+        def rhs(r, y):
+            th, mr = y
+            dth = -mr - nu * th / r
+            mt = -(th / r + nu * dth)
+            return np.vstack([dth, (mt + r * (rp**2 - r**2) / (2 * r) - mr) / r])
+
+        r = np.linspace(b, a, 200)
+        sol = solve_bvp(rhs, lambda ya, yb: np.array([ya[0], yb[1]]), r, np.zeros((2, r.size)), tol=1e-10,
+                        max_nodes=100000)
+        assert sol.success
+        mr = sol.sol(np.linspace(b, a, 400))[1]
+        assert np.abs(mr).max() == pytest.approx(abs(mr[0]), rel=1e-9)  # the largest moment is at the rod
+        assert float(piston_floor_moment(rp, a, b, nu)) == pytest.approx(abs(mr[0]), rel=1e-6)
+
+
+def test_piston_floor_is_pressure_sized_never_below_its_minimum():
+    lo, hi = (replace(BULK, fixed=POCKET).with_charge(p) for p in (1.0, 4.0))
+    assert lo.piston_floor_mm == POCKET.min_piston_floor_mm  # a low charge: the manufacturable minimum
+    assert hi.piston_floor_mm > POCKET.min_piston_floor_mm  # the paper's charge: sized up, to the safety factor
+    assert hi.wall_safety_factors()["piston_floor"] == pytest.approx(POCKET.wall_safety_factor, rel=1e-9)
+    assert hi.piston_pocket_volume_mm3 < lo.piston_pocket_volume_mm3
+    assert hi.minimum_walls_mm()["piston_floor"] == pytest.approx(hi.piston_floor_mm)
+    # the floor carries the bulkhead's differential (chamber 2 = the fluid below, minus chamber 1)
+    assert hi._g["piston_floor_pressure_MPa"] == pytest.approx(hi._g["bulkhead_pressure_MPa"])
+    # a weaker piston material needs a thicker floor; a floor the height of the piston leaves no pocket
+    alu = replace(BULK, fixed=replace(POCKET, rod_material="al-6061-t6"))
+    assert alu.piston_floor_mm > hi.piston_floor_mm
+    solid = replace(BULK, fixed=replace(POCKET, min_piston_floor_mm=12.0))
+    assert solid.piston_floor_mm == POCKET.piston_height_mm and solid.piston_pocket_volume_mm3 == 0.0
+    # no pocket where its radius would not exceed the rod's
+    thin = Design(14.0, 40.0, 9000.0, 20000.0, fixed=replace(POCKET, piston_pocket_wall_mm=3.5))
+    assert thin.piston_pocket_volume_mm3 == 0.0 and thin.piston_pocket_radius_mm == 0.0
+    with pytest.raises(DesignError, match="fixed.piston_pocket must be true or false"):
+        FixedParameters(piston_pocket="yes")
+
+
+def test_piston_pocket_population_formulas_are_the_designs():
+    import numpy as np
+
+    from vvea_design.spring.requirements import Requirements, constraint_names, evaluate_design, evaluate_population
+
+    req = Requirements(fixed=POCKET)
+    assert "wall_safety_piston_floor" in constraint_names(req, "bulkhead")
+    rng = np.random.default_rng(5)
+    X = BULK.decision_vector() * rng.uniform(0.95, 1.05, (8, 5))
+    obj, mar, ok = evaluate_population(X, req, "bulkhead")
+    for k in np.flatnonzero(ok):
+        d = Design(**dict(zip(BULK.variant.decision_variables, X[k])), layout="bulkhead", fixed=POCKET)
+        ev = evaluate_design(d, req)
+        assert obj[k] == pytest.approx(ev.objective, rel=1e-12)
+        np.testing.assert_allclose(mar[:, k], [ev.margins[n] for n in constraint_names(req, "bulkhead", search=True)],
+                                   rtol=1e-10, atol=1e-12)
+        assert ev.margins["wall_safety_piston_floor"] >= -1e-9

@@ -65,7 +65,8 @@ def test_typed_result_round_trips_to_json(result):
 
 
 def test_envelope_too_small_for_the_stiffness_says_what_binds():
-    req = Requirements(max_outer_diameter_mm=36.0, min_mean_stiffness_N_per_mm=150.0)
+    # one layout: the report of what binds is the point (every layout's search is tested above)
+    req = Requirements(max_outer_diameter_mm=36.0, min_mean_stiffness_N_per_mm=150.0, layouts=("inner_tube",))
     with pytest.raises(Infeasible) as exc:
         optimise(req, seed=0, progress=False, maxiter=40)
     msg = str(exc.value)
@@ -282,3 +283,37 @@ def test_annulus_top_wins_where_the_chamber_1_column_binds(tmp_path):
     assert data["parameters"]["V1_annulus_mm3"] == pytest.approx(d.V1_annulus_mm3)
     back = load_design(path)
     assert back.layout == "annulus_top" and back.V1_annulus_mm3 == pytest.approx(d.V1_annulus_mm3, rel=1e-12)
+
+
+def test_the_piston_pocket_is_opt_in_and_off_changes_nothing(result):
+    """Issue 12: with `piston_pocket = false` (the default) the optimum is today's (1.3265 %, bulkhead)."""
+    assert Requirements().fixed.piston_pocket is False
+    assert result.layout == "bulkhead"
+    assert result.evaluation.linearity_isothermal == pytest.approx(0.0132649, abs=1e-7)
+    assert result.design.piston_pocket_volume_mm3 == 0.0 and "piston_floor" not in result.design.walls_mm()
+    assert "wall_safety_piston_floor" not in result.evaluation.margins
+
+
+def test_the_tight_manufacturing_preset_reaches_the_paper_target(result):
+    """examples/paper_tight.toml: the paper's requirements, a cupped piston, the cast fill free, 0.5 mm fluid
+    clearance and an 11 mm base (the CAD's minima) -> <= 1.20 % isothermal with every margin >= 0 and the
+    FE strain bound of the bladder within the allowable."""
+    from functools import partial
+    from pathlib import Path
+
+    from vvea_design.bladder.check import strain_bound
+    from vvea_design.spring.requirements import load_requirements
+
+    req = load_requirements(Path(__file__).resolve().parents[1] / "examples" / "paper_tight.toml")
+    base = Requirements()
+    assert (req.fixed.piston_pocket, req.optimise_cast_fill, req.fixed.fluid_clearance_mm, req.fixed.min_base_mm) \
+        == (True, True, 0.5, 11.0)
+    for name in ("max_outer_diameter_mm", "max_housing_length_mm", "travel_mm", "max_charge_MPa",
+                 "min_mean_stiffness_N_per_mm", "min_wall_safety_factor", "objective", "layouts"):
+        assert getattr(req, name) == getattr(base, name), name  # the paper's requirements
+    r = optimise(req, seed=0, progress=False, bladder_strain_fn=partial(strain_bound, material=req.bladder_material))
+    ev = r.evaluation
+    assert ev.feasible and ev.linearity_isothermal <= 0.0120
+    assert ev.linearity_isothermal < result.evaluation.linearity_isothermal - 0.001
+    assert ev.margins["wall_safety_piston_floor"] >= -1e-9 and r.design.piston_pocket_volume_mm3 > 3000.0
+    assert r.bladder_strain_fe <= req.max_bladder_strain

@@ -19,11 +19,13 @@ def ecoflex_run(tmp_path_factory):
     """`vvea design --spec F` with bladder_material = "ecoflex-00-30", no renders (the whole chain, ~20 s)."""
     tmp = tmp_path_factory.mktemp("design")
     spec = tmp / "req.toml"
-    # one layout searched (faster; the silicone is the point here): every layout's CAD is drawn in test_cad.py
+    # one layout searched (faster; the silicone is the point here): its inner_tube CAD is checked below, the
+    # other layouts are drawn in test_cad.py
     spec.write_text('bladder_material = "ecoflex-00-30"\nlayouts = ["inner_tube"]\n')
     out = tmp / "out"
     res = runner.invoke(app, ["design", "--spec", str(spec), "-o", str(out), "--no-renders",
-                              "--study-grid", "0.3:0.6", "--workers", "1"])  # the actuator study on one case
+                              "--study-grid", "0.3:0.6", "--study-mesh-n", "24", "--safety-mesh-n", "30",
+                              "--workers", "1"])  # the actuator study on one case, coarse meshes
     return res, out, spec
 
 
@@ -71,8 +73,44 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     assert study["settings"][0]["name"] == "design"
     assert study["settings"][0]["K_Nm_per_rad"] == pytest.approx(unit["actuator"]["K_Nm_per_rad"])
     assert "design vs SEA" in res.stdout
+    ds = json.loads((out / "actuator" / "design_study.json").read_text())  # the CLI's mesh options reached it
+    assert ds["mesh"]["n_intervals"] == 24 and ds["safety_design"]["setup"]["mesh"]["n_intervals"] == 30
     size = (out / "report.html").stat().st_size
     assert 100_000 < size < 5_000_000
+
+
+@pytest.mark.xdist_group("design_run")
+def test_design_cad_is_exact_in_the_inner_tube_layout(ecoflex_run):
+    """The main job's CAD of an inner_tube design (the default run's one design of that layout; test_cad.py
+    draws the other layouts): chamber volumes and piston areas as designed, every part at its closed-form
+    volume, no interference at either stroke end, walls at least their minimum, watertight STLs, mould cavity."""
+    res, out, _ = ecoflex_run
+    assert res.exit_code == 0, res.output
+    m = json.loads((out / "cad" / "manifest.json").read_text())
+    assert m["design"]["layout"] == "inner_tube"
+    for k, v in m["measured"].items():
+        assert abs(v["rel_error"]) < 1e-6, k
+    for x, pairs in m["interference_mm3"].items():
+        assert max(pairs.values()) < 1e-3, x
+    for name, p in m["parts"].items():
+        if p["closed_form_volume_mm3"] is not None:
+            assert p["volume_mm3"] == pytest.approx(p["closed_form_volume_mm3"], rel=1e-6), name
+    for wall, w in m["walls_mm"].items():
+        assert w["drawn"] >= w["minimum"] - 1e-6, wall
+    for fname, info in m["files"].items():
+        if fname.endswith(".stl"):
+            assert info["watertight"], fname
+    mould = m["mould"]
+    assert mould["cavity_volume_mm3"] == pytest.approx(mould["expected_cavity_volume_mm3"], rel=2e-3)
+    assert mould["sprue_open"] and all(mould["vents_open"])
+
+
+@pytest.mark.parametrize("flag", ["--study-mesh-n", "--safety-mesh-n"])
+def test_design_bad_mesh_option_is_named_before_any_work(tmp_path, flag):
+    res = runner.invoke(app, ["design", "-o", str(tmp_path / "out"), flag, "2"])
+    assert res.exit_code == 2
+    assert flag in res.output and "n_intervals" in res.output and ">= 4" in res.output
+    assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.xdist_group("design_run")

@@ -389,6 +389,7 @@ def run_design_study(
     mesh: Mesh = DESIGN_MESH,
     references: Sequence[str] = DESIGN_REFERENCES,
     mapping: dict | None = None,
+    safety_mesh: Mesh = DESIGN_SAFETY_MESH,
 ) -> DesignStudy:
     """Rest-to-rest and torque-step study of one design against the paper's VVEA, SEA and LWR.
 
@@ -415,6 +416,9 @@ def run_design_study(
         Names in :data:`~vvea_design.actuator.model.PAPER_SETTINGS` to compare with.
     mapping
         Options of the design -> actuator mapping (see :func:`design_actuator`).
+    safety_mesh
+        Collocation mesh of the two torque steps (default :data:`DESIGN_SAFETY_MESH`, 100 intervals
+        clustered at the step; a coarser one is quicker and blurs the damping switch).
 
     Returns
     -------
@@ -431,8 +435,8 @@ def run_design_study(
     refs = tuple(PAPER_SETTINGS[r] for r in references)
     settings = (act,) + refs
     reg = DEFAULT_REGULARISATION
-    items: list = [("safety", (act, DESIGN_SAFETY_MESH, "design, variable D", DESIGN_SAFETY_FIXED_D)),
-                   ("safety", (PAPER_SETTINGS["VVEA"], DESIGN_SAFETY_MESH, "VVEA, variable D", ()))]
+    items: list = [("safety", (act, safety_mesh, "design, variable D", DESIGN_SAFETY_FIXED_D)),
+                   ("safety", (PAPER_SETTINGS["VVEA"], safety_mesh, "VVEA, variable D", ()))]
     items += [("r2r", RestToRestCase(A, T, settings, mesh, DESIGN_STARTS, (), None, reg)) for A, T in grid.cases()]
     total = len(items) + 1
     done = [0]

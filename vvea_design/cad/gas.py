@@ -16,8 +16,9 @@ also fills the inner-tube bore above the bulkhead, outside the fill tube
 (``V2_top_mm3``), so its domain is two solids (joined through the top cap's
 ports, which are not drawn). In the ``annulus_top`` layout chamber 1 is the
 bore above the piston, the slots in the inner tube's top end and the annulus
-above the collar (``V1_annulus_mm3``): one solid. The dead volumes (ports,
-default 0) are not drawn.
+above the collar (``V1_annulus_mm3``): one solid. With ``fixed.piston_pocket``
+chamber 1 also fills the pocket in the piston crown (every layout). The dead
+volumes (ports, default 0) are not drawn.
 """
 
 from __future__ import annotations
@@ -49,14 +50,17 @@ def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
     Solid
         The gas domain in the assembly frame, mm; its volume is ``V1 - dead_volume_1 + A1 x`` (mm³).
     """
+    zt = lay.z_piston_top(x_mm)
+    pocket = [cylinder(lay.r_pocket, zt - lay.design.piston_pocket_depth_mm, zt + 0.01)] if lay.has_piston_pocket else []
     if lay.has_top_annulus:
-        return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap),
+        return fuse(cylinder(lay.r_piston, zt, lay.z_cap),
                     ring(lay.r_inner_tube, lay.r_bore, lay.z_collar1, lay.z_cap),
-                    *cross_slots(lay, lay.r_piston, lay.r_inner_tube))
+                    *cross_slots(lay, lay.r_piston, lay.r_inner_tube), *pocket)
     if not lay.has_bulkhead:
-        return cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_cap)
-    return fuse(cylinder(lay.r_piston, lay.z_piston_top(x_mm), lay.z_bulkhead0),
-                cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0, lay.z_cap))
+        column = cylinder(lay.r_piston, zt, lay.z_cap)
+        return fuse(column, *pocket) if pocket else column
+    return fuse(cylinder(lay.r_piston, zt, lay.z_bulkhead0),
+                cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0, lay.z_cap), *pocket)
 
 
 def gas_chamber_2(lay: Layout, x_mm: float = 0.0) -> Solid:

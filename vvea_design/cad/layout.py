@@ -67,6 +67,7 @@ class CadParameters:
     stl_tolerance_mm: float = 0.05  #: STL linear deflection
     stl_angular_tolerance_rad: float = 0.1  #: STL angular deflection
     cross_slots: int = 4  #: slots in the inner tube's top end (``annulus_top``; they share ``fixed.cross_slot_fraction``)
+    min_pocket_root_wall_mm: float = 1.5  #: thinnest wall between the piston pocket (``fixed.piston_pocket``) and a seal groove's root
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -280,6 +281,17 @@ class Layout:
         """
         return self.z_piston_bottom(x_mm) + self.design.fixed.piston_height_mm
 
+    # ----------------------------------------------------------- piston pocket
+    @property
+    def has_piston_pocket(self) -> bool:
+        """Chamber-1 gas also in a pocket bored into the piston crown (``fixed.piston_pocket``)."""
+        return self.design.piston_pocket_volume_mm3 > 0
+
+    @property
+    def r_pocket(self) -> float:
+        """Radius of the piston pocket (0 without one), mm."""
+        return self.design.piston_pocket_radius_mm
+
     # ----------------------------------------------------------- bulkhead layout
     @property
     def has_bulkhead(self) -> bool:
@@ -432,6 +444,13 @@ class Layout:
             raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
         if self.x_valve_inner >= self.r_channel_a - self.base_channel_d / 2:
             raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
+        if self.has_piston_pocket:
+            root_wall = ps.groove_diameter_mm / 2 - self.r_pocket
+            if root_wall < c.min_pocket_root_wall_mm - 1e-9:
+                raise CadError(f"fixed.piston_pocket_wall_mm = {f.piston_pocket_wall_mm:g} mm leaves {root_wall:.2f} mm "
+                               f"between the piston pocket and the seal groove's root ({ps.depth_mm:g} mm deep, "
+                               f"{ps.oring.name}); needs >= cad.min_pocket_root_wall_mm = {c.min_pocket_root_wall_mm:g} "
+                               f"mm: use fixed.piston_pocket_wall_mm >= {ps.depth_mm + c.min_pocket_root_wall_mm:g}")
         if self.design.fluid_column_mm - f.travel_mm < 0.5:
             raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
         if self.has_bulkhead:

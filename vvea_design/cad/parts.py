@@ -184,7 +184,11 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
     """Working piston with two seal grooves and its rod (tapped end), at displacement ``x_mm``.
 
     The top face is the full bore (area A1); the underside is the annulus
-    between bore and rod (area A2).
+    between bore and rod (area A2). With ``fixed.piston_pocket`` a coaxial
+    pocket (radius ``design.piston_pocket_radius_mm``, depth
+    ``design.piston_pocket_depth_mm``) is bored from the top face: chamber-1
+    gas; the rod ends in its floor (the top face is then the rim and the
+    pocket floor, together still A1 projected).
 
     Parameters
     ----------
@@ -201,15 +205,18 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
     d, c = lay.design, lay.cad
     zb, ztp = lay.z_piston_bottom(x_mm), lay.z_piston_top(x_mm)
     z_end = zb - d.rod_length_mm
-    body = fuse(cylinder(lay.r_piston, zb, ztp), cylinder(lay.r_rod, z_end, zb + 0.5 * d.fixed.piston_height_mm))
+    boss = min(0.5 * d.fixed.piston_height_mm, d.piston_floor_mm)  # the rod reaches into the piston, never its pocket
+    body = fuse(cylinder(lay.r_piston, zb, ztp), cylinder(lay.r_rod, z_end, zb + boss))
     r_root = lay.piston_seal.groove_diameter_mm / 2
     tools = [ring(r_root, lay.r_piston + 1, g0, g1) for g0, g1 in _groove_levels(lay, x_mm)]
     tools.append(cylinder(c.rod_thread_core_mm / 2, z_end - 1, z_end + c.rod_thread_depth_mm))
+    if lay.has_piston_pocket:
+        tools.append(cylinder(lay.r_pocket, ztp - d.piston_pocket_depth_mm, ztp + 1))
     return cut(body, *tools)
 
 
 def piston_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole).
+    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole - pocket).
 
     Parameters
     ----------
@@ -227,11 +234,14 @@ def piston_volume_mm3(lay: Layout) -> float:
     g = lay.piston_seal
     v -= 2 * math.pi * (rp**2 - (g.groove_diameter_mm / 2) ** 2) * g.width_mm
     v -= math.pi * (c.rod_thread_core_mm / 2) ** 2 * c.rod_thread_depth_mm
+    if lay.has_piston_pocket:
+        v -= math.pi * lay.r_pocket**2 * d.piston_pocket_depth_mm
     return v
 
 
 def piston_faces_mm2(solid: Solid, lay: Layout, x_mm: float = 0.0) -> dict[str, float]:
-    """Measure the drawn piston areas: the planar face at the piston top (A1) and the
+    """Measure the drawn piston areas: the planar faces at the piston top (A1: the top face, and with a
+    pocket its rim plus the pocket's floor, the projected area chamber 1 pushes on) and the
     planar faces at its underside (A2 = bore minus rod).
 
     Parameters
@@ -249,12 +259,14 @@ def piston_faces_mm2(solid: Solid, lay: Layout, x_mm: float = 0.0) -> dict[str, 
         ``A1_mm2`` and ``A2_mm2``: summed areas of the horizontal faces at the top and the underside, mm².
     """
     zt, zb = lay.z_piston_top(x_mm), lay.z_piston_bottom(x_mm)
+    zf = zt - lay.design.piston_pocket_depth_mm if lay.has_piston_pocket else math.nan  # the pocket's floor
     a1 = a2 = 0.0
     for face in solid.faces():
         bb = face.bounding_box()
         if bb.max.Z - bb.min.Z > 1e-6:
             continue
-        if abs(bb.min.Z - zt) < 1e-6:
+        in_pocket = max(abs(bb.min.X), abs(bb.max.X), abs(bb.min.Y), abs(bb.max.Y)) < lay.r_pocket + 1e-6
+        if abs(bb.min.Z - zt) < 1e-6 or (abs(bb.min.Z - zf) < 1e-6 and in_pocket):
             a1 += face.area
         elif abs(bb.min.Z - zb) < 1e-6:
             a2 += face.area

@@ -262,6 +262,12 @@ def design(
     study_grid: Optional[str] = typer.Option(None, "--study-grid",
                                              help="rest-to-rest grid of the actuator study: 'A1,A2,..:T1,T2,..' "
                                                   "(rad:s); default 4 x 4 cases over the paper's grid"),
+    study_mesh_n: Optional[int] = typer.Option(None, "--study-mesh-n",
+                                               help="collocation intervals of each rest-to-rest case of the actuator "
+                                                    "study (default 64)"),
+    safety_mesh_n: Optional[int] = typer.Option(None, "--safety-mesh-n",
+                                                help="collocation intervals of the torque steps of the actuator "
+                                                     "study (default 100, clustered at the step)"),
     workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
                                                                   "(default: all cores)"),
 ) -> None:
@@ -285,6 +291,19 @@ def design(
             study_options["grid"] = Grid(tuple(float(v) for v in a.split(",")), tuple(float(v) for v in t.split(",")))
         except ValueError as exc:
             _fail(f"--study-grid must be 'A1,A2,..:T1,T2,..' (rad:s), got {study_grid!r} ({exc})")
+    if study_mesh_n is not None or safety_mesh_n is not None:
+        from dataclasses import replace as _replace
+
+        from ..actuator.design_study import DESIGN_MESH, DESIGN_SAFETY_MESH
+
+        for flag, n, key, base in (("--study-mesh-n", study_mesh_n, "mesh", DESIGN_MESH),
+                                   ("--safety-mesh-n", safety_mesh_n, "safety_mesh", DESIGN_SAFETY_MESH)):
+            if n is None:
+                continue
+            try:
+                study_options[key] = _replace(base, n_intervals=n)
+            except ValueError as exc:
+                _fail(f"{flag}: {exc}")
 
     def say(step: str, i: int, n: int) -> None:
         console.print(f"[{i + 1}/{n}] {step}")

@@ -475,6 +475,12 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
                 Dim("u", (-lay.r_rod, zend), (lay.r_rod, zend), "bottom", _fit_text(2 * lay.r_rod, "f7"))]
         leaders = [Leader((0.0, zend + c.rod_thread_depth_mm * 0.5),
                           f"M5 x {c.rod_thread_depth_mm:g} (tap drill Ø{c.rod_thread_core_mm:g})")]
+        if lay.has_piston_pocket:  # the chamber-1 pocket in the crown (fixed.piston_pocket)
+            a, zf = lay.r_pocket, zpt - d.piston_pocket_depth_mm
+            dims += [Dim("u", (-a, zpt), (a, zpt), "top", f"Ø{2 * a:.2f} (pocket)"),
+                     Dim("z", (-0.5 * a, zf), (-0.5 * a, zpt), "inside", f"{d.piston_pocket_depth_mm:.2f}",
+                         on_axis=True)]
+            leaders.append(Leader((0.5 * a, zf), f"pocket (chamber-1 gas), floor {d.piston_floor_mm:.2f}"))
         win = (rp - 6.0, rp + 1.0, zpb - 1.0, zpt + 1.0)
         detail = Detail(win, 5.0, [
             Dim("z", (rp, zpb), (rp, g0a), "right"),

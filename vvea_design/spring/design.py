@@ -47,7 +47,7 @@ from ..materials.structural import (
 )
 
 __all__ = ["FixedParameters", "Design", "DesignError", "DECISION_VARIABLES", "LayoutVariant", "LAYOUTS",
-           "get_layout", "derive", "WALLS", "CHANNEL_GAP_MM"]
+           "get_layout", "derive", "piston_floor_moment", "WALLS", "CHANNEL_GAP_MM"]
 
 #: The decision variables of today's layout (``inner_tube``), in order, with their units in the name.
 DECISION_VARIABLES = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3")
@@ -117,8 +117,9 @@ def get_layout(name: str) -> LayoutVariant:
 CHANNEL_GAP_MM = 1.15
 
 #: Pressure walls sized by :func:`derive` (the bulkhead only in the ``bulkhead`` layout, the collar only in
-#: ``annulus_top``; :attr:`LayoutVariant.walls` lists a layout's).
-WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar")
+#: ``annulus_top``, the piston's pocket floor only with ``fixed.piston_pocket``; :attr:`LayoutVariant.walls`
+#: lists a layout's, :meth:`Design.walls_mm` a design's).
+WALLS = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar", "piston_floor")
 
 #: Old names of the wall fields (design files written before the walls were sized): now the minimums.
 _LEGACY_FIXED = {"outer_wall_mm": "min_outer_wall_mm", "inner_tube_wall_mm": "min_inner_tube_wall_mm",
@@ -150,6 +151,9 @@ class FixedParameters:
     wall_safety_factor: float = 2.0  #: walls are sized to this safety factor on yield (the requirements set it)
     wall_sizing_n: float = 1.4  #: walls carry the peak pressure of this polytropic exponent (1.4: a fast, adiabatic stroke)
     piston_height_mm: float = 10.0  #: working piston incl. seal grooves
+    piston_pocket: bool = False  #: a coaxial pocket bored into the piston crown holds chamber-1 gas (a cupped piston)
+    piston_pocket_wall_mm: float = 3.0  #: radial wall from the piston's sliding diameter to the pocket (seal groove depth + the wall under its root)
+    min_piston_floor_mm: float = 3.0  #: thinnest pocket floor made (sized up: a plate carrying the chamber-1 / fluid differential to the rod)
     fluid_clearance_mm: float = 2.0  #: fluid column left under the piston at full stroke
     bladder_thickness_mm: float = 1.5  #: silicone sleeve wall as cast
     bladder_clamp_mm: float = 5.0  #: axial length of each clamped end (support ring / top clamp)
@@ -167,6 +171,8 @@ class FixedParameters:
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.type in ("bool", bool) and not isinstance(v, bool):
+                raise DesignError(f"fixed.{f.name} must be true or false, got {show(v)}")
             if f.type in ("float", float):
                 if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                     raise DesignError(f"fixed.{f.name} must be a finite number, got {show(v)}")
@@ -241,6 +247,40 @@ class FixedParameters:
 # One set of formulas for one design and for a whole population (numpy broadcast)
 # ---------------------------------------------------------------------------
 
+def piston_floor_moment(piston_radius_mm, pocket_radius_mm, rod_radius_mm, poisson):
+    """Radial bending moment at the rod of the piston pocket's floor per unit pressure, N·mm/mm per MPa.
+
+    The floor is an annular plate from the rod (radius ``b``, where the rod ends in it: edge clamped) to the
+    pocket's wall (radius ``a``: edge free to rotate, conservatively, carrying the rim's load). The pressure
+    difference ``q`` between chamber 1 above and the fluid below acts on ``b .. a`` and, through the rim, as a
+    line load ``q (rp^2 - a^2) / (2 a)`` at ``a``: the whole net load ``q pi (rp^2 - b^2)`` goes to the rod.
+    Thin-plate theory (axisymmetric: ``d/dr[(1/r) d/dr(r w')] = Q/D``, ``Q = q (rp^2 - r^2)/(2 r)``) gives the
+    largest moment at the rod, ``|M_r(b)| = q K`` with
+
+    ``K = [(3 + nu) a^4 - 2 (1 + nu) a^2 b^2 - (1 - nu) b^4 - 2 (1 - nu) rp^2 (a^2 - b^2)
+    - 4 (1 + nu) a^2 rp^2 ln(a/b)] / (-8 (a^2 (1 + nu) + b^2 (1 - nu)))``
+
+    (checked against a numerical solution of the plate equation in ``tests/test_design.py``).
+
+    Parameters
+    ----------
+    piston_radius_mm, pocket_radius_mm, rod_radius_mm : float or array
+        ``rp``, ``a`` and ``b``, mm (``b < a < rp``).
+    poisson : float
+        Poisson's ratio of the piston's material.
+
+    Returns
+    -------
+    float or ndarray
+        ``K``, mm² (moment per unit circumference per MPa: N·mm/mm per N/mm²).
+    """
+    rp, a, b, nu = (np.asarray(piston_radius_mm, dtype=float), np.asarray(pocket_radius_mm, dtype=float),
+                    float(rod_radius_mm), float(poisson))
+    num = (-(3 + nu) * a**4 + 2 * (1 + nu) * a**2 * b**2 + (1 - nu) * b**4 + 2 * (1 - nu) * rp**2 * (a**2 - b**2)
+           + 4 * (1 + nu) * a**2 * rp**2 * np.log(a / b))
+    return np.abs(num / (8 * (a**2 * (1 + nu) + b**2 * (1 - nu))))
+
+
 def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2_MPa, setpoint_x0_mm,
            fixed: FixedParameters, bulkhead: bool, cast_fill=None, V1_annulus_mm3=0.0,
            top_annulus: bool = False) -> dict[str, np.ndarray]:
@@ -271,6 +311,22 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     rio (rb^2 - rio^2)/2)``, ``sigma = 6 M / t^2`` (the hoop stiffening of the
     ring is neglected: conservative). The bladder's free length loses
     ``t + L_annulus``.
+
+    With ``fixed.piston_pocket`` (every layout) chamber-1 gas also fills a
+    coaxial pocket bored into the piston crown, radius ``dp/2 -
+    fixed.piston_pocket_wall_mm`` (inside the seal grooves), depth the piston
+    height minus its floor; the floor is an annular plate from the rod to the
+    pocket's wall carrying the same largest chamber-2 (fluid) minus chamber-1
+    pressure to the rod, sized for bending at the rod
+    (:func:`piston_floor_moment`) and for Tresca on the peak root shear
+    ``1.5 Q/t``, ``Q = p (rp^2 - b^2)/(2 b)``, never thinner than
+    ``fixed.min_piston_floor_mm`` (the pocket is absent where its radius would
+    not exceed the rod's). The piston and its rod are one turned part of
+    ``fixed.rod_material`` (as the CAD draws it): the floor's allowable stress
+    and, with a pocket, the piston's mass are that material's. The fluid under
+    the piston is taken at chamber-2 pressure (the throttle's pressure drop is
+    not modelled, as for the base). The pocket's gas is part of V1: the bore
+    column above the piston shrinks by ``pocket / A1``.
 
     Parameters
     ----------
@@ -354,9 +410,29 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         m_collar = dP_bulkhead / rio * ((rb**3 - rio**3) / 3 - rio * (rb**2 - rio**2) / 2)
         t_col = np.fmax(f.min_collar_mm, np.sqrt(6 * m_collar / sa)) if top_annulus else np.zeros_like(rb)
         g["collar_pressure_MPa"] = dP_bulkhead if top_annulus else np.zeros_like(P2_peak)
+        # piston pocket (fixed.piston_pocket): its floor carries the same differential to the rod; the piston and
+        # its rod are one turned part of fixed.rod_material (as the CAD draws it and the bill of materials lists it)
+        pocket = f.piston_pocket
+        mat_p = get_material(f.rod_material)
+        sa_p = mat_p.yield_MPa / f.wall_safety_factor
+        b_rod = f.rod_diameter_mm / 2
+        r_pk = ri - f.piston_pocket_wall_mm
+        has_pk = (r_pk > b_rod) if pocket else np.zeros_like(ri, dtype=bool)
+        r_pk_s = np.where(has_pk, r_pk, 2 * b_rod)  # a harmless radius where there is no pocket
+        k_floor = piston_floor_moment(ri, r_pk_s, b_rod, mat_p.poisson)
+        q_floor = ri**2 - b_rod**2  # root shear per unit pressure x 2 b_rod
+        t_fl_req = np.fmax(np.sqrt(6 * k_floor * dP_bulkhead / sa_p), 3 * dP_bulkhead * q_floor / (2 * b_rod * sa_p))
+        t_fl = np.where(has_pk, np.fmin(np.fmax(f.min_piston_floor_mm, t_fl_req), f.piston_height_mm),
+                        f.piston_height_mm)
+        V_pk = np.where(has_pk, pi * r_pk_s**2 * (f.piston_height_mm - t_fl), 0.0)
+        g["piston_floor_pressure_MPa"] = dP_bulkhead if pocket else np.zeros_like(P2_peak)
     g["outer_wall_mm"], g["inner_tube_wall_mm"] = t_o, t_i
     g["top_cap_mm"], g["base_mm"], g["bulkhead_mm"] = t_cap, t_base, t_bh
     g["collar_mm"] = t_col
+    g["piston_floor_mm"] = t_fl * np.ones_like(ri)
+    g["piston_pocket_radius_mm"] = np.where(has_pk, r_pk_s, 0.0) * np.ones_like(ri)
+    g["piston_pocket_depth_mm"] = (f.piston_height_mm - t_fl) * np.ones_like(ri)
+    g["piston_pocket_volume_mm3"] = V_pk * np.ones_like(ri)
     g["outer_bore_radius_mm"], g["inner_tube_outer_radius_mm"] = rb, rio
     g["annulus_gap_mm"] = rb - rio
     # axial stack
@@ -373,7 +449,7 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     # the slots through the inner tube's top end (annulus_top) hold chamber-1 gas too
     v_slots = f.cross_slot_fraction * pi * (rio**2 - ri**2) * f.cross_slot_mm if top_annulus else np.zeros_like(V1)
     g["cross_slot_volume_mm3"] = v_slots * np.ones_like(L_a)
-    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"] - Va - v_slots) / A1
+    L1 = (V1 - f.dead_volume_1_mm3 - g["fill_tube_volume_mm3"] - Va - v_slots - V_pk) / A1
     g["chamber1_length_mm"] = L1
     fluid_col = f.travel_mm + f.fluid_clearance_mm
     g["fluid_column_mm"] = np.full_like(L1, fluid_col)
@@ -427,9 +503,12 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
             st["bulkhead"] = kp * dP_bulkhead * ri**2 / t_bh**2
         if top_annulus:
             st["collar"] = 6 * m_collar / t_col**2
+        if pocket:  # bending at the rod (6 M / t^2) or, if larger, Tresca's 2 x the peak root shear 1.5 Q / t
+            st["piston_floor"] = np.where(has_pk, np.fmax(6 * k_floor * dP_bulkhead / t_fl**2,
+                                                          3 * dP_bulkhead * q_floor / (2 * b_rod * t_fl)), 0.0)
         for w, v in st.items():
             g[f"stress_{w}_MPa"] = v
-            g[f"safety_{w}"] = np.where(v > 0, mat.yield_MPa / v, np.inf)
+            g[f"safety_{w}"] = np.where(v > 0, (mat_p if w == "piston_floor" else mat).yield_MPa / v, np.inf)
         p_cr = kb * (t_i / (ri + t_i / 2)) ** 3
         g["inner_tube_buckling_MPa"] = p_cr
         g["inner_tube_net_pressure_MPa"] = dP_net
@@ -444,7 +523,9 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         "inner_tube": (pi * (rio**2 - ri**2) * L_in - v_slots) * rho_h,
         "bulkhead": (pi * ri**2 * t_bh + (a_fo - a_fb) * L_top) * rho_h,
         "collar": A_ann * t_col * rho_h,  # the plate above the top clamp (the clamp itself is counted nowhere, as before)
-        "piston": pi * ri**2 * f.piston_height_mm * rho_h,
+        # the piston with a pocket in its material (fixed.rod_material); without one as before (the housing's
+        # density: the published masses are unchanged; docs/layout.md)
+        "piston": (pi * ri**2 * f.piston_height_mm - V_pk) * (rho_r if pocket else rho_h),
         "rod": pi / 4 * f.rod_diameter_mm**2 * g["rod_length_mm"] * rho_r,
         "bladder": 2 * pi * g["bladder_mid_radius_mm"] * f.bladder_thickness_mm * (L + 2 * f.bladder_clamp_mm)
         * DENSITY_SILICONE_g_per_mm3,
@@ -531,6 +612,7 @@ class Design:
         if not self.chamber1_length_mm > 0:
             raise DesignError(f"V1_mm3 ({self.V1_mm3:g}) must exceed fixed.dead_volume_1_mm3 ({f.dead_volume_1_mm3:g})"
                               + (" plus the fill tube's bore" if lay.has_bulkhead else "")
+                              + (f" plus the piston pocket ({self.piston_pocket_volume_mm3:.0f} mm³)" if f.piston_pocket else "")
                               + (" plus V1_annulus_mm3" if lay.has_top_annulus else ""))
         if self.V2_mm3 <= self.displaced_volume_mm3:
             raise DesignError(
@@ -596,6 +678,26 @@ class Design:
     def bulkhead_mm(self) -> float:
         """Bulkhead web, sized (>= fixed.min_bulkhead_mm); 0 without a bulkhead, mm."""
         return self._g["bulkhead_mm"]
+
+    @property
+    def piston_floor_mm(self) -> float:
+        """Floor of the piston pocket, sized (>= fixed.min_piston_floor_mm); the piston height without a pocket, mm."""
+        return self._g["piston_floor_mm"]
+
+    @property
+    def piston_pocket_radius_mm(self) -> float:
+        """Radius of the chamber-1 pocket in the piston crown (0 without one), mm."""
+        return self._g["piston_pocket_radius_mm"]
+
+    @property
+    def piston_pocket_depth_mm(self) -> float:
+        """Depth of the piston pocket from the piston's top face (0 without one), mm."""
+        return self._g["piston_pocket_depth_mm"]
+
+    @property
+    def piston_pocket_volume_mm3(self) -> float:
+        """Chamber-1 gas in the piston pocket (part of V1; 0 without one), mm³."""
+        return self._g["piston_pocket_volume_mm3"]
 
     @property
     def collar_mm(self) -> float:
@@ -790,8 +892,9 @@ class Design:
         top clamp over the annulus), the bladder's silicone, the fluid inside
         the bladder at x = 0 split into the ``bladder_min_gap_mm`` layer on the
         inner tube and the rest (the room the inward bulge at x = 0 needs, plus
-        any slack), and the gas: chamber 1 (``V1``: the bore above the piston and,
-        in ``annulus_top``, the annulus above the collar) and chamber 2 (``V2``,
+        any slack), and the gas: chamber 1 (``V1``: the bore above the piston,
+        in ``annulus_top`` the annulus above the collar, with ``fixed.piston_pocket``
+        the pocket in the piston crown) and chamber 2 (``V2``,
         above the bulkhead and in the annulus).
 
         Parameters
@@ -823,7 +926,7 @@ class Design:
             "wall_bulkhead": (A1 - a_fb) * self.bulkhead_mm,
             "wall_fill_tube": (a_fo - a_fb) * self.top_space_length_mm,
             "wall_collar": pi * (rb**2 - rio**2) * self.collar_mm,
-            "piston": A1 * f.piston_height_mm,
+            "piston": A1 * f.piston_height_mm - self.piston_pocket_volume_mm3,
             "rod_in_fluid_column": a_rod * self.fluid_column_mm,
             "fluid_swept_by_stroke": (A1 - a_rod) * f.travel_mm,
             "fluid_clearance_under_piston": (A1 - a_rod) * clearance,
@@ -831,8 +934,9 @@ class Design:
             "bladder_silicone": pi * (self.bladder_outer_radius_mm**2 - self.bladder_inner_radius_mm**2) * L,
             "bladder_fluid_min_gap": gap,
             "bladder_fluid_bulge_room": fluid_x0 - gap,
-            "gas_chamber_1": self.V1_mm3 - self.V1_annulus_mm3,
+            "gas_chamber_1": self.V1_mm3 - self.V1_annulus_mm3 - self.piston_pocket_volume_mm3,
             "gas_chamber_1_annulus": self.V1_annulus_mm3,
+            "gas_chamber_1_piston_pocket": self.piston_pocket_volume_mm3,
             "gas_chamber_2_above_bulkhead": self.V2_top_mm3,
             "gas_chamber_2_annulus": self.V2_mm3 - self.V2_top_mm3,
             "unused_length": pi * ro**2 * (H - self.housing_length_mm),
@@ -886,7 +990,7 @@ class Design:
 
     def walls_mm(self) -> dict[str, float]:
         """The sized wall thicknesses, mm (the bulkhead only in the ``bulkhead`` layout, the collar plate only
-        in ``annulus_top``).
+        in ``annulus_top``, the piston pocket's floor only with ``fixed.piston_pocket``).
 
         Returns
         -------
@@ -899,6 +1003,8 @@ class Design:
             out["bulkhead"] = self.bulkhead_mm
         if self.variant.has_top_annulus:
             out["collar"] = self.collar_mm
+        if self.fixed.piston_pocket:
+            out["piston_floor"] = self.piston_floor_mm
         return out
 
     def wall_stresses_MPa(self) -> dict[str, float]:
@@ -916,6 +1022,9 @@ class Design:
         * ``collar`` (``annulus_top`` only): the annular plate between the
           chambers above the top bladder clamp, cantilevered from the inner
           tube, the same pressure, ``6 M / t^2`` (:func:`derive`).
+        * ``piston_floor`` (``fixed.piston_pocket`` only): the pocket's floor,
+          an annular plate from the rod to the pocket wall, the same pressure,
+          the larger of ``6 M / t^2`` at the rod and Tresca's ``2 x 1.5 Q / t``.
 
         Returns
         -------
@@ -947,18 +1056,14 @@ class Design:
         dict of str to float
             Wall name -> thickness, mm, ignoring the manufacturable minimums (inf: no wall carries it).
         """
-        f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor,
-                                                              min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6,
-                                                              min_top_cap_mm=1e-6, min_base_mm=1e-6,
-                                                              min_bulkhead_mm=1e-6, min_collar_mm=1e-6)
-        if safety_factor is None:
-            f = replace(f, min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6, min_top_cap_mm=1e-6,
-                        min_base_mm=1e-6, min_bulkhead_mm=1e-6, min_collar_mm=1e-6)
+        f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor)
+        f = replace(f, min_outer_wall_mm=1e-6, min_inner_tube_wall_mm=1e-6, min_top_cap_mm=1e-6,
+                    min_base_mm=1e-6, min_bulkhead_mm=1e-6, min_collar_mm=1e-6, min_piston_floor_mm=1e-6)
         g = derive(self.piston_diameter_mm, self.outer_diameter_mm, self.V1_mm3, self.V2_mm3, self.V2_top_mm3,
                    self.p2_MPa, self.setpoint_x0_mm, f, self.variant.has_bulkhead,
                    V1_annulus_mm3=self.V1_annulus_mm3, top_annulus=self.variant.has_top_annulus)
         keys = {"outer_tube": "outer_wall_mm", "inner_tube": "inner_tube_wall_mm", "top_cap": "top_cap_mm",
-                "base": "base_mm", "bulkhead": "bulkhead_mm", "collar": "collar_mm"}
+                "base": "base_mm", "bulkhead": "bulkhead_mm", "collar": "collar_mm", "piston_floor": "piston_floor_mm"}
         return {w: (float(g[keys[w]]) if np.isfinite(g[keys[w]]) else math.inf) for w in self.walls_mm()}
 
     # ------------------------------------------------------------------- mass
@@ -1000,7 +1105,8 @@ class Design:
         -------
         dict
             ``layout`` and the derived radii, lengths (mm), wall thicknesses (mm) and volumes (mm³); the
-            layout's own quantities (``V2_top_mm3`` ..., ``V1_annulus_mm3`` ...) in its layout only.
+            layout's own quantities (``V2_top_mm3`` ..., ``V1_annulus_mm3`` ...) in its layout only, the piston
+            pocket's (``piston_pocket_volume_mm3`` ...) with ``fixed.piston_pocket`` only.
         """
         out = {
             "layout": self.layout,
@@ -1027,4 +1133,8 @@ class Design:
         if self.variant.has_top_annulus:
             out.update(V1_annulus_mm3=self.V1_annulus_mm3, top_annulus_length_mm=self.top_annulus_length_mm,
                        collar_mm=self.collar_mm)
+        if self.fixed.piston_pocket:
+            out.update(piston_pocket_radius_mm=self.piston_pocket_radius_mm,
+                       piston_pocket_depth_mm=self.piston_pocket_depth_mm,
+                       piston_pocket_volume_mm3=self.piston_pocket_volume_mm3, piston_floor_mm=self.piston_floor_mm)
         return out

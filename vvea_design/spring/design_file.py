@@ -64,7 +64,8 @@ DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm
 #: Parameters and fixed fields added after format_version 1 was first written: optional (their defaults are
 #: the layouts that do not use them), so older files still load.
 OPTIONAL_PARAMETER_KEYS = ("V1_annulus_mm3",)
-OPTIONAL_FIXED_KEYS = ("min_collar_mm", "cross_slot_mm", "cross_slot_fraction")
+OPTIONAL_FIXED_KEYS = ("min_collar_mm", "cross_slot_mm", "cross_slot_fraction", "piston_pocket", "piston_pocket_wall_mm",
+                       "min_piston_floor_mm")
 #: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
 TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
                   "constraint_details", "spec", "optimiser")

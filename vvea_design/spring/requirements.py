@@ -559,7 +559,7 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
     }
     if get_layout(layout).has_top_annulus:
         d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
-    for wall in _walls(layout):
+    for wall in _walls(layout, req.fixed):
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
         d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
@@ -573,8 +573,9 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
     return d
 
 
-def _walls(layout: str) -> tuple[str, ...]:
-    return get_layout(layout).walls
+def _walls(layout: str, fixed=None) -> tuple[str, ...]:
+    """The pressure walls of a layout, plus the piston pocket's floor when ``fixed.piston_pocket``."""
+    return get_layout(layout).walls + (("piston_floor",) if fixed is not None and fixed.piston_pocket else ())
 
 
 def evaluate_design(design: Design, req: Requirements, bladder_strain: float | None = None) -> Evaluation:
@@ -753,7 +754,7 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     if search:
         names.remove("charge_p2")
     else:
-        names += [f"wall_safety_{w}" for w in _walls(layout)]
+        names += [f"wall_safety_{w}" for w in _walls(layout, req.fixed)]
     if req.max_mass_g is not None:
         names.append("mass")
     if req.max_linearity_adiabatic is not None:
