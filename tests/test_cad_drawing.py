@@ -178,3 +178,12 @@ def test_annulus_top_drawings_dimension_the_collar():
     assert not any("clamp" in d.label() for d in specs["housing_top_cap"].dims)
     assert any("Chamber-2 fill port" in n for n in specs["housing_base"].notes)
     assert any("slots" in n for n in specs["housing_inner_tube"].notes)
+    # the collar's static seal: its groove on the inner-tube sheet (anchored on the outline above), its ring
+    # noted there and in the bill of materials
+    seal = m.layout.collar_seal
+    assert any(f"O-ring {seal.oring.code}" in lead.text for lead in specs["housing_inner_tube"].leaders)
+    assert any("static seal, O-ring" in n and seal.oring.name in n for n in specs["housing_inner_tube"].notes)
+    from vvea_design.report.bom import bill_of_materials
+
+    lines = [ln for ln in bill_of_materials(m).lines if ln.part == "oring_collar"]
+    assert len(lines) == 1 and lines[0].quantity == 1 and lines[0].size == seal.oring.name

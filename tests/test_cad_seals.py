@@ -108,3 +108,33 @@ def test_cad_rod_groove_matches_the_oring():
     assert (z0, z1) == pytest.approx(lay.z_rod_seal, abs=1e-6)
     assert z1 - z0 == pytest.approx(g.width_mm, abs=1e-6)
     assert 0.0 <= g.sliding_diameter_mm / g.oring.inner_diameter_mm - 1 <= 0.05
+
+
+def test_cad_collar_groove_matches_its_oring_and_is_checked():
+    """annulus_top: the collar's static seal to the outer bore is a groove in its rim, centred in the collar
+    plate, with the ring stretched 0-5 % and squeezed inside the gland window; a collar too short for it
+    (fixed.min_collar_mm) is a clear CadError; the other layouts have no collar seal."""
+    from dataclasses import replace
+
+    assert Layout(DESIGNS["reference"]).collar_seal is None
+    d = DESIGNS["annulus_top_short"]
+    lay = Layout(d)
+    g = lay.collar_seal
+    assert g.kind == "collar" and g.sliding_diameter_mm == pytest.approx(2 * lay.r_bore)
+    assert 0.0 <= g.stretch <= 0.05 and 0.15 - 1e-9 <= g.squeeze <= 0.25 + 1e-9
+    assert g.to_dict()["kind"] == "collar"
+    h = housing(lay)
+    cyl = [c for c in _cyl_radii(h, lay.z_free1, lay.z_collar1 + 0.01)
+           if abs(2 * c[0] - g.groove_diameter_mm) < 1e-6]
+    assert len(cyl) == 1
+    _, z0, z1 = cyl[0]
+    assert (z0, z1) == pytest.approx(lay.z_collar_seal, abs=1e-6)
+    assert z0 >= lay.z_collar1 - d.collar_mm + 0.75 - 1e-9 and z1 <= lay.z_collar1 - 0.75 + 1e-9
+    # at a 1 MPa charge the pressure alone would allow a 2.85 mm collar: too short for the 2.41 mm groove
+    short = replace(d, p2_MPa=1.0, fixed=replace(d.fixed, min_collar_mm=1.0))
+    assert short.collar_mm < g.width_mm + 1.5
+    with pytest.raises(CadError, match="fixed.min_collar_mm"):
+        Layout(short)
+    assert Layout(replace(d, p2_MPa=1.0)).design.collar_mm == pytest.approx(4.0)  # the default minimum holds it
+    # the design's own minimum leaves the groove room at any pressure
+    assert d.fixed.min_collar_mm >= g.width_mm + 1.5

@@ -13,11 +13,14 @@ change a volume or an area the optimiser saw. All lengths in mm.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design, DesignError
 from .seals import Gland, SealError, piston_gland, rod_gland
+
+#: Axial land on each side of the collar's seal groove (annulus_top), mm.
+COLLAR_SEAL_LAND_MM = 0.75
 
 __all__ = ["CadParameters", "Layout", "CadError"]
 
@@ -172,6 +175,26 @@ class Layout:
             return rod_gland(self.design.fixed.rod_diameter_mm, self.cad.oring_cross_section_mm)
         except SealError as exc:
             raise CadError(f"fixed.rod_diameter_mm: {exc}") from None
+
+    @cached_property
+    def collar_seal(self) -> Gland | None:
+        """Static seal of the ``annulus_top`` collar to the outer-tube bore (it separates chamber 1's annulus
+        from chamber 2): a male gland in the collar plate's rim, sized by the piston's (dynamic) gland rules,
+        conservative for a static seal; ``None`` in the other layouts."""
+        if not self.has_top_annulus:
+            return None
+        try:
+            g = piston_gland(2 * self.r_bore, self.cad.oring_cross_section_mm)
+        except SealError as exc:
+            raise CadError(f"outer_diameter_mm (the collar's seal to the Ø{2 * self.r_bore:.2f} mm bore): {exc}") \
+                from None
+        return replace(g, kind="collar")
+
+    @property
+    def z_collar_seal(self) -> tuple[float, float]:
+        """Axial extent of the collar's seal groove, centred in the collar plate (``annulus_top``), mm."""
+        zc, w = self.z_collar1 - 0.5 * self.design.collar_mm, self.collar_seal.width_mm
+        return zc - 0.5 * w, zc + 0.5 * w
 
     @property
     def z_rod_seal(self) -> tuple[float, float]:
@@ -429,6 +452,13 @@ class Layout:
         if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
             raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) has no room "
                            f"for the rod seal groove below the valve bores")
+        if self.has_top_annulus:
+            need = self.collar_seal.width_mm + 2 * COLLAR_SEAL_LAND_MM
+            if self.design.collar_mm < need - 1e-9:
+                raise CadError(f"the collar plate ({self.design.collar_mm:g} mm; fixed.min_collar_mm = "
+                               f"{f.min_collar_mm:g}) cannot hold its static seal to the outer bore: the groove "
+                               f"for O-ring {self.collar_seal.oring.name} is {self.collar_seal.width_mm:g} mm wide "
+                               f"and needs {COLLAR_SEAL_LAND_MM:g} mm lands, so >= {need:g} mm")
         if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
             raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
                            f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")

@@ -86,6 +86,8 @@ def housing(lay: Layout) -> Solid:
         # chamber 1 only through the top cap; chamber 2 through the base (see below); the slots join the annulus
         ports = [(lay.r_port1, z1 - 0.01)]
         tools.extend(cross_slots(lay, lay.r_piston - 0.01, lay.r_inner_tube + 0.01, 0.01))
+        # the collar's static O-ring groove in its rim (chamber 1's annulus above, chamber 2 below)
+        tools.append(ring(lay.collar_seal.groove_diameter_mm / 2, lay.r_bore, *lay.z_collar_seal))
         tools.append(cylinder(lay.fill_port_d / 2, -1.0, z0 + 0.01, y=lay.r_port2))
         cb = c.fill_port_counterbore_mm / 2
         if lay.r_port2 + cb < lay.r_outer - 0.8:

@@ -160,6 +160,7 @@ def _inner_tube_mm3(lay: Layout) -> float:
         v -= math.pi * (ro**2 - ri**2) * (lay.z_bladder1 - lay.z_free1)
         v -= math.pi * ((ro + e) ** 2 - ro**2 + ri**2 - (ri - e) ** 2) * lb
         v -= lay.design.cross_slot_volume_mm3
+        v -= math.pi * (lay.r_bore**2 - (lay.collar_seal.groove_diameter_mm / 2) ** 2) * lay.collar_seal.width_mm
     return v
 
 

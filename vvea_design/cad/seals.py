@@ -89,7 +89,8 @@ class ORing:
 class Gland:
     """A seal groove and its O-ring (mm): where it sits and how much the ring is squeezed."""
 
-    kind: str  #: "piston" (groove in the piston) or "rod" (groove in the housing bore)
+    kind: str  #: "piston" (groove in the piston), "rod" (groove in the housing bore) or "collar" (static, in the
+    #: annulus_top collar's rim against the outer-tube bore: the piston's male gland rules)
     oring: ORing
     depth_mm: float  #: radial groove depth (from the sliding diameter)
     width_mm: float  #: axial groove width
@@ -99,7 +100,7 @@ class Gland:
     @property
     def stretch(self) -> float:
         """Installed inner-diameter stretch of the ring (fraction)."""
-        seat = self.groove_diameter_mm if self.kind == "piston" else self.sliding_diameter_mm
+        seat = self.groove_diameter_mm if self.kind in ("piston", "collar") else self.sliding_diameter_mm
         return seat / self.oring.inner_diameter_mm - 1.0
 
     @property
@@ -118,7 +119,7 @@ class Gland:
         Returns
         -------
         dict
-            JSON-ready: ``kind`` (``"piston"`` or ``"rod"``), ``oring`` (:meth:`ORing.to_dict`),
+            JSON-ready: ``kind`` (``"piston"``, ``"rod"`` or ``"collar"``), ``oring`` (:meth:`ORing.to_dict`),
             ``depth_mm``, ``width_mm``, ``sliding_diameter_mm``, ``groove_diameter_mm`` (mm) and the
             fractions ``stretch``, ``squeeze`` and ``fill``.
         """

@@ -168,7 +168,10 @@ def bill_of_materials(model: CadModel, silicone: str = "dragon-skin-20") -> Bill
         add(part=part.name, description=part.title, category=mat.process, material=name, standard="", size="",
             quantity=1, unit_volume_mm3=vol, unit_mass_g=vol * mat.density_g_per_mm3, in_unit=True,
             file=f"{part.name}.step", note=note)
-    for gland, qty, where in ((lay.piston_seal, 2, "piston seal"), (lay.rod_seal, 1, "rod seal (base)")):
+    glands = [(lay.piston_seal, 2, "piston seal"), (lay.rod_seal, 1, "rod seal (base)")]
+    if lay.collar_seal is not None:
+        glands.append((lay.collar_seal, 1, "collar to outer-tube bore (static)"))
+    for gland, qty, where in glands:
         o = gland.oring
         add(part=f"oring_{gland.kind}", description=f"O-ring, {where}", category="seal",
             material="NBR 70 Shore A (or FKM)", standard="ISO 3601-1 class A / AS568", size=o.name, quantity=qty,

@@ -396,12 +396,17 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
         leaders = [Leader((ri - 0.5 * d.inner_tube_wall_mm, 0.5 * (z0 + lay.z_free1)),
                           f"wall {d.inner_tube_wall_mm:.2f}; bore Ra 0.4"),
                    Leader((0.5 * (ri + R), zcol - 0.5), f"collar plate {d.collar_mm:.2f} over the bladder clamp"),
+                   Leader((lay.collar_seal.groove_diameter_mm / 2 - 0.2, 0.5 * sum(lay.z_collar_seal)),
+                          f"groove root Ø{lay.collar_seal.groove_diameter_mm:.2f} h9 "
+                          f"(O-ring {lay.collar_seal.oring.code})"),
                    Leader((-(lay.r_bladder_out + 0.1), lay.z_free1 + 0.5 * lay.cuff),
                           "bladder cuff groove (fits the cast bladder)", "left")]
         notes += [_general_notes(model)[1],
                   f"Top end: {c.cross_slots} slots {math.degrees(lay.slot_angle_rad):.1f}° wide x "
                   f"{lay.slot_height:.2f} deep, centred at 45° + k·{360 / c.cross_slots:g}° (chamber 1: bore to annulus).",
-                  "Collar to outer-tube bore: static seal (not drawn)."]
+                  f"Collar to outer-tube bore: static seal, O-ring {lay.collar_seal.oring.name}; groove "
+                  f"Ø{lay.collar_seal.groove_diameter_mm:.2f} h9 x {lay.collar_seal.width_mm:.2f} +0.1 "
+                  f"(squeeze {100 * lay.collar_seal.squeeze:.0f} %)."]
     elif name == "housing_inner_tube":
         dims = [Dim("z", (-R, z0), (-R, z1), "left"),
                 Dim("u", (-R, z1), (R, z1), "top", f"Ø{2 * R:.2f}"),

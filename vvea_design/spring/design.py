@@ -145,7 +145,9 @@ class FixedParameters:
     min_bulkhead_mm: float = 4.0  #: thinnest bulkhead web (``bulkhead`` layout: a web left when boring the inner tube)
     fill_tube_outer_mm: float = 4.0  #: chamber-1 fill tube through the upper chamber-2 space (``bulkhead`` layout)
     fill_tube_bore_mm: float = 1.5  #: its bore (counted in V1)
-    min_collar_mm: float = 2.0  #: thinnest collar plate above the top bladder clamp (``annulus_top`` layout)
+    #: thinnest collar plate above the top bladder clamp (``annulus_top`` layout): it holds the static O-ring
+    #: groove to the outer bore (1.78 mm series: 2.41 mm wide, 0.75 mm lands; the CAD checks it)
+    min_collar_mm: float = 4.0
     cross_slot_mm: float = 2.0  #: axial height of the slots in the inner tube's top end joining the chamber-1 annulus to the bore (``annulus_top``)
     cross_slot_fraction: float = 1 / 3  #: share of the inner tube's circumference the slots take (their gas is in V1)
     wall_safety_factor: float = 2.0  #: walls are sized to this safety factor on yield (the requirements set it)
