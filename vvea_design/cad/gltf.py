@@ -9,7 +9,9 @@
 
 glTF is metres and +Y up: the CAD's mm are scaled by 1e-3 and its +Z axis
 turned to +Y. The meshes are the export tessellation (STL), so the view is
-what the files hold; the bytes depend on the design only.
+what the files hold; the bytes depend on the design only (vertex normals are
+rounded to 1e-6, so the float noise of their averaging, which differs between
+trimesh/numpy releases, does not reach the file).
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ __all__ = ["glb_bytes", "assembly_scene", "mould_scene", "GLB_TO_METRES"]
 
 #: mm -> m and CAD +Z up -> glTF +Y up.
 GLB_TO_METRES = np.array([[1e-3, 0, 0, 0], [0, 0, 1e-3, 0], [0, -1e-3, 0, 0], [0, 0, 0, 1]], dtype=float)
+#: Decimals the vertex normals keep (byte-stable GLB across trimesh/numpy releases).
+NORMAL_DECIMALS = 6
 
 
 def _material(rgb, alpha: float = 1.0):
@@ -54,6 +58,10 @@ def _scene(nodes: list[tuple[str, trimesh.Trimesh, tuple, float]]) -> trimesh.Sc
                             process=False)
         m.apply_transform(GLB_TO_METRES)
         m.visual = trimesh.visual.TextureVisuals(material=_material(rgb, alpha))
+        # Vertex normals rounded to 1e-6 (and -0.0 made 0.0): the averaging leaves float noise
+        # (~1e-16 where a component is zero) that differs between trimesh/numpy releases, and
+        # the file's bytes should depend on the design only.
+        m.vertex_normals = np.round(np.asarray(m.vertex_normals, dtype=np.float64), NORMAL_DECIMALS) + 0.0
         scene.add_geometry(m, node_name=name, geom_name=name)
     return scene
 
@@ -123,4 +131,6 @@ def glb_bytes(scene: trimesh.Scene) -> bytes:
     bytes
         GLB bytes (deterministic for a given scene).
     """
-    return trimesh.exchange.gltf.export_glb(scene, include_normals=True)
+    # unitize_normals=False: the normals are unit and rounded already (_scene); trimesh >= 5
+    # re-normalises by default, which would bring the float noise back.
+    return trimesh.exchange.gltf.export_glb(scene, include_normals=True, unitize_normals=False)
