@@ -21,8 +21,11 @@ solved once more on the fine one (:func:`_polish_on_fine_mesh`).
 
 from __future__ import annotations
 
+import contextlib
 import json
+import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,6 +45,7 @@ __all__ = [
     "solve_case",
     "solve_case_results",
     "solve_single",
+    "keep_results",
 ]
 
 #: Collocation mesh used by the studies (chosen by ``studies/mesh_convergence.py``).
@@ -365,10 +369,36 @@ def _pick(cand: dict[str, OcpResult]) -> OcpResult | None:
     return cand[lab] if lab else None
 
 
+_KEPT = threading.local()  # per thread: where solve_case also puts its best results (keep_results)
+
+
+@contextlib.contextmanager
+def keep_results() -> Iterator[list]:
+    """Inside the block, :func:`solve_case` (in this thread) also hands over its best results.
+
+    The sweep uses it to draw its trajectory figure from the worker's own solution instead of
+    solving that case once more; :func:`solve_case`'s return value is unchanged.
+
+    Yields
+    ------
+    list
+        Gets ``(case, best)`` for every case that :func:`solve_case` solved without an error inside
+        the block, in call order; ``best`` maps setting names to their OcpResult (or None).
+    """
+    kept: list = []
+    previous = getattr(_KEPT, "sink", None)
+    _KEPT.sink = kept
+    try:
+        yield kept
+    finally:
+        _KEPT.sink = previous
+
+
 def solve_case(case: RestToRestCase) -> list[dict]:
     """Work function of the sweep: rows for one (A, T) case; never raises.
 
     Any exception becomes rows with ``status = "error: ..."`` and no result.
+    Inside :func:`keep_results` the best results are handed over too.
 
     Parameters
     ----------
@@ -382,7 +412,10 @@ def solve_case(case: RestToRestCase) -> list[dict]:
     """
     t0 = time.perf_counter()
     try:
-        rows, _ = solve_case_results(case)
+        rows, best = solve_case_results(case)
+        sink = getattr(_KEPT, "sink", None)
+        if sink is not None:
+            sink.append((case, best))
         return rows
     except Exception as exc:  # noqa: BLE001 - a sweep must never stop on one case
         msg = f"error: {type(exc).__name__}: {exc}".splitlines()[0][:200]

@@ -23,7 +23,7 @@ from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
 from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
-                         RestToRestCase, solve_case, solve_case_results)
+                         RestToRestCase, keep_results, solve_case, solve_case_results)
 from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import table5_statistics
 
@@ -95,6 +95,17 @@ GRIDS: dict[str, Grid] = {
     "coarse": Grid((0.2, 0.6, 1.0), (0.4, 1.0, 1.6)),
 }
 
+
+
+def _sweep_item(item: tuple[RestToRestCase, bool]) -> tuple[list[dict], dict | None]:
+    """Work function of :func:`run_rest_to_rest`: :func:`solve_case`'s rows, plus the best results
+    (by setting name) when the flag asks for them (the case of the trajectory figure), else ``None``."""
+    case, keep = item
+    if not keep:
+        return solve_case(case), None
+    with keep_results() as kept:
+        rows = solve_case(case)
+    return rows, next((best for c, best in kept if c is case), None)
 
 
 # -- results file: case-by-case, resumable -----------------------------------------------------------
@@ -252,17 +263,26 @@ def run_rest_to_rest(
     todo = [c for c in cases if c.case_id not in done]
     if done:
         console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}", soft_wrap=True)
+    # the case of the trajectory figure (Fig. 12-like): the worker that solves it hands its best results back,
+    # so the figure needs no second solve of it (only when it was solved in an earlier run)
+    Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
+    Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
+    ex_case = RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation)
+    ex_best: list[dict] = []
 
     fh = res_path.open("a", newline="")
     wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
 
-    def on_result(i: int, rows: list[dict]) -> None:
+    def on_result(i: int, res: tuple[list[dict], dict | None]) -> None:
+        rows, best = res
         wr.writerows(rows)
         fh.flush()
+        if best is not None:
+            ex_best.append(best)
 
     t0 = time.perf_counter()
     try:
-        parallel_map(solve_case, todo, workers=workers, scheduler=scheduler,
+        parallel_map(_sweep_item, [(c, figures and c == ex_case) for c in todo], workers=workers, scheduler=scheduler,
                      description=f"rest-to-rest {grid_name} ({len(settings)} settings/case)",
                      on_result=on_result, progress=progress)
     finally:
@@ -289,10 +309,7 @@ def run_rest_to_rest(
             names_set = set(df["setting"])
             ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping),
                                                         settings[0].name)
-            Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
-            Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
-            _, best = solve_case_results(RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh,
-                                                        regularisation))
+            best = ex_best[0] if ex_best else solve_case_results(ex_case)[1]
             plot_trajectory(best, Aex, Tex, highlight=ex).savefig(tmps[2], dpi=130)
     return summary
 
