@@ -426,6 +426,21 @@ def solve_case(case: RestToRestCase) -> list[dict]:
 
 
 
+def _sweep_item(item: tuple) -> tuple[list[dict], dict | None]:
+    """Work function of :func:`~vvea_design.actuator.rest_to_rest.run_rest_to_rest`.
+
+    ``item = (solve, case, keep)``: ``solve`` is the sweep's :func:`solve_case` (passed along, so a
+    worker imports this light module only, not the sweep's figures and statistics). Returns its rows,
+    plus the best results by setting name when ``keep`` (the case of the trajectory figure), else ``None``.
+    """
+    solve, case, keep = item
+    if not keep:
+        return solve(case), None
+    with keep_results() as kept:
+        rows = solve(case)
+    return rows, next((best for c, best in kept if c is case), None)
+
+
 def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
     """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks).
 

@@ -23,7 +23,7 @@ from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
 from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
-                         RestToRestCase, keep_results, solve_case, solve_case_results)
+                         RestToRestCase, _sweep_item, solve_case, solve_case_results)
 from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import table5_statistics
 
@@ -95,17 +95,6 @@ GRIDS: dict[str, Grid] = {
     "coarse": Grid((0.2, 0.6, 1.0), (0.4, 1.0, 1.6)),
 }
 
-
-
-def _sweep_item(item: tuple[RestToRestCase, bool]) -> tuple[list[dict], dict | None]:
-    """Work function of :func:`run_rest_to_rest`: :func:`solve_case`'s rows, plus the best results
-    (by setting name) when the flag asks for them (the case of the trajectory figure), else ``None``."""
-    case, keep = item
-    if not keep:
-        return solve_case(case), None
-    with keep_results() as kept:
-        rows = solve_case(case)
-    return rows, next((best for c, best in kept if c is case), None)
 
 
 # -- results file: case-by-case, resumable -----------------------------------------------------------
@@ -282,7 +271,8 @@ def run_rest_to_rest(
 
     t0 = time.perf_counter()
     try:
-        parallel_map(_sweep_item, [(c, figures and c == ex_case) for c in todo], workers=workers, scheduler=scheduler,
+        parallel_map(_sweep_item, [(solve_case, c, figures and c == ex_case) for c in todo], workers=workers,
+                     scheduler=scheduler,
                      description=f"rest-to-rest {grid_name} ({len(settings)} settings/case)",
                      on_result=on_result, progress=progress)
     finally:
