@@ -171,8 +171,9 @@ SMALL_SAFETY_MESH = Mesh(30, 3, grading=0.8)
 def small_study(tmp_path_factory):
     out = tmp_path_factory.mktemp("design_study")
     calls = []
+    # 16 intervals: the same cases verify (one left out, SEA at T = 1 s) and compare as at 24
     study = run_design_study(PAPER_FIG5, out_dir=out, workers=1, grid=Grid((0.3,), (0.6, 1.0)),
-                             mesh=Mesh(24, 3), safety_mesh=SMALL_SAFETY_MESH,
+                             mesh=Mesh(16, 3), safety_mesh=SMALL_SAFETY_MESH,
                              progress=lambda i, n, m: calls.append((i, n, m)))
     return study, out, calls
 
@@ -195,7 +196,7 @@ def test_design_study_typed_result_and_files(small_study):
         assert f is not None and f.stat().st_size > 20_000
     df = pd.read_csv(study.files.results_csv)
     assert len(df) == 8
-    # at 24 intervals some trajectories do not verify (the mesh is coarse); they are counted and left out
+    # at 16 intervals some trajectories do not verify (the mesh is coarse); they are counted and left out
     assert study.n_left_out == int((df.success & ~df.verified).sum())
     for c in study.comparisons:
         both = [A for A in (0.6, 1.0) if all(x.usable for x in study.cases if x.T_s == A and x.setting in ("design", c.other))]

@@ -139,7 +139,9 @@ def test_solver_failure_is_a_status_not_an_exception():
 
 
 def test_torque_step_properties():
-    ts = TorqueStepSolver(Mesh(100, 3))
+    # 30 intervals clustered at both ends (as the design study's small safety mesh): every property below
+    # holds with margin (final torques within 0.41 and 0.11 N m of 50 N m)
+    ts = TorqueStepSolver(Mesh(30, 3, grading=0.8))
     base = PAPER_SETTINGS["VVEA"].with_(M_kgm2=1e4)
     fixed = base.with_(D_min_Nms_per_rad=50.0, D_max_Nms_per_rad=50.0)
     rf = ts.solve(fixed, 50.0)
