@@ -80,13 +80,20 @@ def test_constraints_hold(solver):
     assert r.q_rad[0] == 0 and r.theta_rad[0] == 0 and r.dq_rad_s[0] == 0
 
 
-def test_sea_solution_is_exactly_an_ivvea_candidate(solver):
-    """SEA ⊂ iVVEA: the SEA optimum evaluated as iVVEA has the same objective on the same mesh."""
+@pytest.fixture(scope="module")
+def sea_then_ivvea(solver):
+    """At A = 0.6 rad, T = 0.8 s: the SEA optimum and the iVVEA optimum started from it (two tests use both)."""
     A, T = 0.6, 0.8
     sea = solver.solve(PAPER_SETTINGS["SEA"], A, T)
+    return sea, solver.solve(PAPER_SETTINGS["iVVEA"], A, T, w0=solver.guess_from(sea, PAPER_SETTINGS["iVVEA"], A, T))
+
+
+def test_sea_solution_is_exactly_an_ivvea_candidate(solver, sea_then_ivvea):
+    """SEA ⊂ iVVEA: the SEA optimum evaluated as iVVEA has the same objective on the same mesh."""
+    A, T = 0.6, 0.8
+    sea, r = sea_then_ivvea
     cand = solver.evaluate_as(sea, PAPER_SETTINGS["iVVEA"], A, T)
     assert cand.objective == pytest.approx(sea.objective, rel=1e-12)
-    r = solver.solve(PAPER_SETTINGS["iVVEA"], A, T, w0=solver.guess_from(sea, PAPER_SETTINGS["iVVEA"], A, T))
     assert r.success
     assert min(r.objective, cand.objective) <= sea.objective
 
@@ -160,10 +167,10 @@ def test_torque_step_properties():
     assert rhi.extra["t95_s"] < rf.extra["t95_s"]
 
 
-def test_interpolation_onto_a_finer_mesh_reproduces_the_trajectory(solver, fine_solver):
+def test_interpolation_onto_a_finer_mesh_reproduces_the_trajectory(solver, fine_solver, sea_then_ivvea):
     """A coarse (N = 32) optimum carried onto N = 48 keeps its trajectory and objective."""
     act, A, T = PAPER_SETTINGS["iVVEA"], 0.6, 0.8
-    r = solver.solve(act, A, T, w0=solver.guess_from(solver.solve(PAPER_SETTINGS["SEA"], A, T), act, A, T))
+    r = sea_then_ivvea[1]  # iVVEA on N = 32, started from the SEA optimum
     assert r.success
     w = fine_solver.guess_from_other_mesh(r, act, A, T)
     rf = fine_solver.evaluate_as(r, act, A, T)  # same path (resampling), as an OcpResult

@@ -29,6 +29,24 @@ def _app():
     return make_app(register)
 
 
+ONE = Grid((0.4,), (0.8,))
+
+
+@pytest.fixture(scope="module")
+def one_case_run(tmp_path_factory):
+    """One finished single-case sweep (small mesh, no figures): (folder, summary); tests work on copies."""
+    out = tmp_path_factory.mktemp("one_case")
+    summary = run_rest_to_rest(out, grid=ONE, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
+    return out, summary
+
+
+def _copy_run(run, dest):
+    import shutil
+
+    shutil.copytree(run[0], dest, dirs_exist_ok=True)
+    return run[1]
+
+
 @pytest.fixture(scope="module")
 def coarse_run(tmp_path_factory):
     """The coarse grid through the CLI on two local processes (small mesh: 16 intervals, as the other sweeps
@@ -70,8 +88,10 @@ def test_validity_follows_the_95_percent_rule(coarse_run):
     assert (ok.valid == expect).all()
 
 
-def test_every_start_is_recorded_and_the_winner_is_the_best():
-    rows = solve_case(RestToRestCase(0.6, 0.8, SETTINGS, SMALL_MESH))
+def test_every_start_is_recorded_and_the_winner_is_the_best(one_case_run):
+    # solve_case's rows as the sweep wrote them (one case, 16 intervals, every start)
+    rows = pd.read_csv(one_case_run[0] / "results.csv").to_dict("records")
+    assert len(rows) == len(SETTINGS)
     for r in rows:
         objs = json.loads(r["start_objectives"])
         if r["setting"] in ("VVEA", "iVVEA"):
@@ -125,24 +145,6 @@ def test_resume_after_an_interrupted_sweep(tmp_path, monkeypatch):
     assert df.case_id.nunique() == 3 and len(df) == 3 * len(SETTINGS)
     kept = df[df.case_id == first.case_id.iloc[0]].reset_index(drop=True)
     pd.testing.assert_frame_equal(kept[RESULT_COLUMNS], first[RESULT_COLUMNS])  # not recomputed
-
-
-ONE = Grid((0.4,), (0.8,))
-
-
-@pytest.fixture(scope="module")
-def one_case_run(tmp_path_factory):
-    """One finished single-case sweep (small mesh, no figures): (folder, summary); tests work on copies."""
-    out = tmp_path_factory.mktemp("one_case")
-    summary = run_rest_to_rest(out, grid=ONE, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
-    return out, summary
-
-
-def _copy_run(run, dest):
-    import shutil
-
-    shutil.copytree(run[0], dest, dirs_exist_ok=True)
-    return run[1]
 
 
 def test_resume_refuses_a_different_sweep(tmp_path, one_case_run):
@@ -228,6 +230,8 @@ def test_paper_grid_guarantee(tmp_path):
 
 
 FINE = Mesh(32, 3)
+#: two cases (both amplitudes of TINY at its longer period): every row property below holds on each
+TWO_LEVEL = Grid((0.3, 0.9), (1.2,))
 
 
 @pytest.fixture(scope="module")
@@ -235,7 +239,7 @@ def two_level_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("two_level")
     # in this process (the pool is covered by the coarse grid and the Dask test): the solvers of both
     # meshes stay in this process's cache for the tests below
-    summary = run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False,
+    summary = run_rest_to_rest(out, grid=TWO_LEVEL, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False,
                                figures=False)
     return out, summary
 
@@ -243,7 +247,7 @@ def two_level_run(tmp_path_factory):
 def test_two_level_rows_come_from_the_fine_mesh(two_level_run):
     out, summary = two_level_run
     df = pd.read_csv(out / "results.csv")
-    assert len(df) == len(TINY.cases()) * len(SETTINGS) and df.success.all()
+    assert len(df) == len(TWO_LEVEL.cases()) * len(SETTINGS) and df.success.all()
     assert (df.mesh_N == FINE.n_intervals).all() and (df.coarse_mesh_N == SMALL_MESH.n_intervals).all()
     assert summary["run"]["fine_mesh"]["n_intervals"] == FINE.n_intervals
     # constant damping: the fine-mesh QP; variable damping: the fine QP at D_min or the polish
@@ -274,13 +278,13 @@ def test_two_level_resume_checks_the_fine_mesh(tmp_path, two_level_run):
     assert meta["fine_mesh"]["n_intervals"] == FINE.n_intervals
     before = pd.read_csv(out / "results.csv")
     # the same command resumes (nothing to solve, rows unchanged)
-    s2 = run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False, figures=False)
+    s2 = run_rest_to_rest(out, grid=TWO_LEVEL, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False, figures=False)
     assert s2["run"]["cases_solved_this_run"] == 0
     pd.testing.assert_frame_equal(pd.read_csv(out / "results.csv")[RESULT_COLUMNS], before[RESULT_COLUMNS])
     # another fine mesh, or none, is a different sweep
     for fm in (Mesh(24, 3), None):
         with pytest.raises(ValueError, match="different sweep"):
-            run_rest_to_rest(out, grid=TINY, mesh=SMALL_MESH, fine_mesh=fm, workers=1, progress=False,
+            run_rest_to_rest(out, grid=TWO_LEVEL, mesh=SMALL_MESH, fine_mesh=fm, workers=1, progress=False,
                              figures=False)
 
 
