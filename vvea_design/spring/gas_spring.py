@@ -298,6 +298,9 @@ class LinearityResult:
 
 
 def _pow(r, n):
+    # linearity_exact passes the float 1.0 when every exponent is 1, else the exponents (pow(r, 1) = r exactly)
+    if type(n) is float:
+        return r if n == 1.0 else r**n
     return r if np.all(n == 1.0) else r**n
 
 
@@ -343,8 +346,9 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         where it lies (mm), force span (N), signed deviations at the ends and interior extrema (N);
         each of the broadcast shape of the inputs, ``nan`` where a chamber bottoms out or T <= 0.
     """
-    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (A1, A2, V1, V2, p1, p2, travel_mm, n)))
-    shape = arrs[0].shape
+    arrs = [np.asarray(v, dtype=float) for v in (A1, A2, V1, V2, p1, p2, travel_mm, n)]
+    shape = np.broadcast_shapes(*(v.shape for v in arrs))
+    arrs = [v if v.shape == shape else np.broadcast_to(v, shape) for v in arrs]  # np.broadcast_arrays' views
     A1, A2, V1, V2, p1, p2, T, n = (v.reshape(-1, 1) for v in arrs)
     ok = (V2 - A2 * T > 0) & (V1 > 0) & (T > 0) & np.isfinite(p1) & np.isfinite(p2)
     V2 = np.where(ok, V2, A2 * T * 2 + 1.0)  # keep the arithmetic finite; masked to nan below
@@ -386,17 +390,19 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         a, c = xg[di, ii], xg[di, ii + 1]
         ga, gc = g[di, ii], g[di, ii + 1]
         x = a - ga * (c - a) / (gc - ga)
-        for _ in range(_NEWTON_STEPS):
-            P1, P2, w1, w2 = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
-            gx = ns * (a2 * a2 * P2 / w2 + a1 * a1 * P1 / w1) - kk
-            d2 = ns * (ns + 1) * (a2**3 * P2 / w2**2 - a1**3 * P1 / w1**2)
-            left = np.sign(gx) == np.sign(ga)
-            a = np.where(left, x, a)
-            c = np.where(left, c, x)
-            with np.errstate(divide="ignore", invalid="ignore"):
+        # loop invariants hoisted (the same operations on the same values: bit-identical)
+        a2a2, a1a1, a2c, a1c, nn1, sga = a2 * a2, a1 * a1, a2**3, a1**3, ns * (ns + 1), np.sign(ga)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for _ in range(_NEWTON_STEPS):
+                P1, P2, w1, w2 = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
+                gx = ns * (a2a2 * P2 / w2 + a1a1 * P1 / w1) - kk
+                d2 = nn1 * (a2c * P2 / w2**2 - a1c * P1 / w1**2)
+                left = np.sign(gx) == sga
+                a = np.where(left, x, a)
+                c = np.where(left, c, x)
                 xn = x - gx / d2
-            bad = ~np.isfinite(xn) | (xn <= a) | (xn >= c)
-            x = np.where(bad, 0.5 * (a + c), xn)
+                bad = ~np.isfinite(xn) | (xn <= a) | (xn >= c)
+                x = np.where(bad, 0.5 * (a + c), xn)
         P1, P2, _, _ = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
         sr = a2 * P2 - a1 * P1 - (kk * x + bb)
         np.maximum.at(int_max, di, sr)

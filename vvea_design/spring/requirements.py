@@ -710,7 +710,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
                 lim = req.max_linearity_adiabatic
                 rows.append((lim - e) / lim if i < 4 else (lim + e) / lim)
             else:
-                rows.append(np.broadcast_to(_margin(details[k]), (S,)))
+                m = _margin(details[k])
+                rows.append(m if np.shape(m) == (S,) else np.broadcast_to(m, (S,)))
         margins = np.array(rows, dtype=float)
     ok = g["buildable"] & np.all(np.isfinite(margins), axis=0) & np.isfinite(perf["objective"])
     obj = np.where(ok, perf["objective"], 1.0)
@@ -766,7 +767,12 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
 
 def _margin(d: dict):
     v, lim = d["value"], d["limit"]
-    scale = d.get("scale", np.where(np.asarray(lim) != 0, np.abs(lim), 1.0))
+    scale = d.get("scale")
+    if scale is None:
+        if isinstance(lim, (float, int)):  # a scalar limit (float64 arithmetic either way: the same values)
+            scale = float(abs(lim)) if lim != 0 else 1.0
+        else:
+            scale = np.where(np.asarray(lim) != 0, np.abs(lim), 1.0)
     if d["kind"] == "max":
         return (lim - v) / scale
     return (v - lim) / scale
