@@ -250,26 +250,54 @@ class _Population:
         self.req, self.layout, self.strain_fn = req, layout, strain_fn
         self.count = 0
         self._key: bytes | None = None
+        self._count_key: bytes | None = None
         self._val = None
         self._eval = self._evaluate
+        self._objmemo: dict[bytes, float] | None = None
         if strain_fn is None or req.max_bladder_strain is None:
             self._eval = _RowMemo(self._evaluate)
+        else:  # the objective (the linearity) does not involve the surrogate: only it is remembered
+            self._objmemo = {}
 
     def _evaluate(self, XS: np.ndarray):
         obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
+        if self._objmemo is not None:
+            self._objmemo.update(zip([row.tobytes() for row in XS], obj))
         return obj, mar, ext
+
+    def _remembered_objective(self, X):
+        """The objective of designs all evaluated before (with a strain surrogate), else None."""
+        X = np.asarray(X, dtype=float)
+        key = X.tobytes()
+        if self._objmemo is None or key == self._key:
+            return None
+        XS = X.T if X.ndim == 2 else X[None, :]
+        try:
+            obj = np.array([self._objmemo[row.tobytes()] for row in XS], dtype=float)
+        except KeyError:
+            return None
+        self._counted(key, XS.shape[0])
+        return obj
+
+    def _counted(self, key: bytes, n: int) -> None:
+        # the count of designs asked for, as when every call evaluated all of them unless it repeated the last call
+        if key != self._count_key:
+            self.count += n
+            self._count_key = key
 
     def __call__(self, X, extremes: bool = False):
         X = np.asarray(X, dtype=float)
         key = X.tobytes()
+        XS = X.T if X.ndim == 2 else X[None, :]
+        self._counted(key, XS.shape[0])
         if key != self._key:
-            XS = X.T if X.ndim == 2 else X[None, :]
-            self.count += XS.shape[0]
             self._key, self._val = key, self._eval(XS)
         return self._val if extremes else self._val[:2]
 
     def objective(self, X):
-        obj = self(X)[0]
+        obj = self._remembered_objective(X)
+        if obj is None:
+            obj = self(X)[0]
         return obj if np.asarray(X).ndim == 2 else float(obj[0])
 
     def constraints(self, X):
