@@ -21,6 +21,7 @@ and 2-D linearity maps over any two decision variables.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, replace
 from typing import Callable, Literal
@@ -223,15 +224,14 @@ class _RowMemo:
             idx = list(new.values())
             out = self.fn(XS[idx] if len(idx) < len(keys) else XS)
             self.shapes = tuple(np.shape(o)[:-1] for o in out)
+            self.widths = tuple(math.prod(sh) for sh in self.shapes)
             stacked = np.vstack([np.reshape(o, (-1, len(idx))) for o in out]).T  # copies: the same values
             memo.update(zip(new, stacked))
         if self.shapes is None:  # nothing evaluated yet and an empty population: let fn say its shapes
             return self.fn(XS)
-        width = sum(int(np.prod(sh)) for sh in self.shapes)
-        rows = np.array([memo[k] for k in keys], dtype=float).reshape(len(keys), width)
+        rows = np.array([memo[k] for k in keys], dtype=float).reshape(len(keys), sum(self.widths))
         res, at = [], 0
-        for sh in self.shapes:
-            m = int(np.prod(sh))
+        for sh, m in zip(self.shapes, self.widths):
             block = rows[:, at:at + m]
             res.append(block.T.reshape(sh + (len(keys),)) if sh else block[:, 0].copy())
             at += m
