@@ -603,6 +603,8 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
                 return f * population_strain(g, cols)
             return f * np.exp(k * (np.asarray(cols["bladder_cast_fill"]) - x_fill)) * population_strain(g, cols)
 
+        corrected.reads_bladder_geometry_only = True
+
         p2 = _Population(req, layout, corrected)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
         prob.count += p2.count

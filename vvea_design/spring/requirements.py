@@ -536,8 +536,9 @@ def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[st
 
 
 def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout: str,
-             strain=None) -> dict[str, dict]:
-    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``)."""
+             strain=None, search: bool = False) -> dict[str, dict]:
+    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``); with ``search``
+    not the wall safety factors (not searched: the sized walls meet them whenever ``wall_capacity`` does)."""
     p1, p2 = g["p1_MPa"], design_values["p2_MPa"]
     with np.errstate(divide="ignore", invalid="ignore"):
         scale_to_max = req.max_charge_MPa / np.maximum(p2, p1)
@@ -559,7 +560,7 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
     }
     if get_layout(layout).has_top_annulus:
         d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
-    for wall in _walls(layout, req.fixed):
+    for wall in () if search else _walls(layout, req.fixed):
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
         d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
@@ -692,16 +693,21 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     cols = {name: X[:, i] for i, name in enumerate(req.decision_variables(layout))}
     S = X.shape[0]
     p2 = np.full(S, req.max_charge_MPa)
+    # the walls' stresses (and the masses without a mass limit) are not searched: not derived, unless a strain
+    # function that may read them is used (the surrogate declares it reads only the bladder's geometry)
+    strained = strain_fn is not None and req.max_bladder_strain is not None
+    lean = not strained or getattr(strain_fn, "reads_bladder_geometry_only", False)
     with np.errstate(all="ignore"):
         g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                    cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
                    cast_fill=cols.get("bladder_cast_fill"), V1_annulus_mm3=cols.get("V1_annulus_mm3", np.zeros(S)),
-                   top_annulus=lay.has_top_annulus)
+                   top_annulus=lay.has_top_annulus, stresses=not lean, masses=not lean or req.max_mass_g is not None)
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
         details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
-                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)))
+                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)),
+                           search=lean)
         rows = []
         for k in constraint_names(req, layout, search=True):
             if k.startswith("linearity_adiabatic["):  # smooth pieces of max |deviation| <= limit (no kinks)

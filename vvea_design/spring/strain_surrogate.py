@@ -132,6 +132,9 @@ def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
     return np.where(ok & np.isfinite(s), s, np.inf)
 
 
+population_strain.reads_bladder_geometry_only = True  # evaluate_population may leave out the walls' stresses
+
+
 def design_strain(design) -> float:
     """Surrogate strain bound of one design.
 
