@@ -356,22 +356,20 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
     p2 = np.where(ok, p2, 1.0)
     nn = n if np.any(n != 1.0) else 1.0
 
-    def F(x, A1=A1, A2=A2, V1=V1, V2=V2, p1=p1, p2=p2, n=nn):
-        P1, P2, _, _ = _terms(x, A1, A2, V1, V2, p1, p2, n)
-        return A2 * P2 - A1 * P1
-
-    def dF(x, A1=A1, A2=A2, V1=V1, V2=V2, p1=p1, p2=p2, n=nn):
-        P1, P2, v1, v2 = _terms(x, A1, A2, V1, V2, p1, p2, n)
-        return n * (A2 * A2 * P2 / v2 + A1 * A1 * P1 / v1)
-
     xq = 0.5 * T * (_GL_U + 1.0)
     w = 0.5 * T * _GL_W
-    Fq = F(xq)
+    xg = T * _GRID
+    # F = A2 P2 - A1 P1 at the quadrature points, the grid, T and 0, and F' on the grid, from one evaluation of
+    # the chamber terms (elementwise: the same values as one evaluation per set of points)
+    nq, ng = xq.shape[1], xg.shape[1]
+    P1a, P2a, v1a, v2a = _terms(np.concatenate([xq, xg, T, np.zeros_like(T)], axis=1), A1, A2, V1, V2, p1, p2, nn)
+    Fall = A2 * P2a - A1 * P1a
+    Fq, Fg = Fall[:, :nq], Fall[:, nq:nq + ng]
+    gs = slice(nq, nq + ng)
+    dFg = nn * (A2 * A2 * P2a[:, gs] / v2a[:, gs] + A1 * A1 * P1a[:, gs] / v1a[:, gs])
     xm = 0.5 * T
     k = (w * (xq - xm) * Fq).sum(axis=-1, keepdims=True) / (T**3 / 12.0)
     b = (w * Fq).sum(axis=-1, keepdims=True) / T - k * xm
-    xg = T * _GRID
-    Fg = F(xg)
     sdev = Fg - (k * xg + b)
     int_max = sdev[:, 1:-1].max(axis=-1)
     int_min = sdev[:, 1:-1].min(axis=-1)
@@ -380,7 +378,7 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
     rows = np.arange(dev.shape[0])
     devmax, xmax = dev[rows, i], xg[rows, i]
     # refine every bracketed root of F' = k (the interior extrema of the deviation)
-    g = dF(xg) - k
+    g = dFg - k
     di, ii = np.nonzero(np.sign(g[:, :-1]) * np.sign(g[:, 1:]) < 0)
     if di.size:
         sel = [v[di, 0] if v.shape[0] > 1 else np.broadcast_to(v[0, 0], di.shape) for v in
@@ -416,7 +414,7 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         upd = better > devmax
         devmax = np.where(upd, better, devmax)
         xmax = np.where(upd, xr, xmax)
-    span = (F(T) - F(np.zeros_like(T)))[:, 0]
+    span = Fall[:, -2] - Fall[:, -1]  # F(T) - F(0)
     with np.errstate(divide="ignore", invalid="ignore"):
         lin = devmax / span
     bad = ~ok[:, 0]
