@@ -259,9 +259,9 @@ class _Population:
         else:  # the objective (the linearity) does not involve the surrogate: only it is remembered
             self._objmemo = {}
 
-    def _evaluate(self, XS: np.ndarray):
+    def _evaluate(self, XS: np.ndarray, remember: bool = True):
         obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
-        if self._objmemo is not None:
+        if remember and self._objmemo is not None:
             self._objmemo.update(zip([row.tobytes() for row in XS], obj))
         return obj, mar, ext
 
@@ -285,13 +285,16 @@ class _Population:
             self.count += n
             self._count_key = key
 
-    def __call__(self, X, extremes: bool = False):
+    def __call__(self, X, extremes: bool = False, remember: bool = True):
+        """Objective ``(S,)``, margins ``(M, S)`` (and the extremes) of the designs ``X`` ``(N, S)`` or ``(N,)``;
+        ``remember=False``: designs unlikely to be asked for again (the polish's gradient points) are evaluated
+        without being remembered (the same values)."""
         X = np.asarray(X, dtype=float)
         key = X.tobytes()
         XS = X.T if X.ndim == 2 else X[None, :]
         self._counted(key, XS.shape[0])
         if key != self._key:
-            self._key, self._val = key, self._eval(XS)
+            self._key, self._val = key, (self._eval(XS) if remember else self._evaluate(XS, remember=False))
         return self._val if extremes else self._val[:2]
 
     def objective(self, X):
@@ -506,7 +509,7 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
             step = np.where(z + h <= 1.0, h, -h)
             Z = np.vstack([z, z + np.diag(step)])
             if epi:
-                obj, mar, ext = prob(unscale(Z).T, extremes=True)
+                obj, mar, ext = prob(unscale(Z).T, extremes=True, remember=False)
                 cons = np.vstack([mar, ext, -ext])  # margins >= 0; t - ext >= 0; t + ext >= 0 (t added below)
             else:
                 obj, mar = prob(unscale(Z).T)
