@@ -82,10 +82,15 @@ def test_map_command(design_json, tmp_path):
 
 
 def test_pareto_command(tmp_path):
-    res = runner.invoke(app, ["pareto", "--axis", "outer_diameter", "--values", "55", "--out", str(tmp_path)])
+    # one layout (--spec): the command's sweep, files and errors are the point (choosing layouts: test_optimise)
+    spec = tmp_path / "one_layout.toml"
+    spec.write_text('layouts = ["bulkhead"]\n')
+    res = runner.invoke(app, ["pareto", "--axis", "outer_diameter", "--values", "55", "--spec", str(spec),
+                              "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
     rows = (tmp_path / "pareto_outer_diameter.csv").read_text().splitlines()
     assert len(rows) == 2 and "linearity_error" in rows[0]
+    assert "bulkhead" in rows[1]
     assert (tmp_path / "pareto_outer_diameter.png").exists()
     bad = runner.invoke(app, ["pareto", "--axis", "colour", "--values", "1"])
     assert bad.exit_code == 2 and "--axis must be one of" in bad.output

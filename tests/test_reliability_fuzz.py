@@ -180,13 +180,23 @@ def test_bom_is_read(tmp_path):
 # design files: random edits of a valid design JSON
 # ---------------------------------------------------------------------------
 
-def _valid_design() -> dict:
+@functools.lru_cache(maxsize=1)
+def _valid_design_json() -> str:
+    import json
+
     from vvea_design.spring.design import Design
     from vvea_design.spring.design_file import design_to_dict
     from vvea_design.spring.requirements import evaluate_design
 
     req = Requirements()
-    return design_to_dict(evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req)
+    return json.dumps(design_to_dict(evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req))
+
+
+def _valid_design() -> dict:
+    """A fresh copy of one valid design's JSON content (evaluated once per session, edited per example)."""
+    import json
+
+    return json.loads(_valid_design_json())
 
 
 _SECTIONS = ("parameters", "fixed", "spec", None)

@@ -502,11 +502,37 @@ def strain_bound(design, material: str | Silicone = DEFAULT_MATERIAL, *,
     n = max(int(n_elements), 8)
     try:
         sleeve = _design_sleeve(design)
+    except BladderError:
+        return math.inf
+    key = _strain_key(sleeve, material, n)
+    if key is not None and key in _STRAIN_BOUNDS:
+        return _STRAIN_BOUNDS[key]
+    try:
         fine = check_membrane(**sleeve, material=material, criterion=1.0, n_elements=n).strain_bound
         coarse = check_membrane(**sleeve, material=material, criterion=1.0, n_elements=n // 2).strain_bound
     except BladderError:
-        return math.inf
-    return SURROGATE_FACTOR * max(fine + (fine - coarse) / 3.0, fine)
+        value = math.inf
+    else:
+        value = SURROGATE_FACTOR * max(fine + (fine - coarse) / 3.0, fine)
+    if key is not None:
+        if len(_STRAIN_BOUNDS) >= 512:  # bounded: forget the oldest
+            del _STRAIN_BOUNDS[next(iter(_STRAIN_BOUNDS))]
+        _STRAIN_BOUNDS[key] = value
+    return value
+
+
+#: strain_bound's values by sleeve, material and mesh (a pure function of them: the same sleeve is not solved
+#: again, e.g. the optimiser's final check and a caller's check of the returned design)
+_STRAIN_BOUNDS: dict = {}
+
+
+def _strain_key(sleeve: dict, material, n: int):
+    key = tuple((k, tuple(sorted(v.items())) if isinstance(v, dict) else v) for k, v in sorted(sleeve.items()))
+    try:
+        hash(material)
+    except TypeError:
+        return None
+    return key, material, n
 
 
 # -------------------------------------------------------------------- report

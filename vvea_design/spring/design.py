@@ -285,7 +285,7 @@ def piston_floor_moment(piston_radius_mm, pocket_radius_mm, rod_radius_mm, poiss
 
 def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2_MPa, setpoint_x0_mm,
            fixed: FixedParameters, bulkhead: bool, cast_fill=None, V1_annulus_mm3=0.0,
-           top_annulus: bool = False) -> dict[str, np.ndarray]:
+           top_annulus: bool = False, stresses: bool = True, masses: bool = True) -> dict[str, np.ndarray]:
     """Every derived quantity of a design, from its decision variables (arrays broadcast).
 
     The single source of the geometry, strength and mass formulas: :class:`Design`
@@ -351,6 +351,10 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         Chamber-1 gas in the annulus above the collar, mm³ (``annulus_top`` only; part of ``V1_mm3``).
     top_annulus : bool
         The ``annulus_top`` layout.
+    stresses, masses : bool
+        Also the drawn walls' stresses, safety factors and the inner tube's buckling pressure
+        (``stress_*``, ``safety_*``, ``inner_tube_*``), and the masses (``mass_*``); the optimiser's
+        search leaves out what its constraints do not read (every other value is the same).
 
     Returns
     -------
@@ -494,6 +498,25 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         fluid_cast = pi * np.maximum(r_bi**2 - rio**2, 0.0) * L
         g["bladder_fluid_volume_cast_mm3"] = fluid_cast
         g["fluid_volume_mm3"] = A2 * fluid_col + fluid_cast + dv_c
+    if stresses:
+        _stresses(g, P2_peak, ro, rb, rio, ri, t_cap, t_base, t_bh, t_col, t_fl, t_i, kp, dP_bulkhead, dP_net,
+                  m_collar, k_floor, q_floor, b_rod, has_pk, kb, mat, mat_p, bulkhead, top_annulus, pocket)
+    if masses:
+        _masses(g, f, mat, ro, rb, rio, ri, t_cap, t_base, t_bh, t_col, L_in, L_top, L, a_fo, a_fb, v_slots, V_pk,
+                A_ann, pocket)
+    # what cannot be drawn at all (Design raises DesignError for these)
+    g["buildable"] = ((dp > f.rod_diameter_mm) & (g["annulus_gap_mm"] > f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm)
+                      & (L1 > 0) & (V2 > disp) & (cast_gas > 0) & (L > 0) & (Vt >= 0) & (V2_ann > 0)
+                      & (Va >= 0) & np.isfinite(p1))
+    # annulus_top: the cross slots below the top cap need room in the annulus and above the piston at x = 0
+    g["cross_slot_room_mm"] = (np.fmin(L_a, L1) - (f.cross_slot_mm + 1.0)) if top_annulus else np.full_like(L1, np.inf)
+    return g
+
+
+def _stresses(g, P2_peak, ro, rb, rio, ri, t_cap, t_base, t_bh, t_col, t_fl, t_i, kp, dP_bulkhead, dP_net,
+              m_collar, k_floor, q_floor, b_rod, has_pk, kb, mat, mat_p, bulkhead, top_annulus, pocket) -> None:
+    """Stresses and safety factors of the drawn walls, the inner tube's buckling pressure (into ``g``)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
         # stresses of the drawn walls (their safety factors are reported)
         st = {
             "outer_tube": P2_peak * (ro**2 + rb**2) / (ro**2 - rb**2),
@@ -515,7 +538,13 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
         g["inner_tube_buckling_MPa"] = p_cr
         g["inner_tube_net_pressure_MPa"] = dP_net
         g["safety_inner_tube"] = np.fmin(g["safety_inner_tube"], np.where(dP_net > 0, p_cr / dP_net, np.inf))
-    # mass
+
+
+def _masses(g, f, mat, ro, rb, rio, ri, t_cap, t_base, t_bh, t_col, L_in, L_top, L, a_fo, a_fb, v_slots, V_pk,
+            A_ann, pocket) -> None:
+    """The parts' masses and their sum, g (into ``g``)."""
+    pi = math.pi
+    L1 = g["chamber1_length_mm"]
     rho_h = mat.density_g_per_mm3
     rho_r = get_material(f.rod_material).density_g_per_mm3
     rho_s = get_material(f.support_ring_material).density_g_per_mm3
@@ -538,13 +567,6 @@ def derive(piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, V2_top_mm3, p2
     for k_, v in m.items():
         g[f"mass_{k_}_g"] = v
     g["mass_g"] = sum(m.values())
-    # what cannot be drawn at all (Design raises DesignError for these)
-    g["buildable"] = ((dp > f.rod_diameter_mm) & (g["annulus_gap_mm"] > f.bladder_thickness_mm + 2 * f.bladder_min_gap_mm)
-                      & (L1 > 0) & (V2 > disp) & (cast_gas > 0) & (L > 0) & (Vt >= 0) & (V2_ann > 0)
-                      & (Va >= 0) & np.isfinite(p1))
-    # annulus_top: the cross slots below the top cap need room in the annulus and above the piston at x = 0
-    g["cross_slot_room_mm"] = (np.fmin(L_a, L1) - (f.cross_slot_mm + 1.0)) if top_annulus else np.full_like(L1, np.inf)
-    return g
 
 
 @dataclass(frozen=True)

@@ -298,6 +298,9 @@ class LinearityResult:
 
 
 def _pow(r, n):
+    # linearity_exact passes the float 1.0 when every exponent is 1, else the exponents (pow(r, 1) = r exactly)
+    if type(n) is float:
+        return r if n == 1.0 else r**n
     return r if np.all(n == 1.0) else r**n
 
 
@@ -343,8 +346,9 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         where it lies (mm), force span (N), signed deviations at the ends and interior extrema (N);
         each of the broadcast shape of the inputs, ``nan`` where a chamber bottoms out or T <= 0.
     """
-    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (A1, A2, V1, V2, p1, p2, travel_mm, n)))
-    shape = arrs[0].shape
+    arrs = [np.asarray(v, dtype=float) for v in (A1, A2, V1, V2, p1, p2, travel_mm, n)]
+    shape = np.broadcast_shapes(*(v.shape for v in arrs))
+    arrs = [v if v.shape == shape else np.broadcast_to(v, shape) for v in arrs]  # np.broadcast_arrays' views
     A1, A2, V1, V2, p1, p2, T, n = (v.reshape(-1, 1) for v in arrs)
     ok = (V2 - A2 * T > 0) & (V1 > 0) & (T > 0) & np.isfinite(p1) & np.isfinite(p2)
     V2 = np.where(ok, V2, A2 * T * 2 + 1.0)  # keep the arithmetic finite; masked to nan below
@@ -352,22 +356,20 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
     p2 = np.where(ok, p2, 1.0)
     nn = n if np.any(n != 1.0) else 1.0
 
-    def F(x, A1=A1, A2=A2, V1=V1, V2=V2, p1=p1, p2=p2, n=nn):
-        P1, P2, _, _ = _terms(x, A1, A2, V1, V2, p1, p2, n)
-        return A2 * P2 - A1 * P1
-
-    def dF(x, A1=A1, A2=A2, V1=V1, V2=V2, p1=p1, p2=p2, n=nn):
-        P1, P2, v1, v2 = _terms(x, A1, A2, V1, V2, p1, p2, n)
-        return n * (A2 * A2 * P2 / v2 + A1 * A1 * P1 / v1)
-
     xq = 0.5 * T * (_GL_U + 1.0)
     w = 0.5 * T * _GL_W
-    Fq = F(xq)
+    xg = T * _GRID
+    # F = A2 P2 - A1 P1 at the quadrature points, the grid, T and 0, and F' on the grid, from one evaluation of
+    # the chamber terms (elementwise: the same values as one evaluation per set of points)
+    nq, ng = xq.shape[1], xg.shape[1]
+    P1a, P2a, v1a, v2a = _terms(np.concatenate([xq, xg, T, np.zeros_like(T)], axis=1), A1, A2, V1, V2, p1, p2, nn)
+    Fall = A2 * P2a - A1 * P1a
+    Fq, Fg = Fall[:, :nq], Fall[:, nq:nq + ng]
+    gs = slice(nq, nq + ng)
+    dFg = nn * (A2 * A2 * P2a[:, gs] / v2a[:, gs] + A1 * A1 * P1a[:, gs] / v1a[:, gs])
     xm = 0.5 * T
     k = (w * (xq - xm) * Fq).sum(axis=-1, keepdims=True) / (T**3 / 12.0)
     b = (w * Fq).sum(axis=-1, keepdims=True) / T - k * xm
-    xg = T * _GRID
-    Fg = F(xg)
     sdev = Fg - (k * xg + b)
     int_max = sdev[:, 1:-1].max(axis=-1)
     int_min = sdev[:, 1:-1].min(axis=-1)
@@ -376,7 +378,7 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
     rows = np.arange(dev.shape[0])
     devmax, xmax = dev[rows, i], xg[rows, i]
     # refine every bracketed root of F' = k (the interior extrema of the deviation)
-    g = dF(xg) - k
+    g = dFg - k
     di, ii = np.nonzero(np.sign(g[:, :-1]) * np.sign(g[:, 1:]) < 0)
     if di.size:
         sel = [v[di, 0] if v.shape[0] > 1 else np.broadcast_to(v[0, 0], di.shape) for v in
@@ -386,17 +388,19 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         a, c = xg[di, ii], xg[di, ii + 1]
         ga, gc = g[di, ii], g[di, ii + 1]
         x = a - ga * (c - a) / (gc - ga)
-        for _ in range(_NEWTON_STEPS):
-            P1, P2, w1, w2 = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
-            gx = ns * (a2 * a2 * P2 / w2 + a1 * a1 * P1 / w1) - kk
-            d2 = ns * (ns + 1) * (a2**3 * P2 / w2**2 - a1**3 * P1 / w1**2)
-            left = np.sign(gx) == np.sign(ga)
-            a = np.where(left, x, a)
-            c = np.where(left, c, x)
-            with np.errstate(divide="ignore", invalid="ignore"):
+        # loop invariants hoisted (the same operations on the same values: bit-identical)
+        a2a2, a1a1, a2c, a1c, nn1, sga = a2 * a2, a1 * a1, a2**3, a1**3, ns * (ns + 1), np.sign(ga)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for _ in range(_NEWTON_STEPS):
+                P1, P2, w1, w2 = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
+                gx = ns * (a2a2 * P2 / w2 + a1a1 * P1 / w1) - kk
+                d2 = nn1 * (a2c * P2 / w2**2 - a1c * P1 / w1**2)
+                left = np.sign(gx) == sga
+                a = np.where(left, x, a)
+                c = np.where(left, c, x)
                 xn = x - gx / d2
-            bad = ~np.isfinite(xn) | (xn <= a) | (xn >= c)
-            x = np.where(bad, 0.5 * (a + c), xn)
+                bad = ~np.isfinite(xn) | (xn <= a) | (xn >= c)
+                x = np.where(bad, 0.5 * (a + c), xn)
         P1, P2, _, _ = _terms(x, a1, a2, v1_, v2_, q1, q2, ns)
         sr = a2 * P2 - a1 * P1 - (kk * x + bb)
         np.maximum.at(int_max, di, sr)
@@ -410,7 +414,7 @@ def linearity_exact(A1, A2, V1, V2, p1, p2, travel_mm, n=1.0) -> LinearityResult
         upd = better > devmax
         devmax = np.where(upd, better, devmax)
         xmax = np.where(upd, xr, xmax)
-    span = (F(T) - F(np.zeros_like(T)))[:, 0]
+    span = Fall[:, -2] - Fall[:, -1]  # F(T) - F(0)
     with np.errstate(divide="ignore", invalid="ignore"):
         lin = devmax / span
     bad = ~ok[:, 0]

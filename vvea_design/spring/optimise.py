@@ -21,6 +21,7 @@ and 2-D linearity maps over any two decision variables.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, replace
 from typing import Callable, Literal
@@ -196,27 +197,110 @@ class OptimisationResult:
                 **self.evaluation.to_dict(), "optimiser": self.summary()}
 
 
+class _RowMemo:
+    """Results of a vectorised function of designs, remembered per design (by its decision vector's bytes).
+
+    ``fn(XS)`` maps designs ``(S, N)`` to a tuple of arrays whose last axis runs over the designs
+    (``(S,)`` or ``(M, S)``); only designs not seen before are passed to it. Differential evolution
+    asks for the constraints of a whole population and then for the objective of its feasible
+    members (and for the best member's constraints once per generation); the polish re-reads its
+    last point. Each design's values must not depend on which others share its call (true of the
+    elementwise formulas here, not of a matrix product whose rounding may change with the batch).
+    """
+
+    def __init__(self, fn):
+        self.fn = fn
+        self.memo: dict[bytes, np.ndarray] = {}  # design -> its values of every output, stacked
+        self.shapes: tuple | None = None  # leading shapes of the outputs
+
+    def __call__(self, XS: np.ndarray) -> tuple:
+        memo = self.memo
+        keys = [row.tobytes() for row in XS]
+        new: dict[bytes, int] = {}
+        for i, k in enumerate(keys):
+            if k not in memo and k not in new:
+                new[k] = i
+        if new:
+            idx = list(new.values())
+            out = self.fn(XS[idx] if len(idx) < len(keys) else XS)
+            self.shapes = tuple(np.shape(o)[:-1] for o in out)
+            self.widths = tuple(math.prod(sh) for sh in self.shapes)
+            stacked = np.vstack([np.reshape(o, (-1, len(idx))) for o in out]).T  # copies: the same values
+            memo.update(zip(new, stacked))
+        if self.shapes is None:  # nothing evaluated yet and an empty population: let fn say its shapes
+            return self.fn(XS)
+        rows = np.array([memo[k] for k in keys], dtype=float).reshape(len(keys), sum(self.widths))
+        res, at = [], 0
+        for sh, m in zip(self.shapes, self.widths):
+            block = rows[:, at:at + m]
+            res.append(block.T.reshape(sh + (len(keys),)) if sh else block[:, 0].copy())
+            at += m
+        return tuple(res)
+
+
 class _Population:
-    """Vectorised objective and constraints of one layout, sharing one evaluation per population."""
+    """Vectorised objective and constraints of one layout, sharing one evaluation per population.
+
+    Designs seen before are not evaluated again (:class:`_RowMemo`; not with a strain surrogate,
+    whose matrix product may round differently with the batch: those populations are evaluated as
+    asked). ``count`` counts every design asked for.
+    """
 
     def __init__(self, req: Requirements, layout: str, strain_fn=None):
         self.req, self.layout, self.strain_fn = req, layout, strain_fn
         self.count = 0
         self._key: bytes | None = None
+        self._count_key: bytes | None = None
         self._val = None
+        self._eval = self._evaluate
+        self._objmemo: dict[bytes, float] | None = None
+        if strain_fn is None or req.max_bladder_strain is None:
+            self._eval = _RowMemo(self._evaluate)
+        else:  # the objective (the linearity) does not involve the surrogate: only it is remembered
+            self._objmemo = {}
 
-    def __call__(self, X, extremes: bool = False):
+    def _evaluate(self, XS: np.ndarray, remember: bool = True):
+        obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
+        if remember and self._objmemo is not None:
+            self._objmemo.update(zip([row.tobytes() for row in XS], obj))
+        return obj, mar, ext
+
+    def _remembered_objective(self, X):
+        """The objective of designs all evaluated before (with a strain surrogate), else None."""
         X = np.asarray(X, dtype=float)
         key = X.tobytes()
+        if self._objmemo is None or key == self._key:
+            return None
+        XS = X.T if X.ndim == 2 else X[None, :]
+        try:
+            obj = np.array([self._objmemo[row.tobytes()] for row in XS], dtype=float)
+        except KeyError:
+            return None
+        self._counted(key, XS.shape[0])
+        return obj
+
+    def _counted(self, key: bytes, n: int) -> None:
+        # the count of designs asked for, as when every call evaluated all of them unless it repeated the last call
+        if key != self._count_key:
+            self.count += n
+            self._count_key = key
+
+    def __call__(self, X, extremes: bool = False, remember: bool = True):
+        """Objective ``(S,)``, margins ``(M, S)`` (and the extremes) of the designs ``X`` ``(N, S)`` or ``(N,)``;
+        ``remember=False``: designs unlikely to be asked for again (the polish's gradient points) are evaluated
+        without being remembered (the same values)."""
+        X = np.asarray(X, dtype=float)
+        key = X.tobytes()
+        XS = X.T if X.ndim == 2 else X[None, :]
+        self._counted(key, XS.shape[0])
         if key != self._key:
-            XS = X.T if X.ndim == 2 else X[None, :]
-            self.count += XS.shape[0]
-            obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
-            self._key, self._val = key, (obj, mar, ext)
+            self._key, self._val = key, (self._eval(XS) if remember else self._evaluate(XS, remember=False))
         return self._val if extremes else self._val[:2]
 
     def objective(self, X):
-        obj = self(X)[0]
+        obj = self._remembered_objective(X)
+        if obj is None:
+            obj = self(X)[0]
         return obj if np.asarray(X).ndim == 2 else float(obj[0])
 
     def constraints(self, X):
@@ -425,7 +509,7 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
             step = np.where(z + h <= 1.0, h, -h)
             Z = np.vstack([z, z + np.diag(step)])
             if epi:
-                obj, mar, ext = prob(unscale(Z).T, extremes=True)
+                obj, mar, ext = prob(unscale(Z).T, extremes=True, remember=False)
                 cons = np.vstack([mar, ext, -ext])  # margins >= 0; t - ext >= 0; t + ext >= 0 (t added below)
             else:
                 obj, mar = prob(unscale(Z).T)
@@ -521,6 +605,8 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
             if k == 0.0:
                 return f * population_strain(g, cols)
             return f * np.exp(k * (np.asarray(cols["bladder_cast_fill"]) - x_fill)) * population_strain(g, cols)
+
+        corrected.reads_bladder_geometry_only = True
 
         p2 = _Population(req, layout, corrected)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
@@ -854,10 +940,15 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
         bad = ~np.isfinite(obj) | ~np.all(np.isfinite(cons), axis=0)
         return np.where(bad, 1.0, obj), np.where(bad[None, :], -1.0, cons)
 
+    both_memo = _RowMemo(both)  # differential evolution asks for the objective of designs already evaluated
+
+    def both_m(X):
+        return both_memo(np.atleast_2d(X))
+
     bounds = [(100, 5000), (100, 5000), (1e3, min(total_gas_mm3, V1_max_mm3 or np.inf)),
               (1e3, min(total_gas_mm3, V2_max_mm3 or np.inf))]
-    r = differential_evolution(lambda X: both(X.T)[0], bounds,
-                               constraints=[NonlinearConstraint(lambda X: both(np.asarray(X).T)[1], 0, np.inf)],
+    r = differential_evolution(lambda X: both_m(X.T)[0], bounds,
+                               constraints=[NonlinearConstraint(lambda X: both_m(np.asarray(X).T)[1], 0, np.inf)],
                                seed=seed, popsize=20, maxiter=maxiter, tol=1e-8, polish=False, init="sobol",
                                vectorized=True, updating="deferred")
 
@@ -865,18 +956,18 @@ def gas_volume_bound(total_gas_mm3: float, req: Requirements | None = None, *, s
         count = 0
 
         def __call__(self, X):
-            o, c = both(np.asarray(X).T)
+            o, c = both_m(np.asarray(X).T)
             return o, c
 
         def objective(self, x):
-            return float(both(x)[0][0])
+            return float(both_m(x)[0][0])
 
         def constraints(self, x):
-            return both(x)[1][:, 0]
+            return both_m(x)[1][:, 0]
 
     x, _ = _polish(_P(), np.asarray(r.x, dtype=float), bounds)
     A1, A2, V1, V2 = (float(v) for v in x)
-    obj, cons = both(x)
+    obj, cons = both_m(x)
     return {"total_gas_mm3": float(total_gas_mm3), "linearity_error": float(obj[0]), "A1_mm2": A1, "A2_mm2": A2,
             "V1_mm3": V1, "V2_mm3": V2, "feasible": bool(np.all(cons >= -1e-6)),
             "objective_exponents": list(ns), "V1_max_mm3": V1_max_mm3, "V2_max_mm3": V2_max_mm3,
@@ -951,15 +1042,20 @@ def gas_capacity(req: Requirements | None = None, layout: str = "inner_tube", *,
     w1, w2 = {"total": (1.0, 1.0), "V1": (1.0, 0.0), "V2": (0.0, 1.0)}[maximise]
     scale = 1.0 / max(b[1] for b in bounds)
 
+    def cap_eval(XS):
+        _, mar, ok = evaluate_population(XS, r, layout, strain_fn)
+        return np.where(ok, -(w1 * XS[:, i1] + w2 * XS[:, i2]) * scale, 1.0), mar
+
+    if not strained:  # designs already evaluated are not again (the surrogate's matrix product: as before)
+        cap_eval = _RowMemo(cap_eval)
+
     class _Cap:
         count = 0
 
         def __call__(self, X):
             XS = np.atleast_2d(np.asarray(X).T)
-            _, mar, ok = evaluate_population(XS, r, layout, strain_fn)
             self.count += XS.shape[0]
-            obj = np.where(ok, -(w1 * XS[:, i1] + w2 * XS[:, i2]) * scale, 1.0)
-            return obj, mar
+            return cap_eval(XS)
 
         def objective(self, x):
             return float(self(np.asarray(x)[:, None])[0][0])

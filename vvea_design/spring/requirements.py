@@ -536,8 +536,9 @@ def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[st
 
 
 def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout: str,
-             strain=None) -> dict[str, dict]:
-    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``)."""
+             strain=None, search: bool = False) -> dict[str, dict]:
+    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``); with ``search``
+    not the wall safety factors (not searched: the sized walls meet them whenever ``wall_capacity`` does)."""
     p1, p2 = g["p1_MPa"], design_values["p2_MPa"]
     with np.errstate(divide="ignore", invalid="ignore"):
         scale_to_max = req.max_charge_MPa / np.maximum(p2, p1)
@@ -559,7 +560,7 @@ def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout
     }
     if get_layout(layout).has_top_annulus:
         d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
-    for wall in _walls(layout, req.fixed):
+    for wall in () if search else _walls(layout, req.fixed):
         d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
         d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
@@ -692,16 +693,21 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     cols = {name: X[:, i] for i, name in enumerate(req.decision_variables(layout))}
     S = X.shape[0]
     p2 = np.full(S, req.max_charge_MPa)
+    # the walls' stresses (and the masses without a mass limit) are not searched: not derived, unless a strain
+    # function that may read them is used (the surrogate declares it reads only the bladder's geometry)
+    strained = strain_fn is not None and req.max_bladder_strain is not None
+    lean = not strained or getattr(strain_fn, "reads_bladder_geometry_only", False)
     with np.errstate(all="ignore"):
         g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
                    cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
                    cast_fill=cols.get("bladder_cast_fill"), V1_annulus_mm3=cols.get("V1_annulus_mm3", np.zeros(S)),
-                   top_annulus=lay.has_top_annulus)
+                   top_annulus=lay.has_top_annulus, stresses=not lean, masses=not lean or req.max_mass_g is not None)
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
         strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
         details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
-                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)))
+                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)),
+                           search=lean)
         rows = []
         for k in constraint_names(req, layout, search=True):
             if k.startswith("linearity_adiabatic["):  # smooth pieces of max |deviation| <= limit (no kinks)
@@ -710,7 +716,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
                 lim = req.max_linearity_adiabatic
                 rows.append((lim - e) / lim if i < 4 else (lim + e) / lim)
             else:
-                rows.append(np.broadcast_to(_margin(details[k]), (S,)))
+                m = _margin(details[k])
+                rows.append(m if np.shape(m) == (S,) else np.broadcast_to(m, (S,)))
         margins = np.array(rows, dtype=float)
     ok = g["buildable"] & np.all(np.isfinite(margins), axis=0) & np.isfinite(perf["objective"])
     obj = np.where(ok, perf["objective"], 1.0)
@@ -766,7 +773,12 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
 
 def _margin(d: dict):
     v, lim = d["value"], d["limit"]
-    scale = d.get("scale", np.where(np.asarray(lim) != 0, np.abs(lim), 1.0))
+    scale = d.get("scale")
+    if scale is None:
+        if isinstance(lim, (float, int)):  # a scalar limit (float64 arithmetic either way: the same values)
+            scale = float(abs(lim)) if lim != 0 else 1.0
+        else:
+            scale = np.where(np.asarray(lim) != 0, np.abs(lim), 1.0)
     if d["kind"] == "max":
         return (lim - v) / scale
     return (v - lim) / scale

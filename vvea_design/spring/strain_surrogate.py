@@ -75,9 +75,17 @@ def poly_terms(Z: np.ndarray, degree: int) -> np.ndarray:
     """
     Z = np.atleast_2d(Z)
     cols = [np.ones(Z.shape[0])]
+    # each monomial is the one of degree d - 1 times one more column, in the order np.prod multiplies them
+    # (left to right): the same values as np.prod(Z[:, idx], axis=1), with one multiplication each
+    zc = [Z[:, j] for j in range(Z.shape[1])]
+    prev: dict[tuple, np.ndarray] = {(): None}
     for d in range(1, degree + 1):
+        cur: dict[tuple, np.ndarray] = {}
         for idx in combinations_with_replacement(range(Z.shape[1]), d):
-            cols.append(np.prod(Z[:, list(idx)], axis=1))
+            lower = prev[idx[:-1]]
+            cur[idx] = zc[idx[-1]].copy() if lower is None else lower * zc[idx[-1]]
+            cols.append(cur[idx])
+        prev = cur
     return np.stack(cols, axis=1)
 
 
@@ -122,6 +130,9 @@ def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         s = _predict(Z)
     return np.where(ok & np.isfinite(s), s, np.inf)
+
+
+population_strain.reads_bladder_geometry_only = True  # evaluate_population may leave out the walls' stresses
 
 
 def design_strain(design) -> float:
