@@ -31,7 +31,9 @@ def _tessellate(shape: Shape, tolerance: float, angular_tolerance: float) -> tup
         else:
             trsf = loc.Transformation()
             verts += [node(i).Transformed(trsf).Coord() for i in range(1, n + 1)]
-        t = np.array([tri.Get() for tri in poly.Triangles()], dtype=np.int64).reshape(-1, 3) + (offset - 1)
+        tri = poly.Triangle  # by index: iterating poly.Triangles() is ~5x slower in OCP
+        t = np.array([tri(i).Get() for i in range(1, poly.NbTriangles() + 1)], dtype=np.int64).reshape(-1, 3)
+        t += offset - 1
         if face.wrapped.Orientation() == TopAbs_Orientation.TopAbs_REVERSED:
             t = t[:, [0, 2, 1]]
         tris.append(t)
