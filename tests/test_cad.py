@@ -95,15 +95,23 @@ def test_registry_drives_build_and_files(built):
     assert set(model.parts) == {p.name for p in cadpkg.parts_in("assembly")}
 
 
-def test_every_step_file_carries_its_part_name(built):
-    """Read each STEP back (OCP/XCAF via build123d) and check its product name is the part's name."""
+@pytest.fixture(scope="module")
+def read_back(built):
+    """Every STEP file of ``built`` read back once (OCP/XCAF via build123d), by file name; the tests below
+    check names, volumes and the assembly's children on the same read."""
     from build123d import import_step
 
+    _, _, _, out, manifest = built
+    return {f: import_step(out / f) for f, i in manifest["files"].items() if i["kind"] == "step"}
+
+
+def test_every_step_file_carries_its_part_name(built, read_back):
+    """Read each STEP back (OCP/XCAF via build123d) and check its product name is the part's name."""
     _, _, _, out, manifest = built
     steps = [f for f, i in manifest["files"].items() if i["kind"] == "step"]
     assert set(steps) == set(STEP_FILES) | {"assembly.step"}
     for fname in steps:
-        shape = import_step(out / fname)
+        shape = read_back[fname]
         stem = fname[: -len(".step")]
         if stem == "assembly":
             assert shape.label == "vvea_unit"
@@ -355,21 +363,17 @@ def test_stl_watertight_and_wound(built):
         assert mesh.volume == pytest.approx(info["volume_mm3"], rel=2e-3), fname
 
 
-def test_step_round_trip_keeps_volume(built):
-    from build123d import import_step
-
+def test_step_round_trip_keeps_volume(built, read_back):
     _, _, _, out, manifest = built
     for fname, info in manifest["files"].items():
         if fname.endswith(".step") and fname != "assembly.step":
-            shape = import_step(out / fname)
+            shape = read_back[fname]
             assert shape.volume == pytest.approx(info["volume_mm3"], rel=1e-6), fname
 
 
-def test_assembly_step_has_named_parts(built):
-    from build123d import import_step
-
+def test_assembly_step_has_named_parts(built, read_back):
     _, _, model, out, manifest = built
-    asm = import_step(out / "assembly.step")
+    asm = read_back["assembly.step"]
     labels = sorted(c.label for c in asm.children)
     assert labels == sorted(["housing", "piston", "bladder", "support_ring"])
     vols = {c.label: c.volume for c in asm.children}
