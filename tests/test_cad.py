@@ -653,7 +653,8 @@ def test_piston_pocket_is_drawn_exactly():
     for x in (0.0, 0.5 * POCKET.fixed.travel_mm, POCKET.fixed.travel_mm):
         assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3, x
     assert model.measured()["chamber_1_volume_mm3"] == pytest.approx(POCKET.V1_mm3, rel=1e-6)
-    piston_sheet = next(s for s in sheet_specs(model) if s.name == "piston")
+    (piston_sheet,) = sheet_specs(model, ["piston"])
+    assert piston_sheet.name == "piston"
     assert any("(pocket)" in dim.text for dim in piston_sheet.dims)
 
 
