@@ -45,11 +45,24 @@ def built(request, tmp_path_factory):
     """(name, design, model, out_dir, manifest) -- built and written once per design. The reference
     design's files are the session's shared `vvea cad cad/design.json` run (renders included)."""
     d = DESIGNS[request.param]
-    model = build_cad(d)
     if request.param == "reference":
-        out, exit_code, output = request.getfixturevalue("reference_cad_run")
+        # the shared `vvea cad` run, when this process makes it, builds the model once for both (its
+        # build_cad call is recorded); when another worker made it (or it was made earlier), build here
+        made = []
+
+        def recording(*args, **kwargs):
+            made.append(build_cad(*args, **kwargs))
+            return made[-1]
+
+        cadpkg.build_cad = recording  # `vvea cad` looks build_cad up in vvea_design.cad when it runs
+        try:
+            out, exit_code, output = request.getfixturevalue("reference_cad_run")
+        finally:
+            cadpkg.build_cad = build_cad
         assert exit_code == 0, output
+        model = made[0] if len(made) == 1 and made[0].design == d else build_cad(d)
         return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
+    model = build_cad(d)
     out = tmp_path_factory.mktemp(f"cad_{request.param}")
     manifest = write_cad(d, out, renders=False, show_progress=False, model=model)
     return request.param, d, model, out, manifest
@@ -95,15 +108,23 @@ def test_registry_drives_build_and_files(built):
     assert set(model.parts) == {p.name for p in cadpkg.parts_in("assembly")}
 
 
-def test_every_step_file_carries_its_part_name(built):
-    """Read each STEP back (OCP/XCAF via build123d) and check its product name is the part's name."""
+@pytest.fixture(scope="module")
+def read_back(built):
+    """Every STEP file of ``built`` read back once (OCP/XCAF via build123d), by file name; the tests below
+    check names, volumes and the assembly's children on the same read."""
     from build123d import import_step
 
+    _, _, _, out, manifest = built
+    return {f: import_step(out / f) for f, i in manifest["files"].items() if i["kind"] == "step"}
+
+
+def test_every_step_file_carries_its_part_name(built, read_back):
+    """Read each STEP back (OCP/XCAF via build123d) and check its product name is the part's name."""
     _, _, _, out, manifest = built
     steps = [f for f, i in manifest["files"].items() if i["kind"] == "step"]
     assert set(steps) == set(STEP_FILES) | {"assembly.step"}
     for fname in steps:
-        shape = import_step(out / fname)
+        shape = read_back[fname]
         stem = fname[: -len(".step")]
         if stem == "assembly":
             assert shape.label == "vvea_unit"
@@ -355,21 +376,17 @@ def test_stl_watertight_and_wound(built):
         assert mesh.volume == pytest.approx(info["volume_mm3"], rel=2e-3), fname
 
 
-def test_step_round_trip_keeps_volume(built):
-    from build123d import import_step
-
+def test_step_round_trip_keeps_volume(built, read_back):
     _, _, _, out, manifest = built
     for fname, info in manifest["files"].items():
         if fname.endswith(".step") and fname != "assembly.step":
-            shape = import_step(out / fname)
+            shape = read_back[fname]
             assert shape.volume == pytest.approx(info["volume_mm3"], rel=1e-6), fname
 
 
-def test_assembly_step_has_named_parts(built):
-    from build123d import import_step
-
+def test_assembly_step_has_named_parts(built, read_back):
     _, _, model, out, manifest = built
-    asm = import_step(out / "assembly.step")
+    asm = read_back["assembly.step"]
     labels = sorted(c.label for c in asm.children)
     assert labels == sorted(["housing", "piston", "bladder", "support_ring"])
     vols = {c.label: c.volume for c in asm.children}
@@ -636,7 +653,8 @@ def test_piston_pocket_is_drawn_exactly():
     for x in (0.0, 0.5 * POCKET.fixed.travel_mm, POCKET.fixed.travel_mm):
         assert max(interference_mm3(model.parts_at(x)).values()) < 1e-3, x
     assert model.measured()["chamber_1_volume_mm3"] == pytest.approx(POCKET.V1_mm3, rel=1e-6)
-    piston_sheet = next(s for s in sheet_specs(model) if s.name == "piston")
+    (piston_sheet,) = sheet_specs(model, ["piston"])
+    assert piston_sheet.name == "piston"
     assert any("(pocket)" in dim.text for dim in piston_sheet.dims)
 
 

@@ -43,6 +43,15 @@ def test_one_sheet_per_machined_piece(specs):
         s.name for s in specs}
 
 
+def test_sheets_by_name(model, specs):
+    """``sheet_specs(model, names)`` makes only the named sheets, the same as in the full set."""
+    (piston,) = sheet_specs(model, ["piston"])
+    full = next(s for s in specs if s.name == "piston")
+    assert piston.dims == full.dims and piston.notes == full.notes and piston.leaders == full.leaders
+    with pytest.raises(ValueError, match="no sheet named"):
+        sheet_specs(model, ["housing", "nope"])
+
+
 def test_dimensions_sit_on_the_drawn_outline(specs):
     """Every dimension anchor (except feature axes) lies on the section of the build123d solid."""
     for spec in specs:

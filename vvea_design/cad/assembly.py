@@ -9,6 +9,7 @@ solid is built, then draws every part once.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from itertools import combinations
 
@@ -274,6 +275,7 @@ def interference_mm3(parts: dict[str, Solid]) -> dict[str, float]:
     -------
     dict of str to float
         ``"a/b"`` -> intersection volume, mm³ (0 for pairs whose bounding boxes do not overlap in x or z).
+        A pair already measured (the same two solids, not moved since) is not intersected again.
     """
     out = {}
     for (na, a), (nb, b) in combinations(parts.items(), 2):
@@ -281,8 +283,36 @@ def interference_mm3(parts: dict[str, Solid]) -> dict[str, float]:
         if (bb_a.min.X > bb_b.max.X or bb_b.min.X > bb_a.max.X or bb_a.min.Z > bb_b.max.Z or bb_b.min.Z > bb_a.max.Z):
             out[f"{na}/{nb}"] = 0.0
             continue
-        out[f"{na}/{nb}"] = _volume(a.intersect(b))
+        out[f"{na}/{nb}"] = _MEMO.get("intersection", (a, b), (), lambda a=a, b=b: _volume(a.intersect(b)))
     return out
+
+
+class _ShapeMemo:
+    """Results of pure functions of solids, by the solids' OCCT identity (same TShape, location and orientation:
+    the same solid), least recently used dropped first. The manifest's interference and mould checks are measured
+    once per model: a caller asking again about the same solids (the BOM, a test) gets the number without
+    the booleans. A solid moved in place has another location, so it is measured afresh."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self._entries: OrderedDict = OrderedDict()
+
+    def get(self, kind: str, shapes: tuple, extra: tuple, compute):
+        ws = tuple(s.wrapped for s in shapes)
+        key = (kind, tuple(hash(w) for w in ws), extra)
+        hit = self._entries.get(key)
+        if hit is not None and all(a.IsEqual(b) for a, b in zip(hit[0], ws)):
+            self._entries.move_to_end(key)
+            return hit[1]
+        value = compute()
+        # own handles on the shapes (a later in-place move of the caller's solid does not move these)
+        self._entries[key] = (tuple(w.Located(w.Location()) for w in ws), value)
+        while len(self._entries) > self.size:
+            self._entries.popitem(last=False)
+        return value
+
+
+_MEMO = _ShapeMemo(64)
 
 
 def mould_void(m: Mould) -> dict:
@@ -298,13 +328,20 @@ def mould_void(m: Mould) -> dict:
     dict
         ``cavity_volume_mm3`` (void clipped to the cavity's envelope, mm³), ``void_volume_mm3``
         (cavity + sprue + runner + vents, mm³), ``sprue_open`` (bool) / ``vents_open`` (list of
-        bool: the void reaches each opening in the top face) and ``void`` (the solid, mm).
+        bool: the void reaches each opening in the top face) and ``void`` (the solid, mm). Measured once
+        per mould (asked again about the same solids, the same numbers and void come back).
 
     Raises
     ------
     RuntimeError
         If no connected void of the closed mould holds the cavity (the mould is broken).
     """
+    v = _MEMO.get("mould_void", (m.half_a, m.half_b, m.core, m.cavity), (m.block_mm, m.sprue_top_mm, m.vent_tops_mm),
+                  lambda: _mould_void(m))
+    return {**v, "vents_open": list(v["vents_open"])}
+
+
+def _mould_void(m: Mould) -> dict:
     x0, x1, y0, y1, z0, z1 = m.block_mm
     space = box(x0, x1, y0, y1, z0, z1)
     rest = space.cut(m.half_a, m.half_b, m.core)

@@ -502,22 +502,36 @@ def _piece_spec(model: CadModel, name: str) -> SheetSpec:
                      extent=(-R, R, z0, z1), anchor_loops=list(reg.loops), detail=detail)
 
 
-def sheet_specs(model: CadModel) -> list[SheetSpec]:
+def sheet_specs(model: CadModel, names: Sequence[str] | None = None) -> list[SheetSpec]:
     """The sheets of a CAD model, before layout.
 
     Parameters
     ----------
     model : CadModel
         The built CAD set.
+    names : sequence of str, optional
+        Only these sheets (``"unit_section"`` or part names), in the usual order; default all.
 
     Returns
     -------
     list of SheetSpec
         The unit's section A-A, then every part the table marks ``drawing=True`` (model mm).
+
+    Raises
+    ------
+    ValueError
+        If a name in ``names`` is not a sheet.
     """
     from ..cad.registry import all_parts
 
-    return [_unit_spec(model)] + [_piece_spec(model, p.name) for p in all_parts() if p.drawing]
+    pieces = [p.name for p in all_parts() if p.drawing]
+    if names is None:
+        return [_unit_spec(model)] + [_piece_spec(model, name) for name in pieces]
+    unknown = set(names) - {"unit_section", *pieces}
+    if unknown:
+        raise ValueError(f"no sheet named {sorted(unknown)}; sheets: unit_section, {', '.join(pieces)}")
+    return ([_unit_spec(model)] if "unit_section" in names else []) + [_piece_spec(model, n) for n in pieces
+                                                                      if n in names]
 
 
 def _dist_to_loops(p: tuple[float, float], loops: Sequence[np.ndarray]) -> float:
