@@ -531,22 +531,34 @@ def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
 
 def _stop_operator(D: FitData, r_mm: float) -> np.ndarray:
     z = np.zeros(D.n)
-    s = D.s
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        x = D.x[a:b]
-        ss = s[a:b]
-        p = x[0]
-        cuts = np.flatnonzero(np.diff(ss) != 0) + 1
-        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
-            xs = x[lo:hi]
-            if ss[lo] >= 0:
+    x_all = D.x
+    for a, b, runs in _monotone_runs(D):
+        p = x_all[a:b][0]
+        for lo, hi, up in runs:
+            xs = x_all[lo:hi]
+            if up:
                 pp = np.maximum(p, np.maximum.accumulate(xs - r_mm))
             else:
                 pp = np.minimum(p, np.minimum.accumulate(xs + r_mm))
-            z[a + lo : a + hi] = xs - pp
+            z[lo:hi] = xs - pp
             p = pp[-1]
     return z
+
+
+def _monotone_runs(D: FitData) -> list:
+    """Per experiment ``(a, b, runs)``: its rows ``a:b`` and its runs of one direction of motion, ``(first row, end row, sign(ẋ) >= 0)``
+    (rows of the campaign; cached: a function of the campaign alone, read by every stop operator)."""
+    def make():
+        out = []
+        s = D.s
+        for e in range(D.n_exp):
+            a, b = int(D.bounds[e]), int(D.bounds[e + 1])
+            ss = s[a:b]
+            cuts = np.flatnonzero(np.diff(ss) != 0) + 1
+            out.append((a, b, [(a + lo, a + hi, bool(ss[lo] >= 0)) for lo, hi in zip(np.r_[0, cuts].tolist(), np.r_[cuts, b - a].tolist())]))
+        return out
+
+    return cached(D, ("monotone_runs",), make)
 
 
 def _travel_since_reversal(D: FitData) -> np.ndarray:
