@@ -359,39 +359,39 @@ def _box_active_set(Gs: np.ndarray, bs: np.ndarray, lo: np.ndarray, hi: np.ndarr
     p = len(bs)
     x = np.clip(x0, lo, hi)
     act = (x == lo) | (x == hi)
-    tol = 1e-12 * max(1.0, float(np.max(np.abs(bs))))
-    for _ in range(10 * p + 10):
-        F = ~act
-        z = x.copy()
-        fi = F.nonzero()[0]
-        if len(fi):
-            ai = act.nonzero()[0]
-            rhs = bs[fi] - Gs[fi[:, None], ai] @ x[ai]  # the rows/columns np.ix_(F, act) selects, C-ordered like it
-            GF = Gs[fi[:, None], fi]
-            zF = _chol_solve(GF, rhs)
-            if zF is None:
-                zF = cho_solve(cho_factor(GF), rhs)  # raises as before
-            z[fi] = zF
-        else:
-            zF = z[fi]
-        if (zF >= lo[fi]).all() and (zF <= hi[fi]).all():
-            x = z
-            w = bs - Gs @ x  # minus half the gradient: <= 0 at an optimal lower bound, >= 0 at an optimal upper one
-            viol = np.where(act & (x == lo), w, 0.0) - np.where(act & (x == hi), w, 0.0)
-            k = int(viol.argmax())
-            if viol[k] <= tol:
-                return x
-            act[k] = False
-        else:
-            dz = z - x
-            with np.errstate(divide="ignore", invalid="ignore"):
+    tol = 1e-12 * max(1.0, float(np.abs(bs).max()))
+    with np.errstate(divide="ignore", invalid="ignore"):  # the step ratios below divide by zero where x does not move
+        for _ in range(10 * p + 10):
+            F = ~act
+            z = x.copy()
+            fi = F.nonzero()[0]
+            if len(fi):
+                ai = act.nonzero()[0]
+                rhs = bs[fi] - Gs[fi[:, None], ai] @ x[ai]  # the rows/columns np.ix_(F, act) selects, C-ordered like it
+                GF = Gs[fi[:, None], fi]
+                zF = _chol_solve(GF, rhs)
+                if zF is None:
+                    zF = cho_solve(cho_factor(GF), rhs)  # raises as before
+                z[fi] = zF
+            else:
+                zF = z[fi]
+            if (zF >= lo[fi]).all() and (zF <= hi[fi]).all():
+                x = z
+                w = bs - Gs @ x  # minus half the gradient: <= 0 at an optimal lower bound, >= 0 at an optimal upper one
+                viol = np.where(act & (x == lo), w, 0.0) - np.where(act & (x == hi), w, 0.0)
+                k = int(viol.argmax())
+                if viol[k] <= tol:
+                    return x
+                act[k] = False
+            else:
+                dz = z - x
                 step = np.minimum(np.where(F & (dz < 0), (lo - x) / dz, np.inf), np.where(F & (dz > 0), (hi - x) / dz, np.inf))
-            k = int(step.argmin())
-            x = x + min(max(float(step[k]), 0.0), 1.0) * dz
-            x[k] = lo[k] if dz[k] < 0 else hi[k]
-            act |= F & ((x <= lo) | (x >= hi))
-            act[k] = True
-            x = np.clip(x, lo, hi)
+                k = int(step.argmin())
+                x = x + min(max(float(step[k]), 0.0), 1.0) * dz
+                x[k] = lo[k] if dz[k] < 0 else hi[k]
+                act |= F & ((x <= lo) | (x >= hi))
+                act[k] = True
+                x = x.clip(lo, hi)
     return None
 
 
