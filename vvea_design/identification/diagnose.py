@@ -42,6 +42,7 @@ every table.
 
 from __future__ import annotations
 
+import functools
 import inspect
 import json
 import time
@@ -61,6 +62,7 @@ from .effects import (
     Effect,
     FitData,
     ForceFilter,
+    cached,
     effect_columns,
     filter_id,
     is_effect_id,
@@ -606,37 +608,40 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
     """
     from scipy.ndimage import median_filter
 
-    dts = D.per_exp_dt()
+    segs = cached(D, ("noise_ramps", int(min_bin)), lambda: _noise_ramps(D, int(min_bin)))
+    if not len(segs):
+        return float(np.std(np.diff(residual_N)) / np.sqrt(2)) if len(residual_N) > 2 else float("nan")
+    # per ramp: quadratic trend out (np.polyfit's own least-squares problem, its matrix built once per
+    # length), Hann periodogram; the running medians of ramps of one length in one call (a median moves no bit)
+    spectra = []
+    for a0, n, _ in segs.tolist():
+        k, w, sw2, _, lhs, scale, rcond = _ramp_basis(n)
+        r = residual_N[a0 : a0 + n]
+        c, _, rank, _ = np.linalg.lstsq(lhs, r + 0.0, rcond)
+        c = c / scale if rank == 3 else np.polyfit(k, r, 2)  # np.polyfit(k, r, 2), computed as it computes it
+        r = r - np.polyval(c, k)
+        spectra.append(np.abs(np.fft.rfft(r * w)) ** 2 / sw2)
+    lengths = segs[:, 1]
+    med: list = [None] * len(segs)
+    for n in np.unique(lengths).tolist():
+        idx = np.flatnonzero(lengths == n)
+        M = median_filter(np.stack([spectra[i] for i in idx]), size=(1, med_bins), mode="nearest") / _MEDIAN_GAIN
+        for j, i in enumerate(idx.tolist()):
+            med[i] = M[j]
     groups: dict[int, list] = {}
-    s_all = D.s  # sign(xdot) of every sample, once (the property computes it over the whole campaign at each call)
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        s = s_all[a:b]
-        cuts = np.flatnonzero(np.diff(s) != 0) + 1
-        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
-            lo = lo + (hi - lo) // 6  # transients after start and reversal are misfit, not noise: skip a sixth of the ramp
-            r = residual_N[a + lo : a + hi]
-            n = len(r)
-            if n < 4 * min_bin + 8:
-                continue
-            k = np.arange(n)
-            r = r - np.polyval(np.polyfit(k, r, 2), k)
-            w = np.hanning(n)
-            P = np.abs(np.fft.rfft(r * w)) ** 2 / np.sum(w**2)
-            fk = np.fft.rfftfreq(n)
-            Pm = median_filter(P, size=med_bins, mode="nearest") / _MEDIAN_GAIN
-            sel = slice(min_bin, len(P))
-            if np.all(Pm[sel] > 0):
-                groups.setdefault(int(np.round(4 * np.log10(dts[e]))), []).append((fk, Pm, n))
+    sel = slice(min_bin, None)
+    for (_, n, g), P, Pm in zip(segs.tolist(), spectra, med):
+        if np.all(Pm[sel] > 0):
+            groups.setdefault(g, []).append((_ramp_basis(n)[3], Pm, n))
     if not groups:
         return float(np.std(np.diff(residual_N)) / np.sqrt(2)) if len(residual_N) > 2 else float("nan")
     var, wsum = 0.0, 0
-    for segs in groups.values():
-        rho = _ar1_rho([(f[min_bin:], P[min_bin:]) for f, P, _ in segs])
-        for f, P, n in segs:
+    for segs_g in groups.values():
+        rho = _ar1_rho([(f[min_bin:], P[min_bin:]) for f, P, _ in segs_g])
+        for f, P, n in segs_g:
             shape = 1.0 / (1 + rho**2 - 2 * rho * np.cos(2 * np.pi * f))
             sw = float(np.mean(P[min_bin:] / shape[min_bin:]))
-            S = np.r_[sw * shape[:min_bin], P[min_bin:]]  # measured spectrum; the AR(1) model fills the slow bins only
+            S = np.concatenate((sw * shape[:min_bin], P[min_bin:]))  # measured spectrum; the AR(1) model fills the slow bins only
             wk = np.full(len(S), 2.0)
             wk[0] = 1.0
             if n % 2 == 0:
@@ -644,6 +649,39 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
             var += n * float(np.sum(wk * S) / n)
             wsum += n
     return float(np.sqrt(var / wsum))
+
+
+def _noise_ramps(D: FitData, min_bin: int) -> np.ndarray:
+    """The ramps :func:`noise_floor_N` reads (a function of the campaign alone, cached on it): rows ``(first row, samples, spacing group)``."""
+    dts = D.per_exp_dt()
+    out = []
+    s_all = D.s  # sign(xdot) of every sample, once (the property computes it over the whole campaign at each call)
+    for e in range(D.n_exp):
+        a, b = D.bounds[e], D.bounds[e + 1]
+        s = s_all[a:b]
+        cuts = np.flatnonzero(np.diff(s) != 0) + 1
+        for lo, hi in zip(np.r_[0, cuts].tolist(), np.r_[cuts, b - a].tolist()):
+            lo = lo + (hi - lo) // 6  # transients after start and reversal are misfit, not noise: skip a sixth of the ramp
+            n = hi - lo
+            if n < 4 * min_bin + 8:
+                continue
+            out.append((int(a + lo), int(n), int(np.round(4 * np.log10(dts[e])))))
+    return np.array(out, dtype=np.int64).reshape(-1, 3)
+
+
+@functools.lru_cache(maxsize=512)
+def _ramp_basis(n: int):
+    """Per ramp length ``n``: sample index, Hann window, its sum of squares, rfft frequencies, and the scaled
+    Vandermonde matrix, column scales and rcond of ``np.polyfit(k, r, 2)`` (its own computation, so its bits)."""
+    k = np.arange(n)
+    w = np.hanning(n)
+    x = k + 0.0
+    lhs = np.vander(x, 3)
+    scale = np.sqrt((lhs * lhs).sum(axis=0))
+    lhs /= scale
+    for v in (k, w, lhs, scale):
+        v.flags.writeable = False
+    return k, w, np.sum(w**2), np.fft.rfftfreq(n), lhs, scale, len(x) * np.finfo(x.dtype).eps
 
 
 NOISE_METHOD = (

@@ -531,22 +531,34 @@ def stop_operator(D: FitData, r_mm: float) -> np.ndarray:
 
 def _stop_operator(D: FitData, r_mm: float) -> np.ndarray:
     z = np.zeros(D.n)
-    s = D.s
-    for e in range(D.n_exp):
-        a, b = D.bounds[e], D.bounds[e + 1]
-        x = D.x[a:b]
-        ss = s[a:b]
-        p = x[0]
-        cuts = np.flatnonzero(np.diff(ss) != 0) + 1
-        for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, b - a]):
-            xs = x[lo:hi]
-            if ss[lo] >= 0:
+    x_all = D.x
+    for a, b, runs in _monotone_runs(D):
+        p = x_all[a:b][0]
+        for lo, hi, up in runs:
+            xs = x_all[lo:hi]
+            if up:
                 pp = np.maximum(p, np.maximum.accumulate(xs - r_mm))
             else:
                 pp = np.minimum(p, np.minimum.accumulate(xs + r_mm))
-            z[a + lo : a + hi] = xs - pp
+            z[lo:hi] = xs - pp
             p = pp[-1]
     return z
+
+
+def _monotone_runs(D: FitData) -> list:
+    """Per experiment ``(a, b, runs)``: its rows ``a:b`` and its runs of one direction of motion, ``(first row, end row, sign(ẋ) >= 0)``
+    (rows of the campaign; cached: a function of the campaign alone, read by every stop operator)."""
+    def make():
+        out = []
+        s = D.s
+        for e in range(D.n_exp):
+            a, b = int(D.bounds[e]), int(D.bounds[e + 1])
+            ss = s[a:b]
+            cuts = np.flatnonzero(np.diff(ss) != 0) + 1
+            out.append((a, b, [(a + lo, a + hi, bool(ss[lo] >= 0)) for lo, hi in zip(np.r_[0, cuts].tolist(), np.r_[cuts, b - a].tolist())]))
+        return out
+
+    return cached(D, ("monotone_runs",), make)
 
 
 def _travel_since_reversal(D: FitData) -> np.ndarray:
@@ -1588,7 +1600,7 @@ def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out
         slot[:, g] = cols[0]
         for j in cols[1:]:
             slot[live[:, j], g] = j
-    for dtc, exps, src0, src1, w, read in _fine_grid(D, 1):
+    for gi, (dtc, exps, src0, src1, w, read) in enumerate(_fine_grid(D, 1)):
         if dtc is None:
             for e in exps:
                 a, b = D.bounds[e], D.bounds[e + 1]
@@ -1600,38 +1612,60 @@ def _filter_on_sample_grid(D: FitData, X: np.ndarray, ba, substeps: int = 4, out
         r = None
         if np.any(src0[:, 0] != n):  # an experiment starts at t = 0 with a kept sample: the fine filter's start
             r = lfilter(br, ac, np.r_[1.0, np.zeros(L - 1)])
-        interp = w != 0.0
         nk = read.shape[1]
         k = slot.shape[1]
         step = max(1, _FINE_GRID_BYTES // (8 * L * max(1, k)))
-        for c0 in range(0, len(exps), step):
-            sl = slice(c0, c0 + step)
-            e_sl = exps[sl]
+        for c0, (e_sl, s0c, zero, interp, rows, ar_e) in zip(range(0, len(exps), step), _sample_grid_chunks(D, gi, step)):
             cs = slot[e_sl]  # (n_e, k)
-            s0 = src0[sl]
             # (n_e, slots, time): each experiment's slot filtered along the contiguous last axis
-            full = X[np.minimum(s0, n - 1)[:, None, :], cs[:, :, None]]
-            zero = s0 == n
-            if zero.any():
+            full = X[s0c[:, None, :], cs[:, :, None]]
+            if zero is not None:
                 full.transpose(0, 2, 1)[zero] = 0.0
-            ii = interp[sl]
-            if ii.any():
-                ei, li = np.nonzero(ii)
-                wi = w[sl][ii][:, None]
-                s1 = src1[sl][ii]
-                r1 = X[np.minimum(s1, n - 1)[:, None], cs[ei]]
-                r1[s1 == n] = 0.0
-                full[ei, :, li] = full[ei, :, li] * (1.0 - wi) + r1 * wi
+            if interp is not None:
+                ei, li, wi, wi1, s1c, s1z = interp
+                r1 = X[s1c, cs[ei]]
+                if s1z is not None:
+                    r1[s1z] = 0.0
+                full[ei, :, li] = full[ei, :, li] * wi1 + r1 * wi
             u0 = full[:, :, 0].copy() if r is not None else None
             res = lfilter(bc, ac, full, axis=-1)
             if r is not None:
                 res -= u0[:, :, None] * r[None, None, :]
-            kept = res[np.arange(len(e_sl))[:, None, None], np.arange(k)[None, :, None], read[sl][:, None, :]]  # (n_e, k, nk)
-            rows = D.bounds[e_sl][:, None] + np.arange(nk)  # every row of these experiments (the kept samples)
+            kept = res[ar_e[:, None, None], np.arange(k)[None, :, None], read[c0 : c0 + step][:, None, :]]  # (n_e, k, nk)
             if k < p:
                 out[rows.ravel()] = 0.0  # the dead columns (their rows of X are read above: safe in place)
             out[rows[:, None, :], cs[:, :, None]] = kept
     return out
+
+
+def _sample_grid_chunks(D: FitData, gi: int, step: int) -> list:
+    """Index arrays of :func:`_filter_on_sample_grid` for group ``gi`` of ``_fine_grid(D, 1)`` in chunks of ``step`` experiments (cached:
+    a function of the campaign alone, rebuilt by every filter call before). Per chunk ``(experiments, source rows clipped to the
+    campaign, zero-row mask or None, interpolation or None, rows written, arange)``; the interpolation
+    ``(experiment, time, weight, 1 - weight, second source rows clipped, their zero-row mask or None)``."""
+    def make():
+        n = D.n
+        _, exps, src0, src1, w, read = _fine_grid(D, 1)[gi]
+        nk = read.shape[1]
+        out = []
+        for c0 in range(0, len(exps), step):
+            sl = slice(c0, c0 + step)
+            e_sl = exps[sl]
+            s0 = src0[sl]
+            zero = s0 == n
+            ii = w[sl] != 0.0
+            interp = None
+            if ii.any():
+                ei, li = np.nonzero(ii)
+                wi = w[sl][ii][:, None]
+                s1 = src1[sl][ii]
+                s1z = s1 == n
+                interp = (ei, li, wi, 1.0 - wi, np.minimum(s1, n - 1)[:, None], s1z if s1z.any() else None)
+            rows = D.bounds[e_sl][:, None] + np.arange(nk)  # every row of these experiments (the kept samples)
+            out.append((e_sl, np.minimum(s0, n - 1), zero if zero.any() else None, interp, rows, np.arange(len(e_sl))))
+        return out
+
+    return cached(D, ("samplegrid_chunks", int(gi), int(step)), make)
 
 
 def _velocity_gaps(D: FitData, m: int):

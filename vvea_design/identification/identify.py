@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
+from scipy.linalg.lapack import dpotrf as _dpotrf, dpotrs as _dpotrs
 from scipy.optimize import lsq_linear, minimize_scalar
 
 from .effects import REGISTRY, FitData, baseline_params, effect_columns, fill_baseline
@@ -293,21 +294,54 @@ def solve_bounded(G: np.ndarray, b: np.ndarray, lower: np.ndarray, upper: np.nda
     numpy.ndarray, shape (p,)
         The bounded least-squares parameters θ, each in its unit (N per column unit).
     """
-    d = np.sqrt(np.clip(np.diag(G), 0, None))
+    p = len(b)
+    d = np.sqrt(np.maximum(np.diag(G), 0))  # = np.clip(diag, 0, None): the same ufunc
     d[d == 0] = 1.0
-    Gs = G / np.outer(d, d) + 1e-10 * np.eye(len(b))
+    Gs = G / (d[:, None] * d) + _ridge(p)  # np.outer(d, d) is this product
     bs = b / d
-    cf = cho_factor(Gs)
-    th = cho_solve(cf, bs) / d
-    if np.all(th >= lower - 1e-12) and np.all(th <= upper + 1e-12):
+    th = _chol_solve(Gs, bs) if p else None
+    if th is None or not np.isfinite(th).all():  # non-finite input or not positive definite: scipy's checks and errors
+        cf = cho_factor(Gs)
+        th = cho_solve(cf, bs)
+    th = th / d
+    if (th >= lower - 1e-12).all() and (th <= upper + 1e-12).all():
         return th
     xs = _box_active_set(Gs, bs, lower * d, upper * d, th * d)
     if xs is not None:
         return xs / d
+    cf = cho_factor(Gs)
     R = np.triu(cf[0]) if not cf[1] else np.triu(cf[0].T)
     c = solve_triangular(R.T, bs, lower=True)
     sol = lsq_linear(R, c, bounds=(lower * d, upper * d), method="bvls")
     return sol.x / d
+
+
+_RIDGES: dict = {}
+
+
+def _ridge(p: int) -> np.ndarray:
+    """``1e-10 * np.eye(p)`` (read-only, cached per size: solve_bounded runs thousands of times per diagnosis)."""
+    r = _RIDGES.get(p)
+    if r is None:
+        r = 1e-10 * np.eye(p)
+        r.flags.writeable = False
+        _RIDGES[p] = r
+    return r
+
+
+def _chol_solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """``cho_solve(cho_factor(A), rhs)`` for a finite float matrix, or None where ``cho_factor`` would raise.
+
+    Calls the LAPACK routines ``dpotrf`` / ``dpotrs`` that :func:`scipy.linalg.cho_factor` and
+    :func:`scipy.linalg.cho_solve` call, with the same arguments (upper factor, unclean, no
+    overwrite), so the result is the same to the bit; only scipy's per-call checks and wrappers
+    are skipped (they cost more than the solve on the few dozen parameters of a diagnosis).
+    """
+    c, info = _dpotrf(A, lower=0, clean=0, overwrite_a=0)
+    if info != 0:
+        return None
+    x, info = _dpotrs(c, rhs, lower=0, overwrite_b=0)
+    return x if info == 0 else None
 
 
 def _box_active_set(Gs: np.ndarray, bs: np.ndarray, lo: np.ndarray, hi: np.ndarray, x0: np.ndarray) -> np.ndarray | None:
@@ -325,31 +359,39 @@ def _box_active_set(Gs: np.ndarray, bs: np.ndarray, lo: np.ndarray, hi: np.ndarr
     p = len(bs)
     x = np.clip(x0, lo, hi)
     act = (x == lo) | (x == hi)
-    tol = 1e-12 * max(1.0, float(np.max(np.abs(bs))))
-    for _ in range(10 * p + 10):
-        F = ~act
-        z = x.copy()
-        if F.any():
-            rhs = bs[F] - Gs[np.ix_(F, act)] @ x[act]
-            z[F] = cho_solve(cho_factor(Gs[np.ix_(F, F)]), rhs)
-        if np.all(z[F] >= lo[F]) and np.all(z[F] <= hi[F]):
-            x = z
-            w = bs - Gs @ x  # minus half the gradient: <= 0 at an optimal lower bound, >= 0 at an optimal upper one
-            viol = np.where(act & (x == lo), w, 0.0) - np.where(act & (x == hi), w, 0.0)
-            k = int(np.argmax(viol))
-            if viol[k] <= tol:
-                return x
-            act[k] = False
-        else:
-            dz = z - x
-            with np.errstate(divide="ignore", invalid="ignore"):
+    tol = 1e-12 * max(1.0, float(np.abs(bs).max()))
+    with np.errstate(divide="ignore", invalid="ignore"):  # the step ratios below divide by zero where x does not move
+        for _ in range(10 * p + 10):
+            F = ~act
+            z = x.copy()
+            fi = F.nonzero()[0]
+            if len(fi):
+                ai = act.nonzero()[0]
+                rhs = bs[fi] - Gs[fi[:, None], ai] @ x[ai]  # the rows/columns np.ix_(F, act) selects, C-ordered like it
+                GF = Gs[fi[:, None], fi]
+                zF = _chol_solve(GF, rhs)
+                if zF is None:
+                    zF = cho_solve(cho_factor(GF), rhs)  # raises as before
+                z[fi] = zF
+            else:
+                zF = z[fi]
+            if (zF >= lo[fi]).all() and (zF <= hi[fi]).all():
+                x = z
+                w = bs - Gs @ x  # minus half the gradient: <= 0 at an optimal lower bound, >= 0 at an optimal upper one
+                viol = np.where(act & (x == lo), w, 0.0) - np.where(act & (x == hi), w, 0.0)
+                k = int(viol.argmax())
+                if viol[k] <= tol:
+                    return x
+                act[k] = False
+            else:
+                dz = z - x
                 step = np.minimum(np.where(F & (dz < 0), (lo - x) / dz, np.inf), np.where(F & (dz > 0), (hi - x) / dz, np.inf))
-            k = int(np.argmin(step))
-            x = x + min(max(float(step[k]), 0.0), 1.0) * dz
-            x[k] = lo[k] if dz[k] < 0 else hi[k]
-            act |= F & ((x <= lo) | (x >= hi))
-            act[k] = True
-            x = np.clip(x, lo, hi)
+                k = int(step.argmin())
+                x = x + min(max(float(step[k]), 0.0), 1.0) * dz
+                x[k] = lo[k] if dz[k] < 0 else hi[k]
+                act |= F & ((x <= lo) | (x >= hi))
+                act[k] = True
+                x = x.clip(lo, hi)
     return None
 
 

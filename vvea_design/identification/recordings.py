@@ -399,6 +399,18 @@ def trapezoid_profile(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: flo
     x_mm, v_mm_s : arrays
     """
     t = np.asarray(t, float)
+    ta, tm, x = _trapezoid_x(t, v_mm_s, a_mm_s2, t_rev_s)
+    vel = np.where(tm < ta, a_mm_s2 * tm, np.where(tm < t_rev_s - ta, v_mm_s, a_mm_s2 * np.clip(t_rev_s - tm, 0, None)))
+    sign = np.where(t <= t_rev_s, 1.0, -1.0)
+    vel = np.where((t < 0) | (t > 2 * t_rev_s), 0.0, vel * sign)
+    return x0_mm + x, vel
+
+
+def _trapezoid_x(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float):
+    """The displacement of :func:`trapezoid_profile` from rest (without ``x0``), with ``ta`` and the mirrored time ``tm`` it is built from.
+
+    ``t`` a float array (s); the other arguments as for :func:`trapezoid_profile`. Returns ``(ta, tm, x)``.
+    """
     ta = v_mm_s / a_mm_s2
     tm = np.minimum(t, 2 * t_rev_s - t)  # mirror about the turning point
     tm = np.clip(tm, 0.0, None)
@@ -412,10 +424,7 @@ def trapezoid_profile(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: flo
             v_mm_s * (t_rev_s - ta) - 0.5 * a_mm_s2 * np.clip(t_rev_s - tm, 0, None) ** 2,
         ),
     )
-    vel = np.where(tm < ta, a_mm_s2 * tm, np.where(tm < t_rev_s - ta, v_mm_s, a_mm_s2 * np.clip(t_rev_s - tm, 0, None)))
-    sign = np.where(t <= t_rev_s, 1.0, -1.0)
-    vel = np.where((t < 0) | (t > 2 * t_rev_s), 0.0, vel * sign)
-    return x0_mm + x, vel
+    return ta, tm, x
 
 
 def _fit_profile(t: np.ndarray, x: np.ndarray):
@@ -439,8 +448,10 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
             ta = float(np.clip(2 * t1, 1e-3 * tr, 0.45 * tr))
             p0 = np.array([vv, vv / ta, tr, x[0]])
 
-    def res(p):
-        return trapezoid_profile(t, p[0], p[1], p[2], p[3])[0] - x
+    tf = np.asarray(t, float)
+
+    def res(p):  # trapezoid_profile(t, *p)[0] - x, without the velocity it would compute and drop
+        return (p[3] + _trapezoid_x(tf, p[0], p[1], p[2])[2]) - x
 
     lo = [1e-9, 1e-9, t[0], -np.inf]
     hi = [np.inf, np.inf, t[-1], np.inf]
