@@ -82,9 +82,9 @@ def reference_cad_run(tmp_path_factory):
 #: this order; xdist's own reorder is by test count), so the two workers end together instead of one
 #: finishing a long module alone. The modules that read the shared reference CAD run (test_cad_sync,
 #: test_cad_drawing, test_cad_cli) are not listed: they come after test_cad has started building it.
-HEAVY_FIRST = ("test_cad.py", "test_pipeline.py", "test_optimise.py", "test_study_actuator.py", "test_diagnose.py",
-               "test_diagnose_families.py", "test_diagnose_bench.py", "test_bladder.py", "test_design_study.py",
-               "test_hygiene.py", "test_identify.py", "test_diagnose_shared.py")
+HEAVY_FIRST = ("test_cad.py", "test_diagnose.py", "test_optimise.py", "test_pipeline.py", "test_study_actuator.py",
+               "test_diagnose_families.py", "test_diagnose_bench.py", "test_bladder.py", "test_identify.py",
+               "test_hygiene.py", "test_diagnose_shared.py", "test_design_study.py")
 
 
 def pytest_collection_modifyitems(session, config, items):
