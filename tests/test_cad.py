@@ -45,24 +45,11 @@ def built(request, tmp_path_factory):
     """(name, design, model, out_dir, manifest) -- built and written once per design. The reference
     design's files are the session's shared `vvea cad cad/design.json` run (renders included)."""
     d = DESIGNS[request.param]
-    if request.param == "reference":
-        # the shared `vvea cad` run, when this process makes it, builds the model once for both (its
-        # build_cad call is recorded); when another worker made it (or it was made earlier), build here
-        made = []
-
-        def recording(*args, **kwargs):
-            made.append(build_cad(*args, **kwargs))
-            return made[-1]
-
-        cadpkg.build_cad = recording  # `vvea cad` looks build_cad up in vvea_design.cad when it runs
-        try:
-            out, exit_code, output = request.getfixturevalue("reference_cad_run")
-        finally:
-            cadpkg.build_cad = build_cad
-        assert exit_code == 0, output
-        model = made[0] if len(made) == 1 and made[0].design == d else build_cad(d)
-        return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
     model = build_cad(d)
+    if request.param == "reference":
+        out, exit_code, output = request.getfixturevalue("reference_cad_run")
+        assert exit_code == 0, output
+        return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
     out = tmp_path_factory.mktemp(f"cad_{request.param}")
     manifest = write_cad(d, out, renders=False, show_progress=False, model=model)
     return request.param, d, model, out, manifest

@@ -630,7 +630,7 @@ def noise_floor_N(D: FitData, residual_N: np.ndarray, min_bin: int = 4, med_bins
             med[i] = M[j]
     groups: dict[int, list] = {}
     sel = slice(min_bin, None)
-    for (_, n, g), P, Pm in zip(segs.tolist(), spectra, med):
+    for (_, n, g), Pm in zip(segs.tolist(), med):
         if np.all(Pm[sel] > 0):
             groups.setdefault(g, []).append((_ramp_basis(n)[3], Pm, n))
     if not groups:

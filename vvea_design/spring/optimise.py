@@ -212,6 +212,7 @@ class _RowMemo:
         self.fn = fn
         self.memo: dict[bytes, np.ndarray] = {}  # design -> its values of every output, stacked
         self.shapes: tuple | None = None  # leading shapes of the outputs
+        self.widths: tuple = ()  # values per design of each output (the products of shapes)
 
     def __call__(self, XS: np.ndarray) -> tuple:
         memo = self.memo

@@ -704,7 +704,7 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
                    top_annulus=lay.has_top_annulus, stresses=not lean, masses=not lean or req.max_mass_g is not None)
         g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
         perf = _performance(g, req, p2, report=False)
-        strain = strain_fn(g, cols) if (strain_fn is not None and req.max_bladder_strain is not None) else None
+        strain = strain_fn(g, cols) if strained else None
         details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
                            strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)),
                            search=lean)
