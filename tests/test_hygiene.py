@@ -3,6 +3,7 @@ declared dependencies, and numpydoc docstrings with units on every public functi
 method of a public class."""
 
 import ast
+import functools
 import importlib
 import inspect
 import json
@@ -288,8 +289,14 @@ def _imports(paths) -> set[str]:
     return out
 
 
+@functools.cache
+def _distributions() -> dict[str, list[str]]:
+    """Top-level import name -> distributions that provide it (one scan of the installed metadata: ~2 s)."""
+    return metadata.packages_distributions()
+
+
 def _third_party(mods: set[str]) -> dict[str, str]:
-    dists = metadata.packages_distributions()
+    dists = _distributions()
     local = {"vvea_design"} | {p.stem for d in ("tests", "studies") for p in (ROOT / d).glob("*.py")}
     out = {}
     for m in sorted(mods - set(sys.stdlib_module_names) - local):
