@@ -124,6 +124,7 @@ class FitData:
     rows_left_out: int = 0
     speed: np.ndarray | None = None  #: nominal speed label per sample (mm/s)
     _cache: dict = field(default_factory=dict, compare=False, repr=False)
+    _cache_nbytes: dict = field(default_factory=dict, compare=False, repr=False)  #: (entry, its bytes) per _cache key
 
     @property
     def n(self) -> int:
@@ -271,13 +272,25 @@ def cached(D: FitData, key, make):
     val = make()
     c[key] = val
     limit = min(CACHE_COLUMNS * max(D.n, 1) * 8, CACHE_BYTES)
-    total = sum(_nbytes(v) for v in c.values())
+    total = sum(_entry_nbytes(D, k, v) for k, v in c.items())
     while total > limit:
         k0 = next(iter(c))
         if k0 == key:
             break
-        total -= _nbytes(c.pop(k0))
+        total -= _entry_nbytes(D, k0, c.pop(k0))
+        D._cache_nbytes.pop(k0, None)  # (it holds the entry: let the evicted arrays go)
     return val
+
+
+def _entry_nbytes(D: FitData, key, val) -> int:
+    """``_nbytes(val)``, remembered per cache entry (walking every cached array on each miss was ~1 % of a
+    diagnosis). The size is tied to the object it was measured on, so an entry written into ``_cache``
+    directly, or a size left by a copy of ``D`` that shares the dict, is measured afresh."""
+    sizes = D._cache_nbytes
+    got = sizes.get(key)
+    if got is None or got[0] is not val:
+        got = sizes[key] = (val, _nbytes(val))
+    return got[1]
 
 
 def effect_columns(D: FitData, eff: "Effect", shape: float, ctx: dict) -> np.ndarray:
