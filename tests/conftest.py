@@ -91,3 +91,19 @@ def pytest_collection_modifyitems(session, config, items):
     """Heavy modules first (a stable sort: the order inside a module is kept)."""
     rank = {name: i for i, name in enumerate(HEAVY_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``VVEA_TEST_TIMELINE=DIR``, each worker appends ``start end nodeid`` (epoch s) per test to
+    ``DIR/<worker>.txt``: where the two workers idle, to re-tune :data:`HEAVY_FIRST`."""
+    import os
+    import time
+
+    folder = os.environ.get("VVEA_TEST_TIMELINE")
+    t0 = time.time()
+    yield
+    if folder:
+        worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+        with open(Path(folder) / f"{worker}.txt", "a") as fh:
+            fh.write(f"{t0:.3f} {time.time():.3f} {item.nodeid}\n")
