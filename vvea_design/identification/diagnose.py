@@ -1635,10 +1635,32 @@ def format_summary(r: DiagnosisReport) -> str:
     return "\n".join(L) + "\n"
 
 
+def _in_view_log_locator(subs):
+    """A log-axis LogLocator that returns only the ticks inside the view.
+
+    matplotlib makes a Tick (two lines, two texts) for every location a locator returns and then draws only
+    those in view; a plain LogLocator returns whole decades beyond both ends, about half of them never drawn.
+    """
+    from matplotlib.ticker import LogLocator
+
+    class InView(LogLocator):
+        def __call__(self):
+            lo, hi = sorted(self.axis.get_view_interval())
+            if not (lo > 0 and np.isfinite(hi)):
+                return super().__call__()
+            tol = 1e-9 * max(np.log10(hi / lo), 1e-12)  # matplotlib keeps ticks within ~1e-10 of the ends
+            a, b = np.log10(lo) - tol, np.log10(hi) + tol
+            return [v for v in super().__call__() if v > 0 and a <= np.log10(v) <= b]
+
+    return InView(10.0, subs)
+
+
 def _plain_log_ticks(ax) -> None:
-    """Log axis with plain numbers (4, 6, 10, 20 rather than 4x10^0)."""
+    """Log axis with plain numbers (4, 6, 10, 20 rather than 4x10^0); ticks made only where drawn."""
     from matplotlib.ticker import FuncFormatter
 
+    ax.yaxis.set_major_locator(_in_view_log_locator((1.0,)))
+    ax.yaxis.set_minor_locator(_in_view_log_locator(None))
     fmt = FuncFormatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_major_formatter(fmt)
     ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if f"{v:.1e}"[0] in "2468" or f"{v:.1e}"[0] == "5" else ""))
