@@ -289,6 +289,7 @@ def plot(summary: dict):
                         plt.Rectangle((0, 0), 1, 1, color="C1", label="outside the catalogue"),
                         plt.Line2D([], [], color="k", ls="--", lw=0.8, label="target: 2 x noise")], fontsize=8)
     fig.tight_layout()
+    fig.set_layout_engine(None)  # tight_layout leaves a placeholder engine that would make savefig draw the figure twice
     return fig
 
 

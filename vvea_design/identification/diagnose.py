@@ -1635,13 +1635,107 @@ def format_summary(r: DiagnosisReport) -> str:
     return "\n".join(L) + "\n"
 
 
+def _in_view_log_locator(subs):
+    """A log-axis LogLocator that returns only the ticks inside the view.
+
+    matplotlib makes a Tick (two lines, two texts) for every location a locator returns and then draws only
+    those in view; a plain LogLocator returns whole decades beyond both ends, about half of them never drawn.
+    """
+    from matplotlib.ticker import LogLocator
+
+    class InView(LogLocator):
+        def __call__(self):
+            lo, hi = sorted(self.axis.get_view_interval())
+            if not (lo > 0 and np.isfinite(hi)):
+                return super().__call__()
+            tol = 1e-9 * max(np.log10(hi / lo), 1e-12)  # matplotlib keeps ticks within ~1e-10 of the ends
+            a, b = np.log10(lo) - tol, np.log10(hi) + tol
+            return [v for v in super().__call__() if v > 0 and a <= np.log10(v) <= b]
+
+    return InView(10.0, subs)
+
+
 def _plain_log_ticks(ax) -> None:
-    """Log axis with plain numbers (4, 6, 10, 20 rather than 4x10^0)."""
+    """Log axis with plain numbers (4, 6, 10, 20 rather than 4x10^0); ticks made only where drawn."""
     from matplotlib.ticker import FuncFormatter
 
+    ax.yaxis.set_major_locator(_in_view_log_locator((1.0,)))
+    ax.yaxis.set_minor_locator(_in_view_log_locator(None))
     fmt = FuncFormatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_major_formatter(fmt)
     ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if f"{v:.1e}"[0] in "2468" or f"{v:.1e}"[0] == "5" else ""))
+
+
+# Figure margins are set in inches from the fonts instead of by fig.tight_layout(): tight_layout draws every
+# tick of every panel to measure it, and leaves a layout engine on the figure that makes savefig draw it twice.
+# Only the strings that decide the margins are measured (tick labels in view, rotated bin labels), with the
+# same paddings tight_layout uses (1.08 x the 10 pt font between a label and the figure edge or the next panel).
+_PAD_PT = 10.8  # tight_layout's default pad
+_TICK_PT = 3.5 + 3.5  # major tick length + tick-label pad
+_LABELPAD_PT = 4.0
+_TITLEPAD_PT = 6.0
+_LINE = 1.07  # height of one line of text / font size (DejaVu Sans as matplotlib lays it out: 1.0 to 1.07)
+_TITLE = 0.8  # a title's rise above its baseline (which sits _TITLEPAD_PT above the axes) / font size
+
+
+def _text_w_pt(s: str, size: float) -> float:
+    """Width in points of one line of text at font size ``size`` (no drawing)."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    return text_to_path.get_text_width_height_descent(s, FontProperties(size=size), ismath=False)[0] if s else 0.0
+
+
+def _rotated_h_pt(s: str, size: float, deg: float) -> float:
+    """Vertical extent in points of a label rotated by ``deg`` degrees."""
+    a = np.radians(deg)
+    return _text_w_pt(s, size) * abs(np.sin(a)) + _LINE * size * abs(np.cos(a))
+
+
+def _tick_labels(axis) -> tuple[list[str], str]:
+    """The tick labels (major and minor) an x or y axis will draw in its current view, and its offset text."""
+    lo, hi = sorted(axis.get_view_interval())
+    tol = 1e-9 * abs(hi - lo)
+    out, offset = [], ""
+    for loc, fmt in ((axis.get_major_locator(), axis.get_major_formatter()), (axis.get_minor_locator(), axis.get_minor_formatter())):
+        locs = [v for v in loc() if lo - tol <= v <= hi + tol]
+        out += [t for t in fmt.format_ticks(locs) if t]
+        offset = offset or (fmt.get_offset() if hasattr(fmt, "get_offset") else "")
+    return out, offset
+
+
+def _ytick_labels(ax) -> list[str]:
+    """The y tick labels (major and minor) the axes will draw in its current view."""
+    return _tick_labels(ax.yaxis)[0]
+
+
+def _has_offset_text(ax) -> bool:
+    """True if either axis of ``ax`` will draw an offset or scientific-notation text (margins then need tight_layout)."""
+    return bool(_tick_labels(ax.xaxis)[1] or _tick_labels(ax.yaxis)[1])
+
+
+def _tight(fig) -> None:
+    """``fig.tight_layout()`` without the layout engine it leaves behind (which makes savefig draw the figure twice)."""
+    fig.tight_layout()
+    fig.set_layout_engine(None)
+
+
+def _ytick_w_pt(ax, size: float) -> float:
+    """Room in points left of the spine for the y tick labels (tick, pad, widest label)."""
+    return _TICK_PT + max((_text_w_pt(t, size) for t in _ytick_labels(ax)), default=0.0)
+
+
+def _set_margins(fig, left, right, top, bottom, wgap=0.0, hgap=0.0, ncols=1, nrows=1) -> None:
+    """``subplots_adjust`` from margins and gaps between panels given in points."""
+    W, H = fig.get_size_inches() * 72
+    kw = dict(left=left / W, right=1 - right / W, top=1 - top / H, bottom=bottom / H)
+    if ncols > 1:
+        axw = (W - left - right - (ncols - 1) * wgap) / ncols
+        kw["wspace"] = wgap / axw
+    if nrows > 1:
+        axh = (H - top - bottom - (nrows - 1) * hgap) / nrows
+        kw["hspace"] = hgap / axh
+    fig.subplots_adjust(**kw)
 
 
 def plot_residual_maps(r: DiagnosisReport, fig=None):
@@ -1658,7 +1752,7 @@ def plot_residual_maps(r: DiagnosisReport, fig=None):
         ax.bar(xi + 0.2, [b.rms_N for b in ff.bins], 0.4, color="C2")
         ax.axhline(noise, color="k", ls="--", lw=0.8)
         ax.set_xticks(xi, lab, rotation=45, fontsize=7)
-        ax.set_title(f"{fb.name}" + (f" [{fb.unit}]" if fb.unit else ""), fontsize=9)
+        ax.set_title(f"{fb.name}" + (f" [{fb.unit}]" if fb.unit else ""), fontsize=9, y=1.0)  # fixed: ticks are below
         ax.set_ylabel("RMS of measurement − model [N]", fontsize=7)
         ax.set_yscale("log")
         _plain_log_ticks(ax)
@@ -1678,7 +1772,16 @@ def plot_residual_maps(r: DiagnosisReport, fig=None):
         ax.text(0, 0.42, f"held-out RMS: {h.baseline_N:.1f} N -> {h.final_N:.1f} N", fontsize=8, transform=ax.transAxes)
     ax.text(0, 0.30, f"unexplained structure: {r.unexplained_structure}", fontsize=8, transform=ax.transAxes)
     fig.suptitle("Where the model and the recordings disagree: RMS of (measurement − model) per bin, before (eq. 14) and after")
-    fig.tight_layout()
+    # margins in points (what tight_layout found, without drawing every tick): y tick labels + the 7 pt y label
+    # left of each panel, the 45 degree bin labels below each row, the 9 pt titles and the 12 pt suptitle above
+    ylab = _LINE * 7 + _LABELPAD_PT
+    ywid = [_ytick_w_pt(ax, 7) + ylab for ax in axes.flat[:-1]]
+    xlab = [max((_rotated_h_pt(b.bin, 7, 45) for fb in r.where_baseline[4 * i:4 * i + 4] for b in fb.bins), default=0.0) + _TICK_PT
+            for i in range(2)]
+    title = _TITLEPAD_PT + _TITLE * 9
+    _set_margins(fig, left=_PAD_PT + max(ywid[0], ywid[4] if len(ywid) > 4 else 0.0), right=_PAD_PT,
+                 top=_PAD_PT + title + _PAD_PT + _LINE * 12, bottom=_PAD_PT + xlab[1],
+                 wgap=_PAD_PT + max(ywid[1:4] + ywid[5:]), hgap=_PAD_PT + xlab[0] + title, ncols=4, nrows=2)
     return fig
 
 
@@ -1712,7 +1815,7 @@ def plot_heldout_steps(r: DiagnosisReport, fig=None):
               fontsize=7, loc="upper right", ncol=2)
     ax.set_ylabel("held-out RMS of measurement − model [N]")
     ax.set_title("Held-out error as terms are added (experiments not used in selection or fit)", fontsize=9)
-    fig.tight_layout()
+    _tight(fig)  # the rotated step names may reach into the left margin: let tight_layout measure them
     return fig
 
 
@@ -1725,6 +1828,7 @@ def plot_worst(diag: Diagnosis, fig=None):
     worst = diag.report.worst_experiments[:4]
     fig = fig or plt.figure(figsize=(4 * max(len(worst), 1), 6))
     axes = fig.subplots(2, max(len(worst), 1), squeeze=False, gridspec_kw={"height_ratios": [2, 1]})
+    titles = []
     for j, w in enumerate(worst):
         e = w.exp_index
         a, b = D.bounds[e], D.bounds[e + 1]
@@ -1732,7 +1836,7 @@ def plot_worst(diag: Diagnosis, fig=None):
         ax.plot(D.x[a:b], D.y[a:b], ".", ms=2, color="0.4", label="measured")
         ax.plot(D.x[a:b], fb[a:b], "-", color="C3", lw=1, label="eq. 14")
         ax.plot(D.x[a:b], ff[a:b], "-", color="C2", lw=1, label="final model")
-        ax.set_title(f"{w.experiment}: p2 {w.p2_MPa:g} MPa, γ {w.valve_deg:g}°, {w.speed_mm_s:g} mm/s", fontsize=8)
+        titles.append((ax, f"{w.experiment}: p2 {w.p2_MPa:g} MPa, γ {w.valve_deg:g}°, {w.speed_mm_s:g} mm/s"))
         axr.plot(D.x[a:b], D.y[a:b] - fb[a:b], color="C3", lw=0.8)
         axr.plot(D.x[a:b], D.y[a:b] - ff[a:b], color="C2", lw=0.8)
         axr.axhline(0, color="k", lw=0.5)
@@ -1742,7 +1846,24 @@ def plot_worst(diag: Diagnosis, fig=None):
             axr.set_ylabel("measurement − model [N]")
             ax.legend(fontsize=7)
     fig.suptitle("Worst experiments of eq. 14, before and after the accepted terms")
-    fig.tight_layout()
+    if any(_has_offset_text(a) for a in axes.flat):  # an offset text above a panel: let tight_layout place it
+        for ax, t in titles:
+            ax.set_title(t, fontsize=8)
+        _tight(fig)
+        return fig
+    for ax, t in titles:
+        ax.set_title(t, fontsize=8, y=1.0)  # fixed: ticks are below and there is no offset text
+    # margins in points (what tight_layout found, without drawing every tick): the 10 pt y tick labels of each
+    # column (+ the y labels left of the first), 10 pt x tick labels below each row (+ the x label under the
+    # second), the 8 pt titles and the 12 pt suptitle above
+    line = _LINE * 10
+    yw = [max(_ytick_w_pt(axes[0, j], 10), _ytick_w_pt(axes[1, j], 10)) for j in range(axes.shape[1])]
+    left = _PAD_PT + yw[0] + _LABELPAD_PT + line
+    top = _PAD_PT + (_TITLEPAD_PT + _TITLE * 8 if titles else 0.0) + _PAD_PT + _LINE * 12
+    hgap = _PAD_PT + _TICK_PT + line
+    bottom = _PAD_PT + _TICK_PT + line + _LABELPAD_PT + line
+    _set_margins(fig, left=left, right=_PAD_PT, top=top, bottom=bottom, wgap=_PAD_PT + max(yw[1:], default=0.0),
+                 hgap=hgap, ncols=axes.shape[1], nrows=2)
     return fig
 
 

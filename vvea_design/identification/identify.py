@@ -1219,6 +1219,7 @@ def plot_fig11(rec: Recordings, D: FitData, fmod: np.ndarray, fig=None):
     axe.set_ylabel("meas. − model [N]")
     axe.set_xlabel("displacement x [mm]")
     fig.tight_layout()
+    fig.set_layout_engine(None)  # tight_layout leaves a placeholder engine that would make savefig draw the figure twice
     info = dict(
         experiment=str(r["experiment"]),
         max_abs_error_N=float(np.abs(err).max()) if len(err) else None,
