@@ -577,8 +577,21 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     from matplotlib.figure import Figure
 
     if fig is None:
-        fig = Figure(figsize=(12, 6.5), layout="constrained")
+        fig = Figure(figsize=(12, 6.5))
     axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1, 1.15]})
+    # Margins in inches, as a constrained layout would set them, but without its extra draw: the font
+    # sizes are fixed, so the room of the titles, tick labels, axis labels and the legends below is known.
+    # A figure handed in with its own layout engine keeps it.
+    fixed = fig.get_layout_engine() is None
+    cax = None
+    if fixed:
+        W, H = fig.get_size_inches()
+        three = any(any(e.touches.values()) for e in result.ends.values())  # titles of three lines
+        top, bottom = 0.62 + (0.15 if three else 0.0), 2.19
+        lefts, widths = (0.61, 4.32, 8.22), (3.25, 3.25, W - 8.22 - 0.04)
+        for ax, x0, w in zip(axes, lefts, widths):
+            ax.set_position([x0 / W, bottom / H, w / W, (H - top - bottom) / H])
+        cax = fig.add_axes([2.0 / W, 0.47 / H, 0.6 * (4.32 + 3.25 - 0.61) / W, 0.21 / H])
     strains = [result.ends[k].solution.element_max_principal_strain for k in ENDS]
     vmax = max(max(float(s.max()) for s in strains), result.allowable_strain, 1e-6)
     norm = matplotlib.colors.Normalize(0.0, vmax)
@@ -635,7 +648,10 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     axes[0].set_ylabel("axial position z from the lower clamp (mm)")
     axes[1].sharey(axes[0])
-    fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)
+    if fixed:
+        fig.colorbar(pc, cax=cax, label="max principal strain (-)", orientation="horizontal")
+    else:
+        fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)
     # strain along the wall against the allowable
     ax = axes[2]
     for k, style in zip(ENDS, ("-", "--")):
@@ -658,7 +674,8 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
            f"{100 * result.allowable_strain:.1f} %\n{'no contact with tube or bore' if result.passes_room else 'CONTACT'}")
     ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold")
     fig.suptitle(f"{title + ': ' if title else ''}{result.silicone.name}, wall {result.thickness_mm:g} mm "
-                 f"-> {verdict}", fontsize=11, color="black")
+                 f"-> {verdict}", fontsize=11, color="black",
+                 **({"y": 1 - 0.04 / fig.get_size_inches()[1]} if fixed else {}))  # where a constrained layout puts it
     return fig
 
 
