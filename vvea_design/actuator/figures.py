@@ -42,6 +42,19 @@ def _usable(df):
     return ok
 
 
+def _margins(fig: Figure, left: float, bottom: float, right: float, top: float, wspace: float = 0.0,
+             hspace: float = 0.0) -> None:
+    """Margins and the gaps between panels in inches, set once instead of ``tight_layout`` (which
+    lays every tick label out an extra time): the font sizes are fixed, so their room is known."""
+    W, H = fig.get_size_inches()
+    gs = fig.axes[0].get_subplotspec().get_gridspec()
+    rows, cols = gs.get_geometry()
+    aw = (W - left - right - (cols - 1) * wspace) / cols  # mean panel width and height, inches
+    ah = (H - top - bottom - (rows - 1) * hspace) / rows
+    fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
+                        wspace=wspace / aw, hspace=hspace / ah)
+
+
 def plot_best_map(df, fig: Figure | None = None) -> Figure:
     """Fig. 13: best valid setting per (T, A); colour depth = gain over the next best; white = none valid.
 
@@ -148,7 +161,8 @@ def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highli
         ax.grid(alpha=0.3)
     axes[1].set_ylim(-125, 140)
     axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9)
-    fig.tight_layout()
+    # room of the widest y tick labels (the torque axis' fixed -100) and its label, the title and the time axis
+    _margins(fig, left=0.84, bottom=0.59, right=0.15, top=0.34, hspace=0.2)
     return fig
 
 
@@ -196,7 +210,8 @@ def plot_safety(results: dict[str, OcpResult], tau_ref: float, zoom_s: float = 0
     axes[2, 0].legend(fontsize=7)
     axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
     axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9)
-    fig.tight_layout()
+    # room of the y tick labels (up to "-100") and labels, the titles, the time axes and the zoom's last tick
+    _margins(fig, left=0.78, bottom=0.59, right=0.35, top=0.34, wspace=0.58, hspace=0.2)
     return fig
 
 
