@@ -8,11 +8,13 @@ caller saves it (:func:`save_figure` writes a byte-stable PNG).
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..figure_layout import set_margins_in, ytick_label_width_in
 from .gas_spring import GasSpring
 
 __all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure", "VARIABLE_LABELS"]
@@ -51,12 +53,9 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, metadata=_META)
-    try:  # a figure made with pyplot would otherwise stay open
-        import matplotlib.pyplot as plt
-
+    plt = sys.modules.get("matplotlib.pyplot")  # not imported: the figure cannot be one of pyplot's
+    if plt is not None:  # a figure made with pyplot would otherwise stay open
         plt.close(fig)
-    except Exception:  # pragma: no cover - pyplot unavailable: nothing to close
-        pass
     return path
 
 
@@ -129,7 +128,10 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
         ax.legend(fontsize=7)
     fig.suptitle(title or f"gas spring: linearity error {100 * float(lin0.linearity_error):.2f} % "
                           f"(n = {spring.n_polytropic:g}, p2 = {spring.p2_MPa:.2f} MPa)")
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles
+    # and labels, and, left of each column, the room of its widest y tick labels
+    w = [max(ytick_label_width_in(ax) for ax in axes[:, c]) for c in range(2)]
+    set_margins_in(fig, left=0.473 + w[0], bottom=0.585, right=0.15, top=0.683, wspace=0.468 + w[1], hspace=0.798)
     return fig
 
 
