@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["ytick_label_width_in", "set_margins_in"]
+__all__ = ["ytick_label_width_in", "legend_width_in", "set_margins_in"]
 
 
 @lru_cache(maxsize=1)
@@ -75,3 +75,20 @@ def set_margins_in(fig, left: float, bottom: float, right: float, top: float, ws
     ah = (H - top - bottom - (rows - 1) * hspace) / rows
     fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
                         wspace=wspace / aw, hspace=hspace / ah)
+
+
+def legend_width_in(legend) -> float:
+    """Width (inches) of ``legend`` as drawn (its entries laid out, nothing drawn).
+
+    Parameters
+    ----------
+    legend : matplotlib.legend.Legend
+
+    Returns
+    -------
+    float
+    """
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    dpi = legend.figure.dpi
+    return legend.get_window_extent(RendererAgg(1, 1, dpi)).width / dpi

@@ -16,6 +16,7 @@ from matplotlib.colors import TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from ..figure_layout import legend_width_in, set_margins_in, ytick_label_width_in
 from .ocp import OcpResult, rest_to_rest_reference
 
 __all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map"]
@@ -40,19 +41,6 @@ def _usable(df):
     if "verified" in df:
         ok &= _bool(df["verified"])
     return ok
-
-
-def _margins(fig: Figure, left: float, bottom: float, right: float, top: float, wspace: float = 0.0,
-             hspace: float = 0.0) -> None:
-    """Margins and the gaps between panels in inches, set once instead of ``tight_layout`` (which
-    lays every tick label out an extra time): the font sizes are fixed, so their room is known."""
-    W, H = fig.get_size_inches()
-    gs = fig.axes[0].get_subplotspec().get_gridspec()
-    rows, cols = gs.get_geometry()
-    aw = (W - left - right - (cols - 1) * wspace) / cols  # mean panel width and height, inches
-    ah = (H - top - bottom - (rows - 1) * hspace) / rows
-    fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
-                        wspace=wspace / aw, hspace=hspace / ah)
 
 
 def plot_best_map(df, fig: Figure | None = None) -> Figure:
@@ -114,7 +102,13 @@ def plot_best_map(df, fig: Figure | None = None) -> Figure:
                                                                           label="no valid setting")]
         ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("Best valid setting per case (deeper colour = bigger gain over the next best)", fontsize=9)
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles and
+    # labels; measured, the widest amplitude tick label (left) and the legend right of the panels
+    W = fig.get_size_inches()[0]
+    left = 0.456 + max(ytick_label_width_in(ax) for ax in axes)
+    lw = max(legend_width_in(ax.get_legend()) for ax in axes)
+    right = (0.2 + lw + 0.01 * (W - left)) / 1.01  # the legend starts 1 % of the panel width right of it
+    set_margins_in(fig, left=left, bottom=0.543, right=right, top=0.633, hspace=0.736)
     return fig
 
 
@@ -161,8 +155,10 @@ def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highli
         ax.grid(alpha=0.3)
     axes[1].set_ylim(-125, 140)
     axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9)
-    # room of the widest y tick labels (the torque axis' fixed -100) and its label, the title and the time axis
-    _margins(fig, left=0.84, bottom=0.59, right=0.15, top=0.34, hspace=0.2)
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the title and
+    # the labels, and the room of the widest y tick labels (measured)
+    set_margins_in(fig, left=0.475 + max(ytick_label_width_in(ax) for ax in axes), bottom=0.585, right=0.15,
+                   top=0.343, hspace=0.2)
     return fig
 
 
@@ -210,8 +206,10 @@ def plot_safety(results: dict[str, OcpResult], tau_ref: float, zoom_s: float = 0
     axes[2, 0].legend(fontsize=7)
     axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
     axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9)
-    # room of the y tick labels (up to "-100") and labels, the titles, the time axes and the zoom's last tick
-    _margins(fig, left=0.78, bottom=0.59, right=0.35, top=0.34, wspace=0.58, hspace=0.2)
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles,
+    # the labels and the zoom's last time tick, and left of each column the room of its widest y tick labels
+    w = [max(ytick_label_width_in(ax) for ax in axes[:, c]) for c in range(2)]
+    set_margins_in(fig, left=0.466 + w[0], bottom=0.585, right=0.35, top=0.343, wspace=0.267 + w[1], hspace=0.2)
     return fig
 
 
@@ -299,5 +297,9 @@ def plot_design_map(df, design: str = "design", references: Sequence[str] | None
     bx.set_xlim(0, (np.nanmax(means) if np.isfinite(means).any() else 1.0) * 1.35)
     bx.set_title(f"mean over the {int(all_ok.sum())} of {len(ok)} cases\nwhere every setting is valid", fontsize=9)
     bx.grid(axis="x", alpha=0.3)
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles and
+    # labels; measured, the amplitude tick labels (left) and, between the panels, the colour bar's tick labels
+    # and the setting names
+    set_margins_in(fig, left=0.453 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.521,
+                   wspace=-0.03 + ytick_label_width_in(cb.ax) + ytick_label_width_in(bx))
     return fig
