@@ -641,7 +641,7 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
         touch = [n for n, t in e.touches.items() if t]
         ax.set_title(f"{k} (x = {'travel' if k == 'expanded' else '0'}): dV = {result.volume_change_mm3[k]:+.0f} mm³\n"
                      f"Δp = {e.pressure_MPa:+.3g} MPa, bound {100 * e.strain_bound:.1f} %"
-                     + (f"\nTOUCHES {', '.join(touch)}" if touch else ""), fontsize=9)
+                     + (f"\nTOUCHES {', '.join(touch)}" if touch else ""), fontsize=9, y=1.0)
         ax.set_xlim(lo, hi)
         ax.set_ylim(z0 - 1.0, z1 + 1.0)
         ax.set_xlabel("radius r (mm; radial scale exaggerated)")
@@ -672,7 +672,7 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     verdict = "PASS" if ok else "FAIL"
     why = (f"bound {100 * result.strain_bound:.1f} % {'<=' if result.passes_strain else '>'} allowable "
            f"{100 * result.allowable_strain:.1f} %\n{'no contact with tube or bore' if result.passes_room else 'CONTACT'}")
-    ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold")
+    ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold", y=1.0)
     fig.suptitle(f"{title + ': ' if title else ''}{result.silicone.name}, wall {result.thickness_mm:g} mm "
                  f"-> {verdict}", fontsize=11, color="black",
                  **({"y": 1 - 0.04 / fig.get_size_inches()[1]} if fixed else {}))  # where a constrained layout puts it

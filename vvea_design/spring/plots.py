@@ -117,12 +117,17 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
         s = spring.with_pressures(p2)
         axes[0, 0].plot(x, s.force_N(x), lw=1, color=str(grey),
                         label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
-    axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)",
-                   title="force–displacement (dotted: least-squares lines)")
+    axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)")
+    axes[0, 0].set_title("force–displacement (dotted: least-squares lines)", y=1.0)
     axes[0, 1].axhline(0, color="k", lw=0.5)
-    axes[0, 1].set(xlabel="displacement x [mm]", ylabel="F − least-squares line [N]", title="deviation from the line")
-    axes[1, 0].set(xlabel="displacement x [mm]", ylabel="local stiffness dF/dx [N/mm]", title="local stiffness")
-    axes[1, 1].set(xlabel="displacement x [mm]", ylabel="absolute pressure [MPa]", title="chamber pressures")
+    axes[0, 1].set(xlabel="displacement x [mm]", ylabel="F − least-squares line [N]")
+    axes[1, 0].set(xlabel="displacement x [mm]", ylabel="local stiffness dF/dx [N/mm]")
+    axes[1, 1].set(xlabel="displacement x [mm]", ylabel="absolute pressure [MPa]")
+    # titles at y = 1 given, not left to the draw to place (it would lay out the y tick labels once more to
+    # look for an offset text under them; these axes have none)
+    axes[0, 1].set_title("deviation from the line", y=1.0)
+    axes[1, 0].set_title("local stiffness", y=1.0)
+    axes[1, 1].set_title("chamber pressures", y=1.0)
     for ax in axes.flat:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
