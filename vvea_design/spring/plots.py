@@ -216,6 +216,7 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
+    own = ax is None  # the figure is ours: its margins are set here (else tight_layout, as always)
     fig, ax = _axes(ax, (8.2, 6.0))
     lx, sx = VARIABLE_LABELS.get(m["var_x"], (m["var_x"], 1.0))
     ly, sy = VARIABLE_LABELS.get(m["var_y"], (m["var_y"], 1.0))
@@ -249,7 +250,12 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
         leg.get_frame().set_facecolor("0.85")
     ax.set_xmargin(0.03)
     ax.set_ymargin(0.03)
-    ax.set(xlabel=lx, ylabel=ly, title="linearity over two design variables, the others at the optimum\n"
-                                       "(hatched: violates a requirement; lines: where each one binds)")
-    fig.tight_layout()
+    ax.set(xlabel=lx, ylabel=ly)
+    ax.set_title("linearity over two design variables, the others at the optimum\n"
+                 "(hatched: violates a requirement; lines: where each one binds)", y=1.0)
+    if own:  # margins in inches as tight_layout set them, without its extra layout pass (the colour bar's
+        # labels fit in its own slot): fixed room for the title and labels, the y tick labels' room measured
+        set_margins_in(fig, left=0.462 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.583)
+    else:
+        fig.tight_layout()
     return fig
