@@ -579,19 +579,9 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     if fig is None:
         fig = Figure(figsize=(12, 6.5))
     axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1, 1.15]})
-    # Margins in inches, as a constrained layout would set them, but without its extra draw: the font
-    # sizes are fixed, so the room of the titles, tick labels, axis labels and the legends below is known.
-    # A figure handed in with its own layout engine keeps it.
+    # A figure handed in with its own layout engine keeps it; else the panels are placed at the end
     fixed = fig.get_layout_engine() is None
-    cax = None
-    if fixed:
-        W, H = fig.get_size_inches()
-        three = any(any(e.touches.values()) for e in result.ends.values())  # titles of three lines
-        top, bottom = 0.62 + (0.15 if three else 0.0), 2.19
-        lefts, widths = (0.61, 4.32, 8.22), (3.25, 3.25, W - 8.22 - 0.04)
-        for ax, x0, w in zip(axes, lefts, widths):
-            ax.set_position([x0 / W, bottom / H, w / W, (H - top - bottom) / H])
-        cax = fig.add_axes([2.0 / W, 0.47 / H, 0.6 * (4.32 + 3.25 - 0.61) / W, 0.21 / H])
+    cax = fig.add_axes([0.0, 0.0, 1.0, 1.0]) if fixed else None  # the colour bar's, placed at the end
     strains = [result.ends[k].solution.element_max_principal_strain for k in ENDS]
     vmax = max(max(float(s.max()) for s in strains), result.allowable_strain, 1e-6)
     norm = matplotlib.colors.Normalize(0.0, vmax)
@@ -676,7 +666,31 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     fig.suptitle(f"{title + ': ' if title else ''}{result.silicone.name}, wall {result.thickness_mm:g} mm "
                  f"-> {verdict}", fontsize=11, color="black",
                  **({"y": 1 - 0.04 / fig.get_size_inches()[1]} if fixed else {}))  # where a constrained layout puts it
+    if fixed:
+        _place_panels(fig, axes, cax, result)
     return fig
+
+
+def _place_panels(fig, axes, cax, result: BladderResult) -> None:
+    """Panels and colour bar of :func:`plot_bladder` placed as a constrained layout placed them, in inches,
+    without the extra draw it costs at savefig: the font sizes are fixed, so the room of the titles, axis
+    labels, legends below and colour bar is known; the y tick labels' room is measured."""
+    from ..figure_layout import ytick_label_width_in
+
+    W, H = fig.get_size_inches()
+    three = any(any(e.touches.values()) for e in result.ends.values())  # titles of three lines
+    top, bottom, right = 0.62 + (0.15 if three else 0.0), 2.19, 0.04
+    tw = [ytick_label_width_in(ax) for ax in axes]
+    left, gaps = 0.36 + tw[0], (0.0, 0.21 + tw[1], 0.40 + tw[2])  # the third panel has a y label
+    ratios = (1.0, 1.0, 1.15)
+    unit = (W - left - right - sum(gaps)) / sum(ratios)
+    x = left
+    for ax, gap, r in zip(axes, gaps, ratios):
+        x += gap
+        ax.set_position([x / W, bottom / H, r * unit / W, (H - top - bottom) / H])
+        x += r * unit
+    span = 2 * unit + gaps[1]  # the colour bar: centred under the two wall panels, 0.6 of their span
+    cax.set_position([(left + 0.2 * span) / W, 0.47 / H, 0.6 * span / W, 0.21 / H])
 
 
 def _profile_rows(result: BladderResult) -> list[dict]:
