@@ -34,7 +34,7 @@ def ytick_label_width_in(ax) -> float:
     Returns
     -------
     float
-        0 when no label is drawn.
+        Inches (the same unit as ``Figure.get_size_inches``); 0 when no label is drawn.
     """
     from matplotlib import rcParams
     from matplotlib.font_manager import FontProperties
@@ -65,9 +65,9 @@ def set_margins_in(fig, left: float, bottom: float, right: float, top: float, ws
     fig : matplotlib.figure.Figure
         Figure whose first axes' grid is adjusted.
     left, bottom, right, top : float
-        Margins, inches.
+        Margins, inches (the same unit as ``Figure.get_size_inches``).
     wspace, hspace : float
-        Gaps between columns and between rows, inches.
+        Gaps between columns and between rows, inches (the same unit as the margins).
     """
     W, H = fig.get_size_inches()
     rows, cols = fig.axes[0].get_subplotspec().get_gridspec().get_geometry()
@@ -87,6 +87,7 @@ def legend_width_in(legend) -> float:
     Returns
     -------
     float
+        Inches (the same unit as ``Figure.get_size_inches``).
     """
     from matplotlib.backends.backend_agg import RendererAgg
 
