@@ -36,22 +36,22 @@ def ytick_label_width_in(ax) -> float:
     float
         Inches (the same unit as ``Figure.get_size_inches``); 0 when no label is drawn.
     """
-    from matplotlib import rcParams
+    from matplotlib import cbook, rcParams
     from matplotlib.font_manager import FontProperties
-    from matplotlib.text import Text
 
     axis = ax.yaxis
     lo, hi = sorted(ax.get_ylim())
     locs = axis.get_majorticklocs()
     labels = axis.get_major_formatter().format_ticks(locs)
-    size = axis._major_tick_kw.get("labelsize", rcParams["ytick.labelsize"])
+    size = getattr(axis, "_major_tick_kw", {}).get("labelsize", rcParams["ytick.labelsize"])  # tick_params
     prop = FontProperties(size=size)
     tol = 1e-9 * max(abs(hi - lo), 1e-300)
-    r, probe = _renderer(), Text()
+    r = _renderer()
     width = 0.0
     for loc, s in zip(locs, labels):
         if s and lo - tol <= loc <= hi + tol:
-            text, ismath = probe._preprocess_math(s)
+            ismath = cbook.is_math_text(s)  # as a tick label (a Text) decides it
+            text = s if ismath else s.replace(r"\$", "$")
             width = max(width, r.get_text_width_height_descent(text, prop, ismath=ismath)[0])
     return width / 72.0
 
