@@ -72,6 +72,15 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
         w.writerows(rows)
 
 
+def _margins(fig, left: float, bottom: float, right: float, top: float, hspace: float = 0.0) -> None:
+    """Margins and the gap between stacked panels in inches, as a constrained layout sets them for
+    these fixed font sizes, without the extra draw it costs at savefig."""
+    W, H = fig.get_size_inches()
+    rows = fig.axes[0].get_subplotspec().get_gridspec().nrows
+    fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
+                        hspace=hspace / ((H - top - bottom - (rows - 1) * hspace) / rows))
+
+
 def _order(n: np.ndarray, err: np.ndarray) -> float:
     """Observed order: slope of log(err) against log(1/n), least squares."""
     ok = err > 0
@@ -99,14 +108,15 @@ def balloon(out: Path, n: int = 64, quick: bool = False) -> dict:
     rows = [{"stretch": a, "pressure_fe_MPa": b, "pressure_exact_MPa": c, "relative_error": d}
             for a, b, c, d in zip(lam_fe, p_fe, p_ex, err)]
     _write_csv(out / "balloon.csv", rows)
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(6, 6), sharex=True, constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
+    _margins(fig, 0.91, 0.48, 0.04, 0.25, hspace=0.13)
     lf = np.linspace(1, 3, 300)
     a1.plot(lf, 2 * H0 * mu / R0 * (1 / lf - lf**-7), "k-", label="exact (2 H0 mu / R0)(1/l - 1/l^7)")
     a1.plot(lam_fe, p_fe, "o", ms=4, label=f"FE, {n} elements, volume control")
     a1.axvline(7 ** (1 / 6), color="0.6", ls=":", label="pressure maximum l = 7^(1/6)")
     a1.set_ylabel("pressure (MPa)")
     a1.legend(fontsize=8)
-    a1.set_title(f"neo-Hookean balloon, R0 = {R0} mm, H0 = {H0} mm, mu = {mu} MPa")
+    a1.set_title(f"neo-Hookean balloon, R0 = {R0} mm, H0 = {H0} mm, mu = {mu} MPa", y=1.0)
     a2.plot(lam_fe, np.abs(err), "o-", ms=3)
     a2.axhline(1e-3, color="r", ls="--", label="requirement 1e-3")
     a2.set_yscale("log")
@@ -143,14 +153,15 @@ def tube(out: Path, n: int = 80, quick: bool = False) -> dict:
                          "relative_error_linear": s.pressure_MPa / p_lin - 1})
             adv()
     _write_csv(out / "tube.csv", rows)
-    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    _margins(fig, 0.73, 0.50, 0.04, 0.25)
     x = [r["midspan_hoop_strain"] for r in rows]
     ax.loglog(x, [abs(r["relative_error_laplace"]) for r in rows], "o-", label="FE vs Laplace p = sigma_hoop h / r")
     ax.loglog(x, [abs(r["relative_error_linear"]) for r in rows], "s-", label="FE vs linear p = 4 mu H eps / R")
     ax.axhline(1e-3, color="r", ls="--", label="1e-3")
     ax.set_xlabel("midspan hoop strain")
     ax.set_ylabel("|relative error|")
-    ax.set_title(f"clamped tube L/R = {L / R:.0f}, {n} elements")
+    ax.set_title(f"clamped tube L/R = {L / R:.0f}, {n} elements", y=1.0)
     ax.legend(fontsize=8)
     fig.savefig(out / "tube.png", dpi=120)
     plt.close(fig)
@@ -200,7 +211,8 @@ def convergence(out: Path, quick: bool = False) -> dict:
     orders = {"balloon_pressure": _order(ns_b, np.array(eb))}
     for k, v in errs.items():
         orders[f"bladder_{k}"] = _order(ns_s, np.array(v))
-    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    _margins(fig, 0.67, 0.50, 0.04, 0.25)
     ax.loglog(ns_b, eb, "o-", label=f"balloon pressure vs exact (order {orders['balloon_pressure']:.2f})")
     for k, v in errs.items():
         ax.loglog(ns_s, v, "s-", label=f"bladder {k} vs {n_ref} el. (order {orders['bladder_' + k]:.2f})")
@@ -209,7 +221,7 @@ def convergence(out: Path, quick: bool = False) -> dict:
     ax.set_xlabel("elements along the meridian")
     ax.set_ylabel("relative error")
     ax.legend(fontsize=7)
-    ax.set_title("mesh convergence")
+    ax.set_title("mesh convergence", y=1.0)
     fig.savefig(out / "convergence.png", dpi=120)
     plt.close(fig)
     return {"observed_order": orders, "bladder_reference_elements": n_ref,
@@ -337,7 +349,8 @@ def _paper_sensitivity(out: Path, dv: dict, n: int) -> list[dict]:
                 })
                 adv()
     _write_csv(out / "paper_sensitivity.csv", rows)
-    fig, ax = plt.subplots(figsize=(6.5, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    _margins(fig, 0.52, 0.48, 0.04, 0.25)
     for H, ls in zip(thicknesses, ("-", "--")):
         sel = [r for r in rows if r["thickness_mm"] == H]
         L = [r["free_length_mm"] for r in sel]
@@ -351,7 +364,7 @@ def _paper_sensitivity(out: Path, dv: dict, n: int) -> list[dict]:
     ax.axhline(100 * PAPER["strain_compressed"], color="tab:blue", lw=0.8, ls=":", label="paper 8 % (compressed)")
     ax.set_xlabel("bladder free length (mm)")
     ax.set_ylabel("max strain (%)")
-    ax.set_title("paper's stroke (+-14 137 mm3) on the reconstructed sleeve")
+    ax.set_title("paper's stroke (+-14 137 mm3) on the reconstructed sleeve", y=1.0)
     ax.legend(fontsize=7, ncol=2)
     fig.savefig(out / "paper_sensitivity.png", dpi=120)
     plt.close(fig)

@@ -16,6 +16,7 @@ from matplotlib.colors import TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from ..figure_layout import legend_width_in, set_margins_in, ytick_label_width_in
 from .ocp import OcpResult, rest_to_rest_reference
 
 __all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map"]
@@ -96,12 +97,18 @@ def plot_best_map(df, fig: Figure | None = None) -> Figure:
         if v is not None:
             D = df.loc[df.setting == v, ["D_min_Nms_per_rad", "D_max_Nms_per_rad"]].iloc[0]
             title += f"  ({D.iloc[0]:.3g} ≤ D ≤ {D.iloc[1]:.3g} N m s/rad)"
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, fontsize=9, y=1.0)
         handles = [Patch(color=cols[s], label=s) for s in group] + [Patch(facecolor="white", edgecolor="0.6",
                                                                           label="no valid setting")]
         ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("Best valid setting per case (deeper colour = bigger gain over the next best)", fontsize=9)
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles and
+    # labels; measured, the widest amplitude tick label (left) and the legend right of the panels
+    W = fig.get_size_inches()[0]
+    left = 0.456 + max(ytick_label_width_in(ax) for ax in axes)
+    lw = max(legend_width_in(ax.get_legend()) for ax in axes)
+    right = (0.2 + lw + 0.01 * (W - left)) / 1.01  # the legend starts 1 % of the panel width right of it
+    set_margins_in(fig, left=left, bottom=0.543, right=right, top=0.633, hspace=0.736)
     return fig
 
 
@@ -147,8 +154,11 @@ def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highli
     for ax in axes:
         ax.grid(alpha=0.3)
     axes[1].set_ylim(-125, 140)
-    axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9)
-    fig.tight_layout()
+    axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9, y=1.0)
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the title and
+    # the labels, and the room of the widest y tick labels (measured)
+    set_margins_in(fig, left=0.475 + max(ytick_label_width_in(ax) for ax in axes), bottom=0.585, right=0.15,
+                   top=0.343, hspace=0.2)
     return fig
 
 
@@ -194,9 +204,12 @@ def plot_safety(results: dict[str, OcpResult], tau_ref: float, zoom_s: float = 0
     axes[2, 0].set_ylabel("damping D (N m s/rad)")
     axes[0, 0].legend(fontsize=7, loc="lower right")
     axes[2, 0].legend(fontsize=7)
-    axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9)
-    axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9)
-    fig.tight_layout()
+    axes[0, 0].set_title(f"Optimal {tau_ref:g} N m torque step (paper Fig. 14)", fontsize=9, y=1.0)
+    axes[0, 1].set_title(f"first {zoom_s * 1e3:g} ms", fontsize=9, y=1.0)
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles,
+    # the labels and the zoom's last time tick, and left of each column the room of its widest y tick labels
+    w = [max(ytick_label_width_in(ax) for ax in axes[:, c]) for c in range(2)]
+    set_margins_in(fig, left=0.466 + w[0], bottom=0.585, right=0.35, top=0.343, wspace=0.267 + w[1], hspace=0.2)
     return fig
 
 
@@ -266,7 +279,7 @@ def plot_design_map(df, design: str = "design", references: Sequence[str] | None
     ax.set_xlabel("period T (s)")
     ax.set_ylabel("amplitude A (rad)")
     ax.set_title(f"{design} rmse vs the best valid of {', '.join(refs)}\n(negative = {design} tracks better)",
-                 fontsize=9)
+                 fontsize=9, y=1.0)
     cb = fig.colorbar(im, ax=ax, shrink=0.9)
     cb.set_label(f"rmse_{design} / rmse_best other − 1 (%)")
     names = [design] + refs
@@ -282,7 +295,11 @@ def plot_design_map(df, design: str = "design", references: Sequence[str] | None
     bx.invert_yaxis()
     bx.set_xlabel("mean rmse (rad)")
     bx.set_xlim(0, (np.nanmax(means) if np.isfinite(means).any() else 1.0) * 1.35)
-    bx.set_title(f"mean over the {int(all_ok.sum())} of {len(ok)} cases\nwhere every setting is valid", fontsize=9)
+    bx.set_title(f"mean over the {int(all_ok.sum())} of {len(ok)} cases\nwhere every setting is valid", fontsize=9, y=1.0)
     bx.grid(axis="x", alpha=0.3)
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles and
+    # labels; measured, the amplitude tick labels (left) and, between the panels, the colour bar's tick labels
+    # and the setting names
+    set_margins_in(fig, left=0.453 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.521,
+                   wspace=-0.03 + ytick_label_width_in(cb.ax) + ytick_label_width_in(bx))
     return fig

@@ -577,8 +577,11 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     from matplotlib.figure import Figure
 
     if fig is None:
-        fig = Figure(figsize=(12, 6.5), layout="constrained")
+        fig = Figure(figsize=(12, 6.5))
     axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1, 1.15]})
+    # A figure handed in with its own layout engine keeps it; else the panels are placed at the end
+    fixed = fig.get_layout_engine() is None
+    cax = fig.add_axes([0.0, 0.0, 1.0, 1.0]) if fixed else None  # the colour bar's, placed at the end
     strains = [result.ends[k].solution.element_max_principal_strain for k in ENDS]
     vmax = max(max(float(s.max()) for s in strains), result.allowable_strain, 1e-6)
     norm = matplotlib.colors.Normalize(0.0, vmax)
@@ -628,14 +631,17 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
         touch = [n for n, t in e.touches.items() if t]
         ax.set_title(f"{k} (x = {'travel' if k == 'expanded' else '0'}): dV = {result.volume_change_mm3[k]:+.0f} mm³\n"
                      f"Δp = {e.pressure_MPa:+.3g} MPa, bound {100 * e.strain_bound:.1f} %"
-                     + (f"\nTOUCHES {', '.join(touch)}" if touch else ""), fontsize=9)
+                     + (f"\nTOUCHES {', '.join(touch)}" if touch else ""), fontsize=9, y=1.0)
         ax.set_xlim(lo, hi)
         ax.set_ylim(z0 - 1.0, z1 + 1.0)
         ax.set_xlabel("radius r (mm; radial scale exaggerated)")
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     axes[0].set_ylabel("axial position z from the lower clamp (mm)")
     axes[1].sharey(axes[0])
-    fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)
+    if fixed:
+        fig.colorbar(pc, cax=cax, label="max principal strain (-)", orientation="horizontal")
+    else:
+        fig.colorbar(pc, ax=axes[:2], label="max principal strain (-)", location="bottom", shrink=0.6)
     # strain along the wall against the allowable
     ax = axes[2]
     for k, style in zip(ENDS, ("-", "--")):
@@ -656,10 +662,35 @@ def plot_bladder(result: BladderResult, fig=None, title: str = ""):
     verdict = "PASS" if ok else "FAIL"
     why = (f"bound {100 * result.strain_bound:.1f} % {'<=' if result.passes_strain else '>'} allowable "
            f"{100 * result.allowable_strain:.1f} %\n{'no contact with tube or bore' if result.passes_room else 'CONTACT'}")
-    ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold")
+    ax.set_title(f"{verdict}: {why}", fontsize=9, color="tab:green" if ok else "tab:red", weight="bold", y=1.0)
     fig.suptitle(f"{title + ': ' if title else ''}{result.silicone.name}, wall {result.thickness_mm:g} mm "
-                 f"-> {verdict}", fontsize=11, color="black")
+                 f"-> {verdict}", fontsize=11, color="black",
+                 **({"y": 1 - 0.04 / fig.get_size_inches()[1]} if fixed else {}))  # where a constrained layout puts it
+    if fixed:
+        _place_panels(fig, axes, cax, result)
     return fig
+
+
+def _place_panels(fig, axes, cax, result: BladderResult) -> None:
+    """Panels and colour bar of :func:`plot_bladder` placed as a constrained layout placed them, in inches,
+    without the extra draw it costs at savefig: the font sizes are fixed, so the room of the titles, axis
+    labels, legends below and colour bar is known; the y tick labels' room is measured."""
+    from ..figure_layout import ytick_label_width_in
+
+    W, H = fig.get_size_inches()
+    three = any(any(e.touches.values()) for e in result.ends.values())  # titles of three lines
+    top, bottom, right = 0.62 + (0.15 if three else 0.0), 2.19, 0.04
+    tw = [ytick_label_width_in(ax) for ax in axes]
+    left, gaps = 0.36 + tw[0], (0.0, 0.21 + tw[1], 0.40 + tw[2])  # the third panel has a y label
+    ratios = (1.0, 1.0, 1.15)
+    unit = (W - left - right - sum(gaps)) / sum(ratios)
+    x = left
+    for ax, gap, r in zip(axes, gaps, ratios):
+        x += gap
+        ax.set_position([x / W, bottom / H, r * unit / W, (H - top - bottom) / H])
+        x += r * unit
+    span = 2 * unit + gaps[1]  # the colour bar: centred under the two wall panels, 0.6 of their span
+    cax.set_position([(left + 0.2 * span) / W, 0.47 / H, 0.6 * span / W, 0.21 / H])
 
 
 def _profile_rows(result: BladderResult) -> list[dict]:

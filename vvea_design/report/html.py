@@ -627,28 +627,43 @@ def _spring_figure(unit: UnitResult) -> "Figure":
 
     c = unit.spring
     x = c.x_mm
-    fig = Figure(figsize=(12.5, 3.9), layout="constrained")
+    fig = Figure(figsize=(12.5, 3.9))
     a, b, p = fig.subplots(1, 3)
     a.plot(x, c.force_isothermal_N, color="C0", lw=2, label=f"isothermal (n = 1), {c.stiffness_isothermal_N_per_mm:.1f} N/mm")
     a.plot(x, c.force_adiabatic_N, color="C3", lw=1.5, ls="--",
            label=f"adiabatic (n = 1.4), {c.stiffness_adiabatic_N_per_mm:.1f} N/mm")
-    a.set(xlabel="displacement x (mm), x > 0 extends", ylabel="force F (N), tension > 0", title="force over the stroke")
+    a.set(xlabel="displacement x (mm), x > 0 extends", ylabel="force F (N), tension > 0")
+    a.set_title("force over the stroke", y=1.0)  # placed, not searched for at the draw (no offset text here)
     a.legend(fontsize=8, loc="upper left")
     a.grid(alpha=0.3)
     b.plot(x, c.deviation_isothermal_N, color="C0", lw=2, label=f"isothermal: {100 * c.linearity_isothermal:.2f} %")
     b.plot(x, c.deviation_adiabatic_N, color="C3", lw=1.5, ls="--", label=f"adiabatic: {100 * c.linearity_adiabatic:.2f} %")
     b.axhline(0, color="k", lw=0.6)
-    b.set(xlabel="displacement x (mm)", ylabel="F − least-squares line (N)",
-          title="deviation from the straight line (linearity error)")
+    b.set(xlabel="displacement x (mm)", ylabel="F − least-squares line (N)")
+    b.set_title("deviation from the straight line (linearity error)", y=1.0)
     b.legend(fontsize=8, loc="best")
     b.grid(alpha=0.3)
     p.plot(x, c.P1_isothermal_MPa, color="C2", lw=2, label="chamber 1, isothermal")
     p.plot(x, c.P2_isothermal_MPa, color="C4", lw=2, label="chamber 2, isothermal")
     p.plot(x, c.P1_adiabatic_MPa, color="C2", lw=1.2, ls="--", label="chamber 1, adiabatic")
     p.plot(x, c.P2_adiabatic_MPa, color="C4", lw=1.2, ls="--", label="chamber 2, adiabatic")
-    p.set(xlabel="displacement x (mm)", ylabel="gas pressure (MPa)", title="chamber pressures")
+    p.set(xlabel="displacement x (mm)", ylabel="gas pressure (MPa)")
+    p.set_title("chamber pressures", y=1.0)
     p.legend(fontsize=8, loc="best")
     p.grid(alpha=0.3)
+    # margins in inches as a constrained layout set them, without the second draw it costs: fixed room for
+    # the titles and axis labels, and left of each panel the room of its widest y tick label
+    from ..figure_layout import ytick_label_width_in
+
+    W, H = fig.get_size_inches()
+    left, right, bottom, top = 0.365 + ytick_label_width_in(a), 0.042, 0.477, 0.255
+    gaps = [0.39 + ytick_label_width_in(ax) for ax in (b, p)]
+    w = (W - left - right - sum(gaps)) / 3
+    x0 = left
+    for ax, gap in zip((a, b, p), [0.0] + gaps):
+        x0 += gap
+        ax.set_position([x0 / W, bottom / H, w / W, (H - bottom - top) / H])
+        x0 += w
     return fig
 
 
@@ -657,7 +672,7 @@ def _bladder_figure(unit: UnitResult) -> "Figure":
 
     bl = unit.bladder
     ends = list(bl.ends)
-    fig = Figure(figsize=(7.5, 3.2), layout="constrained")
+    fig = Figure(figsize=(7.5, 3.2))
     ax = fig.subplots()
     kinds = [("membrane max principal", [bl.ends[k].max_principal_strain for k in ends]),
              ("clamp (membrane + bending)", [bl.ends[k].clamp_strain for k in ends])]
@@ -669,9 +684,13 @@ def _bladder_figure(unit: UnitResult) -> "Figure":
     ax.set_xticks(np.arange(len(ends)), [f"{k}\n(ΔV = {bl.volume_change_mm3[k]:+.0f} mm³)" for k in ends])
     ax.set_ylabel("strain (%)")
     ax.set_ylim(0, 100 * max(bl.allowable_strain, bl.strain_bound) * 1.35)
-    ax.set_title(f"bladder strain bound {100 * bl.strain_bound:.1f} % vs allowable {100 * bl.allowable_strain:.1f} %")
+    ax.set_title(f"bladder strain bound {100 * bl.strain_bound:.1f} % vs allowable {100 * bl.allowable_strain:.1f} %", y=1.0)
     ax.legend(fontsize=8, loc="upper left", ncols=3)
     ax.grid(axis="y", alpha=0.3)
+    from ..figure_layout import set_margins_in, ytick_label_width_in
+
+    # as a constrained layout set them (without its second draw); the y tick labels' room measured
+    set_margins_in(fig, left=0.351 + ytick_label_width_in(ax), bottom=0.481, right=0.289, top=0.255)
     return fig
 
 

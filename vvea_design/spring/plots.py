@@ -8,11 +8,13 @@ caller saves it (:func:`save_figure` writes a byte-stable PNG).
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..figure_layout import set_margins_in, ytick_label_width_in
 from .gas_spring import GasSpring
 
 __all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure", "VARIABLE_LABELS"]
@@ -51,12 +53,9 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, metadata=_META)
-    try:  # a figure made with pyplot would otherwise stay open
-        import matplotlib.pyplot as plt
-
+    plt = sys.modules.get("matplotlib.pyplot")  # not imported: the figure cannot be one of pyplot's
+    if plt is not None:  # a figure made with pyplot would otherwise stay open
         plt.close(fig)
-    except Exception:  # pragma: no cover - pyplot unavailable: nothing to close
-        pass
     return path
 
 
@@ -118,18 +117,26 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
         s = spring.with_pressures(p2)
         axes[0, 0].plot(x, s.force_N(x), lw=1, color=str(grey),
                         label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
-    axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)",
-                   title="force–displacement (dotted: least-squares lines)")
+    axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)")
+    axes[0, 0].set_title("force–displacement (dotted: least-squares lines)", y=1.0)
     axes[0, 1].axhline(0, color="k", lw=0.5)
-    axes[0, 1].set(xlabel="displacement x [mm]", ylabel="F − least-squares line [N]", title="deviation from the line")
-    axes[1, 0].set(xlabel="displacement x [mm]", ylabel="local stiffness dF/dx [N/mm]", title="local stiffness")
-    axes[1, 1].set(xlabel="displacement x [mm]", ylabel="absolute pressure [MPa]", title="chamber pressures")
+    axes[0, 1].set(xlabel="displacement x [mm]", ylabel="F − least-squares line [N]")
+    axes[1, 0].set(xlabel="displacement x [mm]", ylabel="local stiffness dF/dx [N/mm]")
+    axes[1, 1].set(xlabel="displacement x [mm]", ylabel="absolute pressure [MPa]")
+    # titles at y = 1 given, not left to the draw to place (it would lay out the y tick labels once more to
+    # look for an offset text under them; these axes have none)
+    axes[0, 1].set_title("deviation from the line", y=1.0)
+    axes[1, 0].set_title("local stiffness", y=1.0)
+    axes[1, 1].set_title("chamber pressures", y=1.0)
     for ax in axes.flat:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle(title or f"gas spring: linearity error {100 * float(lin0.linearity_error):.2f} % "
                           f"(n = {spring.n_polytropic:g}, p2 = {spring.p2_MPa:.2f} MPa)")
-    fig.tight_layout()
+    # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles
+    # and labels, and, left of each column, the room of its widest y tick labels
+    w = [max(ytick_label_width_in(ax) for ax in axes[:, c]) for c in range(2)]
+    set_margins_in(fig, left=0.473 + w[0], bottom=0.585, right=0.15, top=0.683, wspace=0.468 + w[1], hspace=0.798)
     return fig
 
 
@@ -209,6 +216,7 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
+    own = ax is None  # the figure is ours: its margins are set here (else tight_layout, as always)
     fig, ax = _axes(ax, (8.2, 6.0))
     lx, sx = VARIABLE_LABELS.get(m["var_x"], (m["var_x"], 1.0))
     ly, sy = VARIABLE_LABELS.get(m["var_y"], (m["var_y"], 1.0))
@@ -242,7 +250,12 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
         leg.get_frame().set_facecolor("0.85")
     ax.set_xmargin(0.03)
     ax.set_ymargin(0.03)
-    ax.set(xlabel=lx, ylabel=ly, title="linearity over two design variables, the others at the optimum\n"
-                                       "(hatched: violates a requirement; lines: where each one binds)")
-    fig.tight_layout()
+    ax.set(xlabel=lx, ylabel=ly)
+    ax.set_title("linearity over two design variables, the others at the optimum\n"
+                 "(hatched: violates a requirement; lines: where each one binds)", y=1.0)
+    if own:  # margins in inches as tight_layout set them, without its extra layout pass (the colour bar's
+        # labels fit in its own slot): fixed room for the title and labels, the y tick labels' room measured
+        set_margins_in(fig, left=0.462 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.583)
+    else:
+        fig.tight_layout()
     return fig
