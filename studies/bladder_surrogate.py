@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vvea_design.bladder.check import strain_bound
+from vvea_design.figure_layout import tight_layout_once
 from vvea_design.parallel import parallel_map
 from vvea_design.spring.design import LAYOUTS
 from vvea_design.spring.requirements import Requirements, design_from_vector, evaluate_population
@@ -125,7 +126,7 @@ def main(n_train: int, n_test: int, out: Path) -> dict:
                  f"max {100 * stats['test_max_abs_rel']:.1f} % (relative)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "validation.png")
     print(json.dumps(summary, indent=2))
     return summary

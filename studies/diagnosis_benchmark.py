@@ -57,6 +57,7 @@ import pandas as pd
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
+from vvea_design.figure_layout import tight_layout_once  # noqa: E402
 from vvea_design.identification import physbench as pb  # noqa: E402
 
 #: Words an accepted non-catalogue effect id must contain to count as naming
@@ -288,8 +289,7 @@ def plot(summary: dict):
     ax2.legend(handles=[plt.Rectangle((0, 0), 1, 1, color="C0", label="catalogue effect"),
                         plt.Rectangle((0, 0), 1, 1, color="C1", label="outside the catalogue"),
                         plt.Line2D([], [], color="k", ls="--", lw=0.8, label="target: 2 x noise")], fontsize=8)
-    fig.tight_layout()
-    fig.set_layout_engine(None)  # tight_layout leaves a placeholder engine that would make savefig draw the figure twice
+    tight_layout_once(fig)
     return fig
 
 

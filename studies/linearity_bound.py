@@ -52,6 +52,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from vvea_design.bladder.check import strain_bound
+from vvea_design.figure_layout import tight_layout_once
 from vvea_design.cad import CadError, Layout
 from vvea_design.spring.design import get_layout
 from vvea_design.spring.requirements import design_from_vector
@@ -333,7 +334,7 @@ def volume_budget(designs: dict, out: Path, envelope_length_mm: float) -> list[d
             title=f"the issue's count on the {ref_label.split(',')[0]} optimum")
     ax2.legend(fontsize=8, loc="upper right")
     ax2.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "budget.png")
     return rows
 
@@ -402,7 +403,7 @@ def short_housing_figure(st: dict, rows: list[dict], out: Path) -> None:
            title="65 × 120 mm, 50 mm travel, 80 N/mm at 4 MPa: the layouts against the bound")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "bound_short_housing.png")
 
 
@@ -475,7 +476,7 @@ def main(out: Path, quick: bool = False) -> dict:
            title="linearity needs gas: bound, envelope capacity and optimum (93.2 N/mm at 4 MPa)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=6.5, loc="upper right")
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "bound.png")
     if SHORT in curves:
         short_housing_figure(next(s for s in studies if s["case"] == SHORT), curves[SHORT], out)

@@ -27,6 +27,7 @@ import pandas as pd  # noqa: E402
 
 from vvea_design.actuator.model import PAPER_SETTINGS  # noqa: E402
 from vvea_design.actuator.ocp import Mesh  # noqa: E402
+from vvea_design.figure_layout import tight_layout_once  # noqa: E402
 from vvea_design.parallel import parallel_map  # noqa: E402
 from vvea_design.actuator.multistart import solve_single  # noqa: E402
 from vvea_design.actuator.rest_to_rest import GRIDS, Grid, mesh_convergence  # noqa: E402
@@ -123,7 +124,7 @@ def main() -> None:
     ax[1].set_ylabel("% of sub-grid cases")
     ax[1].set_title("Table 5 fractions on the 3 x 4 sub-grid", fontsize=9)
     ax[1].legend(fontsize=7)
-    fig.tight_layout()
+    tight_layout_once(fig)
     fig.savefig(a.out / "mesh_convergence.png", dpi=130)
     print(json.dumps(out, indent=1))
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from vvea_design.figure_layout import tight_layout_once
 from vvea_design.spring.design_file import save_design
 from vvea_design.spring.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
 from vvea_design.spring.plots import plot_linearity_map, plot_spring, save_figure
@@ -110,7 +111,7 @@ def thermo_front(out: Path, res, quick: bool = False) -> dict:
            title="one unit, two gas laws: what adiabatic linearity costs isothermally")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "pareto_isothermal_adiabatic.png")
     return {"points": pts}
 

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from vvea_design.bladder.check import strain_bound
+from vvea_design.figure_layout import tight_layout_once
 from vvea_design.spring import optimise as opt
 from vvea_design.spring.requirements import Requirements, design_from_vector, evaluate_design
 
@@ -119,7 +120,7 @@ def main(limits: list[float], ref_limit: float, out: Path) -> dict:
            title="what a bladder strain limit costs")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    tight_layout_once(fig)
     save_figure(fig, out / "strain_limit.png")
     summary = {"rows": rows, "reference": ref, "reference_limit": ref_limit, "fast_minus_reference_pp": gap_pp,
                "load_average": os.getloadavg()[0]}

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["ytick_label_width_in", "legend_width_in", "set_margins_in"]
+__all__ = ["text_width_in", "ytick_label_width_in", "legend_width_in", "set_margins_in", "tight_layout_once"]
 
 
 @lru_cache(maxsize=1)
@@ -36,24 +36,41 @@ def ytick_label_width_in(ax) -> float:
     float
         Inches (the same unit as ``Figure.get_size_inches``); 0 when no label is drawn.
     """
-    from matplotlib import cbook, rcParams
-    from matplotlib.font_manager import FontProperties
+    from matplotlib import rcParams
 
     axis = ax.yaxis
     lo, hi = sorted(ax.get_ylim())
     locs = axis.get_majorticklocs()
     labels = axis.get_major_formatter().format_ticks(locs)
     size = getattr(axis, "_major_tick_kw", {}).get("labelsize", rcParams["ytick.labelsize"])  # tick_params
-    prop = FontProperties(size=size)
     tol = 1e-9 * max(abs(hi - lo), 1e-300)
-    r = _renderer()
-    width = 0.0
-    for loc, s in zip(locs, labels):
-        if s and lo - tol <= loc <= hi + tol:
-            ismath = cbook.is_math_text(s)  # as a tick label (a Text) decides it
-            text = s if ismath else s.replace(r"\$", "$")
-            width = max(width, r.get_text_width_height_descent(text, prop, ismath=ismath)[0])
-    return width / 72.0
+    return max((text_width_in(s, size) for loc, s in zip(locs, labels) if s and lo - tol <= loc <= hi + tol),
+               default=0.0)
+
+
+def text_width_in(s: str, size) -> float:
+    """Width (inches) of one line of text at font size ``size`` as a Text draws it (math text included), without drawing.
+
+    Parameters
+    ----------
+    s : str
+        The text (one line).
+    size : float or str
+        Font size in points, the same unit as matplotlib's ``fontsize`` (or a size name such as ``"small"``).
+
+    Returns
+    -------
+    float
+        Inches (the same unit as ``Figure.get_size_inches``); 0 for an empty string.
+    """
+    from matplotlib import cbook
+    from matplotlib.font_manager import FontProperties
+
+    if not s:
+        return 0.0
+    ismath = cbook.is_math_text(s)  # as a Text decides it
+    text = s if ismath else s.replace(r"\$", "$")
+    return _renderer().get_text_width_height_descent(text, FontProperties(size=size), ismath=ismath)[0] / 72.0
 
 
 def set_margins_in(fig, left: float, bottom: float, right: float, top: float, wspace: float = 0.0,
@@ -93,3 +110,20 @@ def legend_width_in(legend) -> float:
 
     dpi = legend.figure.dpi
     return legend.get_window_extent(RendererAgg(1, 1, dpi)).width / dpi
+
+
+def tight_layout_once(fig, **kwargs) -> None:
+    """``fig.tight_layout(**kwargs)``, then drop the placeholder layout engine it leaves on the figure.
+
+    With that engine in place (matplotlib 3.11), every ``savefig`` lays the figure out by drawing it once
+    more before the real draw; without it the figure is drawn once, to the same pixels.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (its panels' positions are set; nothing is drawn to a file).
+    **kwargs
+        ``pad``, ``h_pad``, ``w_pad`` (font-size fractions) and ``rect`` (figure fraction), as ``tight_layout``.
+    """
+    fig.tight_layout(**kwargs)
+    fig.set_layout_engine(None)

@@ -51,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figure_layout import set_margins_in, text_width_in, tight_layout_once
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
 from .effects import (
@@ -1680,10 +1681,7 @@ _TITLE = 0.8  # a title's rise above its baseline (which sits _TITLEPAD_PT above
 
 def _text_w_pt(s: str, size: float) -> float:
     """Width in points of one line of text at font size ``size`` (no drawing)."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    return text_to_path.get_text_width_height_descent(s, FontProperties(size=size), ismath=False)[0] if s else 0.0
+    return 72.0 * text_width_in(s, size)
 
 
 def _rotated_h_pt(s: str, size: float, deg: float) -> float:
@@ -1714,28 +1712,9 @@ def _has_offset_text(ax) -> bool:
     return bool(_tick_labels(ax.xaxis)[1] or _tick_labels(ax.yaxis)[1])
 
 
-def _tight(fig) -> None:
-    """``fig.tight_layout()`` without the layout engine it leaves behind (which makes savefig draw the figure twice)."""
-    fig.tight_layout()
-    fig.set_layout_engine(None)
-
-
 def _ytick_w_pt(ax, size: float) -> float:
     """Room in points left of the spine for the y tick labels (tick, pad, widest label)."""
     return _TICK_PT + max((_text_w_pt(t, size) for t in _ytick_labels(ax)), default=0.0)
-
-
-def _set_margins(fig, left, right, top, bottom, wgap=0.0, hgap=0.0, ncols=1, nrows=1) -> None:
-    """``subplots_adjust`` from margins and gaps between panels given in points."""
-    W, H = fig.get_size_inches() * 72
-    kw = dict(left=left / W, right=1 - right / W, top=1 - top / H, bottom=bottom / H)
-    if ncols > 1:
-        axw = (W - left - right - (ncols - 1) * wgap) / ncols
-        kw["wspace"] = wgap / axw
-    if nrows > 1:
-        axh = (H - top - bottom - (nrows - 1) * hgap) / nrows
-        kw["hspace"] = hgap / axh
-    fig.subplots_adjust(**kw)
 
 
 def plot_residual_maps(r: DiagnosisReport, fig=None):
@@ -1779,9 +1758,10 @@ def plot_residual_maps(r: DiagnosisReport, fig=None):
     xlab = [max((_rotated_h_pt(b.bin, 7, 45) for fb in r.where_baseline[4 * i:4 * i + 4] for b in fb.bins), default=0.0) + _TICK_PT
             for i in range(2)]
     title = _TITLEPAD_PT + _TITLE * 9
-    _set_margins(fig, left=_PAD_PT + max(ywid[0], ywid[4] if len(ywid) > 4 else 0.0), right=_PAD_PT,
-                 top=_PAD_PT + title + _PAD_PT + _LINE * 12, bottom=_PAD_PT + xlab[1],
-                 wgap=_PAD_PT + max(ywid[1:4] + ywid[5:]), hgap=_PAD_PT + xlab[0] + title, ncols=4, nrows=2)
+    pt = 1 / 72  # inches per point
+    set_margins_in(fig, left=pt * (_PAD_PT + max(ywid[0], ywid[4] if len(ywid) > 4 else 0.0)), right=pt * _PAD_PT,
+                   top=pt * (_PAD_PT + title + _PAD_PT + _LINE * 12), bottom=pt * (_PAD_PT + xlab[1]),
+                   wspace=pt * (_PAD_PT + max(ywid[1:4] + ywid[5:])), hspace=pt * (_PAD_PT + xlab[0] + title))
     return fig
 
 
@@ -1815,7 +1795,7 @@ def plot_heldout_steps(r: DiagnosisReport, fig=None):
               fontsize=7, loc="upper right", ncol=2)
     ax.set_ylabel("held-out RMS of measurement − model [N]")
     ax.set_title("Held-out error as terms are added (experiments not used in selection or fit)", fontsize=9)
-    _tight(fig)  # the rotated step names may reach into the left margin: let tight_layout measure them
+    tight_layout_once(fig)  # the rotated step names may reach into the left margin: let tight_layout measure them
     return fig
 
 
@@ -1849,7 +1829,7 @@ def plot_worst(diag: Diagnosis, fig=None):
     if any(_has_offset_text(a) for a in axes.flat):  # an offset text above a panel: let tight_layout place it
         for ax, t in titles:
             ax.set_title(t, fontsize=8)
-        _tight(fig)
+        tight_layout_once(fig)
         return fig
     for ax, t in titles:
         ax.set_title(t, fontsize=8, y=1.0)  # fixed: ticks are below and there is no offset text
@@ -1862,8 +1842,9 @@ def plot_worst(diag: Diagnosis, fig=None):
     top = _PAD_PT + (_TITLEPAD_PT + _TITLE * 8 if titles else 0.0) + _PAD_PT + _LINE * 12
     hgap = _PAD_PT + _TICK_PT + line
     bottom = _PAD_PT + _TICK_PT + line + _LABELPAD_PT + line
-    _set_margins(fig, left=left, right=_PAD_PT, top=top, bottom=bottom, wgap=_PAD_PT + max(yw[1:], default=0.0),
-                 hgap=hgap, ncols=axes.shape[1], nrows=2)
+    pt = 1 / 72  # inches per point
+    set_margins_in(fig, left=pt * left, right=pt * _PAD_PT, top=pt * top, bottom=pt * bottom,
+                   wspace=pt * (_PAD_PT + max(yw[1:], default=0.0)), hspace=pt * hgap)
     return fig
 
 

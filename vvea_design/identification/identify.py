@@ -33,6 +33,7 @@ from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.linalg.lapack import dpotrf as _dpotrf, dpotrs as _dpotrs
 from scipy.optimize import lsq_linear, minimize_scalar
 
+from ..figure_layout import tight_layout_once
 from .effects import REGISTRY, FitData, baseline_params, effect_columns, fill_baseline
 from .recordings import Recordings
 
@@ -1218,8 +1219,7 @@ def plot_fig11(rec: Recordings, D: FitData, fmod: np.ndarray, fig=None):
     axe.axhline(0, color="0.6", lw=0.6)
     axe.set_ylabel("meas. − model [N]")
     axe.set_xlabel("displacement x [mm]")
-    fig.tight_layout()
-    fig.set_layout_engine(None)  # tight_layout leaves a placeholder engine that would make savefig draw the figure twice
+    tight_layout_once(fig)
     info = dict(
         experiment=str(r["experiment"]),
         max_abs_error_N=float(np.abs(err).max()) if len(err) else None,

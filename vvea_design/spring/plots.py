@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..figure_layout import set_margins_in, ytick_label_width_in
+from ..figure_layout import set_margins_in, tight_layout_once, ytick_label_width_in
 from .gas_spring import GasSpring
 
 __all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure", "VARIABLE_LABELS"]
@@ -186,7 +186,7 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
     ax.set(xlabel=x_label, ylabel="best linearity error [%]", title=title or "Pareto front")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
-    fig.tight_layout()
+    tight_layout_once(fig)
     return fig
 
 
@@ -256,6 +256,6 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
     if own:  # margins in inches as tight_layout set them, without its extra layout pass (the colour bar's
         # labels fit in its own slot): fixed room for the title and labels, the y tick labels' room measured
         set_margins_in(fig, left=0.462 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.583)
-    else:
+    else:  # the caller's figure: its layout is theirs
         fig.tight_layout()
     return fig
