@@ -45,6 +45,7 @@ from vvea_design.bladder.check import (  # noqa: E402
 )
 from vvea_design.spring.design import Design, FixedParameters  # noqa: E402
 from vvea_design.spring.design_file import load_design  # noqa: E402
+from vvea_design.figure_layout import set_margins_in  # noqa: E402
 from vvea_design.bladder.membrane import MooneyRivlin, sleeve_meridian, solve_volume, solve_volume_path, sphere_meridian  # noqa: E402
 from vvea_design.progress import console, progress_bar  # noqa: E402
 
@@ -70,15 +71,6 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-
-
-def _margins(fig, left: float, bottom: float, right: float, top: float, hspace: float = 0.0) -> None:
-    """Margins and the gap between stacked panels in inches, as a constrained layout sets them for
-    these fixed font sizes, without the extra draw it costs at savefig."""
-    W, H = fig.get_size_inches()
-    rows = fig.axes[0].get_subplotspec().get_gridspec().nrows
-    fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
-                        hspace=hspace / ((H - top - bottom - (rows - 1) * hspace) / rows))
 
 
 def _order(n: np.ndarray, err: np.ndarray) -> float:
@@ -109,7 +101,7 @@ def balloon(out: Path, n: int = 64, quick: bool = False) -> dict:
             for a, b, c, d in zip(lam_fe, p_fe, p_ex, err)]
     _write_csv(out / "balloon.csv", rows)
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
-    _margins(fig, 0.91, 0.48, 0.04, 0.25, hspace=0.13)
+    set_margins_in(fig, 0.91, 0.48, 0.04, 0.25, hspace=0.13)
     lf = np.linspace(1, 3, 300)
     a1.plot(lf, 2 * H0 * mu / R0 * (1 / lf - lf**-7), "k-", label="exact (2 H0 mu / R0)(1/l - 1/l^7)")
     a1.plot(lam_fe, p_fe, "o", ms=4, label=f"FE, {n} elements, volume control")
@@ -154,7 +146,7 @@ def tube(out: Path, n: int = 80, quick: bool = False) -> dict:
             adv()
     _write_csv(out / "tube.csv", rows)
     fig, ax = plt.subplots(figsize=(6, 4))
-    _margins(fig, 0.73, 0.50, 0.04, 0.25)
+    set_margins_in(fig, 0.73, 0.50, 0.04, 0.25)
     x = [r["midspan_hoop_strain"] for r in rows]
     ax.loglog(x, [abs(r["relative_error_laplace"]) for r in rows], "o-", label="FE vs Laplace p = sigma_hoop h / r")
     ax.loglog(x, [abs(r["relative_error_linear"]) for r in rows], "s-", label="FE vs linear p = 4 mu H eps / R")
@@ -212,7 +204,7 @@ def convergence(out: Path, quick: bool = False) -> dict:
     for k, v in errs.items():
         orders[f"bladder_{k}"] = _order(ns_s, np.array(v))
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    _margins(fig, 0.67, 0.50, 0.04, 0.25)
+    set_margins_in(fig, 0.67, 0.50, 0.04, 0.25)
     ax.loglog(ns_b, eb, "o-", label=f"balloon pressure vs exact (order {orders['balloon_pressure']:.2f})")
     for k, v in errs.items():
         ax.loglog(ns_s, v, "s-", label=f"bladder {k} vs {n_ref} el. (order {orders['bladder_' + k]:.2f})")
@@ -350,7 +342,7 @@ def _paper_sensitivity(out: Path, dv: dict, n: int) -> list[dict]:
                 adv()
     _write_csv(out / "paper_sensitivity.csv", rows)
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    _margins(fig, 0.52, 0.48, 0.04, 0.25)
+    set_margins_in(fig, 0.52, 0.48, 0.04, 0.25)
     for H, ls in zip(thicknesses, ("-", "--")):
         sel = [r for r in rows if r["thickness_mm"] == H]
         L = [r["free_length_mm"] for r in sel]

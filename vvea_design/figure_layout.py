@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["text_width_in", "ytick_label_width_in", "legend_width_in", "set_margins_in", "tight_layout_once"]
+__all__ = ["tick_labels_in_view", "text_width_in", "ytick_label_width_in", "legend_width_in", "set_margins_in",
+           "place_row_in", "tight_layout_once"]
 
 
 @lru_cache(maxsize=1)
@@ -21,8 +22,31 @@ def _renderer():
     return RendererAgg(1, 1, 72)  # 72 dpi: widths come out in points
 
 
-def ytick_label_width_in(ax) -> float:
-    """Width (inches) of the widest major y tick label ``ax`` will draw, measured as drawn.
+def tick_labels_in_view(axis, which: str = "major") -> list[str]:
+    """The non-empty ``which`` ("major" or "minor") tick labels ``axis`` will draw in its current view, from
+    its locator and formatter, without drawing.
+
+    Parameters
+    ----------
+    axis : matplotlib.axis.Axis
+        ``ax.xaxis`` or ``ax.yaxis``, its data and limits set.
+    which : str
+        "major" or "minor" (a log axis labels some of its minor ticks).
+
+    Returns
+    -------
+    list of str
+        The labels as drawn (count: one per labelled tick in view).
+    """
+    loc, fmt = ((axis.get_major_locator(), axis.get_major_formatter()) if which == "major"
+                else (axis.get_minor_locator(), axis.get_minor_formatter()))
+    lo, hi = sorted(axis.get_view_interval())
+    tol = 1e-9 * max(abs(hi - lo), 1e-300)
+    return [t for t in fmt.format_ticks([v for v in loc() if lo - tol <= v <= hi + tol]) if t]
+
+
+def ytick_label_width_in(ax, minor: bool = False) -> float:
+    """Width (inches) of the widest y tick label ``ax`` will draw, measured as drawn.
 
     Call it once the data and the limits are set (the limits are autoscaled here, as a draw would).
 
@@ -30,6 +54,8 @@ def ytick_label_width_in(ax) -> float:
     ----------
     ax : matplotlib.axes.Axes
         Axes with the default (left) y tick labels.
+    minor : bool
+        Measure the minor tick labels too.
 
     Returns
     -------
@@ -38,14 +64,13 @@ def ytick_label_width_in(ax) -> float:
     """
     from matplotlib import rcParams
 
-    axis = ax.yaxis
-    lo, hi = sorted(ax.get_ylim())
-    locs = axis.get_majorticklocs()
-    labels = axis.get_major_formatter().format_ticks(locs)
-    size = getattr(axis, "_major_tick_kw", {}).get("labelsize", rcParams["ytick.labelsize"])  # tick_params
-    tol = 1e-9 * max(abs(hi - lo), 1e-300)
-    return max((text_width_in(s, size) for loc, s in zip(locs, labels) if s and lo - tol <= loc <= hi + tol),
-               default=0.0)
+    ax.get_ylim()  # autoscale now, as a draw would
+    width = 0.0
+    for which in ("major", "minor") if minor else ("major",):
+        kw = getattr(ax.yaxis, f"_{which}_tick_kw", {})  # the label size as tick_params set it
+        size = kw.get("labelsize", rcParams["ytick.labelsize"])
+        width = max([width, *(text_width_in(t, size) for t in tick_labels_in_view(ax.yaxis, which))])
+    return width
 
 
 def text_width_in(s: str, size) -> float:
@@ -127,3 +152,36 @@ def tight_layout_once(fig, **kwargs) -> None:
     """
     fig.tight_layout(**kwargs)
     fig.set_layout_engine(None)
+
+
+def place_row_in(fig, axes, left: float, right: float, bottom: float, top: float, gaps, ratios=None) -> list[float]:
+    """Place a row of panels in inches: figure margins, the gap left of each panel after the first, width ratios.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure of ``axes``.
+    axes : sequence of matplotlib.axes.Axes
+        The panels, left to right.
+    left, right, bottom, top : float
+        Figure margins, inches (the same unit as ``Figure.get_size_inches``).
+    gaps : sequence of float
+        Gap before each panel after the first, inches (the same unit); ``len(axes) - 1`` of them.
+    ratios : sequence of float, optional
+        Relative panel widths (dimensionless; equal by default).
+
+    Returns
+    -------
+    list of float
+        Left edge of each panel, inches from the figure's left edge (the same unit).
+    """
+    W, H = fig.get_size_inches()
+    ratios = [1.0] * len(axes) if ratios is None else list(ratios)
+    unit = (W - left - right - sum(gaps)) / sum(ratios)
+    x, edges = left, []
+    for ax, gap, r in zip(axes, [0.0, *gaps], ratios):
+        x += gap
+        ax.set_position([x / W, bottom / H, r * unit / W, (H - top - bottom) / H])
+        edges.append(x)
+        x += r * unit
+    return edges

@@ -675,21 +675,16 @@ def _place_panels(fig, axes, cax, result: BladderResult) -> None:
     """Panels and colour bar of :func:`plot_bladder` placed as a constrained layout placed them, in inches,
     without the extra draw it costs at savefig: the font sizes are fixed, so the room of the titles, axis
     labels, legends below and colour bar is known; the y tick labels' room is measured."""
-    from ..figure_layout import ytick_label_width_in
+    from ..figure_layout import place_row_in, ytick_label_width_in
 
     W, H = fig.get_size_inches()
     three = any(any(e.touches.values()) for e in result.ends.values())  # titles of three lines
     top, bottom, right = 0.62 + (0.15 if three else 0.0), 2.19, 0.04
     tw = [ytick_label_width_in(ax) for ax in axes]
-    left, gaps = 0.36 + tw[0], (0.0, 0.21 + tw[1], 0.40 + tw[2])  # the third panel has a y label
-    ratios = (1.0, 1.0, 1.15)
-    unit = (W - left - right - sum(gaps)) / sum(ratios)
-    x = left
-    for ax, gap, r in zip(axes, gaps, ratios):
-        x += gap
-        ax.set_position([x / W, bottom / H, r * unit / W, (H - top - bottom) / H])
-        x += r * unit
-    span = 2 * unit + gaps[1]  # the colour bar: centred under the two wall panels, 0.6 of their span
+    left, gaps = 0.36 + tw[0], (0.21 + tw[1], 0.40 + tw[2])  # the third panel has a y label
+    edges = place_row_in(fig, axes, left, right, bottom, top, gaps, ratios=(1.0, 1.0, 1.15))
+    # the colour bar: centred under the two wall panels, 0.6 of their span
+    span = edges[1] - edges[0] + axes[1].get_position().width * W
     cax.set_position([(left + 0.2 * span) / W, 0.47 / H, 0.6 * span / W, 0.21 / H])
 
 

@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..figure_layout import set_margins_in, text_width_in, tight_layout_once
+from ..figure_layout import set_margins_in, text_width_in, tick_labels_in_view, tight_layout_once, ytick_label_width_in
 from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
 from .effects import (
@@ -1690,31 +1690,20 @@ def _rotated_h_pt(s: str, size: float, deg: float) -> float:
     return _text_w_pt(s, size) * abs(np.sin(a)) + _LINE * size * abs(np.cos(a))
 
 
-def _tick_labels(axis) -> tuple[list[str], str]:
-    """The tick labels (major and minor) an x or y axis will draw in its current view, and its offset text."""
-    lo, hi = sorted(axis.get_view_interval())
-    tol = 1e-9 * abs(hi - lo)
-    out, offset = [], ""
-    for loc, fmt in ((axis.get_major_locator(), axis.get_major_formatter()), (axis.get_minor_locator(), axis.get_minor_formatter())):
-        locs = [v for v in loc() if lo - tol <= v <= hi + tol]
-        out += [t for t in fmt.format_ticks(locs) if t]
-        offset = offset or (fmt.get_offset() if hasattr(fmt, "get_offset") else "")
-    return out, offset
-
-
-def _ytick_labels(ax) -> list[str]:
-    """The y tick labels (major and minor) the axes will draw in its current view."""
-    return _tick_labels(ax.yaxis)[0]
-
-
 def _has_offset_text(ax) -> bool:
     """True if either axis of ``ax`` will draw an offset or scientific-notation text (margins then need tight_layout)."""
-    return bool(_tick_labels(ax.xaxis)[1] or _tick_labels(ax.yaxis)[1])
+    for axis in (ax.xaxis, ax.yaxis):
+        for which in ("major", "minor"):
+            tick_labels_in_view(axis, which)  # formatting the ticks in view sets the formatter's offset
+            fmt = axis.get_major_formatter() if which == "major" else axis.get_minor_formatter()
+            if hasattr(fmt, "get_offset") and fmt.get_offset():
+                return True
+    return False
 
 
-def _ytick_w_pt(ax, size: float) -> float:
-    """Room in points left of the spine for the y tick labels (tick, pad, widest label)."""
-    return _TICK_PT + max((_text_w_pt(t, size) for t in _ytick_labels(ax)), default=0.0)
+def _ytick_w_pt(ax) -> float:
+    """Room in points left of the spine for the y tick labels (tick, pad, widest major or minor label)."""
+    return _TICK_PT + 72.0 * ytick_label_width_in(ax, minor=True)
 
 
 def plot_residual_maps(r: DiagnosisReport, fig=None):
@@ -1754,7 +1743,7 @@ def plot_residual_maps(r: DiagnosisReport, fig=None):
     # margins in points (what tight_layout found, without drawing every tick): y tick labels + the 7 pt y label
     # left of each panel, the 45 degree bin labels below each row, the 9 pt titles and the 12 pt suptitle above
     ylab = _LINE * 7 + _LABELPAD_PT
-    ywid = [_ytick_w_pt(ax, 7) + ylab for ax in axes.flat[:-1]]
+    ywid = [_ytick_w_pt(ax) + ylab for ax in axes.flat[:-1]]
     xlab = [max((_rotated_h_pt(b.bin, 7, 45) for fb in r.where_baseline[4 * i:4 * i + 4] for b in fb.bins), default=0.0) + _TICK_PT
             for i in range(2)]
     title = _TITLEPAD_PT + _TITLE * 9
@@ -1837,7 +1826,7 @@ def plot_worst(diag: Diagnosis, fig=None):
     # column (+ the y labels left of the first), 10 pt x tick labels below each row (+ the x label under the
     # second), the 8 pt titles and the 12 pt suptitle above
     line = _LINE * 10
-    yw = [max(_ytick_w_pt(axes[0, j], 10), _ytick_w_pt(axes[1, j], 10)) for j in range(axes.shape[1])]
+    yw = [max(_ytick_w_pt(axes[0, j]), _ytick_w_pt(axes[1, j])) for j in range(axes.shape[1])]
     left = _PAD_PT + yw[0] + _LABELPAD_PT + line
     top = _PAD_PT + (_TITLEPAD_PT + _TITLE * 8 if titles else 0.0) + _PAD_PT + _LINE * 12
     hgap = _PAD_PT + _TICK_PT + line

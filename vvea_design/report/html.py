@@ -653,17 +653,10 @@ def _spring_figure(unit: UnitResult) -> "Figure":
     p.grid(alpha=0.3)
     # margins in inches as a constrained layout set them, without the second draw it costs: fixed room for
     # the titles and axis labels, and left of each panel the room of its widest y tick label
-    from ..figure_layout import ytick_label_width_in
+    from ..figure_layout import place_row_in, ytick_label_width_in
 
-    W, H = fig.get_size_inches()
-    left, right, bottom, top = 0.365 + ytick_label_width_in(a), 0.042, 0.477, 0.255
-    gaps = [0.39 + ytick_label_width_in(ax) for ax in (b, p)]
-    w = (W - left - right - sum(gaps)) / 3
-    x0 = left
-    for ax, gap in zip((a, b, p), [0.0] + gaps):
-        x0 += gap
-        ax.set_position([x0 / W, bottom / H, w / W, (H - bottom - top) / H])
-        x0 += w
+    place_row_in(fig, (a, b, p), left=0.365 + ytick_label_width_in(a), right=0.042, bottom=0.477, top=0.255,
+                 gaps=[0.39 + ytick_label_width_in(ax) for ax in (b, p)])
     return fig
 
 

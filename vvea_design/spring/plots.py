@@ -167,6 +167,7 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
     matplotlib.figure.Figure
         The figure holding the axes; best linearity error in % on the y axis.
     """
+    own = ax is None  # the figure is ours: tight_layout without the engine it leaves (else the caller's layout)
     fig, ax = _axes(ax, (7.5, 4.8))
     xs = np.array([r[x_key] for r in rows], dtype=float)
     feas = np.array([bool(r.get("feasible")) for r in rows])
@@ -186,7 +187,10 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
     ax.set(xlabel=x_label, ylabel="best linearity error [%]", title=title or "Pareto front")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
-    tight_layout_once(fig)
+    if own:
+        tight_layout_once(fig)
+    else:  # the caller's figure: its layout is theirs
+        fig.tight_layout()
     return fig
 
 
