@@ -65,6 +65,40 @@ def test_velocity_matches_truth_on_simulated(small_frame):
     assert np.max(err) < 0.01
 
 
+def test_profile_jacobian_matches_finite_differences():
+    """The analytic Jacobian the profile fit uses equals central differences away from the kinks."""
+    from vvea_design.identification.recordings import _trapezoid_jac, _trapezoid_x
+
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        v = rng.uniform(0.1, 15.0)
+        t_rev = rng.uniform(0.5, 50.0)
+        ta = rng.uniform(0.02, 0.45) * t_rev
+        p = np.array([v, v / ta, t_rev, rng.uniform(-5.0, 5.0)])
+        t = np.sort(rng.uniform(-0.1 * t_rev, 2.2 * t_rev, 400))  # before the start and after the end too
+
+        def x_of(q):
+            return q[3] + _trapezoid_x(t, q[0], q[1], q[2])[2]
+
+        jac = _trapezoid_jac(t, p[0], p[1], p[2])
+        fd = np.empty_like(jac)
+        for j in range(4):
+            h = 1e-6 * abs(p[j]) + 1e-9
+            e = np.zeros(4)
+            e[j] = h
+            fd[:, j] = (x_of(p + e) - x_of(p - e)) / (2 * h)
+        mirrored = np.minimum(t, 2 * t_rev - t)
+        tm = np.clip(mirrored, 0.0, None)
+        gap = 1e-3 * t_rev  # keep clear of the branch changes, the turning point and the clip at rest
+        ok = (
+            (np.abs(tm - ta) > gap) & (np.abs(tm - (t_rev - ta)) > gap)
+            & (np.abs(t - t_rev) > gap) & (np.abs(mirrored) > gap)
+        )
+        assert ok.sum() > 300
+        for j in range(4):  # d/dv mm s/mm, d/da mm s²/mm, d/dt_rev mm/s, d/dx0 1
+            np.testing.assert_allclose(jac[ok, j], fd[ok, j], rtol=1e-5, atol=1e-6 * np.abs(fd[:, j]).max())
+
+
 def test_csv_and_parquet_agree(tmp_path, small_frame, small_csv):
     pq = tmp_path / "small.parquet"
     small_frame.to_parquet(pq)

@@ -427,6 +427,36 @@ def _trapezoid_x(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float):
     return ta, tm, x
 
 
+def _trapezoid_jac(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float) -> np.ndarray:
+    """Jacobian of ``x0 + _trapezoid_x(t, v, a, t_rev)[2]`` with respect to ``(v, a, t_rev, x0)``.
+
+    ``t`` a float array (s); the other arguments as for :func:`trapezoid_profile`. Returns an array of shape
+    ``(len(t), 4)``: columns in mm/(mm/s), mm/(mm/s²), mm/s and 1. Exact away from the kinks (branch changes,
+    ``t == t_rev``, the clip of the mirrored time at 0), where it takes one one-sided derivative.
+
+    With ``ta = v/a``, ``tm = max(min(t, 2 t_rev - t), 0)`` (``d tm/d t_rev`` is 2 where the mirror is taken
+    and not clipped, else 0) and ``u = max(t_rev - tm, 0)``, the branches of :func:`_trapezoid_x` are
+    ``a tm²/2`` (ramp), ``v tm - v²/(2a)`` (cruise) and ``v t_rev - v²/a - a u²/2`` (deceleration).
+    """
+    v, a, tr = v_mm_s, a_mm_s2, t_rev_s
+    ta = v / a
+    mir = 2 * tr - t
+    tm = np.minimum(t, mir)
+    dtm = np.where((t > mir) & (tm > 0.0), 2.0, 0.0)  # d tm / d t_rev
+    tm = np.clip(tm, 0.0, None)
+    ramp = tm < ta
+    cruise = ~ramp & (tm < tr - ta)
+    u = tr - tm
+    du = np.where(u > 0.0, 1.0 - dtm, 0.0)
+    u = np.clip(u, 0.0, None)
+    jac = np.empty((len(t), 4))
+    jac[:, 0] = np.where(ramp, 0.0, np.where(cruise, tm - ta, tr - 2 * ta))
+    jac[:, 1] = np.where(ramp, 0.5 * tm**2, np.where(cruise, 0.5 * ta**2, ta**2 - 0.5 * u**2))
+    jac[:, 2] = np.where(ramp, a * tm * dtm, np.where(cruise, v * dtm, v - a * u * du))
+    jac[:, 3] = 1.0
+    return jac
+
+
 def _fit_profile(t: np.ndarray, x: np.ndarray):
     """Least-squares fit of :func:`trapezoid_profile`; returns (params, rms, x_fit, v_fit)."""
     k = int(np.argmax(x))
@@ -453,6 +483,9 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     def res(p):  # trapezoid_profile(t, *p)[0] - x, without the velocity it would compute and drop
         return (p[3] + _trapezoid_x(tf, p[0], p[1], p[2])[2]) - x
 
+    def jac(p):  # analytic: the profile is piecewise quadratic in (v, a, t_rev, x0)
+        return _trapezoid_jac(tf, p[0], p[1], p[2])
+
     lo = [1e-9, 1e-9, t[0], -np.inf]
     hi = [np.inf, np.inf, t[-1], np.inf]
     best = None
@@ -461,7 +494,7 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
         q0 = p0.copy()
         q0[1] = p0[1] * scale
         try:
-            sol = least_squares(res, q0, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
+            sol = least_squares(res, q0, jac=jac, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
         except ValueError:
             continue
         if best is None or sol.cost < best.cost:
