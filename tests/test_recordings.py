@@ -99,6 +99,38 @@ def test_profile_jacobian_matches_finite_differences():
             np.testing.assert_allclose(jac[ok, j], fd[ok, j], rtol=1e-5, atol=1e-6 * np.abs(fd[:, j]).max())
 
 
+def _time_since_reversal_loop(t, v):
+    """The definition, sample by sample: the reader's former loop."""
+    sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    out = np.zeros(len(t))
+    last, prev = t[0], 0.0
+    for i in range(len(t)):
+        if sgn[i] != 0 and sgn[i] != prev:
+            last = t[i - 1] if i > 0 else t[0]
+            prev = sgn[i]
+        out[i] = t[i] - last
+    return out
+
+
+@pytest.mark.parametrize(
+    "signs",
+    [
+        [0, 0, 1, 1, 1, 0, -1, -1, 0, 0],  # start at rest, out and back through a rest sample
+        [1, 1, 0, 0, 1, 1, -1, -1, -1, 1],  # moving from the first sample, a pause without reversal, two reversals
+        [0, 0, 0, 0, 0, 0, 0, 0],  # never moves
+        [-1, 1, -1, 1, 0, 1e-12, -1e-12, 0],  # reversal at every sample, then speeds below the rest threshold
+        [0, 1, 0, -1, 0, 1, 0, -1],  # every move separated by rest
+    ],
+)
+def test_time_since_reversal_equals_its_definition(signs):
+    from vvea_design.identification.recordings import _time_since_reversal
+
+    rng = np.random.default_rng(len(signs))
+    t = 3.0 + np.cumsum(rng.uniform(0.01, 0.05, len(signs)))  # uneven steps, not starting at 0
+    v = np.asarray(signs, float) * rng.uniform(0.5, 2.0, len(signs))
+    np.testing.assert_array_equal(_time_since_reversal(t, v), _time_since_reversal_loop(t, v))
+
+
 def test_csv_and_parquet_agree(tmp_path, small_frame, small_csv):
     pq = tmp_path / "small.parquet"
     small_frame.to_parquet(pq)

@@ -532,6 +532,25 @@ def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
     return v
 
 
+def _time_since_reversal(t: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Time since the last start or reversal of motion (s) at every sample of one experiment.
+
+    ``t`` the sample times (s), ``v`` the velocity (mm/s); speeds up to 1e-9 mm/s count as rest. A start or
+    reversal happens at a sample whose sign of ``v`` is non-zero and differs from the last non-zero sign
+    before it (none before counts as 0); it is dated at the sample before (the first sample if it is the
+    first). Before the first one the time counts from the first sample.
+    """
+    sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    moving = np.flatnonzero(sgn != 0)
+    s_moving = sgn[moving]
+    events = moving[np.r_[True, s_moving[1:] != s_moving[:-1]]] if len(moving) else moving
+    latest = np.full(len(t), -1)
+    latest[events] = np.arange(len(events))
+    latest = np.maximum.accumulate(latest)  # index into events of the last one at or before each sample
+    event_time = np.r_[t[0], t[np.maximum(events - 1, 0)]]
+    return t - event_time[latest + 1]
+
+
 def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str, notes: tuple = (),
             line_offset: int = 0, line_numbers=None) -> Recordings:
     t_all = d["time_s"].to_numpy()
@@ -579,16 +598,7 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
                 i = int(np.argmin(np.abs(t - tz)))
                 if abs(t[i] - tz) < 0.1 * dt_med:
                     turning[a + i] = True
-        # time since the last start/reversal of motion
-        sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
-        last = t[0]
-        prev = 0.0
-        for i in range(b - a):
-            s = sgn[i]
-            if s != 0 and s != prev:
-                last = t[i - 1] if i > 0 else t[0]
-                prev = s
-            tsr[a + i] = t[i] - last
+        tsr[a:b] = _time_since_reversal(t, v)
         ctime[a:b] = offset + (t - t[0])
         offset += (t[-1] - t[0]) + float(np.median(np.diff(t)))
         exp_index[a:b] = k
