@@ -343,6 +343,7 @@ def recordings_from_frame(
             seen.add(exp[i])
     bounds = np.r_[np.flatnonzero(starts), len(d)]
     t = d["time_s"].to_numpy()
+    held = {c: d[c].to_numpy() for c in ("p2_MPa", "valve_deg")}  # columns once, not per experiment
     for k in range(len(block_ids)):
         a, b = bounds[k], bounds[k + 1]
         name = block_ids[k]
@@ -359,7 +360,7 @@ def recordings_from_frame(
                 f"({show(t[i - 1])} then {show(t[i])})"
             )
         for c in ("p2_MPa", "valve_deg"):
-            vals = d[c].to_numpy()[a:b]
+            vals = held[c][a:b]
             if np.any(vals != vals[0]):
                 i = int(a + np.flatnonzero(vals != vals[0])[0])
                 what = "pressures" if c == "p2_MPa" else "valve positions"
@@ -367,9 +368,9 @@ def recordings_from_frame(
                     f"{_where(source, i, line_offset, line_numbers)}: experiment {name!r} has two {what} in column {c} "
                     f"({show(vals[0])} and {show(vals[i - a])})"
                 )
-        if d["p2_MPa"].iloc[a] <= 0:
+        if held["p2_MPa"][a] <= 0:
             raise RecordingsError(
-                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(d['p2_MPa'].iloc[a])}"
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(held['p2_MPa'][a])}"
             )
     return _derive(d, bounds, block_ids, source, tuple(notes), line_offset, line_numbers)
 
@@ -575,6 +576,8 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
             line_offset: int = 0, line_numbers=None) -> Recordings:
     t_all = d["time_s"].to_numpy()
     x_all = d["displacement_mm"].to_numpy()
+    p2_all, valve_all = d["p2_MPa"].to_numpy(), d["valve_deg"].to_numpy()
+    speed_all = d["speed_mm_s"].to_numpy() if "speed_mm_s" in d.columns else None
     n = len(d)
     vel = np.zeros(n)
     tsr = np.zeros(n)
@@ -622,12 +625,12 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
         ctime[a:b] = offset + (t - t[0])
         offset += (t[-1] - t[0]) + float(np.median(np.diff(t)))
         exp_index[a:b] = k
-        speed = float(d["speed_mm_s"].iloc[a]) if "speed_mm_s" in d.columns else float(p[0])
+        speed = float(speed_all[a]) if speed_all is not None else float(p[0])
         rows.append(
             dict(
                 experiment=names[k],
-                p2_MPa=float(d["p2_MPa"].iloc[a]),
-                valve_deg=float(d["valve_deg"].iloc[a]),
+                p2_MPa=float(p2_all[a]),
+                valve_deg=float(valve_all[a]),
                 speed_mm_s=speed,
                 n_samples=int(b - a),
                 velocity_method=method,
