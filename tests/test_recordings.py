@@ -165,6 +165,8 @@ def test_time_since_reversal_equals_its_definition(signs):
         ["0.33667", "384.19", "-1.1494", "4", "1e-3", "+2.5E+02", ".5", "1.", "+19e39", "0.1234567890123456789"],
         ["1", "2", "-0", "3"],  # integers with a negative zero: pandas reads 0
         ["-0.0", "1.5"],  # a negative zero pandas keeps
+        ["-0", "1", "2", "0.5"],  # ... also written as an integer, once one entry is not
+        ["-0.0000", "0.0012", "-0.0003"],  # as displacement columns have it
         ["0.5", "1.5", None, "inf", "-Infinity", "nan", "1e400"],  # missing, non-finite: left to the checks
         ["1.5", "12,5", "abc", " 2", "1_000", "0x10"],  # text Arrow refuses: pandas decides, as before
     ],

@@ -381,9 +381,9 @@ def _to_numeric(col: pd.Series) -> pd.Series:
     A CSV read as text gives Arrow strings; Arrow's cast to float64 is about ten times faster than pandas'
     per-element parse and gives the same numbers (the correctly rounded double; pandas' parser can be one
     unit in the last place off for some long mantissas with large exponents). Arrow is stricter: a column
-    it refuses (any text it cannot read as a number), or one holding ``-0`` (which pandas reads as the
-    integer 0), goes through :func:`pandas.to_numeric` as before, so what is rejected and the error
-    messages do not change. Missing entries stay missing (NaN).
+    it refuses (any text it cannot read as a number), or a column of integer literals holding ``-0``
+    (which pandas reads as the integer 0, not -0.0), goes through :func:`pandas.to_numeric` as before, so
+    what is rejected and the error messages do not change. Missing entries stay missing (NaN).
     """
     dtype = col.dtype
     if isinstance(dtype, pd.StringDtype) and dtype.storage == "pyarrow":
@@ -391,7 +391,9 @@ def _to_numeric(col: pd.Series) -> pd.Series:
             vals = col.astype("float64[pyarrow]").to_numpy(dtype=float, na_value=np.nan)
         except (ValueError, TypeError, NotImplementedError):  # pyarrow.ArrowInvalid is a ValueError
             vals = None
-        if vals is not None and not np.any((vals == 0.0) & np.signbit(vals)):
+        if vals is not None and (
+            not np.any((vals == 0.0) & np.signbit(vals)) or col.str.contains(r"[^0-9+-]", regex=True).any()
+        ):  # pandas keeps -0.0 unless every entry is an integer literal (then it reads integers: 0)
             return pd.Series(vals, index=col.index, name=col.name)
     return pd.to_numeric(col, errors="coerce")
 
