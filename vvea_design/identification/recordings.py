@@ -316,7 +316,7 @@ def recordings_from_frame(
     d["experiment"] = d["experiment"].astype(str)
     cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
     for c in cols:
-        num = pd.to_numeric(d[c], errors="coerce")
+        num = _to_numeric(d[c])
         bad = num.isna() & d[c].notna()
         if bad.any():
             i = int(np.flatnonzero(bad.to_numpy())[0])
@@ -343,6 +343,7 @@ def recordings_from_frame(
             seen.add(exp[i])
     bounds = np.r_[np.flatnonzero(starts), len(d)]
     t = d["time_s"].to_numpy()
+    held = {c: d[c].to_numpy() for c in ("p2_MPa", "valve_deg")}  # columns once, not per experiment
     for k in range(len(block_ids)):
         a, b = bounds[k], bounds[k + 1]
         name = block_ids[k]
@@ -359,7 +360,7 @@ def recordings_from_frame(
                 f"({show(t[i - 1])} then {show(t[i])})"
             )
         for c in ("p2_MPa", "valve_deg"):
-            vals = d[c].to_numpy()[a:b]
+            vals = held[c][a:b]
             if np.any(vals != vals[0]):
                 i = int(a + np.flatnonzero(vals != vals[0])[0])
                 what = "pressures" if c == "p2_MPa" else "valve positions"
@@ -367,11 +368,34 @@ def recordings_from_frame(
                     f"{_where(source, i, line_offset, line_numbers)}: experiment {name!r} has two {what} in column {c} "
                     f"({show(vals[0])} and {show(vals[i - a])})"
                 )
-        if d["p2_MPa"].iloc[a] <= 0:
+        if held["p2_MPa"][a] <= 0:
             raise RecordingsError(
-                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(d['p2_MPa'].iloc[a])}"
+                f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(held['p2_MPa'][a])}"
             )
     return _derive(d, bounds, block_ids, source, tuple(notes), line_offset, line_numbers)
+
+
+def _to_numeric(col: pd.Series) -> pd.Series:
+    """``pd.to_numeric(col, errors="coerce")``, parsed by Arrow when the column is Arrow-backed text.
+
+    A CSV read as text gives Arrow strings; Arrow's cast to float64 is about ten times faster than pandas'
+    per-element parse and gives the same numbers (the correctly rounded double; pandas' parser can be one
+    unit in the last place off for some long mantissas with large exponents). Arrow is stricter: a column
+    it refuses (any text it cannot read as a number), or a column of integer literals holding ``-0``
+    (which pandas reads as the integer 0, not -0.0), goes through :func:`pandas.to_numeric` as before, so
+    what is rejected and the error messages do not change. Missing entries stay missing (NaN).
+    """
+    dtype = col.dtype
+    if isinstance(dtype, pd.StringDtype) and dtype.storage == "pyarrow":
+        try:
+            vals = col.astype("float64[pyarrow]").to_numpy(dtype=float, na_value=np.nan)
+        except (ValueError, TypeError, NotImplementedError):  # pyarrow.ArrowInvalid is a ValueError
+            vals = None
+        if vals is not None and (
+            not np.any((vals == 0.0) & np.signbit(vals)) or col.str.contains(r"[^0-9+-]", regex=True).any()
+        ):  # pandas keeps -0.0 unless every entry is an integer literal (then it reads integers: 0)
+            return pd.Series(vals, index=col.index, name=col.name)
+    return pd.to_numeric(col, errors="coerce")
 
 
 # ---------------------------------------------------------------- kinematics
@@ -427,6 +451,36 @@ def _trapezoid_x(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float):
     return ta, tm, x
 
 
+def _trapezoid_jac(t: np.ndarray, v_mm_s: float, a_mm_s2: float, t_rev_s: float) -> np.ndarray:
+    """Jacobian of ``x0 + _trapezoid_x(t, v, a, t_rev)[2]`` with respect to ``(v, a, t_rev, x0)``.
+
+    ``t`` a float array (s); the other arguments as for :func:`trapezoid_profile`. Returns an array of shape
+    ``(len(t), 4)``: columns in mm/(mm/s), mm/(mm/s²), mm/s and 1. Exact away from the kinks (branch changes,
+    ``t == t_rev``, the clip of the mirrored time at 0), where it takes one one-sided derivative.
+
+    With ``ta = v/a``, ``tm = max(min(t, 2 t_rev - t), 0)`` (``d tm/d t_rev`` is 2 where the mirror is taken
+    and not clipped, else 0) and ``u = max(t_rev - tm, 0)``, the branches of :func:`_trapezoid_x` are
+    ``a tm²/2`` (ramp), ``v tm - v²/(2a)`` (cruise) and ``v t_rev - v²/a - a u²/2`` (deceleration).
+    """
+    v, a, tr = v_mm_s, a_mm_s2, t_rev_s
+    ta = v / a
+    mir = 2 * tr - t
+    tm = np.minimum(t, mir)
+    dtm = np.where((t > mir) & (tm > 0.0), 2.0, 0.0)  # d tm / d t_rev
+    tm = np.clip(tm, 0.0, None)
+    ramp = tm < ta
+    cruise = ~ramp & (tm < tr - ta)
+    u = tr - tm
+    du = np.where(u > 0.0, 1.0 - dtm, 0.0)
+    u = np.clip(u, 0.0, None)
+    jac = np.empty((len(t), 4))
+    jac[:, 0] = np.where(ramp, 0.0, np.where(cruise, tm - ta, tr - 2 * ta))
+    jac[:, 1] = np.where(ramp, 0.5 * tm**2, np.where(cruise, 0.5 * ta**2, ta**2 - 0.5 * u**2))
+    jac[:, 2] = np.where(ramp, a * tm * dtm, np.where(cruise, v * dtm, v - a * u * du))
+    jac[:, 3] = 1.0
+    return jac
+
+
 def _fit_profile(t: np.ndarray, x: np.ndarray):
     """Least-squares fit of :func:`trapezoid_profile`; returns (params, rms, x_fit, v_fit)."""
     k = int(np.argmax(x))
@@ -453,6 +507,9 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     def res(p):  # trapezoid_profile(t, *p)[0] - x, without the velocity it would compute and drop
         return (p[3] + _trapezoid_x(tf, p[0], p[1], p[2])[2]) - x
 
+    def jac(p):  # analytic: the profile is piecewise quadratic in (v, a, t_rev, x0)
+        return _trapezoid_jac(tf, p[0], p[1], p[2])
+
     lo = [1e-9, 1e-9, t[0], -np.inf]
     hi = [np.inf, np.inf, t[-1], np.inf]
     best = None
@@ -461,7 +518,7 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
         q0 = p0.copy()
         q0[1] = p0[1] * scale
         try:
-            sol = least_squares(res, q0, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
+            sol = _least_squares_in_box(res, jac, q0, lo, hi)
         except ValueError:
             continue
         if best is None or sol.cost < best.cost:
@@ -475,6 +532,26 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     xf, vf = trapezoid_profile(t, *p)
     rms = float(np.sqrt(np.mean((xf - x) ** 2)))
     return p, rms, xf, vf
+
+
+def _least_squares_in_box(res, jac, q0: np.ndarray, lo, hi):
+    """``least_squares(res, q0, jac=jac, bounds=(lo, hi), method="trf")``, solved unconstrained first.
+
+    Levenberg-Marquardt (MINPACK, ``method="lm"``) costs a fraction of the bounded trust-region solver per
+    iteration; a minimum it finds strictly inside the box is a minimum of the bounded problem too. Only when
+    it fails, or stops on or outside a bound, is the bounded problem solved by ``"trf"``. ``q0`` the start
+    (the fit's units: mm/s, mm/s², s, mm) with its magnitude as the variable scale; returns the
+    :class:`scipy.optimize.OptimizeResult`.
+    """
+    x_scale = np.abs(q0) + 1e-3
+    try:
+        with np.errstate(all="ignore"):  # a trial step may leave the box (a <= 0); then the result is discarded
+            sol = least_squares(res, q0, jac=jac, x_scale=x_scale, method="lm")
+        if sol.success and np.all(np.isfinite(sol.x)) and np.all(sol.x > lo) and np.all(sol.x < hi):
+            return sol
+    except (ValueError, FloatingPointError, np.linalg.LinAlgError):
+        pass
+    return least_squares(res, q0, jac=jac, bounds=(lo, hi), x_scale=x_scale, method="trf")
 
 
 def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -499,10 +576,31 @@ def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
     return v
 
 
+def _time_since_reversal(t: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Time since the last start or reversal of motion (s) at every sample of one experiment.
+
+    ``t`` the sample times (s), ``v`` the velocity (mm/s); speeds up to 1e-9 mm/s count as rest. A start or
+    reversal happens at a sample whose sign of ``v`` is non-zero and differs from the last non-zero sign
+    before it (none before counts as 0); it is dated at the sample before (the first sample if it is the
+    first). Before the first one the time counts from the first sample.
+    """
+    sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
+    moving = np.flatnonzero(sgn != 0)
+    s_moving = sgn[moving]
+    events = moving[np.r_[True, s_moving[1:] != s_moving[:-1]]] if len(moving) else moving
+    latest = np.full(len(t), -1)
+    latest[events] = np.arange(len(events))
+    latest = np.maximum.accumulate(latest)  # index into events of the last one at or before each sample
+    event_time = np.r_[t[0], t[np.maximum(events - 1, 0)]]
+    return t - event_time[latest + 1]
+
+
 def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str, notes: tuple = (),
             line_offset: int = 0, line_numbers=None) -> Recordings:
     t_all = d["time_s"].to_numpy()
     x_all = d["displacement_mm"].to_numpy()
+    p2_all, valve_all = d["p2_MPa"].to_numpy(), d["valve_deg"].to_numpy()
+    speed_all = d["speed_mm_s"].to_numpy() if "speed_mm_s" in d.columns else None
     n = len(d)
     vel = np.zeros(n)
     tsr = np.zeros(n)
@@ -546,25 +644,16 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
                 i = int(np.argmin(np.abs(t - tz)))
                 if abs(t[i] - tz) < 0.1 * dt_med:
                     turning[a + i] = True
-        # time since the last start/reversal of motion
-        sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))
-        last = t[0]
-        prev = 0.0
-        for i in range(b - a):
-            s = sgn[i]
-            if s != 0 and s != prev:
-                last = t[i - 1] if i > 0 else t[0]
-                prev = s
-            tsr[a + i] = t[i] - last
+        tsr[a:b] = _time_since_reversal(t, v)
         ctime[a:b] = offset + (t - t[0])
         offset += (t[-1] - t[0]) + float(np.median(np.diff(t)))
         exp_index[a:b] = k
-        speed = float(d["speed_mm_s"].iloc[a]) if "speed_mm_s" in d.columns else float(p[0])
+        speed = float(speed_all[a]) if speed_all is not None else float(p[0])
         rows.append(
             dict(
                 experiment=names[k],
-                p2_MPa=float(d["p2_MPa"].iloc[a]),
-                valve_deg=float(d["valve_deg"].iloc[a]),
+                p2_MPa=float(p2_all[a]),
+                valve_deg=float(valve_all[a]),
                 speed_mm_s=speed,
                 n_samples=int(b - a),
                 velocity_method=method,
