@@ -99,34 +99,6 @@ def test_profile_jacobian_matches_finite_differences():
             np.testing.assert_allclose(jac[ok, j], fd[ok, j], rtol=1e-5, atol=1e-6 * np.abs(fd[:, j]).max())
 
 
-@pytest.mark.parametrize("t_rev_s", [5.0, 9.9, 12.0])  # turn mid-record, at its end, after it (bound active)
-def test_profile_fit_in_the_box_equals_the_bounded_solver(t_rev_s):
-    """Unconstrained Levenberg-Marquardt first, bounded trust region when it leaves the box: same answer."""
-    from scipy.optimize import least_squares
-
-    from vvea_design.identification.recordings import _least_squares_in_box, _trapezoid_jac, _trapezoid_x
-
-    t = np.linspace(0.0, 10.0, 201)
-    x = trapezoid_profile(t, 8.0, 40.0, t_rev_s, 1.0)[0] + 2e-3 * np.random.default_rng(1).standard_normal(len(t))
-
-    def res(p):
-        return p[3] + _trapezoid_x(t, p[0], p[1], p[2])[2] - x
-
-    def jac(p):
-        return _trapezoid_jac(t, p[0], p[1], p[2])
-
-    lo, hi = [1e-9, 1e-9, t[0], -np.inf], [np.inf, np.inf, t[-1], np.inf]
-    q0 = np.array([7.0, 30.0, t[np.argmax(x)], x[0]])
-    got = _least_squares_in_box(res, jac, q0, lo, hi)
-    ref = least_squares(res, q0, jac=jac, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
-    assert np.all(got.x >= lo) and np.all(got.x <= hi)
-    assert got.cost == pytest.approx(ref.cost, rel=1e-9)
-    np.testing.assert_allclose(got.x, ref.x, rtol=1e-6)
-    if t_rev_s > t[-1]:  # the unconstrained minimum turns after the record ends: the bounded one is taken
-        free = least_squares(res, q0, jac=jac, x_scale=np.abs(q0) + 1e-3, method="lm")
-        assert free.x[2] > t[-1] and got.x[2] == pytest.approx(t[-1])
-
-
 def _time_since_reversal_loop(t, v):
     """The definition, sample by sample: the reader's former loop."""
     sgn = np.sign(np.where(np.abs(v) > 1e-9, v, 0.0))

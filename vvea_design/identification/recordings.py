@@ -518,7 +518,7 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
         q0 = p0.copy()
         q0[1] = p0[1] * scale
         try:
-            sol = _least_squares_in_box(res, jac, q0, lo, hi)
+            sol = least_squares(res, q0, jac=jac, bounds=(lo, hi), x_scale=np.abs(q0) + 1e-3, method="trf")
         except ValueError:
             continue
         if best is None or sol.cost < best.cost:
@@ -532,26 +532,6 @@ def _fit_profile(t: np.ndarray, x: np.ndarray):
     xf, vf = trapezoid_profile(t, *p)
     rms = float(np.sqrt(np.mean((xf - x) ** 2)))
     return p, rms, xf, vf
-
-
-def _least_squares_in_box(res, jac, q0: np.ndarray, lo, hi):
-    """``least_squares(res, q0, jac=jac, bounds=(lo, hi), method="trf")``, solved unconstrained first.
-
-    Levenberg-Marquardt (MINPACK, ``method="lm"``) costs a fraction of the bounded trust-region solver per
-    iteration; a minimum it finds strictly inside the box is a minimum of the bounded problem too. Only when
-    it fails, or stops on or outside a bound, is the bounded problem solved by ``"trf"``. ``q0`` the start
-    (the fit's units: mm/s, mm/s², s, mm) with its magnitude as the variable scale; returns the
-    :class:`scipy.optimize.OptimizeResult`.
-    """
-    x_scale = np.abs(q0) + 1e-3
-    try:
-        with np.errstate(all="ignore"):  # a trial step may leave the box (a <= 0); then the result is discarded
-            sol = least_squares(res, q0, jac=jac, x_scale=x_scale, method="lm")
-        if sol.success and np.all(np.isfinite(sol.x)) and np.all(sol.x > lo) and np.all(sol.x < hi):
-            return sol
-    except (ValueError, FloatingPointError, np.linalg.LinAlgError):
-        pass
-    return least_squares(res, q0, jac=jac, bounds=(lo, hi), x_scale=x_scale, method="trf")
 
 
 def _savgol_velocity(t: np.ndarray, x: np.ndarray) -> np.ndarray:
