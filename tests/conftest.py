@@ -77,6 +77,16 @@ def reference_cad_run(tmp_path_factory):
     return folder / "cad", info["exit_code"], info["output"]
 
 
+@pytest.fixture(scope="session")
+def reference_model():
+    """``build_cad`` of the reference design (cad/design.json), once per worker, shared read-only by the CAD,
+    drawing and optimiser tests (a model builds its parts' solids once and hands out the same ones)."""
+    from vvea_design.cad import build_cad
+    from vvea_design.spring.design_file import load_design
+
+    return build_cad(load_design(REPO / "cad" / "design.json"))
+
+
 #: Test modules whose tests and module fixtures cost the most CPU (measured with ``--durations=0`` at idle),
 #: most expensive first. They are handed out first (``--no-loadscope-reorder`` in pyproject's addopts keeps
 #: this order; xdist's own reorder is by test count), so the two workers end together instead of one

@@ -45,11 +45,13 @@ def built(request, tmp_path_factory):
     """(name, design, model, out_dir, manifest) -- built and written once per design. The reference
     design's files are the session's shared `vvea cad cad/design.json` run (renders included)."""
     d = DESIGNS[request.param]
-    model = build_cad(d)
     if request.param == "reference":
+        model = request.getfixturevalue("reference_model")
+        assert model.design == d
         out, exit_code, output = request.getfixturevalue("reference_cad_run")
         assert exit_code == 0, output
         return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
+    model = build_cad(d)
     out = tmp_path_factory.mktemp(f"cad_{request.param}")
     manifest = write_cad(d, out, renders=False, show_progress=False, model=model)
     return request.param, d, model, out, manifest

@@ -28,8 +28,9 @@ from vvea_design.report.drawing import (  # noqa: E402
 
 
 @pytest.fixture(scope="module")
-def model():
-    return build_cad(REFERENCE)
+def model(reference_model):
+    assert reference_model.design == REFERENCE
+    return reference_model
 
 
 @pytest.fixture(scope="module")

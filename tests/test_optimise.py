@@ -157,16 +157,11 @@ def test_bladder_strain_limit_in_the_global_search():
     assert r.bladder_strain_fe == ev.details["bladder_strain"]["value"] and r.bladder_strain_surrogate > 0
 
 
-def test_the_reference_design_is_drawn_exactly_in_its_layout():
+def test_the_reference_design_is_drawn_exactly_in_its_layout(reference_model):
     """cad/design.json is the optimiser's reference design; its CAD measures the design's volumes."""
-    from pathlib import Path
-
-    from vvea_design.cad import build_cad
-    from vvea_design.spring.design_file import load_design
-
-    d = load_design(Path(__file__).resolve().parents[1] / "cad" / "design.json")
+    model = reference_model
+    d = model.design
     assert d.layout == "bulkhead" and d.V2_top_mm3 > 0
-    model = build_cad(d)
     assert model.gas["gas_chamber_1"].volume == pytest.approx(d.V1_mm3 - d.fixed.dead_volume_1_mm3, rel=1e-6)
     assert model.gas["gas_chamber_2"].volume == pytest.approx(d.V2_mm3 - d.fixed.dead_volume_2_mm3, rel=1e-6)
 
