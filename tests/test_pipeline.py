@@ -250,14 +250,11 @@ def test_report_renders_offline_with_no_console_error(browser_page):
 
 
 @pytest.mark.xdist_group("design_run")
-def test_report_screenshot_and_3d_view_not_blank(browser_page, tmp_path):
-    from PIL import Image
-
+def test_report_screenshot_and_3d_view_not_blank(browser_page):
     page, _, _ = browser_page
-    shot = tmp_path / "report.png"
-    page.screenshot(path=str(shot), full_page=True)
-    w, h = Image.open(shot).size
-    assert 1000 <= w <= 1600 and 3000 <= h <= 30_000, (w, h)  # the page fits the window's width, all sections
+    # the laid-out page (what a full-page screenshot would rasterise, ~2 s of software rendering here)
+    w, h = page.evaluate("[document.documentElement.scrollWidth, document.documentElement.scrollHeight]")
+    assert 1000 <= w <= 1280 and 3000 <= h <= 30_000, (w, h)  # the page fits the 1280 px window's width, all sections
     canvas = page.locator("#viewer")
     box = canvas.bounding_box()
     assert box["width"] > 600 and box["height"] > 400
