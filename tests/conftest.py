@@ -28,11 +28,10 @@ def _worker_exit_now() -> None:  # pragma: no cover - runs at interpreter exit
 
     Every exit handler registered after this one (matplotlib, pyvista, dask, multiprocessing, ...) has run by
     now, and the worker has sent its reports and closed its channel; what is left is the interpreter's own
-    teardown, which frees the session's heap object by object (CAD solids, IPOPT solvers, cached designs):
-    ~3 s of the suite's wall time that the operating system does in one step.
+    teardown, which frees the session's heap object by object (CAD solids, IPOPT solvers, cached designs);
+    the operating system frees it in one step.
     """
     import logging
-    import os
     import sys
 
     logging.shutdown()
