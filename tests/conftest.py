@@ -5,22 +5,8 @@ import os
 from pathlib import Path
 
 import pytest
-import typer
 
-
-def make_app(register) -> typer.Typer:
-    """A typer app with one topic module's commands registered, as `vvea` would have them.
-
-    The empty callback keeps typer from collapsing a single command into the app itself.
-    """
-    app = typer.Typer()
-
-    @app.callback()
-    def _main():  # pragma: no cover - typer needs a callback to keep sub-commands
-        pass
-
-    register(app)
-    return app
+from tests.helpers import REPO, make_app, shared_once
 
 
 def _worker_exit_now() -> None:  # pragma: no cover - runs at interpreter exit
@@ -45,44 +31,6 @@ def _worker_exit_now() -> None:  # pragma: no cover - runs at interpreter exit
 
 if os.environ.get("PYTEST_XDIST_WORKER"):
     atexit.register(_worker_exit_now)  # registered early: runs after the handlers libraries register later
-
-
-#: The shared example campaigns (CI clones the repository with shared/ beside it).
-SHARED_RECORDINGS = Path(__file__).resolve().parents[2] / "shared" / "recordings"
-
-
-#: The repository root.
-REPO = Path(__file__).resolve().parents[1]
-
-
-def shared_once(tmp_path_factory, name: str, build):
-    """Run ``build(folder)`` once per test session, across pytest-xdist workers, and return
-    ``(folder, info)`` where ``info`` is the JSON-able value ``build`` returned.
-
-    The first worker that asks builds into ``<session basetemp>/<name>`` under an exclusive
-    ``flock``; the others wait for it and read the result. A failed build leaves no marker,
-    so the next caller builds again (and fails the same way, visibly).
-    """
-    import fcntl
-    import json
-    import os
-    import shutil
-
-    root = tmp_path_factory.getbasetemp()
-    if os.environ.get("PYTEST_XDIST_WORKER"):
-        root = root.parent  # the controller's basetemp, shared by the workers
-    folder = root / name
-    with open(root / f"{name}.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        try:
-            done = root / f"{name}.done.json"
-            if not done.exists():
-                shutil.rmtree(folder, ignore_errors=True)
-                folder.mkdir()
-                done.write_text(json.dumps(build(folder) or {}))
-            return folder, json.loads(done.read_text())
-        finally:
-            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 @pytest.fixture(scope="session")

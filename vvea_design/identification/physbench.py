@@ -65,7 +65,7 @@ sensor filter ẏ = Ay + Bu. They are integrated on a fine grid (``substeps``
 per sample interval; 0.014 mm of travel per step at the default sampling)
 with the exponential integrator that is exact for coefficients frozen over
 a step: unconditionally stable for the stiff bristle equation (σ0|ẋ|/g up to
-1e4 1/s), first order in the coefficient variation. ``tests/test_physbench.py``
+1e4 1/s), first order in the coefficient variation. ``tests/identification/test_physbench.py``
 checks it against ``scipy.integrate.solve_ivp`` (Radau) and the energy
 balance. All experiments of a campaign are integrated together (vectorised).
 

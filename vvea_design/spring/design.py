@@ -262,7 +262,7 @@ def piston_floor_moment(piston_radius_mm, pocket_radius_mm, rod_radius_mm, poiss
     ``K = [(3 + nu) a^4 - 2 (1 + nu) a^2 b^2 - (1 - nu) b^4 - 2 (1 - nu) rp^2 (a^2 - b^2)
     - 4 (1 + nu) a^2 rp^2 ln(a/b)] / (-8 (a^2 (1 + nu) + b^2 (1 - nu)))``
 
-    (checked against a numerical solution of the plate equation in ``tests/test_design.py``).
+    (checked against a numerical solution of the plate equation in ``tests/spring/test_design.py``).
 
     Parameters
     ----------
