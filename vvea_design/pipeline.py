@@ -33,6 +33,7 @@ from .spring.requirements import Requirements
 
 if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them (`vvea spring` stays light)
     from .actuator.design_study import DesignStudy
+    from .cad.manifest import CadManifest
     from .report.bom import BillOfMaterials
     from .report.drawing import DrawingSet
 
@@ -96,7 +97,7 @@ class UnitDesign:
     spring: SpringCurve  #: isothermal and adiabatic force curves, deviations, pressures
     bladder: BladderResult  #: the bladder check with the requirements' silicone
     actuator: Actuator  #: joint-level K, D range of the unit (section 3.4 mapping, SI)
-    cad_manifest: dict | None  #: the CAD set's manifest (None when CAD was skipped)
+    cad_manifest: CadManifest | None  #: the CAD set's manifest (None when CAD was skipped)
     bom: BillOfMaterials | None  #: bill of materials, the bladder in the requirements' silicone (None: no CAD)
     drawings: DrawingSet | None  #: dimensioned drawings (None: no CAD)
     actuator_study: DesignStudy | None  #: the design's rest-to-rest and torque-step study (None when skipped)
@@ -264,10 +265,10 @@ def design_unit(
     # 4. bladder, with the requirements' silicone ------------------------------
     t = step("bladder")
     bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
-    bfiles = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
-                                  n_elements=bladder_elements, result=bl)["files"]  # solved once
-    files["bladder_json"] = out / "bladder" / bfiles["json"]  # bladder.json lists names in its folder
-    files["bladder_png"] = out / "bladder" / bfiles["png"]
+    brep = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
+                                n_elements=bladder_elements, result=bl)  # solved once
+    files["bladder_json"] = brep.path("json")  # bladder.json lists names in its folder
+    files["bladder_png"] = brep.path("png")
     seconds["bladder"] = time.perf_counter() - t
 
     # 5. actuator parameters ---------------------------------------------------

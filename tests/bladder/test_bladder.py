@@ -173,14 +173,23 @@ def test_paper_bladder_reconstruction_runs_with_the_paper_stroke():
 
 
 def test_report_files(tmp_path, example):
-    d = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N)
+    from vvea_design.bladder.check import BladderReport, BladderResult
+
+    report = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N)
+    assert isinstance(report, BladderReport) and isinstance(report.result, BladderResult)
     assert (tmp_path / "out" / "bladder.json").is_file()
     assert (tmp_path / "out" / "bladder.png").stat().st_size > 10_000
     rows = (tmp_path / "out" / "bladder_profile.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 * N
     on_disk = json.loads((tmp_path / "out" / "bladder.json").read_text())
     assert on_disk["strain_bound"] == pytest.approx(example.strain_bound)
-    assert on_disk == d
+    assert on_disk == report.to_dict()
+    assert dict(report.files) == {"json": "bladder.json", "csv": "bladder_profile.csv", "png": "bladder.png"}
+    assert on_disk["files"] == dict(report.files)
+    for role in report.files:
+        assert report.path(role) == tmp_path / "out" / report.files[role] and report.path(role).is_file()
+    with pytest.raises(KeyError, match="roles: json, csv, png"):
+        report.path("pdf")
 
 
 def test_report_of_a_computed_check_solves_nothing_again(tmp_path, example, monkeypatch):
@@ -188,7 +197,9 @@ def test_report_of_a_computed_check_solves_nothing_again(tmp_path, example, monk
     import vvea_design.bladder.check as check
 
     monkeypatch.setattr(check, "check_bladder", lambda *a, **k: pytest.fail("solved the bladder again"))
-    d = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N, result=example)
+    report = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N, result=example)
+    assert report.result is example
+    d = report.to_dict()
     assert d["strain_bound"] == pytest.approx(example.strain_bound)
     assert json.loads((tmp_path / "out" / "bladder.json").read_text()) == d
 

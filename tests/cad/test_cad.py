@@ -39,9 +39,14 @@ EXPORTED = ("housing", "housing_base", "housing_outer_tube", "housing_inner_tube
 STEP_FILES = tuple(f"{p.name}.step" for p in cadpkg.PARTS if "step" in p.files)
 
 
+#: The typed manifests ``write_cad`` returned to ``built`` (the reference design's set is written by the CLI).
+TYPED: dict = {}
+
+
 @pytest.fixture(scope="module", params=list(DESIGNS), ids=list(DESIGNS))
 def built(request, tmp_path_factory):
-    """(name, design, model, out_dir, manifest) -- built and written once per design. The reference
+    """(name, design, model, out_dir, manifest) -- built and written once per design; ``manifest`` is the
+    content of ``manifest.json`` (the typed one ``write_cad`` returned is kept in :data:`TYPED`). The reference
     design's files are the session's shared `vvea cad cad/design.json` run (renders included)."""
     d = DESIGNS[request.param]
     if request.param == "reference":
@@ -52,8 +57,37 @@ def built(request, tmp_path_factory):
         return request.param, d, model, out, json.loads((out / "manifest.json").read_text())
     model = build_cad(d)
     out = tmp_path_factory.mktemp(f"cad_{request.param}")
-    manifest = write_cad(d, out, renders=False, show_progress=False, model=model)
-    return request.param, d, model, out, manifest
+    TYPED[request.param] = write_cad(d, out, renders=False, show_progress=False, model=model)
+    return request.param, d, model, out, TYPED[request.param].to_dict()
+
+
+def test_write_cad_returns_the_typed_manifest(built):
+    """``write_cad`` returns a frozen :class:`CadManifest`; its ``to_dict()`` is ``manifest.json`` (key order
+    included) and its records hold the same numbers as typed fields."""
+    from dataclasses import FrozenInstanceError
+
+    from vvea_design.cad import CadManifest, FileRecord
+
+    name, d, model, out, manifest = built
+    if name == "reference":
+        pytest.skip("the reference set is written by the CLI run; the other designs' typed manifests are checked")
+    typed = TYPED[name]
+    assert isinstance(typed, CadManifest)
+    text = (out / "manifest.json").read_text()
+    assert text == json.dumps(typed.to_dict(), indent=2) + "\n"
+    with pytest.raises(FrozenInstanceError):
+        typed.files = {}
+    assert typed.design == d and typed.cad_parameters == model.layout.cad
+    for k, check in typed.measured.items():
+        assert check.cad == manifest["measured"][k]["cad"] and check.rel_error == manifest["measured"][k]["rel_error"]
+    for fname, rec in typed.files.items():
+        assert isinstance(rec, FileRecord) and rec.size_bytes == (out / fname).stat().st_size
+        assert rec.kind == manifest["files"][fname]["kind"]
+        assert rec.is_part_file == (rec.kind in ("step", "stl") and fname != "assembly.step")
+    assert typed.files["assembly.step"].parts == tuple(p.name for p in cadpkg.parts_in("assembly"))
+    assert list(typed.parts) == [p.name for p in cadpkg.PARTS]
+    assert typed.mould.sprue_open and all(typed.mould.vents_open)
+    assert typed.envelope_mm.housing_bbox_mm == typed.files["housing.step"].bbox_mm
 
 
 # ------------------------------------------------------------------ solids
@@ -310,10 +344,13 @@ def test_mould_cavity_and_openings(built):
     _, d, model, _, manifest = built
     s = model.layout.cad.mould_shrinkage
     v = mould_void(model.mould)
-    assert v["cavity_volume_mm3"] == pytest.approx(model.parts["bladder"].volume * (1 + s) ** 3, rel=2e-3)
-    assert v["sprue_open"] and all(v["vents_open"]) and len(v["vents_open"]) == model.layout.cad.vents
-    assert v["void_volume_mm3"] > v["cavity_volume_mm3"]  # the channels are part of the same void
+    assert v.cavity_volume_mm3 == pytest.approx(model.parts["bladder"].volume * (1 + s) ** 3, rel=2e-3)
+    assert v.sprue_open and all(v.vents_open) and len(v.vents_open) == model.layout.cad.vents
+    assert v.void_volume_mm3 > v.cavity_volume_mm3  # the channels are part of the same void
     assert manifest["mould"]["sprue_open"] and all(manifest["mould"]["vents_open"])
+    assert v.to_dict() == {"cavity_volume_mm3": v.cavity_volume_mm3, "void_volume_mm3": v.void_volume_mm3,
+                           "sprue_open": v.sprue_open, "vents_open": list(v.vents_open)}
+    assert mould_void(model.mould) is v  # measured once per mould
 
 
 def test_mould_parts_do_not_overlap(built):
@@ -331,7 +368,7 @@ def test_mould_shrinkage_scales_the_cavity():
     model = build_cad(REFERENCE, CadParameters(mould_shrinkage=s))
     v = mould_void(model.mould)
     assert model.mould.cavity.volume == pytest.approx(model.parts["bladder"].volume * (1 + s) ** 3, rel=1e-9)
-    assert v["cavity_volume_mm3"] == pytest.approx(model.parts["bladder"].volume * (1 + s) ** 3, rel=2e-3)
+    assert v.cavity_volume_mm3 == pytest.approx(model.parts["bladder"].volume * (1 + s) ** 3, rel=2e-3)
 
 
 # ------------------------------------------------------------------ files
@@ -472,15 +509,15 @@ def test_public_api_documented():
 def test_more_designs(key, tmp_path):
     d = SLOW[key]
     manifest = write_cad(d, tmp_path, renders=False, show_progress=False)
-    for k, v in manifest["measured"].items():
-        assert abs(v["rel_error"]) < 0.01, k
-    for pair in manifest["interference_mm3"].values():
+    for k, v in manifest.measured.items():
+        assert abs(v.rel_error) < 0.01, k
+    for pair in manifest.interference_mm3.values():
         assert max(pair.values()) < 1e-3
-    for fname, info in manifest["files"].items():
+    for fname, info in manifest.files.items():
         if fname.endswith(".stl"):
-            assert info["watertight"], fname
-    m = manifest["mould"]
-    assert m["cavity_volume_mm3"] == pytest.approx(m["expected_cavity_volume_mm3"], rel=2e-3)
+            assert info.watertight, fname
+    m = manifest.mould
+    assert m.cavity_volume_mm3 == pytest.approx(m.expected_cavity_volume_mm3, rel=2e-3)
 
 
 @pytest.mark.slow
@@ -553,24 +590,34 @@ def test_random_drawable_annulus_top_designs():
 
 def test_a_new_part_is_one_table_entry(monkeypatch, tmp_path, reference_cad_run):
     """Adding one entry to the table (nothing else) gives a built, named, coloured part with its
-    closed-form volume checked and its STEP/STL files written and counted (issue 9 item 4). The other parts'
-    files come out byte for byte as in the `vvea cad` run: the exports are byte-stable."""
+    closed-form volume checked and its STEP/STL files written and counted (issue 9 item 4), its own drawing
+    sheet and its line of the bill of materials (issue 22: the entry carries its drawing and BOM hooks). The
+    other parts' files come out byte for byte as in the `vvea cad` run: the exports are byte-stable."""
     import math
 
     from build123d import import_step
 
-    from vvea_design.cad import registry
+    from vvea_design.cad import Dim, SheetContent, registry
     from vvea_design.cad._shapes import cylinder
+    from vvea_design.report.bom import bill_of_materials
+    from vvea_design.report.drawing import check_anchors, sheet_specs
 
     def plug(ctx):  # a fill-port plug sitting on the top cap
         lay = ctx.lay
         return cylinder(2.0, lay.z_top, lay.z_top + 3.0, y=lay.r_port1)
 
+    def plug_sheet(lay, solid):  # its section in the fill-port plane: height and diameter on the outline
+        u0, u1, zt = lay.r_port1 - 2.0, lay.r_port1 + 2.0, lay.z_top
+        return SheetContent((Dim("z", (u1, zt), (u1, zt + 3.0), "right"), Dim("u", (u0, zt + 3.0), (u1, zt + 3.0),
+                                                                             "top", "Ø4.00")),
+                            (), ("All dimensions in mm.",), plane="yz")
+
     extra = registry.Part("fill_plug", "fill-port plug", "assembly", plug,
-                          registry._fixed("al-6061-t6", "turned"), (0.9, 0.1, 0.9),
-                          volume_mm3=lambda lay: math.pi * 4.0 * 3.0)
+                          registry.fixed_material("al-6061-t6", "turned"), (0.9, 0.1, 0.9),
+                          volume_mm3=lambda lay: math.pi * 4.0 * 3.0, drawing=plug_sheet)
     monkeypatch.setattr(registry, "PARTS", registry.PARTS + (extra,))
-    manifest = write_cad(REFERENCE, tmp_path, renders=False, show_progress=False)
+    model = build_cad(REFERENCE)
+    manifest = write_cad(REFERENCE, tmp_path, renders=False, show_progress=False, model=model).to_dict()
     assert {"fill_plug.step", "fill_plug.stl"} <= set(manifest["files"])
     # byte stability: this second build and export of the reference design, in this process, gives the bytes of
     # the `vvea cad` run (possibly another process) for every file the new part does not enter
@@ -586,6 +633,15 @@ def test_a_new_part_is_one_table_entry(monkeypatch, tmp_path, reference_cad_run)
     assert import_step(tmp_path / "fill_plug.step").label == "fill_plug"
     assert "fill_plug" in manifest["files"]["assembly.step"]["parts"]
     assert "housing/fill_plug" in manifest["interference_mm3"]["x_0_mm"]
+    # its sheet (after the table's other sheets) and its BOM line (a made part: the default hook)
+    specs = sheet_specs(model)
+    assert specs[-1].name == "fill_plug" and specs[-1].title == "Fill-port plug"
+    assert check_anchors(specs[-1]) == [] and specs[-1].material == "Aluminium 6061-T6"
+    bom = bill_of_materials(model)
+    (line,) = [ln for ln in bom.lines if ln.part == "fill_plug"]
+    assert line.category == "turned" and line.unit_volume_mm3 == pytest.approx(12 * math.pi, abs=1e-3)
+    made = [ln.part for ln in bom.lines if ln.section == "made"]
+    assert made[-1] == "fill_plug" and [ln.item for ln in bom.lines] == list(range(1, len(bom.lines) + 1))
 
 
 def test_the_channel_room_constraint_is_what_the_support_ring_needs():

@@ -309,10 +309,12 @@ def test_the_unit_report_reads_only_what_the_pipeline_result_has():
     from vvea_design.report import html
 
     from vvea_design.actuator.design_study import DesignStudy
+    from vvea_design.cad.manifest import CadManifest
     from vvea_design.report.bom import BillOfMaterials
     from vvea_design.report.drawing import DrawingSet
 
-    lazy = dict(DesignStudy=DesignStudy, BillOfMaterials=BillOfMaterials, DrawingSet=DrawingSet)  # TYPE_CHECKING-only
+    lazy = dict(DesignStudy=DesignStudy, BillOfMaterials=BillOfMaterials, DrawingSet=DrawingSet,
+                CadManifest=CadManifest)  # TYPE_CHECKING-only
     members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
     hints = typing.get_type_hints(UnitDesign, localns=lazy)
     for name in members:
@@ -645,3 +647,73 @@ def test_the_docstring_check_finds_what_is_missing():
     p = docstring_problems(bad)
     assert any("'x': no unit" in s for s in p) and any("'depth_mm' not in" in s for s in p)
     assert "no 'Returns' section" in p
+
+
+# ------------------------------------------------------------------ private names stay in their room
+def private_imports(source: str, module: str, is_package: bool) -> list[str]:
+    """The imports in ``source`` that reach into another room for a private module or name.
+
+    A private module or name starts with one underscore (dunders such as ``__version__`` are public); a room
+    is a subpackage or a top-level module of the package (:func:`_room`). Imports inside a room may use its
+    private parts; another room goes through its public API. Top-level, lazy and TYPE_CHECKING imports count.
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    module : str
+        Its dotted name (``vvea_design.report.drawing``), to resolve relative imports.
+    is_package : bool
+        True for an ``__init__.py`` (its relative imports start from itself).
+
+    Returns
+    -------
+    list of str
+        ``"line N: from a.b import c"`` for every offending import, in source order.
+    """
+    def private(name: str) -> bool:
+        return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    out = []
+    for node in ast.walk(_tree(source)):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                target = base[:len(base) - node.level + 1] + (node.module.split(".") if node.module else [])
+            else:
+                target = (node.module or "").split(".")
+            imported = [a.name for a in node.names]
+            text = f"from {'.' * node.level}{node.module or ''} import {', '.join(imported)}"
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] == "vvea_design" and _room(alias.name) != _room(module) \
+                        and any(private(p) for p in alias.name.split(".")[1:]):
+                    out.append((node.lineno, f"line {node.lineno}: import {alias.name}"))
+            continue
+        else:
+            continue
+        if target[0] != "vvea_design" or _room(".".join(target)) == _room(module):
+            continue
+        if any(private(p) for p in target[1:]) or any(private(n) for n in imported):
+            out.append((node.lineno, f"line {node.lineno}: {text}"))
+    return [text for _, text in sorted(out)]
+
+
+def test_no_module_imports_a_private_module_or_name_of_another_room():
+    """report/ draws the CAD through the cad room's public API (issue 22): no ``from ..cad._shapes import ring``."""
+    files = _module_files()
+    bad = {m: found for m, p in files.items()
+           if (found := private_imports(p.read_text(), m, p.name == "__init__.py"))}
+    assert not bad, "private imports across rooms: " + "; ".join(f"{m}: {', '.join(v)}" for m, v in sorted(bad.items()))
+
+
+def test_the_private_import_check_finds_each_form():
+    src = ("from ..cad._shapes import ring\n"  # private module of another room
+           "from ..cad.registry import _fixed, get_part\n"  # private name of another room
+           "from ._layout import x\n"  # private module of its own room: allowed
+           "from .. import __version__\n"  # a dunder is public
+           "def f():\n    import vvea_design.cad._shapes\n")  # lazy, absolute
+    found = private_imports(src, "vvea_design.report.drawing", False)
+    assert found == ["line 1: from ..cad._shapes import ring", "line 2: from ..cad.registry import _fixed, get_part",
+                     "line 6: import vvea_design.cad._shapes"]
+    assert private_imports("from ._shapes import ring\n", "vvea_design.cad.render", False) == []

@@ -196,3 +196,27 @@ def test_annulus_top_drawings_dimension_the_collar():
 
     lines = [ln for ln in bill_of_materials(m).lines if ln.part == "oring_collar"]
     assert len(lines) == 1 and lines[0].quantity == 1 and lines[0].size == seal.oring.name
+
+
+def test_the_bill_comes_from_the_owners_hooks(model):
+    """Every line is its owner's (a part's BOM hook or a bought item's), in section order, numbered; a part
+    without a hook is not on the bill."""
+    from vvea_design.cad.bill import BOUGHT_ITEMS, SECTIONS, BomContext
+    from vvea_design.materials.silicones import get_silicone
+
+    bom = bill_of_materials(model)
+    ctx = BomContext(model.layout, model.solids, get_silicone("dragon-skin-20"))
+    owned = [ln for p in PARTS if p.bom is not None for ln in p.bom(p, ctx)] + [ln for h in BOUGHT_ITEMS for ln in h(ctx)]
+    assert sorted(ln.part for ln in bom.lines) == sorted(ln.part for ln in owned)
+    sections = [ln.section for ln in bom.lines]
+    assert sections == sorted(sections, key=SECTIONS.index)
+    assert [ln.part for ln in bom.lines if ln.section == "made"] == [p.name for p in PARTS
+                                                                    if p.bom is not None and p.group != "mould"]
+    assert not {p.name for p in PARTS if p.bom is None} & {ln.part for ln in bom.lines}
+
+
+def test_every_part_hatch_has_a_pattern():
+    from vvea_design.cad.registry import HATCHES
+    from vvea_design.report.sheet_spec import HATCH_PATTERNS
+
+    assert set(HATCH_PATTERNS) == set(HATCHES)

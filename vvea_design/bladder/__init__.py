@@ -1,4 +1,4 @@
-"""The bladder wing: ``membrane`` (axisymmetric hyperelastic membrane FE) and
+"""The bladder wing: ``membrane`` (axisymmetric hyperelastic membrane FE),
 ``check`` (the bladder check of a design against a silicone's allowable
-strain).
+strain) and ``result`` (its typed results).
 """

@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -58,10 +57,12 @@ from .membrane import (
 )
 from ..materials.silicones import Silicone, StrainCriterion, get_criterion, get_silicone
 from ..messages import show
+from .result import DEFAULT_ELEMENTS, ENDS, BladderReport, BladderResult, StrokeEnd
 
 __all__ = [
     "BladderError",
     "BladderResult",
+    "BladderReport",
     "StrokeEnd",
     "check_membrane",
     "check_bladder",
@@ -77,10 +78,8 @@ __all__ = [
 ]
 
 DEFAULT_MATERIAL = "dragon-skin-20"
-DEFAULT_ELEMENTS = 96  #: elements along the meridian of the full check
 SURROGATE_ELEMENTS = 48  #: elements of the fast :func:`strain_bound` (Richardson with half as many)
 SURROGATE_FACTOR = 1.05  #: safety factor of the fast bound over its extrapolated coarse meshes
-ENDS = ("expanded", "compressed")
 
 #: The paper's bladder, reconstructed (docs/bladder.md gives the reasoning): 59.5 mm housing with
 #: 1.5 mm walls (bore radius 28.25 mm), 30 mm piston in a 1.5 mm inner tube (16.5 mm), 132.5 mm
@@ -99,125 +98,6 @@ PAPER_BLADDER = {
 
 class BladderError(ValueError):
     """A bladder that cannot be checked: bad dimensions, unknown material, a volume change it cannot take."""
-
-
-# ------------------------------------------------------------------- results
-@dataclass(frozen=True, eq=False)
-class StrokeEnd:
-    """The membrane at one end of the stroke."""
-
-    solution: MembraneSolution
-    max_principal_strain: float  #: largest tensile principal strain of the membrane, fraction
-    min_geometric_strain: float  #: most negative meridian/hoop strain of the surface (taken up by wrinkles), fraction
-    bending_strain: float  #: bending bound at the worse clamp, fraction
-    clamp_strain: float  #: clamp meridional strain + bending bound, worse clamp, fraction
-    strain_bound: float  #: max(max_principal_strain, clamp_strain), fraction
-    wrinkled_fraction: float  #: wrinkled or slack share of the area
-    slack_z_mm: list  #: reference z-intervals [z0, z1] (from the lower clamp) that are wrinkled or slack, mm
-    gap_inner_tube_mm: float | None  #: smallest gap to the inner tube (negative = touches), mm
-    gap_outer_bore_mm: float | None  #: smallest gap to the outer bore (negative = touches), mm
-
-    @property
-    def pressure_MPa(self) -> float:
-        """Pressure difference that holds the shape, fluid minus gas, MPa."""
-        return self.solution.pressure_MPa
-
-    @property
-    def touches(self) -> dict[str, bool]:
-        """Whether the wall reaches ``inner_tube`` / ``outer_bore`` (gap < 0; False where not given)."""
-        return {
-            "inner_tube": self.gap_inner_tube_mm is not None and self.gap_inner_tube_mm < 0,
-            "outer_bore": self.gap_outer_bore_mm is not None and self.gap_outer_bore_mm < 0,
-        }
-
-
-@dataclass(frozen=True, eq=False)
-class BladderResult:
-    """The bladder check of one sleeve (see :func:`check_membrane`)."""
-
-    mid_radius_mm: float
-    free_length_mm: float
-    thickness_mm: float
-    silicone_key: str
-    silicone: Silicone
-    criterion: StrainCriterion | None  #: None when the allowable strain was given as a number
-    allowable_strain: float  #: fraction
-    volume_change_mm3: dict  #: {"expanded", "compressed"}, mm³
-    ends: dict  #: {"expanded": StrokeEnd, "compressed": StrokeEnd}
-    inner_tube_outer_radius_mm: float | None = None
-    outer_bore_radius_mm: float | None = None
-    n_elements: int = DEFAULT_ELEMENTS
-    extra: dict = field(default_factory=dict)
-
-    @property
-    def strain_bound(self) -> float:
-        """Largest strain bound over both stroke ends (membrane + clamp bending), fraction."""
-        return max(e.strain_bound for e in self.ends.values())
-
-    @property
-    def passes_strain(self) -> bool:
-        """The strain bound is within the allowable strain."""
-        return self.strain_bound <= self.allowable_strain
-
-    @property
-    def passes_room(self) -> bool:
-        """The wall touches neither the inner tube nor the outer bore at either stroke end."""
-        return not any(any(e.touches.values()) for e in self.ends.values())
-
-    @property
-    def passes(self) -> bool:
-        """Strain bound within the allowable strain and no contact with inner tube or bore."""
-        return self.passes_strain and self.passes_room
-
-    def to_dict(self) -> dict:
-        """The content of ``bladder.json`` (plain JSON types, units in the keys).
-
-        Returns
-        -------
-        dict
-            ``membrane`` (radius, length, wall in mm, shear modulus in MPa, model, elements),
-            ``material``, ``criterion``, ``room`` (mm), ``volume_change_mm3``; per stroke end the
-            strains (fractions), ``pressure_MPa``, wrinkled area (fraction) and z-intervals (mm),
-            gaps (mm) and contact; the overall ``strain_bound`` and ``allowable_strain``
-            (fractions) and the verdicts ``passes_strain``, ``passes_room``, ``passes``.
-        """
-        e = self.ends
-        by_end = lambda f: {k: f(e[k]) for k in ENDS}  # noqa: E731
-        return {
-            "membrane": {
-                "mid_radius_mm": self.mid_radius_mm,
-                "free_length_mm": self.free_length_mm,
-                "thickness_mm": self.thickness_mm,
-                "shear_modulus_MPa": self.silicone.shear_modulus_MPa,
-                "model": "incompressible neo-Hookean membrane, tension-field relaxed, clamped ends",
-                "n_elements": self.n_elements,
-            },
-            "material": {"key": self.silicone_key, **self.silicone.to_dict()},
-            "criterion": self.criterion.to_dict() if self.criterion else {"name": "given", "formula": "value"},
-            "room": {
-                "inner_tube_outer_radius_mm": self.inner_tube_outer_radius_mm,
-                "outer_bore_radius_mm": self.outer_bore_radius_mm,
-            },
-            "volume_change_mm3": {k: float(self.volume_change_mm3[k]) for k in ENDS},
-            "max_principal_strain": by_end(lambda s: s.max_principal_strain),
-            "min_geometric_strain": by_end(lambda s: s.min_geometric_strain),
-            "bending_strain": by_end(lambda s: s.bending_strain),
-            "clamp_strain": by_end(lambda s: s.clamp_strain),
-            "strain_bound_by_end": by_end(lambda s: s.strain_bound),
-            "pressure_MPa": by_end(lambda s: s.pressure_MPa),
-            "regularisation": by_end(lambda s: s.solution.regularisation),
-            "wrinkled_area_fraction": by_end(lambda s: s.wrinkled_fraction),
-            "wrinkled_z_mm": by_end(lambda s: s.slack_z_mm),
-            "gap_inner_tube_mm": by_end(lambda s: s.gap_inner_tube_mm),
-            "gap_outer_bore_mm": by_end(lambda s: s.gap_outer_bore_mm),
-            "touches": by_end(lambda s: s.touches),
-            "strain_bound": self.strain_bound,
-            "allowable_strain": self.allowable_strain,
-            "passes_strain": self.passes_strain,
-            "passes_room": self.passes_room,
-            "passes": self.passes,
-            **self.extra,
-        }
 
 
 # -------------------------------------------------------------------- checks
@@ -715,7 +595,7 @@ def _profile_rows(result: BladderResult) -> list[dict]:
 
 def write_bladder_report(design, out_dir: str | Path, material: str | Silicone = DEFAULT_MATERIAL,
                          criterion: str | StrainCriterion | float | None = None, *,
-                         n_elements: int = DEFAULT_ELEMENTS, result: BladderResult | None = None) -> dict:
+                         n_elements: int = DEFAULT_ELEMENTS, result: BladderResult | None = None) -> BladderReport:
     """Check ``design``'s bladder and write ``bladder.json``, ``bladder_profile.csv`` and ``bladder.png`` to ``out_dir``.
 
     Parameters
@@ -739,9 +619,9 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
 
     Returns
     -------
-    dict
-        The ``bladder.json`` content (:meth:`BladderResult.to_dict`, units in the keys), plus
-        ``"files"``: the names of the JSON, CSV and PNG written, relative to ``out_dir``.
+    BladderReport
+        The check and the names of the JSON, CSV and PNG written (relative to ``out_dir``); its
+        ``to_dict()`` is the ``bladder.json`` content (units in the keys).
 
     Raises
     ------
@@ -762,7 +642,6 @@ def write_bladder_report(design, out_dir: str | Path, material: str | Silicone =
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    d = res.to_dict()
-    d["files"] = {"json": "bladder.json", "csv": csv_path.name, "png": Path(png).name}  # names in out_dir
-    (out / "bladder.json").write_text(json.dumps(d, indent=2))
-    return d
+    report = BladderReport(res, Path(out_dir), {"json": "bladder.json", "csv": csv_path.name, "png": png.name})
+    (out / "bladder.json").write_text(json.dumps(report.to_dict(), indent=2))
+    return report

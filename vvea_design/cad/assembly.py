@@ -23,7 +23,7 @@ from .mould import Mould, box
 from .parts import piston_faces_mm2
 from .registry import MOULD_MATERIAL, PARTS, SILICONE, PartContext, all_parts, get_part, parts_in
 
-__all__ = ["CadModel", "build_cad", "assembly", "interference_mm3", "mould_void", "part_materials",
+__all__ = ["CadModel", "MouldVoid", "build_cad", "assembly", "interference_mm3", "mould_void", "part_materials",
            "SILICONE", "MOULD_MATERIAL", "COLOURS"]
 
 #: Part colours (RGB 0..1) by part name, from the part table.
@@ -315,7 +315,29 @@ class _ShapeMemo:
 _MEMO = _ShapeMemo(64)
 
 
-def mould_void(m: Mould) -> dict:
+@dataclass(frozen=True, eq=False)
+class MouldVoid:
+    """The empty space of the closed mould that holds the cavity, measured (mould frame)."""
+
+    cavity_volume_mm3: float  #: the void clipped to the cavity's envelope, mm³
+    void_volume_mm3: float  #: cavity + sprue + runner + vents, mm³
+    sprue_open: bool  #: the void reaches the sprue's opening in the top face
+    vents_open: tuple[bool, ...]  #: the void reaches each vent's opening in the top face
+    void: Solid  #: the void itself, mm
+
+    def to_dict(self) -> dict:
+        """The measured numbers (the solid left out).
+
+        Returns
+        -------
+        dict
+            ``cavity_volume_mm3`` and ``void_volume_mm3`` (mm³), ``sprue_open`` and ``vents_open`` (list of bool).
+        """
+        return {"cavity_volume_mm3": self.cavity_volume_mm3, "void_volume_mm3": self.void_volume_mm3,
+                "sprue_open": self.sprue_open, "vents_open": list(self.vents_open)}
+
+
+def mould_void(m: Mould) -> MouldVoid:
     """The empty space of the closed mould that holds the cavity, measured.
 
     Parameters
@@ -325,23 +347,20 @@ def mould_void(m: Mould) -> dict:
 
     Returns
     -------
-    dict
-        ``cavity_volume_mm3`` (void clipped to the cavity's envelope, mm³), ``void_volume_mm3``
-        (cavity + sprue + runner + vents, mm³), ``sprue_open`` (bool) / ``vents_open`` (list of
-        bool: the void reaches each opening in the top face) and ``void`` (the solid, mm). Measured once
-        per mould (asked again about the same solids, the same numbers and void come back).
+    MouldVoid
+        Cavity and void volumes (mm³), whether the void reaches the sprue and each vent, the void solid (mm).
+        Measured once per mould (asked again about the same solids, the same record comes back).
 
     Raises
     ------
     RuntimeError
         If no connected void of the closed mould holds the cavity (the mould is broken).
     """
-    v = _MEMO.get("mould_void", (m.half_a, m.half_b, m.core, m.cavity), (m.block_mm, m.sprue_top_mm, m.vent_tops_mm),
-                  lambda: _mould_void(m))
-    return {**v, "vents_open": list(v["vents_open"])}
+    return _MEMO.get("mould_void", (m.half_a, m.half_b, m.core, m.cavity), (m.block_mm, m.sprue_top_mm, m.vent_tops_mm),
+                     lambda: _mould_void(m))
 
 
-def _mould_void(m: Mould) -> dict:
+def _mould_void(m: Mould) -> MouldVoid:
     x0, x1, y0, y1, z0, z1 = m.block_mm
     space = box(x0, x1, y0, y1, z0, z1)
     rest = space.cut(m.half_a, m.half_b, m.core)
@@ -361,10 +380,10 @@ def _mould_void(m: Mould) -> dict:
     cav = void.intersect(clip)
     eps = 0.3
     sx, sy, sz = m.sprue_top_mm
-    return {
-        "cavity_volume_mm3": _volume(cav),
-        "void_volume_mm3": float(void.volume),
-        "sprue_open": bool(void.is_inside((sx, sy, sz - eps))),
-        "vents_open": [bool(void.is_inside((vx, vy, vz - eps))) for vx, vy, vz in m.vent_tops_mm],
-        "void": void,
-    }
+    return MouldVoid(
+        cavity_volume_mm3=_volume(cav),
+        void_volume_mm3=float(void.volume),
+        sprue_open=bool(void.is_inside((sx, sy, sz - eps))),
+        vents_open=tuple(bool(void.is_inside((vx, vy, vz - eps))) for vx, vy, vz in m.vent_tops_mm),
+        void=void,
+    )

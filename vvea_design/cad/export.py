@@ -8,7 +8,8 @@
 * STL: binary, from one tessellation (``cad.stl_tolerance_mm``,
   ``cad.stl_angular_tolerance_rad``) merged into a watertight
   :class:`trimesh.Trimesh`; the same mesh is checked, rendered and put in the GLB.
-* ``manifest.json``: every file with its size, sha256, volume, bounding box
+* the manifest (:class:`~vvea_design.cad.manifest.CadManifest`,
+  ``manifest.json``): every file with its size, sha256, volume, bounding box
   and material, every part's closed-form volume next to the drawn one, the
   CAD-measured chamber volumes and piston areas next to the design's, the
   interference and mould checks.
@@ -21,15 +22,14 @@ from __future__ import annotations
 
 import hashlib
 import io
-import json
 import re
 from pathlib import Path
 
 import trimesh
 from build123d import Shape, export_step
 
-from ..spring.design import Design
 from .assembly import CadModel, assembly, interference_mm3, mould_void
+from .manifest import BBox, CadManifest, Envelope, FileRecord, MeasuredCheck, MouldCheck, PartRecord, WallCheck
 from .mesh import to_mesh
 from .registry import all_parts
 
@@ -90,7 +90,7 @@ def stl_bytes(mesh: trimesh.Trimesh) -> bytes:
     return header + np.uint32(len(tri)).tobytes() + rec.tobytes()
 
 
-def bbox_mm(shape: Shape) -> list[list[float]]:
+def bbox_mm(shape: Shape) -> BBox:
     """Axis-aligned bounding box of ``shape`` for the manifest.
 
     Parameters
@@ -100,11 +100,11 @@ def bbox_mm(shape: Shape) -> list[list[float]]:
 
     Returns
     -------
-    list of list of float
-        ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` rounded to 1 µm, mm.
+    tuple of tuple of float
+        ``((xmin, ymin, zmin), (xmax, ymax, zmax))`` rounded to 1 µm, mm.
     """
     bb = shape.bounding_box()
-    return [[_r(bb.min.X), _r(bb.min.Y), _r(bb.min.Z)], [_r(bb.max.X), _r(bb.max.Y), _r(bb.max.Z)]]
+    return (_r(bb.min.X), _r(bb.min.Y), _r(bb.min.Z)), (_r(bb.max.X), _r(bb.max.Y), _r(bb.max.Z))
 
 
 def _r(v: float, nd: int = 3) -> float:
@@ -112,8 +112,8 @@ def _r(v: float, nd: int = 3) -> float:
     return float(round(v, nd)) + 0.0
 
 
-def write_file(path: Path, data: bytes) -> dict:
-    """Write ``data`` to ``path``; return its size and sha256 for the manifest.
+def write_file(path: Path, data: bytes, kind: str, **about) -> FileRecord:
+    """Write ``data`` to ``path``; return its record for the manifest.
 
     Parameters
     ----------
@@ -121,14 +121,18 @@ def write_file(path: Path, data: bytes) -> dict:
         File to write (its folder must exist); an existing file is replaced.
     data : bytes
         The content.
+    kind : str
+        ``"step"``, ``"stl"``, ``"glb"`` or ``"render"``.
+    **about
+        The other fields of :class:`~vvea_design.cad.manifest.FileRecord` (part, material, volume in mm³, ...).
 
     Returns
     -------
-    dict
-        ``bytes`` (size, count of bytes) and ``sha256`` (hex digest).
+    FileRecord
+        Size (count of bytes), sha256 (hex digest), ``kind`` and ``about``.
     """
     path.write_bytes(data)
-    return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+    return FileRecord(len(data), hashlib.sha256(data).hexdigest(), kind, **about)
 
 
 def export_steps() -> int:
@@ -142,7 +146,7 @@ def export_steps() -> int:
     return len(all_parts()) + 3
 
 
-def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[str, trimesh.Trimesh]]:
+def export_files(model: CadModel, out: Path, advance=None) -> tuple[CadManifest, dict[str, trimesh.Trimesh]]:
     """Write every part's files (from the table), ``assembly.step`` and run the checks.
 
     Parameters
@@ -156,47 +160,26 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[s
 
     Returns
     -------
-    (dict, dict)
-        The manifest (without the renders) and the tessellated meshes by part
+    (CadManifest, dict)
+        The manifest (without the scenes and renders) and the tessellated meshes by part
         name (plus ``piston_at_travel``), mm.
     """
     advance = advance or (lambda n=1: None)
-    d, cad = model.design, model.layout.cad
-    files: dict[str, dict] = {}
-    meshes: dict[str, trimesh.Trimesh] = {}
-    parts: dict[str, dict] = {}
-    for part in all_parts():
-        solid = model.solids[part.name]
-        mesh = to_mesh(solid, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
-        meshes[part.name] = mesh
-        mat = part.material(d)
-        info = {"part": part.name, "material": mat.name, "volume_mm3": _r(solid.volume), "bbox_mm": bbox_mm(solid)}
-        closed = model.closed_form_mm3.get(part.name)
-        parts[part.name] = {"title": part.title, "group": part.group, "material": mat.name,
-                            "colour_rgb": [round(c, 3) for c in part.colour],
-                            "volume_mm3": _r(solid.volume),
-                            "closed_form_volume_mm3": None if closed is None else _r(closed),
-                            "files": [f"{part.name}.{ext}" for ext in part.files]}
-        if "step" in part.files:
-            files[f"{part.name}.step"] = {**write_file(out / f"{part.name}.step", step_bytes(solid)), **info,
-                                          "kind": "step"}
-        if "stl" in part.files:
-            files[f"{part.name}.stl"] = {**write_file(out / f"{part.name}.stl", stl_bytes(mesh)), **info,
-                                         "kind": "stl", "triangles": int(len(mesh.faces)),
-                                         "mesh_volume_mm3": _r(mesh.volume), "watertight": bool(mesh.is_watertight)}
-        advance()
+    cad = model.layout.cad
+    files, parts, meshes = _export_parts(model, out, advance)
     asm = assembly(model, 0.0)
-    files["assembly.step"] = {**write_file(out / "assembly.step", step_bytes(asm)), "kind": "step",
-                              "part": "assembly", "parts": [c.label for c in asm.children],
-                              "material": "see parts", "volume_mm3": _r(asm.volume), "bbox_mm": bbox_mm(asm)}
+    files["assembly.step"] = write_file(out / "assembly.step", step_bytes(asm), "step", part="assembly",
+                                        parts=tuple(c.label for c in asm.children), material="see parts",
+                                        volume_mm3=_r(asm.volume), bbox_mm=bbox_mm(asm))
     advance()
     meshes["piston_at_travel"] = to_mesh(model.piston_at_travel, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
+    d = model.design
     meas = model.measured()
     design_vals = {"chamber_1_volume_mm3": d.V1_mm3 - d.fixed.dead_volume_1_mm3,
                    "chamber_2_volume_mm3": d.V2_mm3 - d.fixed.dead_volume_2_mm3,
                    "piston_area_A1_mm2": d.A1_mm2, "piston_area_A2_mm2": d.A2_mm2}
-    checks = {k: {"cad": _r(meas[k]), "design": _r(design_vals[k]),
-                  "rel_error": float(f"{(meas[k] - design_vals[k]) / design_vals[k]:.3e}")} for k in meas}
+    checks = {k: MeasuredCheck(_r(meas[k]), _r(design_vals[k]),
+                               float(f"{(meas[k] - design_vals[k]) / design_vals[k]:.3e}")) for k in meas}
     inter = {f"x_{x:g}_mm": {k: _r(v) for k, v in interference_mm3(model.parts_at(x)).items()}
              for x in (0.0, d.fixed.travel_mm)}
     advance()
@@ -204,30 +187,38 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[dict, dict[s
     advance()
     walls_min = d.minimum_walls_mm()
     walls_drawn = d.walls_mm()
-    manifest = {
-        "generator": "vvea_design.cad.write_cad",
-        "design": _design_dict(d),
-        "cad_parameters": cad.to_dict(),
-        "frame": "axis Z, z = 0 at the base underside, x > 0 moves the piston towards the base; "
-                 "mould parts in the mould frame (cavity centred on z = 0, parting plane y = 0)",
-        "measured": checks,
-        "interference_mm3": inter,
-        "walls_mm": {k: {"drawn": _r(walls_drawn[k]), "minimum": _r(walls_min[k])} for k in walls_min},
-        "envelope_mm": {"outer_diameter_mm": _r(d.outer_diameter_mm), "housing_length_mm": _r(d.housing_length_mm),
-                        "housing_bbox_mm": files["housing.step"]["bbox_mm"]},
-        "mould": {"shrinkage": cad.mould_shrinkage,
-                  "cavity_volume_mm3": _r(void["cavity_volume_mm3"]),
-                  "bladder_volume_mm3": _r(model.parts["bladder"].volume),
-                  "expected_cavity_volume_mm3": _r(model.closed_form_mm3["mould_cavity"]),
-                  "sprue_open": void["sprue_open"], "vents_open": void["vents_open"]},
-        "parts": parts,
-        "files": files,
-    }
+    manifest = CadManifest(
+        design=d, cad_parameters=cad, measured=checks, interference_mm3=inter,
+        walls_mm={k: WallCheck(_r(walls_drawn[k]), _r(walls_min[k])) for k in walls_min},
+        envelope_mm=Envelope(_r(d.outer_diameter_mm), _r(d.housing_length_mm), files["housing.step"].bbox_mm),
+        mould=MouldCheck(cad.mould_shrinkage, _r(void.cavity_volume_mm3), _r(model.parts["bladder"].volume),
+                         _r(model.closed_form_mm3["mould_cavity"]), void.sprue_open, void.vents_open),
+        parts=parts, files=files)
     return manifest, meshes
 
 
-def _design_dict(d: Design) -> dict:
-    from dataclasses import asdict
-
-    out = asdict(d)
-    return json.loads(json.dumps(out))
+def _export_parts(model: CadModel, out: Path, advance) -> tuple[dict[str, FileRecord], dict[str, PartRecord],
+                                                                 dict[str, trimesh.Trimesh]]:
+    """Every part's STEP/STL (as the table lists) with its records and meshes; one ``advance()`` per part."""
+    d, cad = model.design, model.layout.cad
+    files: dict[str, FileRecord] = {}
+    meshes: dict[str, trimesh.Trimesh] = {}
+    parts: dict[str, PartRecord] = {}
+    for part in all_parts():
+        solid = model.solids[part.name]
+        mesh = to_mesh(solid, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
+        meshes[part.name] = mesh
+        mat = part.material(d)
+        info = {"part": part.name, "material": mat.name, "volume_mm3": _r(solid.volume), "bbox_mm": bbox_mm(solid)}
+        closed = model.closed_form_mm3.get(part.name)
+        parts[part.name] = PartRecord(part.title, part.group, mat.name, tuple(round(c, 3) for c in part.colour),
+                                      _r(solid.volume), None if closed is None else _r(closed),
+                                      tuple(f"{part.name}.{ext}" for ext in part.files))
+        if "step" in part.files:
+            files[f"{part.name}.step"] = write_file(out / f"{part.name}.step", step_bytes(solid), "step", **info)
+        if "stl" in part.files:
+            files[f"{part.name}.stl"] = write_file(out / f"{part.name}.stl", stl_bytes(mesh), "stl", **info,
+                                                   triangles=int(len(mesh.faces)), mesh_volume_mm3=_r(mesh.volume),
+                                                   watertight=bool(mesh.is_watertight))
+        advance()
+    return files, parts, meshes

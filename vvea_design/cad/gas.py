@@ -23,15 +23,13 @@ volumes (ports, default 0) are not drawn.
 
 from __future__ import annotations
 
-from build123d import Solid
-
-from build123d import Compound
+from build123d import Compound, Solid
 
 from ._shapes import cylinder, fuse, ring
 from .layout import Layout
 from .parts import cross_slots
 
-__all__ = ["gas_chamber_1", "gas_chamber_2"]
+__all__ = ["gas_chamber_1", "gas_chamber_2", "fluid_column"]
 
 
 def gas_chamber_1(lay: Layout, x_mm: float = 0.0) -> Solid:
@@ -85,3 +83,22 @@ def gas_chamber_2(lay: Layout, x_mm: float = 0.0) -> Solid:
     if not lay.has_bulkhead or lay.design.V2_top_mm3 <= 0:
         return annulus
     return Compound([annulus, ring(lay.r_fill_tube_out, lay.r_piston, lay.z_bulkhead1, lay.z_cap)])
+
+
+def fluid_column(lay: Layout, x_mm: float = 0.0) -> Solid:
+    """The fluid column at displacement ``x_mm``: the annulus between rod and bore from the base to the piston's
+    underside (its channels not drawn). Drawn on the unit's section; not a part of the table.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+
+    Returns
+    -------
+    Solid
+        The fluid column in the assembly frame, mm; its volume is ``A2`` times the piston's height over the base, mm³.
+    """
+    return ring(lay.r_rod, lay.r_piston, lay.z_base_top, lay.z_piston_bottom(x_mm))

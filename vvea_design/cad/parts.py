@@ -18,7 +18,7 @@ from ._shapes import bar, cut, cylinder, fuse, revolved, ring
 from .layout import Layout
 from .bladder import bladder as _bladder
 
-__all__ = ["housing", "housing_pieces", "piston", "piston_volume_mm3", "piston_faces_mm2"]
+__all__ = ["housing", "housing_pieces", "piston", "piston_head", "piston_volume_mm3", "piston_faces_mm2"]
 
 
 def housing(lay: Layout) -> Solid:
@@ -56,7 +56,6 @@ def housing(lay: Layout) -> Solid:
     Solid
         The united housing in the assembly frame, mm.
     """
-    c = lay.cad
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
     body = fuse(
         ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
@@ -68,6 +67,15 @@ def housing(lay: Layout) -> Solid:
     if lay.has_bulkhead:  # bulkhead web and the chamber-1 fill tube (part of the inner tube)
         body = fuse(body, cylinder(lay.r_piston + 0.01, lay.z_bulkhead0, lay.z_bulkhead1),
                     ring(lay.r_fill_tube_bore, lay.r_fill_tube_out, lay.z_bulkhead1 - 0.01, z1 + 0.01))
+    return cut(body, *_top_tools(lay), *_base_tools(lay))
+
+
+def _top_tools(lay: Layout) -> list[Solid]:
+    """What is cut from the housing's top: the bladder's upper cuff (the clamp's groove), the fill ports with
+    their counterbores, and per layout the fill tube's bore and cross port (bulkhead) or the slots, the collar's
+    seal groove and the chamber-2 port through the base (annulus_top), mm. In cutting order."""
+    c = lay.cad
+    z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
     tools: list[Solid] = []
     # top clamp groove = the bladder's upper cuff (exact fit)
     tools.append(_bladder(lay))
@@ -99,6 +107,15 @@ def housing(lay: Layout) -> Solid:
         if r_port + cb < lay.r_outer - 0.8 and (r_port - cb > lay.r_piston + 0.8 or r_port + cb < lay.r_piston - 0.8) \
                 and not (lay.has_bulkhead and r_port > 0 and abs(r_port - lay.y_cross_riser) < cb + 0.8):
             tools.append(cylinder(cb, zt - c.fill_port_counterbore_depth_mm, zt + 1, y=r_port))
+    return tools
+
+
+def _base_tools(lay: Layout) -> list[Solid]:
+    """What is cut from the base: rod bore and seal groove, the throttle and relief valve bores, the servo's
+    screw holes and the fluid channels, mm. In cutting order."""
+    c = lay.cad
+    z0 = lay.z_base_top
+    tools: list[Solid] = []
     # rod bore and rod seal groove
     tools.append(cylinder(lay.r_rod, -1.0, z0 + 0.01))
     tools.append(ring(0.0, lay.rod_seal.groove_diameter_mm / 2, *lay.z_rod_seal))
@@ -121,7 +138,7 @@ def housing(lay: Layout) -> Solid:
     for sgn in (1, -1):
         tools.append(cylinder(ch, zv, z0 + 0.01, x=sgn * lay.r_channel_a))
         tools.append(cylinder(min(ch, lay.ring_channel_d / 2), zv, z0 + 0.01, x=sgn * lay.r_ring_channel))
-    return cut(body, *tools)
+    return tools
 
 
 def cross_slots(lay: Layout, r_in: float, r_out: float, above: float = 0.0) -> list[Solid]:
@@ -215,6 +232,25 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
     if lay.has_piston_pocket:
         tools.append(cylinder(lay.r_pocket, ztp - d.piston_pocket_depth_mm, ztp + 1))
     return cut(body, *tools)
+
+
+def piston_head(lay: Layout, x_mm: float = 0.0) -> Solid:
+    """The piston's envelope at displacement ``x_mm``: a plain cylinder of the bore's radius from the piston's
+    underside to its top (no grooves, rod or pocket), e.g. for the piston drawn dashed at full stroke.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+    x_mm : float
+        Piston displacement, mm (x > 0 extends the spring and moves the piston down, towards the base).
+
+    Returns
+    -------
+    Solid
+        The cylinder in the assembly frame, mm.
+    """
+    return cylinder(lay.r_piston, lay.z_piston_bottom(x_mm), lay.z_piston_top(x_mm))
 
 
 def piston_volume_mm3(lay: Layout) -> float:

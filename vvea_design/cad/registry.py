@@ -1,21 +1,29 @@
 """The CAD part table: one entry per part drives build, export, labels,
-colours, closed-form checks, renders, the 3-D view and the bill of materials.
+colours, closed-form checks, renders, the 3-D view, the drawings and the bill
+of materials.
 
-Adding a part = one :class:`Part` entry in :data:`PARTS` (its builder may be
-written here or in a part module). :func:`~vvea_design.cad.assembly.build_cad`
-builds every entry once, names and colours it; ``write_cad`` writes the files
-each entry lists (the file count follows from the table); the renders and
-the GLB take the parts of their group; the tests check every closed-form
-volume and that every STEP file carries the part's name.
+A part owns its data: its entry carries its builder, material, colour,
+closed-form volume, files, its **drawing hook** (the sheet's section plane,
+dimensions and notes, :mod:`~vvea_design.cad.sheets`), its section hatch and
+its **BOM hook** (its line(s) of the bill, :mod:`~vvea_design.cad.bill`) or
+the reason it is not on the bill. Adding a part = one :class:`Part` entry in
+:data:`PARTS` (its builder and hooks may be written here or in a part module).
+:func:`~vvea_design.cad.assembly.build_cad` builds every entry once, names and
+colours it; ``write_cad`` writes the files each entry lists (the file count
+follows from the table); the renders and the GLB take the parts of their
+group; :mod:`vvea_design.report.drawing` draws a sheet per entry with a drawing
+hook and :mod:`vvea_design.report.bom` asks every entry for its lines; the tests
+check every closed-form volume and that every STEP file carries the part's name.
 
 Groups:
 
 * ``assembly`` -- the unit as it is assembled (``assembly.step``, the
-  interference check, the cut-away, ``assembly.glb``);
+  interference check, the cut-away, the unit's section, ``assembly.glb``);
 * ``machined`` -- the housing's machined pieces (slices of the united
   housing; drawings and bill of materials);
-* ``mould`` -- the bladder mould (mould frame; ``mould.glb``, mould render);
-* ``gas`` -- the gas domains (STL only; cut-away, 3-D view).
+* ``mould`` -- the bladder mould (mould frame; ``mould.glb``, mould render;
+  tooling lines of the bill);
+* ``gas`` -- the gas domains (STL only; cut-away, unit's section, 3-D view).
 """
 
 from __future__ import annotations
@@ -29,14 +37,18 @@ from build123d import Solid
 
 from ..materials.structural import DENSITY_SILICONE_g_per_mm3, get_material
 from ..spring.design import Design
+from .bill import BomContext, BomLine
 from .bladder import bladder, bladder_volume_mm3, support_ring, support_ring_volume_mm3
+from .drafting import SheetContent
 from .gas import gas_chamber_1, gas_chamber_2
 from .layout import Layout
 from .mould import Mould, mould, mould_core_volume_mm3
 from .parts import housing, housing_pieces, piston, piston_volume_mm3
+from .sheets import housing_base_sheet, inner_tube_sheet, outer_tube_sheet, piston_sheet, top_cap_sheet
 
-__all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "all_parts", "get_part", "parts_in", "SILICONE",
-           "MOULD_MATERIAL", "FLUID_COLOUR"]
+__all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "HATCHES", "all_parts", "get_part", "parts_in",
+           "SILICONE", "MOULD_MATERIAL", "FLUID_COLOUR", "BomHook", "DrawingHook", "made_part", "cast_part",
+           "tooling_part", "structural_material", "fixed_material"]
 
 #: Material of the cast bladder when no silicone is named (the BOM names the chosen one).
 SILICONE = "silicone (platinum-cure casting compound)"
@@ -46,6 +58,8 @@ MOULD_MATERIAL = "pla"
 FLUID_COLOUR = (0.25, 0.75, 0.35)
 #: The part groups, in drawing order.
 GROUPS = ("assembly", "machined", "mould", "gas")
+#: Section hatches of the drawings by part kind (None: a gas domain, drawn as a translucent fill).
+HATCHES = ("metal", "steel", "plastic", "rubber", None)
 
 
 @dataclass(frozen=True)
@@ -100,21 +114,97 @@ class PartContext:
         return mould(self.lay)
 
 
+#: A BOM hook: ``hook(part, ctx)`` -> the part's lines of the bill (unnumbered), mm³, g.
+BomHook = Callable[["Part", BomContext], tuple[BomLine, ...]]
+#: A drawing hook: ``hook(lay, solid)`` -> what the part's sheet shows (section plane, dimensions, notes), mm.
+DrawingHook = Callable[[Layout, Solid], SheetContent]
+
+
+def made_part(part: "Part", ctx: BomContext) -> tuple[BomLine, ...]:
+    """BOM hook of a made part (machined, turned, printed): one line, mass = CAD volume x density.
+
+    Parameters
+    ----------
+    part : Part
+        The table entry (name, title, material).
+    ctx : BomContext
+        The built solids (mm) and the design (its materials).
+
+    Returns
+    -------
+    tuple of BomLine
+        One line in the unit: category = the material's process, volume (mm³) and mass (g), its STEP file.
+    """
+    mat = part.material(ctx.design)
+    vol = float(ctx.solids[part.name].volume)
+    return (BomLine(part=part.name, description=part.title, category=mat.process, material=mat.name, standard="",
+                    size="", quantity=1, unit_volume_mm3=vol, unit_mass_g=vol * mat.density_g_per_mm3, in_unit=True,
+                    file=f"{part.name}.step", note=f"{mat.process}; mass = CAD volume x {mat.density_g_per_mm3:g} g/mm³"),)
+
+
+def cast_part(part: "Part", ctx: BomContext) -> tuple[BomLine, ...]:
+    """BOM hook of the cast bladder: one line in the bill's casting silicone (``ctx.silicone``).
+
+    Parameters
+    ----------
+    part : Part
+        The table entry (name, title, material: its density).
+    ctx : BomContext
+        The built solids (mm) and the casting silicone.
+
+    Returns
+    -------
+    tuple of BomLine
+        One line in the unit: the silicone's name and hardness, volume (mm³) and mass (g), its STEP file.
+    """
+    mat = part.material(ctx.design)
+    vol = float(ctx.solids[part.name].volume)
+    sil = ctx.silicone
+    return (BomLine(part=part.name, description=part.title, category=mat.process,
+                    material=f"{sil.name} ({sil.hardness})", standard="", size="", quantity=1, unit_volume_mm3=vol,
+                    unit_mass_g=vol * mat.density_g_per_mm3, in_unit=True, file=f"{part.name}.step",
+                    note=f"cast in the printed mould; mass = CAD volume x {DENSITY_SILICONE_g_per_mm3:g} g/mm³"),)
+
+
+def tooling_part(part: "Part", ctx: BomContext) -> tuple[BomLine, ...]:
+    """BOM hook of a mould part: one tooling line, not in the unit (mass at 100 % infill).
+
+    Parameters
+    ----------
+    part : Part
+        The table entry (name, title, material).
+    ctx : BomContext
+        The built solids (mm) and the design.
+
+    Returns
+    -------
+    tuple of BomLine
+        One ``tooling`` line: volume (mm³), mass (g), its STEP file.
+    """
+    mat = part.material(ctx.design)
+    vol = float(ctx.solids[part.name].volume)
+    return (BomLine(part=part.name, description=part.title, category="tooling", material=mat.name, standard="",
+                    size="", quantity=1, unit_volume_mm3=vol, unit_mass_g=vol * mat.density_g_per_mm3, in_unit=False,
+                    file=f"{part.name}.step", note="bladder mould (not part of the unit); mass at 100 % infill"),)
+
+
 @dataclass(frozen=True)
 class Part:
-    """One CAD part: how it is built, what it is made of and where it goes."""
+    """One CAD part: how it is built, what it is made of, where it goes, how it is drawn and billed."""
 
     name: str  #: file stem, STEP product name, label
     title: str  #: human name (drawings, BOM, legends)
     group: str  #: one of :data:`GROUPS`
     build: Callable[[PartContext], Solid]  #: the solid (assembly or mould frame), mm
     material: Callable[[Design], PartMaterial]  #: resolved from the design's fixed materials
-    colour: tuple[float, float, float]  #: RGB 0..1 (STEP colour, renders, GLB)
+    colour: tuple[float, float, float]  #: RGB 0..1 (STEP colour, renders, GLB, drawings)
     volume_mm3: Callable[[Layout], float] | None = None  #: closed-form volume, mm³ (None: measured only)
     files: tuple[str, ...] = ("step", "stl")  #: exported formats
     moves: bool = False  #: depends on the piston displacement x
-    bom: bool = True  #: a physical item in the bill of materials
-    drawing: bool = False  #: gets a dimensioned drawing sheet
+    bom: BomHook | None = made_part  #: its lines of the bill of materials (None: give ``not_on_bom``)
+    not_on_bom: str = ""  #: why the part has no line of its own (required when ``bom`` is None)
+    drawing: DrawingHook | None = None  #: its dimensioned sheet (None: no sheet of its own)
+    hatch: str | None = "metal"  #: section hatch on the drawings, one of :data:`HATCHES`
 
     def __post_init__(self) -> None:
         if self.group not in GROUPS:
@@ -122,9 +212,29 @@ class Part:
         bad = set(self.files) - {"step", "stl"}
         if bad:
             raise ValueError(f"part {self.name!r}: unknown file formats {sorted(bad)}")
+        if (self.bom is None) == (not self.not_on_bom):
+            raise ValueError(f"part {self.name!r}: give either a BOM hook or the reason it is not on the bill "
+                             f"(not_on_bom), not {'neither' if self.bom is None else 'both'}")
+        if self.hatch not in HATCHES:
+            raise ValueError(f"part {self.name!r}: hatch must be one of {HATCHES}, got {self.hatch!r}")
 
 
-def _structural(field: str, process: str) -> Callable[[Design], PartMaterial]:
+def structural_material(field: str, process: str) -> Callable[[Design], PartMaterial]:
+    """A part's material: the structural material the design names in ``fixed.<field>``.
+
+    Parameters
+    ----------
+    field : str
+        Field of :class:`~vvea_design.spring.design.FixedParameters` holding a structural-material key
+        (``"housing_material"``, ``"rod_material"``, ``"support_ring_material"``).
+    process : str
+        How the part is made (``"machined"``, ``"turned"``, ``"printed"``).
+
+    Returns
+    -------
+    callable
+        ``resolve(design) -> PartMaterial`` (name, density in g/mm³, process).
+    """
     def resolve(d: Design) -> PartMaterial:
         m = get_material(getattr(d.fixed, field))
         return PartMaterial(m.name, m.density_g_per_mm3, process)
@@ -132,7 +242,21 @@ def _structural(field: str, process: str) -> Callable[[Design], PartMaterial]:
     return resolve
 
 
-def _fixed(key: str, process: str) -> Callable[[Design], PartMaterial]:
+def fixed_material(key: str, process: str) -> Callable[[Design], PartMaterial]:
+    """A part's material: one structural material whatever the design.
+
+    Parameters
+    ----------
+    key : str
+        Key of :data:`~vvea_design.materials.structural.MATERIALS` (e.g. ``"pla"``).
+    process : str
+        How the part is made (``"machined"``, ``"turned"``, ``"printed"``).
+
+    Returns
+    -------
+    callable
+        ``resolve(design) -> PartMaterial`` (name, density in g/mm³, process).
+    """
     def resolve(d: Design) -> PartMaterial:
         m = get_material(key)
         return PartMaterial(m.name, m.density_g_per_mm3, process)
@@ -164,42 +288,50 @@ def _inner_tube_mm3(lay: Layout) -> float:
     return v
 
 
-_HOUSING = _structural("housing_material", "machined")
+_HOUSING = structural_material("housing_material", "machined")
 _GREY = (0.72, 0.74, 0.78)
 _MOULD = (0.55, 0.75, 0.95)
 
-#: The part table (order = build, file and legend order).
+_MOULD_PLA = fixed_material(MOULD_MATERIAL, "printed")
+_GAS = "gas domain (nitrogen charged through the fill valves), not an item"
+
+#: The part table (order = build, file, legend, sheet and bill order).
 PARTS: tuple[Part, ...] = (
-    Part("housing", "housing (united)", "assembly", lambda c: c.housing, _HOUSING, _GREY, bom=False),
+    Part("housing", "housing (united)", "assembly", lambda c: c.housing, _HOUSING, _GREY, bom=None,
+         not_on_bom="made as its four machined pieces, each on the bill"),
     Part("housing_base", "base (valves, channels, rod seal)", "machined", lambda c: c.housing_pieces["housing_base"],
-         _HOUSING, (0.66, 0.68, 0.72), drawing=True),
+         _HOUSING, (0.66, 0.68, 0.72), drawing=housing_base_sheet),
     Part("housing_outer_tube", "outer tube", "machined", lambda c: c.housing_pieces["housing_outer_tube"], _HOUSING,
-         (0.78, 0.80, 0.84), volume_mm3=_outer_tube_mm3, drawing=True),
+         (0.78, 0.80, 0.84), volume_mm3=_outer_tube_mm3, drawing=outer_tube_sheet),
     Part("housing_inner_tube", "inner tube (piston bore)", "machined",
          lambda c: c.housing_pieces["housing_inner_tube"], _HOUSING, (0.60, 0.62, 0.66),
-         volume_mm3=_inner_tube_mm3, drawing=True),
+         volume_mm3=_inner_tube_mm3, drawing=inner_tube_sheet),
     Part("housing_top_cap", "top cap (fill ports, bladder clamp)", "machined",
-         lambda c: c.housing_pieces["housing_top_cap"], _HOUSING, (0.70, 0.72, 0.76), drawing=True),
+         lambda c: c.housing_pieces["housing_top_cap"], _HOUSING, (0.70, 0.72, 0.76), drawing=top_cap_sheet),
     Part("piston", "piston with rod", "assembly", lambda c: piston(c.lay, c.x_mm),
-         _structural("rod_material", "turned"), (0.45, 0.47, 0.52), volume_mm3=piston_volume_mm3, moves=True,
-         drawing=True),
+         structural_material("rod_material", "turned"), (0.45, 0.47, 0.52), volume_mm3=piston_volume_mm3, moves=True,
+         drawing=piston_sheet, hatch="steel"),
     Part("bladder", "bladder (cast silicone sleeve)", "assembly", lambda c: bladder(c.lay),
-         _const(SILICONE, DENSITY_SILICONE_g_per_mm3, "cast"), (0.95, 0.75, 0.20), volume_mm3=bladder_volume_mm3),
+         _const(SILICONE, DENSITY_SILICONE_g_per_mm3, "cast"), (0.95, 0.75, 0.20), volume_mm3=bladder_volume_mm3,
+         bom=cast_part, hatch="rubber"),
     Part("support_ring", "support ring", "assembly", lambda c: support_ring(c.lay),
-         _structural("support_ring_material", "printed"), (0.15, 0.15, 0.15), volume_mm3=support_ring_volume_mm3),
-    Part("mould_half_a", "mould half A (pins)", "mould", lambda c: c.mould.half_a,
-         _fixed(MOULD_MATERIAL, "printed"), _MOULD),
-    Part("mould_half_b", "mould half B (pin holes)", "mould", lambda c: c.mould.half_b,
-         _fixed(MOULD_MATERIAL, "printed"), _MOULD),
-    Part("mould_core", "mould core", "mould", lambda c: c.mould.core, _fixed(MOULD_MATERIAL, "printed"),
-         (0.85, 0.85, 0.85), volume_mm3=mould_core_volume_mm3),
+         structural_material("support_ring_material", "printed"), (0.15, 0.15, 0.15),
+         volume_mm3=support_ring_volume_mm3, hatch="plastic"),
+    Part("mould_half_a", "mould half A (pins)", "mould", lambda c: c.mould.half_a, _MOULD_PLA, _MOULD,
+         bom=tooling_part, hatch="plastic"),
+    Part("mould_half_b", "mould half B (pin holes)", "mould", lambda c: c.mould.half_b, _MOULD_PLA, _MOULD,
+         bom=tooling_part, hatch="plastic"),
+    Part("mould_core", "mould core", "mould", lambda c: c.mould.core, _MOULD_PLA, (0.85, 0.85, 0.85),
+         volume_mm3=mould_core_volume_mm3, bom=tooling_part, hatch="plastic"),
     # negative chamber blue, positive chamber red (paper Fig. 2)
-    Part("gas_chamber_1", "gas, chamber 1", "gas", lambda c: gas_chamber_1(c.lay, c.x_mm), _const("gas (nitrogen), chamber 1", None, "gas"),
-         (0.20, 0.40, 0.95), volume_mm3=lambda lay: lay.design.V1_mm3 - lay.design.fixed.dead_volume_1_mm3,
-         files=("stl",), moves=True, bom=False),
-    Part("gas_chamber_2", "gas, chamber 2", "gas", lambda c: gas_chamber_2(c.lay, c.x_mm), _const("gas (nitrogen), chamber 2", None, "gas"),
-         (0.95, 0.25, 0.20), volume_mm3=lambda lay: lay.design.V2_mm3 - lay.design.fixed.dead_volume_2_mm3,
-         files=("stl",), moves=True, bom=False),
+    Part("gas_chamber_1", "gas, chamber 1", "gas", lambda c: gas_chamber_1(c.lay, c.x_mm),
+         _const("gas (nitrogen), chamber 1", None, "gas"), (0.20, 0.40, 0.95),
+         volume_mm3=lambda lay: lay.design.V1_mm3 - lay.design.fixed.dead_volume_1_mm3,
+         files=("stl",), moves=True, bom=None, not_on_bom=_GAS, hatch=None),
+    Part("gas_chamber_2", "gas, chamber 2", "gas", lambda c: gas_chamber_2(c.lay, c.x_mm),
+         _const("gas (nitrogen), chamber 2", None, "gas"), (0.95, 0.25, 0.20),
+         volume_mm3=lambda lay: lay.design.V2_mm3 - lay.design.fixed.dead_volume_2_mm3,
+         files=("stl",), moves=True, bom=None, not_on_bom=_GAS, hatch=None),
 )
 
 if len({p.name for p in PARTS}) != len(PARTS):  # pragma: no cover - table integrity

@@ -9,12 +9,14 @@ each other upwards, so there is no import cycle.
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 from ..spring.design import Design
 from .assembly import CadModel, build_cad
 from .export import export_files, export_steps, write_file
 from .layout import CadParameters, Layout
+from .manifest import CadManifest, FileRecord
 from .registry import all_parts
 
 __all__ = ["write_cad", "RENDERS"]
@@ -24,7 +26,7 @@ RENDERS = {"assembly_cutaway.png": "render_assembly_cutaway", "mould_open.png": 
 
 
 def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters | None = None,
-              show_progress: bool = True, model: CadModel | None = None) -> dict:
+              show_progress: bool = True, model: CadModel | None = None) -> CadManifest:
     """Build every part of ``design`` and write the CAD set into ``out_dir``.
 
     Files (one entry of :data:`~vvea_design.cad.registry.PARTS` each):
@@ -54,8 +56,9 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
 
     Returns
     -------
-    dict
-        The manifest (also written as ``manifest.json``).
+    CadManifest
+        The manifest (its ``to_dict()`` is written as ``manifest.json``): every file and part, the
+        CAD-measured volumes (mm³) and areas (mm²) next to the design's, the checks.
 
     Raises
     ------
@@ -74,22 +77,22 @@ def write_cad(design: Design, out_dir, renders: bool = True, cad: CadParameters 
         if model is None:
             model = build_cad(design, cad, progress=advance)
         manifest, meshes = export_files(model, out, advance)
-        manifest["files"].update(_write_glb(model, meshes, out))
+        files = {**manifest.files, **_write_glb(model, meshes, out)}
         advance()
         if renders:
             from . import render
 
             for name, fn_name in RENDERS.items():
                 data = getattr(render, fn_name)(model, meshes)
-                manifest["files"][name] = {**write_file(out / name, data), "kind": "render"}
+                files[name] = write_file(out / name, data, "render")
                 advance()
-    manifest["files"] = dict(sorted(manifest["files"].items()))
-    (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=False) + "\n")
+    manifest = replace(manifest, files=dict(sorted(files.items())))
+    (out / "manifest.json").write_text(json.dumps(manifest.to_dict(), indent=2, sort_keys=False) + "\n")
     return manifest
 
 
-def _write_glb(model: CadModel, meshes: dict, out: Path) -> dict:
-    """``assembly.glb`` (assembly + gas parts, cut open) and ``mould.glb`` (opened mould), manifest entries."""
+def _write_glb(model: CadModel, meshes: dict, out: Path) -> dict[str, FileRecord]:
+    """``assembly.glb`` (assembly + gas parts, cut open) and ``mould.glb`` (opened mould), manifest records."""
     from .gltf import assembly_scene, glb_bytes, mould_scene
     from .mesh import to_mesh
 
@@ -100,10 +103,9 @@ def _write_glb(model: CadModel, meshes: dict, out: Path) -> dict:
     cavity = to_mesh(model.mould.cavity, cad.stl_tolerance_mm, cad.stl_angular_tolerance_rad)
     mould = glb_bytes(mould_scene(meshes, cavity, gap_mm=0.6 * (y1 - y0)))
     return {
-        "assembly.glb": {**write_file(out / "assembly.glb", asm), "kind": "glb",
-                         "parts": list(model.group("assembly", "gas")),
-                         "about": "x = 0, cut open on y = 0 (y >= 0 kept), metres, +Y up"},
-        "mould.glb": {**write_file(out / "mould.glb", mould), "kind": "glb",
-                      "parts": ["mould_half_a", "mould_half_b", "mould_core", "bladder"],
-                      "about": "mould frame opened along y, metres, +Y up"},
+        "assembly.glb": write_file(out / "assembly.glb", asm, "glb", parts=tuple(model.group("assembly", "gas")),
+                                   about="x = 0, cut open on y = 0 (y >= 0 kept), metres, +Y up"),
+        "mould.glb": write_file(out / "mould.glb", mould, "glb",
+                                parts=("mould_half_a", "mould_half_b", "mould_core", "bladder"),
+                                about="mould frame opened along y, metres, +Y up"),
     }

@@ -79,12 +79,12 @@ def bladder(
     design = load_design_or_exit(design_json)
     try:
         with console.status("solving the bladder membrane at both stroke ends"), out_dir(out, "bladder") as tmp:
-            d = write_bladder_report(design, tmp, material, allowable if allowable is not None else criterion,
-                                     n_elements=elements)
+            report = write_bladder_report(design, tmp, material, allowable if allowable is not None else criterion,
+                                          n_elements=elements)
     except BladderError as exc:
         fail(str(exc))
-    print_bladder(d)
-    console.print(f"wrote {', '.join(str(out / f) for f in d['files'].values())}")
+    print_bladder(report.to_dict())
+    console.print(f"wrote {', '.join(str(out / f) for f in report.files.values())}")
 
 
 def register(app: typer.Typer) -> None:

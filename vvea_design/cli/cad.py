@@ -78,8 +78,8 @@ def cad(
                 bom = write_bom(model, tmp, silicone)
     except CadError as exc:
         fail(f"{design_json}: {exc}")
-    print_manifest(manifest)
-    console.print(f"wrote {len(manifest['files'])} files and manifest.json to {out}/")
+    print_manifest(manifest.to_dict())
+    console.print(f"wrote {len(manifest.files)} files and manifest.json to {out}/")
     if drawings:
         console.print(f"drawings: {len(ds.sheets)} sheets ({', '.join(ds.sheets)}) as SVG and {ds.pdf.name}; "
                       f"bom.csv: {len(bom.lines)} lines, unit mass {bom.unit_mass_g:.1f} g, "

@@ -36,6 +36,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..actuator.design_study import DesignStudy
     from ..actuator.model import Actuator
     from ..bladder.check import BladderResult
+    from ..cad.manifest import CadManifest
     from ..spring.curve import SpringCurve
     from ..spring.optimise import OptimisationResult
     from ..spring.requirements import Requirements
@@ -578,7 +579,7 @@ class UnitResult(Protocol):
         """Joint-level K, D range of the unit (SI)."""
 
     @property
-    def cad_manifest(self) -> dict | None:
+    def cad_manifest(self) -> CadManifest | None:
         """The CAD set's manifest (None when CAD was skipped)."""
 
     @property
@@ -816,7 +817,7 @@ def _cad_section(unit: UnitResult) -> tuple[Section, tuple[str, ...]] | None:
     block, scripts = viewer(parts, "Drag to rotate, wheel to zoom. Assembly at x = 0 (cut-away: the half towards "
                                    "you removed); mould: the two halves opened apart around the core. Units: mm.")
     m = unit.cad_manifest
-    meas = [(k, v["cad"], v["design"], v["rel_error"]) for k, v in m.get("measured", {}).items()]
+    meas = [(k, v.cad, v.design, v.rel_error) for k, v in m.measured.items()]
     body = block + table(("quantity", "CAD", "design", "relative error"), meas)
     for name in ("assembly_cutaway.png", "mould_open.png"):
         if (cad_dir / name).exists():
