@@ -1,7 +1,10 @@
-"""The frozen design: four decision variables + fixed parameters -> geometry.
+"""The frozen design: its layout, decision variables and fixed parameters -> geometry.
 
 Layout (``docs/layout.md`` has the drawing and the reasoning): the paper's
-concentric unit, axis vertical, drawn at x = 0 (spring unloaded).
+concentric unit, axis vertical, drawn at x = 0 (spring unloaded). Below is the
+``inner_tube`` variant; the others (:mod:`vvea_design.spring.layouts`, one
+module each) place some of the gas elsewhere. Every derived quantity comes from
+:func:`~vvea_design.spring.derive.derive`.
 
 * The **housing** is an outer tube (outer diameter ``D_o``, wall
   ``t_o``) closed by the **top cap** (top eye, chamber fill ports) and the
