@@ -24,7 +24,8 @@ import numpy as np
 
 from vvea_design.bladder.check import check_bladder, strain_bound
 from vvea_design.spring.optimise import Infeasible, optimise
-from vvea_design.spring.requirements import Requirements, evaluate_population
+from vvea_design.spring.problem import evaluate_population
+from vvea_design.spring.requirements import Requirements
 
 #: Requirements the optimiser was not tuned on (other envelope, travel, stiffness, charge).
 UNSEEN = {

@@ -26,8 +26,9 @@ import numpy as np
 from vvea_design.bladder.check import strain_bound
 from vvea_design.figure_layout import tight_layout_once
 from vvea_design.parallel import parallel_map
-from vvea_design.spring.design import LAYOUTS
-from vvea_design.spring.requirements import Requirements, design_from_vector, evaluate_population
+from vvea_design.spring.layouts import LAYOUTS
+from vvea_design.spring.problem import design_from_vector, evaluate_population
+from vvea_design.spring.requirements import Requirements
 from vvea_design.spring.strain_surrogate import COEFFICIENTS_FILE, features, poly_terms
 
 HERE = Path(__file__).resolve().parent
@@ -47,7 +48,7 @@ def sample_designs(n: int, seed: int) -> list[tuple]:
         b[1] = (40.0, 80.0)
         X = b[:, 0] + rng.random((4000, len(b))) * (b[:, 1] - b[:, 0])
         _, mar, ok = evaluate_population(X, req, layout)
-        from vvea_design.spring.requirements import constraint_names
+        from vvea_design.spring.problem import constraint_names
 
         names = constraint_names(req, layout)
         room = np.minimum(mar[names.index("bladder_room_compressed")], mar[names.index("bladder_room_expanded")])

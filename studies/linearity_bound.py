@@ -54,11 +54,12 @@ from matplotlib.figure import Figure
 from vvea_design.bladder.check import strain_bound
 from vvea_design.figure_layout import tight_layout_once
 from vvea_design.cad import CadError, Layout
-from vvea_design.spring.design import get_layout
-from vvea_design.spring.requirements import design_from_vector
+from vvea_design.spring.layouts import get_layout
+from vvea_design.spring.problem import design_from_vector
 
 from vvea_design.parallel import parallel_map
-from vvea_design.spring.optimise import Infeasible, gas_capacity, gas_volume_bound, optimise
+from vvea_design.spring.optimise import Infeasible, optimise
+from vvea_design.spring.studies import gas_capacity, gas_volume_bound
 from vvea_design.spring.plots import save_figure
 from vvea_design.spring.requirements import Requirements, load_requirements
 
@@ -110,7 +111,7 @@ def chamber1_length_max_mm(req: Requirements, layout: str) -> tuple[float, float
     With a piston pocket the column reaches into the piston down to the thinnest floor (the pocket's area is
     less than A1: still an upper bound on V1)."""
     f = req.fixed
-    bulkhead = get_layout(layout).has_bulkhead
+    bulkhead = get_layout(layout).has_bulkhead  # the layout declares it (data for the CAD and here)
     L = (req.max_housing_length_mm - f.min_top_cap_mm - f.min_base_mm - f.piston_height_mm - req.travel_mm
          - f.fluid_clearance_mm - (f.min_bulkhead_mm if bulkhead else 0.0))
     if f.piston_pocket:
@@ -154,28 +155,28 @@ def case_study(label: str, req: Requirements) -> dict:
         lay["total_gas_mm3"] = vec["V1_mm3"] + vec["V2_mm3"]
         lay["V1_mm3"], lay["V2_mm3"] = vec["V1_mm3"], vec["V2_mm3"]
         cap = gas_capacity(req, s.layout)
-        lay["capacity_mm3"] = cap["total_gas_mm3"]
-        lay["capacity_binding"] = cap["binding"]
-        lay["V1_max_mm3"] = gas_capacity(req, s.layout, maximise="V1")["V1_mm3"]
-        lay["V2_max_mm3"] = gas_capacity(req, s.layout, maximise="V2")["V2_mm3"]
-        lay["bound_at_own_gas"] = gas_volume_bound(lay["total_gas_mm3"], req)["linearity_error"]
-        at_cap = gas_volume_bound(cap["total_gas_mm3"], req)
-        lay["bound_at_capacity"] = at_cap["linearity_error"]
-        lay["bound_at_capacity_V1_V2_mm3"] = [at_cap["V1_mm3"], at_cap["V2_mm3"]]
-        floor = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"])
-        lay["layout_floor"] = floor["linearity_error"]
-        lay["layout_floor_V1_V2_mm3"] = [floor["V1_mm3"], floor["V2_mm3"]]
+        lay["capacity_mm3"] = cap.total_gas_mm3
+        lay["capacity_binding"] = cap.binding
+        lay["V1_max_mm3"] = gas_capacity(req, s.layout, maximise="V1").V1_mm3
+        lay["V2_max_mm3"] = gas_capacity(req, s.layout, maximise="V2").V2_mm3
+        lay["bound_at_own_gas"] = gas_volume_bound(lay["total_gas_mm3"], req).linearity_error
+        at_cap = gas_volume_bound(cap.total_gas_mm3, req)
+        lay["bound_at_capacity"] = at_cap.linearity_error
+        lay["bound_at_capacity_V1_V2_mm3"] = [at_cap.V1_mm3, at_cap.V2_mm3]
+        floor = gas_volume_bound(cap.total_gas_mm3, req, V1_max_mm3=lay["V1_max_mm3"], V2_max_mm3=lay["V2_max_mm3"])
+        lay["layout_floor"] = floor.linearity_error
+        lay["layout_floor_V1_V2_mm3"] = [floor.V1_mm3, floor.V2_mm3]
         # tighter: chamber 1 confined to the piston bore (V1 <= A1 * the longest column + ports); annulus_top puts
         # chamber-1 gas outside the bore, so its only floor is the layout floor
         L1, extra = chamber1_length_max_mm(req, s.layout)
         if get_layout(s.layout).has_top_annulus:
             bore = floor
         else:
-            bore = gas_volume_bound(cap["total_gas_mm3"], req, V1_max_mm3=lay["V1_max_mm3"],
+            bore = gas_volume_bound(cap.total_gas_mm3, req, V1_max_mm3=lay["V1_max_mm3"],
                                     V2_max_mm3=lay["V2_max_mm3"], chamber1_length_max_mm=L1, V1_extra_mm3=extra)
         lay["chamber1_length_max_mm"] = L1
-        lay["bore_floor"] = bore["linearity_error"]
-        lay["bore_floor_A1_V1_V2"] = [bore.get("A1_mm2"), bore["V1_mm3"], bore["V2_mm3"]]
+        lay["bore_floor"] = bore.linearity_error
+        lay["bore_floor_A1_V1_V2"] = [bore.A1_mm2, bore.V1_mm3, bore.V2_mm3]
         if s.layout == res.layout:
             d = res.design
             lay["V1_annulus_mm3"] = d.V1_annulus_mm3
@@ -346,7 +347,7 @@ def relaxations(out: Path) -> list[dict]:
         kw = {k: v for k, v in change.items() if k != "fixed"}
         base = Requirements()
         req = replace(base, **kw, fixed=replace(base.fixed, **change.get("fixed", {})))
-        caps = {lay: gas_capacity(req, lay)["total_gas_mm3"] for lay in req.layouts}
+        caps = {lay: gas_capacity(req, lay).total_gas_mm3 for lay in req.layouts}
         best_lay = max(caps, key=caps.get)
         res = optimise(req, seed=0, progress=False, bladder_strain_fn=_strain_fn(req))
         ev = res.evaluation
@@ -356,7 +357,7 @@ def relaxations(out: Path) -> list[dict]:
         except CadError as exc:
             drawable, throttle = f"no: {exc}", float("nan")
         rows.append({"relaxation": label, "drawable": drawable, "throttle_bore_mm": throttle, "capacity_mm3": caps[best_lay], "capacity_layout": best_lay,
-                     "bound_at_capacity": gas_volume_bound(caps[best_lay], req)["linearity_error"],
+                     "bound_at_capacity": gas_volume_bound(caps[best_lay], req).linearity_error,
                      "optimum_isothermal": ev.linearity_isothermal, "optimum_layout": res.layout,
                      "optimum_gas_mm3": res.design.V1_mm3 + res.design.V2_mm3,
                      "bladder_cast_fill": res.design.fixed.bladder_cast_fill,
@@ -380,12 +381,12 @@ SHORT = "65x120 mm, 50 mm travel, 80 N/mm"
 LAYOUT_COLORS = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
 
 
-def short_housing_figure(st: dict, rows: list[dict], out: Path) -> None:
+def short_housing_figure(st: dict, rows: list, out: Path) -> None:
     """bound_short_housing.png: the packing-free bound of the short-housing requirements, each layout's
     capacity, the bound there, its own floor and its optimum."""
     fig = Figure(figsize=(8.6, 5.6))
     ax = fig.subplots()
-    ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color="C0",
+    ax.plot([r.total_gas_mm3 / 1e3 for r in rows], [100 * r.linearity_error for r in rows], "-", color="C0",
             label="packing-free bound (eq. 5 only)")
     for lay, d in st.get("layouts", {}).items():
         c = LAYOUT_COLORS[lay]
@@ -437,13 +438,12 @@ def main(out: Path, quick: bool = False) -> dict:
         w.writerow(["objective", "total_gas_mm3", "linearity_error", "A1_mm2", "A2_mm2", "V1_mm3", "V2_mm3"])
         for label, rows in curves.items():
             for r in rows:
-                w.writerow([label, r["total_gas_mm3"], r["linearity_error"], r["A1_mm2"], r["A2_mm2"], r["V1_mm3"],
-                            r["V2_mm3"]])
+                w.writerow([label, r.total_gas_mm3, r.linearity_error, r.A1_mm2, r.A2_mm2, r.V1_mm3, r.V2_mm3])
     fig = Figure(figsize=(8.6, 6.0))
     ax = fig.subplots()
     colors = {"inner_tube": "C2", "bulkhead": "C3", "annulus_top": "C4"}
     for (label, rows), c in zip(((k, v) for k, v in curves.items() if k != SHORT), ("C0", "C1")):
-        ax.plot([r["total_gas_mm3"] / 1e3 for r in rows], [100 * r["linearity_error"] for r in rows], "-", color=c,
+        ax.plot([r.total_gas_mm3 / 1e3 for r in rows], [100 * r.linearity_error for r in rows], "-", color=c,
                 label=f"packing-free bound, {label.split(', ', 1)[1]} (eq. 5 only)")
         st = next(s for s in studies if s["case"] == label)
         for lay, d in st.get("layouts", {}).items():

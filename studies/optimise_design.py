@@ -21,7 +21,8 @@ import numpy as np
 
 from vvea_design.figure_layout import tight_layout_once
 from vvea_design.spring.design_file import save_design
-from vvea_design.spring.optimise import PARETO_AXES, linearity_map, optimise, pareto_front, save_pareto
+from vvea_design.spring.optimise import optimise
+from vvea_design.spring.studies import PARETO_AXES, linearity_map, pareto_front, save_pareto
 from vvea_design.spring.plots import plot_linearity_map, plot_spring, save_figure
 from vvea_design.spring.requirements import Requirements
 
@@ -86,8 +87,8 @@ def thermo_front(out: Path, res, quick: bool = False) -> dict:
     caps = ADIABATIC_CAPS[::2] if quick else ADIABATIC_CAPS
     rows = pareto_front(Requirements(), "adiabatic", caps, seed=0)
     worst = optimise(Requirements(objective="worst"), seed=0, progress=False)
-    pts = [{"case": f"cap {c:g}", "feasible": r["feasible"], "isothermal": r["linearity_error_isothermal"],
-            "adiabatic": r["linearity_error_adiabatic"], "layout": r["layout"]} for c, r in zip(caps, rows)]
+    pts = [{"case": f"cap {c:g}", "feasible": r.feasible, "isothermal": r.linearity_error_isothermal,
+            "adiabatic": r.linearity_error_adiabatic, "layout": r.layout} for c, r in zip(caps, rows)]
     pts.append({"case": "worst of n = 1, 1.4", "feasible": True, "isothermal": worst.evaluation.linearity_isothermal,
                 "adiabatic": worst.evaluation.linearity_adiabatic, "layout": worst.layout})
     pts.append({"case": "isothermal objective", "feasible": True, "isothermal": res.evaluation.linearity_isothermal,
@@ -131,13 +132,13 @@ def main(out: Path, quick: bool = False) -> dict:
         rows = pareto_front(req, axis, vals, seed=0)
         save_pareto(rows, axis, out)
         field = PARETO_AXES[axis][0]
-        summary[f"pareto_{axis}"] = [{field: r[field], "linearity_error": r.get("linearity_error"),
-                                      "feasible": r["feasible"], "binding": r.get("binding", "")} for r in rows]
+        summary[f"pareto_{axis}"] = [{field: r.value, "linearity_error": r.linearity_error,
+                                      "feasible": r.feasible, "binding": r.binding} for r in rows]
     for vx, vy in MAPS:
         m = linearity_map(res.design, req, vx, vy, n=31 if quick else 61)
-        save_figure(plot_linearity_map(m, optimum=(getattr(res.design, vx), getattr(res.design, vy))),
+        save_figure(plot_linearity_map(m.to_dict(), optimum=(getattr(res.design, vx), getattr(res.design, vy))),
                     out / f"map_{vx}_{vy}.png")
-        np.savez_compressed(out / f"map_{vx}_{vy}.npz", x=m["x"], y=m["y"], linearity=m["linearity"], feasible=m["feasible"])
+        np.savez_compressed(out / f"map_{vx}_{vy}.npz", x=m.x, y=m.y, linearity=m.linearity, feasible=m.feasible)
     summary["isothermal_vs_adiabatic"] = thermo_front(out, res, quick)
     summary["cast_fill"] = cast_fill_tradeoff(out)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True, default=float) + "\n")

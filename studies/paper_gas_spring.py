@@ -96,15 +96,15 @@ def main(out: Path) -> dict:
     summary["reference"] = {
         "configuration": "PAPER_FIG5: A2 = pi/4 30^2 (piston), A1 = pi/4 57.1^2 (outer-tube bore), "
                          "V1 = 1.22e5 mm3, V2 = 7.34e4 mm3, F(0) = 0, p2 = 2.3866 MPa",
-        "ours_exact": ref,
-        "ours_401_samples": ref_401,
-        "ours_4001_samples": ref_fine,
-        "equal_area_reading_A1_eq_A2": eq,
+        "ours_exact": ref.to_dict(),
+        "ours_401_samples": ref_401.to_dict(),
+        "ours_4001_samples": ref_fine.to_dict(),
+        "equal_area_reading_A1_eq_A2": eq.to_dict(),
     }
     (out / "reference.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n")
-    print(f"reference (exact metric): linearity {100 * ref['linearity_error']:.3f} % ({ref['deviation_N']:.2f} N at "
-          f"{ref['max_force_N']:.0f} N); paper 1.86 % (33.98 N at 1827 N); "
-          f"equal-area reading {100 * eq['linearity_error']:.2f} %")
+    print(f"reference (exact metric): linearity {100 * ref.linearity_error:.3f} % ({ref.deviation_N:.2f} N at "
+          f"{ref.max_force_N:.0f} N); paper 1.86 % (33.98 N at 1827 N); "
+          f"equal-area reading {100 * eq.linearity_error:.2f} %")
     print(f"wrote {out}")
     return summary
 

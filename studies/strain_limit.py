@@ -29,7 +29,8 @@ from scipy.stats import qmc
 from vvea_design.bladder.check import strain_bound
 from vvea_design.figure_layout import tight_layout_once
 from vvea_design.spring import optimise as opt
-from vvea_design.spring.requirements import Requirements, design_from_vector, evaluate_design
+from vvea_design.spring.problem import design_from_vector, evaluate_design
+from vvea_design.spring.requirements import Requirements
 
 HERE = Path(__file__).resolve().parent
 

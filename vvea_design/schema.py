@@ -26,7 +26,8 @@ from typing import Any
 
 from .materials.silicones import SILICONES
 from .materials.structural import STRUCTURAL
-from .spring.design import LAYOUTS, FixedParameters
+from .spring.layouts import LAYOUTS
+from .spring.parameters import FixedParameters
 from .spring.design_file import (DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION, OPTIONAL_FIXED_KEYS,
                                  OPTIONAL_PARAMETER_KEYS)
 from .spring.gas_spring import GasSpring

@@ -210,7 +210,8 @@ def _app():
 
 def _design_json(path):
     from vvea_design.spring.design_file import save_design
-    from vvea_design.spring.requirements import Requirements, evaluate_design
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
 
     req = Requirements()
     return save_design(path, evaluate_design(EXAMPLE, req), req)

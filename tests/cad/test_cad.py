@@ -651,7 +651,7 @@ def test_the_channel_room_constraint_is_what_the_support_ring_needs():
 
     from scipy.optimize import brentq
 
-    from vvea_design.spring.design import CHANNEL_GAP_MM
+    from vvea_design.spring.parameters import CHANNEL_GAP_MM
     from tests.cad.cases import OTHERS
 
     d = OTHERS["cast_fill_free"]

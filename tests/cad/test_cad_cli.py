@@ -24,7 +24,8 @@ def app():
 @pytest.fixture(scope="module")
 def design_json(tmp_path_factory):
     from vvea_design.spring.design_file import save_design
-    from vvea_design.spring.requirements import Requirements, evaluate_design
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
 
     req = Requirements()
     path = tmp_path_factory.mktemp("cli") / "design.json"

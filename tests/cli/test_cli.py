@@ -8,7 +8,8 @@ from typer.testing import CliRunner
 from vvea_design.cli.main import app
 from vvea_design.spring.design import Design
 from vvea_design.spring.design_file import save_design
-from vvea_design.spring.requirements import Requirements, evaluate_design
+from vvea_design.spring.problem import evaluate_design
+from vvea_design.spring.requirements import Requirements
 from vvea_design.testing import LinearityRegression, assert_linearity, check_linearity
 
 runner = CliRunner()

@@ -22,7 +22,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from vvea_design.spring.design import DECISION_VARIABLES, FixedParameters
+from vvea_design.spring.design import FixedParameters
+from vvea_design.spring.layouts import DECISION_VARIABLES
 from vvea_design.spring.requirements import Requirements, SpecError, load_requirements
 
 KNOWN = [f for f in Requirements.__dataclass_fields__ if f not in ("bounds", "fixed")]
@@ -93,7 +94,7 @@ def _check_loaded(req: Requirements) -> None:
     """Valid requirements give finite search bounds, and a design in them is either drawn and evaluated
     or refused with a DesignError (what the optimiser scores as unbuildable): nothing else is raised."""
     from vvea_design.spring.design import DesignError
-    from vvea_design.spring.requirements import design_from_vector, evaluate_design
+    from vvea_design.spring.problem import design_from_vector, evaluate_design
 
     for layout in req.layouts:
         bounds = req.search_bounds(layout)
@@ -186,7 +187,7 @@ def _valid_design_json() -> str:
 
     from vvea_design.spring.design import Design
     from vvea_design.spring.design_file import design_to_dict
-    from vvea_design.spring.requirements import evaluate_design
+    from vvea_design.spring.problem import evaluate_design
 
     req = Requirements()
     return json.dumps(design_to_dict(evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req))

@@ -294,7 +294,8 @@ def test_readonly_folder_is_rejected_for_a_normal_user(readonly_dir):
 def _design_json(folder: Path) -> Path:
     from vvea_design.spring.design import Design
     from vvea_design.spring.design_file import save_design
-    from vvea_design.spring.requirements import Requirements, evaluate_design
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
 
     req = Requirements()
     return save_design(folder / "design.json", evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req)
@@ -318,8 +319,8 @@ COMMANDS = {
 #: Library functions that do the work; a bad --out must be rejected before any of them runs.
 HEAVY = [
     ("vvea_design.spring.optimise", "optimise"),
-    ("vvea_design.spring.optimise", "pareto_front"),
-    ("vvea_design.spring.optimise", "linearity_map"),
+    ("vvea_design.spring.studies", "pareto_front"),
+    ("vvea_design.spring.studies", "linearity_map"),
     ("vvea_design.cad", "write_cad"),
     ("vvea_design.cad", "build_cad"),
     ("vvea_design.bladder.check", "write_bladder_report"),
@@ -482,7 +483,8 @@ def test_optimise_writes_design_and_plot_together(tmp_path, monkeypatch):
     import vvea_design.spring.plots as plots
     from vvea_design.cli.main import app
     from vvea_design.spring.design import Design
-    from vvea_design.spring.requirements import Requirements, evaluate_design
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
 
     ev = evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), Requirements())
     monkeypatch.setattr(opt, "optimise", lambda req, **kw: opt.OptimisationResult(ev, 0, 1, 0.1, 1, "stub", False))

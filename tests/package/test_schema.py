@@ -10,7 +10,8 @@ import pytest
 from vvea_design.schema import SCHEMAS, design_schema, requirements_schema, shipped_schema
 from vvea_design.spring.design import Design
 from vvea_design.spring.design_file import save_design
-from vvea_design.spring.requirements import Requirements, SpecError, evaluate_design
+from vvea_design.spring.problem import evaluate_design
+from vvea_design.spring.requirements import Requirements, SpecError
 from tests.helpers import REPO
 
 ROOT = REPO

@@ -14,7 +14,8 @@ from vvea_design.spring.design_file import (
     spring_from_json,
 )
 from vvea_design.spring.gas_spring import force_N
-from vvea_design.spring.requirements import Requirements, evaluate_design
+from vvea_design.spring.problem import evaluate_design
+from vvea_design.spring.requirements import Requirements
 from tests.helpers import REPO
 
 REQUIRED = {

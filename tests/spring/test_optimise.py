@@ -5,7 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from vvea_design.spring.optimise import Infeasible, OptimisationResult, linearity_map, optimise, pareto_front
+from vvea_design.spring.optimise import Infeasible, OptimisationResult, optimise
+from vvea_design.spring.studies import linearity_map, pareto_front
 from vvea_design.spring.requirements import Requirements
 from tests.helpers import REPO
 
@@ -111,36 +112,36 @@ def test_pareto_front_stiffness_trades_against_linearity():
     # one layout (the default optimum's): the trade-off is the front's property; choosing layouts is tested above
     # (the default search: a cut-down one leaves the polish more work and costs more)
     rows = pareto_front(Requirements(layouts=("bulkhead",)), "stiffness", [40.0, 93.2], workers=1, progress=False)
-    assert all(r["feasible"] for r in rows)
-    assert rows[0]["linearity_error"] < rows[1]["linearity_error"]
-    assert {"linearity_error_isothermal", "linearity_error_adiabatic", "layout"} <= set(rows[0])
+    assert all(r.feasible for r in rows)
+    assert rows[0].linearity_error < rows[1].linearity_error
+    assert {"linearity_error_isothermal", "linearity_error_adiabatic", "layout"} <= set(rows[0].to_dict())
 
 
 def test_linearity_map_marks_infeasible_regions(result):
     m = linearity_map(result.design, Requirements(), "outer_diameter_mm", "V2_mm3", n=15)
-    assert m["linearity"].shape == (15, 15)
-    assert m["feasible"].any() and (~m["feasible"]).any()
-    finite = np.isfinite(m["linearity"])
-    assert np.nanmin(m["linearity"]) > 0
+    assert m.linearity.shape == (15, 15)
+    assert m.feasible.any() and (~m.feasible).any()
+    finite = np.isfinite(m.linearity)
+    assert np.nanmin(m.linearity) > 0
     # the optimum is no worse than every feasible grid point (up to grid resolution)
-    assert result.evaluation.linearity_error <= np.min(m["linearity"][m["feasible"] & finite]) + 1e-4
+    assert result.evaluation.linearity_error <= np.min(m.linearity[m.feasible & finite]) + 1e-4
     with pytest.raises(ValueError, match="unknown design variable"):
         linearity_map(result.design, Requirements(), "length", "V2_mm3")
-    assert {m["var_x"], m["var_y"]} <= set(result.design.variant.decision_variables)
-    worst = set(m["worst"][~m["feasible"]].ravel())
+    assert {m.var_x, m.var_y} <= set(result.design.variant.decision_variables)
+    worst = set(m.worst[~m.feasible].ravel())
     assert worst and "" not in worst
 
 
 def test_packing_free_bound_is_below_our_design_and_close_to_it(result):
-    from vvea_design.spring.optimise import gas_volume_bound
+    from vvea_design.spring.studies import gas_volume_bound
 
     d = result.design
     b = gas_volume_bound(d.V1_mm3 + d.V2_mm3, maxiter=150)
-    assert b["feasible"]
+    assert b.feasible
     # no layout does better with the same gas than the bound; ours is within 0.05 percentage points of it
-    assert b["linearity_error"] <= result.evaluation.linearity_error + 1e-6
-    assert result.evaluation.linearity_error - b["linearity_error"] < 0.0005
-    assert b["A1_mm2"] == pytest.approx(b["A2_mm2"], rel=0.05)  # equal areas: both chambers at the charge limit
+    assert b.linearity_error <= result.evaluation.linearity_error + 1e-6
+    assert result.evaluation.linearity_error - b.linearity_error < 0.0005
+    assert b.A1_mm2 == pytest.approx(b.A2_mm2, rel=0.05)  # equal areas: both chambers at the charge limit
 
 
 def test_bladder_strain_limit_in_the_global_search():
@@ -171,8 +172,7 @@ def test_cast_fill_is_a_decision_variable_under_the_silicones_strain_limit():
     """Issue 12: `optimise_cast_fill` adds the bladder's cast fill to the search; its strain limit defaults to the
     bladder check's allowable, the population formulas match the single-design ones."""
     from vvea_design.materials.silicones import allowable_strain
-    from vvea_design.spring.requirements import (constraint_names, design_from_vector, evaluate_design,
-                                                 evaluate_population)
+    from vvea_design.spring.problem import constraint_names, design_from_vector, evaluate_design, evaluate_population
     from vvea_design.spring.strain_surrogate import design_strain, population_strain
 
     req = Requirements(optimise_cast_fill=True)
@@ -216,23 +216,23 @@ def test_a_free_cast_fill_beats_the_mid_stroke_bladder_and_the_fe_check_passes(r
 def test_layout_floor_caps_each_chamber():
     """The bound with per-chamber caps (a layout's own floor) is never below the packing-free bound and obeys
     the caps; the capacity search can maximise one chamber."""
-    from vvea_design.spring.optimise import gas_capacity, gas_volume_bound
+    from vvea_design.spring.studies import gas_capacity, gas_volume_bound
 
     free = gas_volume_bound(140e3, maxiter=100)
     capped = gas_volume_bound(140e3, maxiter=100, V1_max_mm3=25e3)
-    assert capped["feasible"] and capped["V1_mm3"] <= 25e3 * (1 + 1e-6)
-    assert capped["linearity_error"] >= free["linearity_error"] - 1e-6
-    assert free["V1_mm3"] > 25e3  # so the cap binds and costs linearity
-    assert capped["linearity_error"] > free["linearity_error"] + 1e-4
+    assert capped.feasible and capped.V1_mm3 <= 25e3 * (1 + 1e-6)
+    assert capped.linearity_error >= free.linearity_error - 1e-6
+    assert free.V1_mm3 > 25e3  # so the cap binds and costs linearity
+    assert capped.linearity_error > free.linearity_error + 1e-4
     # chamber 1 confined to a short column of the piston bore: V1 <= A1 L (a long stroke over a short column is
     # a large compression ratio: worse than any cap on V1 alone)
     bore = gas_volume_bound(140e3, maxiter=100, chamber1_length_max_mm=20.0, V1_extra_mm3=100.0)
-    assert bore["V1_mm3"] <= bore["A1_mm2"] * 20.0 + 100.0 + 1e-6 * bore["V1_mm3"]
-    assert bore["linearity_error"] > free["linearity_error"] + 1e-3
+    assert bore.V1_mm3 <= bore.A1_mm2 * 20.0 + 100.0 + 1e-6 * bore.V1_mm3
+    assert bore.linearity_error > free.linearity_error + 1e-3
     total = gas_capacity(Requirements(), "inner_tube", maxiter=60)
     v1 = gas_capacity(Requirements(), "inner_tube", maxiter=60, maximise="V1")
-    assert v1["feasible"] and v1["maximise"] == "V1"
-    assert v1["V1_mm3"] > total["V1_mm3"] and v1["total_gas_mm3"] <= total["total_gas_mm3"] * (1 + 1e-3)
+    assert v1.feasible and v1.maximise == "V1"
+    assert v1.V1_mm3 > total.V1_mm3 and v1.total_gas_mm3 <= total.total_gas_mm3 * (1 + 1e-3)
     with pytest.raises(ValueError, match="maximise"):
         gas_capacity(Requirements(), "inner_tube", maximise="V3")
 

@@ -3,7 +3,8 @@
 import pytest
 
 from vvea_design.spring.design import Design
-from vvea_design.spring.requirements import Requirements, SpecError, constraint_names, evaluate_design, load_requirements
+from vvea_design.spring.problem import constraint_names, evaluate_design
+from vvea_design.spring.requirements import Requirements, SpecError, load_requirements
 from tests.helpers import REPO
 
 

@@ -22,7 +22,21 @@ from .seals import Gland, SealError, piston_gland, rod_gland
 #: Axial land on each side of the collar's seal groove (annulus_top), mm.
 COLLAR_SEAL_LAND_MM = 0.75
 
-__all__ = ["CadParameters", "Layout", "CadError"]
+__all__ = ["CadParameters", "Layout", "CadError", "DEPRECATED_NAMES"]
+
+#: Old names of :class:`Layout`'s radii and sizes -> their names, the design's (one vocabulary); the old ones
+#: remain as read-only aliases while the CAD's modules move over.
+DEPRECATED_NAMES = {"r_outer": "outer_radius_mm", "r_bore": "outer_bore_radius_mm", "r_piston": "piston_radius_mm",
+                    "r_inner_tube": "inner_tube_outer_radius_mm", "r_rod": "rod_radius_mm",
+                    "r_bladder_in": "bladder_inner_radius_mm", "r_bladder_out": "bladder_outer_radius_mm",
+                    "r_pocket": "piston_pocket_radius_mm", "r_fill_tube_out": "fill_tube_outer_radius_mm",
+                    "r_fill_tube_bore": "fill_tube_bore_radius_mm", "slot_height": "cross_slot_mm",
+                    "clamp": "bladder_clamp_mm"}
+
+
+def _deprecated(name: str) -> property:
+    """A read-only alias of the property ``name`` (a deprecated old name)."""
+    return property(lambda self: getattr(self, name), doc=f"Deprecated: :attr:`{name}`.")
 
 
 class CadError(DesignError):
@@ -109,11 +123,17 @@ class CadParameters:
 
 @dataclass(frozen=True)
 class Layout:
-    """Radii (``r_*``) and axial levels (``z_*``) of one design, mm.
+    """Radii and axial levels (``z_*``) of one design, mm.
 
     Built from the design's public properties only, and checked: a layout
     whose features do not fit raises :class:`CadError` naming the field to
-    change, before any solid is built.
+    change, before any solid is built. A radius or size that is a quantity of
+    the design has the design's name (``outer_bore_radius_mm``, as in the
+    design file; ``piston_radius_mm`` for half of ``piston_diameter_mm``);
+    the CAD's own features (ports, channels, grooves: ``r_port1``,
+    ``fill_port_d`` ...) and the levels of its frame keep short names. The
+    old names of the design's quantities are deprecated aliases
+    (:data:`DEPRECATED_NAMES`).
     """
 
     design: Design
@@ -126,38 +146,40 @@ class Layout:
             raise CadError(f"cad must be CadParameters, got {type(self.cad).__name__}")
         self.check()
 
-    # ----------------------------------------------------------- radii
+    # ----------------------------------------------------------- radii (the design's quantities, its names)
     @property
-    def r_outer(self) -> float:
-        """Outer tube outer radius = envelope radius."""
+    def outer_radius_mm(self) -> float:
+        """Outer tube outer radius = envelope radius (half ``outer_diameter_mm``), mm."""
         return self.design.outer_diameter_mm / 2
 
     @property
-    def r_bore(self) -> float:
-        """Outer tube bore."""
+    def outer_bore_radius_mm(self) -> float:
+        """Outer tube bore, mm."""
         return self.design.outer_bore_radius_mm
 
     @property
-    def r_piston(self) -> float:
-        """Inner tube bore = piston radius."""
+    def piston_radius_mm(self) -> float:
+        """Inner tube bore = piston radius (half ``piston_diameter_mm``), mm."""
         return self.design.piston_diameter_mm / 2
 
     @property
-    def r_inner_tube(self) -> float:
+    def inner_tube_outer_radius_mm(self) -> float:
+        """Inner tube outer radius, mm."""
         return self.design.inner_tube_outer_radius_mm
 
     @property
-    def r_rod(self) -> float:
+    def rod_radius_mm(self) -> float:
+        """Piston rod radius (half ``fixed.rod_diameter_mm``), mm."""
         return self.design.fixed.rod_diameter_mm / 2
 
     @property
-    def r_bladder_in(self) -> float:
-        """Cast bladder sleeve, inner radius."""
+    def bladder_inner_radius_mm(self) -> float:
+        """Cast bladder sleeve, inner radius, mm."""
         return self.design.bladder_inner_radius_mm
 
     @property
-    def r_bladder_out(self) -> float:
-        """Cast bladder sleeve, outer radius."""
+    def bladder_outer_radius_mm(self) -> float:
+        """Cast bladder sleeve, outer radius, mm."""
         return self.design.bladder_outer_radius_mm
 
     @cached_property
@@ -184,9 +206,9 @@ class Layout:
         if not self.has_top_annulus:
             return None
         try:
-            g = piston_gland(2 * self.r_bore, self.cad.oring_cross_section_mm)
+            g = piston_gland(2 * self.outer_bore_radius_mm, self.cad.oring_cross_section_mm)
         except SealError as exc:
-            raise CadError(f"outer_diameter_mm (the collar's seal to the Ø{2 * self.r_bore:.2f} mm bore): {exc}") \
+            raise CadError(f"outer_diameter_mm (the collar's seal to the Ø{2 * self.outer_bore_radius_mm:.2f} mm bore): {exc}") \
                 from None
         return replace(g, kind="collar")
 
@@ -205,8 +227,8 @@ class Layout:
     def bead_mm(self) -> float:
         """Radial height of the sealing beads (shrunk to a quarter of the free gap if needed)."""
         return min(self.cad.bead_height_mm,
-                   0.25 * (self.r_bladder_in - self.r_inner_tube),
-                   0.25 * (self.r_bore - self.r_bladder_out))
+                   0.25 * (self.bladder_inner_radius_mm - self.inner_tube_outer_radius_mm),
+                   0.25 * (self.outer_bore_radius_mm - self.bladder_outer_radius_mm))
 
     @property
     def r_gas2_inner(self) -> float:
@@ -216,36 +238,36 @@ class Layout:
     @cached_property
     def ring_channel_d(self) -> float:
         """Support-ring channel diameter, sized to the gap inside the bladder bead."""
-        return min(self.cad.ring_channel_mm, 0.6 * (self.r_bladder_in - self.bead_mm - self.r_inner_tube))
+        return min(self.cad.ring_channel_mm, 0.6 * (self.bladder_inner_radius_mm - self.bead_mm - self.inner_tube_outer_radius_mm))
 
     @property
     def r_ring_channel(self) -> float:
         """Radius of the support-ring channels (fluid side, inside the bladder)."""
-        return 0.5 * (self.r_inner_tube + self.r_bladder_in - self.bead_mm)
+        return 0.5 * (self.inner_tube_outer_radius_mm + self.bladder_inner_radius_mm - self.bead_mm)
 
     @cached_property
     def fill_port_d(self) -> float:
-        return min(self.cad.fill_port_mm, 0.6 * (self.r_bore - self.r_bladder_out - self.bead_mm))
+        return min(self.cad.fill_port_mm, 0.6 * (self.outer_bore_radius_mm - self.bladder_outer_radius_mm - self.bead_mm))
 
     @property
     def r_port2(self) -> float:
         """Chamber-2 fill port radius (gas side, outside the bladder bead; through the top clamp, or in
         ``annulus_top`` through the base and the support ring)."""
-        return 0.5 * (self.r_bladder_out + self.bead_mm + self.r_bore)
+        return 0.5 * (self.bladder_outer_radius_mm + self.bead_mm + self.outer_bore_radius_mm)
 
     @property
     def r_port1(self) -> float:
         """Chamber-1 fill port radius (over the piston)."""
-        return 0.6 * self.r_piston
+        return 0.6 * self.piston_radius_mm
 
     @cached_property
     def base_channel_d(self) -> float:
-        return min(self.cad.fluid_channel_mm, 0.5 * (self.r_piston - self.r_rod))
+        return min(self.cad.fluid_channel_mm, 0.5 * (self.piston_radius_mm - self.rod_radius_mm))
 
     @property
     def r_channel_a(self) -> float:
         """Base channel from the fluid column (inside the inner tube, outside the rod)."""
-        return 0.5 * (self.r_rod + self.r_piston)
+        return 0.5 * (self.rod_radius_mm + self.piston_radius_mm)
 
     @cached_property
     def throttle_d(self) -> float:
@@ -258,7 +280,7 @@ class Layout:
     @property
     def x_valve_inner(self) -> float:
         """Inner end of the radial valve bores (keeps 1.5 mm of wall to the rod bore)."""
-        return self.r_rod + 1.5
+        return self.rod_radius_mm + 1.5
 
     # ----------------------------------------------------------- levels
     @property
@@ -311,7 +333,7 @@ class Layout:
         return self.design.piston_pocket_volume_mm3 > 0
 
     @property
-    def r_pocket(self) -> float:
+    def piston_pocket_radius_mm(self) -> float:
         """Radius of the piston pocket (0 without one), mm."""
         return self.design.piston_pocket_radius_mm
 
@@ -333,11 +355,13 @@ class Layout:
         return self.z_bulkhead0 + self.design.bulkhead_mm
 
     @property
-    def r_fill_tube_out(self) -> float:
+    def fill_tube_outer_radius_mm(self) -> float:
+        """Outer radius of the chamber-1 fill tube (half ``fixed.fill_tube_outer_mm``), mm."""
         return self.design.fixed.fill_tube_outer_mm / 2
 
     @property
-    def r_fill_tube_bore(self) -> float:
+    def fill_tube_bore_radius_mm(self) -> float:
+        """Bore radius of the chamber-1 fill tube (half ``fixed.fill_tube_bore_mm``), mm."""
         return self.design.fixed.fill_tube_bore_mm / 2
 
     @property
@@ -353,7 +377,7 @@ class Layout:
     @property
     def y_cross_riser(self) -> float:
         """Where the riser from the space above the bulkhead meets the cross port (+y)."""
-        return 0.5 * (self.r_fill_tube_out + self.r_piston)
+        return 0.5 * (self.fill_tube_outer_radius_mm + self.piston_radius_mm)
 
     # ----------------------------------------------------------- annulus_top layout
     @property
@@ -367,7 +391,7 @@ class Layout:
         return self.z_cap - self.design.top_annulus_length_mm
 
     @property
-    def slot_height(self) -> float:
+    def cross_slot_mm(self) -> float:
         """Axial height of the slots in the inner tube's top end (``annulus_top``), mm."""
         return self.design.fixed.cross_slot_mm
 
@@ -393,26 +417,27 @@ class Layout:
         return math.pi / 4 + 2 * math.pi * k / self.cad.cross_slots - self.slot_angle_rad / 2
 
     @property
-    def clamp(self) -> float:
+    def bladder_clamp_mm(self) -> float:
+        """Axial length of each clamped bladder end, mm."""
         return self.design.fixed.bladder_clamp_mm
 
     @property
     def cuff(self) -> float:
         """Axial depth of each bladder cuff in its clamp groove."""
-        return self.cad.clamp_groove_fraction * self.clamp
+        return self.cad.clamp_groove_fraction * self.bladder_clamp_mm
 
     @property
     def z_free0(self) -> float:
         """Bottom of the bladder's free length (top of the support ring)."""
-        return self.z_base_top + self.clamp
+        return self.z_base_top + self.bladder_clamp_mm
 
     @property
     def z_free1(self) -> float:
         """Top of the bladder's free length (underside of the top clamp; in ``annulus_top`` of the collar,
         which is the clamp plus the collar plate, below the chamber-1 annulus)."""
         if not self.has_top_annulus:
-            return self.z_cap - self.clamp
-        return self.z_collar1 - self.design.collar_mm - self.clamp
+            return self.z_cap - self.bladder_clamp_mm
+        return self.z_collar1 - self.design.collar_mm - self.bladder_clamp_mm
 
     @property
     def z_bladder0(self) -> float:
@@ -431,6 +456,22 @@ class Layout:
         """Axis height of the radial throttle and relief bores in the base."""
         return self.design.base_mm - 2.0 - self.throttle_d / 2
 
+    # ----------------------------------------------------------- deprecated names
+    # The CAD's modules and the drawings read these until they move to the names above (one vocabulary:
+    # ``docs/layout.md``); :data:`DEPRECATED_NAMES` maps each to its name.
+    r_outer = _deprecated("outer_radius_mm")
+    r_bore = _deprecated("outer_bore_radius_mm")
+    r_piston = _deprecated("piston_radius_mm")
+    r_inner_tube = _deprecated("inner_tube_outer_radius_mm")
+    r_rod = _deprecated("rod_radius_mm")
+    r_bladder_in = _deprecated("bladder_inner_radius_mm")
+    r_bladder_out = _deprecated("bladder_outer_radius_mm")
+    r_pocket = _deprecated("piston_pocket_radius_mm")
+    r_fill_tube_out = _deprecated("fill_tube_outer_radius_mm")
+    r_fill_tube_bore = _deprecated("fill_tube_bore_radius_mm")
+    slot_height = _deprecated("cross_slot_mm")
+    clamp = _deprecated("bladder_clamp_mm")
+
     # ----------------------------------------------------------- checks
     def check(self) -> None:
         """Raise :class:`CadError` if a feature does not fit."""
@@ -446,7 +487,7 @@ class Layout:
             raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
                            f"{ps.width_mm:g} mm ({ps.oring.name}); use >= {2.5 * ps.width_mm:g} mm or a smaller "
                            f"cad.oring_cross_section_mm")
-        if ps.depth_mm >= 0.5 * (self.r_piston - self.r_rod):
+        if ps.depth_mm >= 0.5 * (self.piston_radius_mm - self.rod_radius_mm):
             raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
                            f"than half the piston's radial land")
         if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
@@ -462,12 +503,12 @@ class Layout:
         if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
             raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
                            f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")
-        if self.r_bladder_in - self.r_inner_tube <= 0.2:
-            raise CadError(f"the cast bladder (inner radius {self.r_bladder_in:.2f} mm) touches the inner tube "
-                           f"(outer radius {self.r_inner_tube:.2f} mm): V2_mm3 too large for outer_diameter_mm")
-        if self.r_bore - self.r_bladder_out <= 0.2:
-            raise CadError(f"the cast bladder (outer radius {self.r_bladder_out:.2f} mm) touches the outer tube bore "
-                           f"({self.r_bore:.2f} mm): V2_mm3 too small")
+        if self.bladder_inner_radius_mm - self.inner_tube_outer_radius_mm <= 0.2:
+            raise CadError(f"the cast bladder (inner radius {self.bladder_inner_radius_mm:.2f} mm) touches the inner tube "
+                           f"(outer radius {self.inner_tube_outer_radius_mm:.2f} mm): V2_mm3 too large for outer_diameter_mm")
+        if self.outer_bore_radius_mm - self.bladder_outer_radius_mm <= 0.2:
+            raise CadError(f"the cast bladder (outer radius {self.bladder_outer_radius_mm:.2f} mm) touches the outer tube bore "
+                           f"({self.outer_bore_radius_mm:.2f} mm): V2_mm3 too small")
         if self.ring_channel_d < 0.5:
             raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
         if self.fill_port_d < 0.5:
@@ -475,7 +516,7 @@ class Layout:
         if self.x_valve_inner >= self.r_channel_a - self.base_channel_d / 2:
             raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
         if self.has_piston_pocket:
-            root_wall = ps.groove_diameter_mm / 2 - self.r_pocket
+            root_wall = ps.groove_diameter_mm / 2 - self.piston_pocket_radius_mm
             if root_wall < c.min_pocket_root_wall_mm - 1e-9:
                 raise CadError(f"fixed.piston_pocket_wall_mm = {f.piston_pocket_wall_mm:g} mm leaves {root_wall:.2f} mm "
                                f"between the piston pocket and the seal groove's root ({ps.depth_mm:g} mm deep, "
@@ -484,13 +525,13 @@ class Layout:
         if self.design.fluid_column_mm - f.travel_mm < 0.5:
             raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
         if self.has_bulkhead:
-            if self.y_cross_riser - self.cross_port_d / 2 < self.r_fill_tube_out + 0.5 \
-                    or self.y_cross_riser + self.cross_port_d / 2 > self.r_piston - 0.5:
+            if self.y_cross_riser - self.cross_port_d / 2 < self.fill_tube_outer_radius_mm + 0.5 \
+                    or self.y_cross_riser + self.cross_port_d / 2 > self.piston_radius_mm - 0.5:
                 raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
                                "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
             if self.z_cross_port - self.cross_port_d / 2 < self.z_cap + 0.8:
                 raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
-            if self.r_fill_tube_out >= 0.5 * self.r_piston:
+            if self.fill_tube_outer_radius_mm >= 0.5 * self.piston_radius_mm:
                 raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
         if self.has_top_annulus:
             d = self.design

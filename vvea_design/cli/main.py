@@ -189,7 +189,7 @@ def pareto(
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://host:port)"),
 ) -> None:
     """Pareto front: best linearity against stiffness, outer diameter or mass (CSV + PNG)."""
-    from ..spring.optimise import PARETO_AXES, pareto_front, save_pareto
+    from ..spring.studies import PARETO_AXES, pareto_front, save_pareto
     from ..spring.requirements import SpecError, load_requirements
 
     if axis not in PARETO_AXES:
@@ -227,7 +227,7 @@ def map_(
     import numpy as np
 
     from ..spring.design_file import DesignFileError, load_requirements_from_design
-    from ..spring.optimise import linearity_map
+    from ..spring.studies import linearity_map
     from ..spring.plots import plot_linearity_map, save_figure
 
     check_out(out)

@@ -8,7 +8,7 @@ Layout (``format_version`` 1)::
       "parameters": {piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3,
                      A1_mm2, A2_mm2, p1_MPa, p2_MPa, travel_mm, n_polytropic,
                      setpoint_x0_mm, layout, V2_top_mm3, V1_annulus_mm3},
-      (layout: a key of spring.design.LAYOUTS; V2_top_mm3: chamber-2 gas above
+      (layout: a key of spring.layouts.LAYOUTS; V2_top_mm3: chamber-2 gas above
        the bulkhead, 0 outside the bulkhead layout; V1_annulus_mm3: chamber-1
        gas in the annulus above the collar, 0 outside the annulus_top layout,
        optional in files written before that layout existed)
@@ -47,9 +47,11 @@ from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any
 
-from .design import DECISION_VARIABLES, LAYOUTS, Design, DesignError, FixedParameters
+from .design import Design, DesignError, FixedParameters
 from .gas_spring import GasSpring
-from .requirements import Evaluation, Requirements, SpecError, evaluate_design
+from .layouts import DECISION_VARIABLES, LAYOUTS
+from .problem import Evaluation, evaluate_design
+from .requirements import Requirements, SpecError
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
            "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate"]
@@ -94,7 +96,7 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
     Parameters
     ----------
     evaluation : Evaluation
-        The evaluated design (:func:`~vvea_design.spring.requirements.evaluate_design`): its design,
+        The evaluated design (:func:`~vvea_design.spring.problem.evaluate_design`): its design,
         performance and constraint margins.
     req : Requirements
         The requirements it was evaluated against (stored as ``spec``; the minimum walls use its
@@ -156,7 +158,7 @@ def save_design(path: str | Path, evaluation: Evaluation, req: Requirements, opt
     path : str or Path
         File to write (parent folders created, an existing file replaced).
     evaluation : Evaluation
-        The evaluated design (:func:`~vvea_design.spring.requirements.evaluate_design`): its design,
+        The evaluated design (:func:`~vvea_design.spring.problem.evaluate_design`): its design,
         performance and constraint margins.
     req : Requirements
         The requirements it was evaluated against (stored as ``spec``; the minimum walls use its

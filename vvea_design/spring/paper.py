@@ -13,12 +13,15 @@ how finely the stroke is sampled) and F(40 mm) = 1827 N at p2 = 2.387 MPa.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .gas_spring import PAPER_FIG5, GasSpring, linearity_error, mean_stiffness_N_per_mm
+from .records import Record
 
 __all__ = ["PAPER_FIG5", "PAPER_LINEARITY", "fig3_setpoints", "fig4_pressures", "fig5_volumes",
-           "reference_summary", "equal_area_variant"]
+           "reference_summary", "ReferenceSummary", "equal_area_variant"]
 
 #: What the paper prints for Fig. 5's V2 = 7.34e4 mm³ curve.
 PAPER_LINEARITY = {"linearity_error": 0.0186, "deviation_N": 33.98, "max_force_N": 1827.0}
@@ -121,7 +124,20 @@ def fig5_volumes(V2_values_mm3=(4.5e4, 5.5e4, 7.34e4, 9.0e4, 1.1e5), base: GasSp
     return springs, rows
 
 
-def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) -> dict:
+@dataclass(frozen=True)
+class ReferenceSummary(Record):
+    """A spring's linearity, deviation and force span next to the paper's printed numbers."""
+
+    linearity_error: float  #: fraction
+    deviation_N: float  #: largest deviation from the least-squares line
+    max_force_N: float
+    mean_stiffness_N_per_mm: float
+    stiffness_per_MPa_N_per_mm_per_MPa: float  #: mean stiffness per MPa of p2
+    samples: str | int  #: "exact (continuous)" or the number of samples
+    paper: dict  #: the paper's printed numbers (:data:`PAPER_LINEARITY`)
+
+
+def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) -> ReferenceSummary:
     """Linearity, deviation and force span of a spring next to the paper's printed numbers.
 
     Parameters
@@ -134,7 +150,7 @@ def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) ->
 
     Returns
     -------
-    dict
+    ReferenceSummary
         ``linearity_error`` (fraction), ``deviation_N`` (largest deviation from the least-squares
         line, N), ``max_force_N`` (N), ``mean_stiffness_N_per_mm`` (N/mm),
         ``stiffness_per_MPa_N_per_mm_per_MPa`` (mean stiffness per MPa of p2), ``samples`` (the
@@ -149,15 +165,8 @@ def reference_summary(spring: GasSpring = PAPER_FIG5, num: int | None = None) ->
         F = spring.force_N(x)
         lin, span, k = float(linearity_error(x, F)), float(F.max() - F.min()), float(mean_stiffness_N_per_mm(x, F))
         fmax = float(F.max())
-    return {
-        "linearity_error": lin,
-        "deviation_N": lin * span,
-        "max_force_N": fmax,
-        "mean_stiffness_N_per_mm": k,
-        "stiffness_per_MPa_N_per_mm_per_MPa": k / spring.p2_MPa,
-        "samples": "exact (continuous)" if num is None else num,
-        "paper": dict(PAPER_LINEARITY),
-    }
+    return ReferenceSummary(lin, lin * span, fmax, k, k / spring.p2_MPa, "exact (continuous)" if num is None else num,
+                            dict(PAPER_LINEARITY))
 
 
 def equal_area_variant(base: GasSpring = PAPER_FIG5) -> GasSpring:

@@ -1,4 +1,4 @@
-"""Requirements (a TOML file) and the constraint margins of a design against them.
+"""Requirements (a TOML file): what the designer asks of the unit.
 
 The defaults are the paper's unit: 40 mm travel with F(0) = 0, 59.5 mm ×
 132.5 mm envelope, charges <= 4 MPa, mean stiffness >= 93.2 N/mm at the
@@ -20,6 +20,9 @@ plus optional tables ``[bounds]`` (search range of each decision variable,
 
     [fixed]
     housing_material = "al-7075-t6"
+
+The evaluation of a design against them (margins, feasibility) is the optimisation problem,
+:mod:`vvea_design.spring.problem`.
 """
 
 from __future__ import annotations
@@ -30,11 +33,8 @@ from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from .design import (CHANNEL_GAP_MM, LAYOUTS, WALLS, Design, DesignError, FixedParameters, derive,
-                     get_layout)
-from .gas_spring import linearity_exact
+from .layouts import COMMON_BOUNDS, LAYOUTS, get_layout, layout_variables
+from .parameters import DesignError, FixedParameters
 from ..materials.silicones import allowable_strain, get_silicone
 from ..messages import show
 
@@ -42,28 +42,37 @@ __all__ = [
     "Requirements",
     "SpecError",
     "load_requirements",
-    "Evaluation",
-    "evaluate_design",
-    "constraint_margins",
-    "constraint_names",
-    "evaluate_population",
-    "design_from_vector",
+    "default_bounds",
+    "DEFAULT_BOUNDS",
     "OBJECTIVES",
+    "REPORTED_N",
 ]
 
-#: Default search range of each decision variable.
-DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
-    "piston_diameter_mm": (12.0, 50.0),
-    "outer_diameter_mm": (25.0, 59.5),
-    "V1_mm3": (5.0e3, 3.0e5),
-    "V2_mm3": (5.0e3, 3.0e5),
-    "V2_top_mm3": (0.0, 1.5e5),
-    "V1_annulus_mm3": (0.0, 1.5e5),
-    "bladder_cast_fill": (0.1, 1.0),  # the strain surrogate is poor below 0.1 (docs/layout.md)
-}
+#: Search range of the bladder's cast fill (a stroke fraction): the strain surrogate is poor below 0.1
+#: (docs/layout.md).
+CAST_FILL_BOUNDS = (0.1, 1.0)
 
-#: Bounds whose low end may be 0 (the others must be > 0).
-_ZERO_LOW = ("V2_top_mm3", "V1_annulus_mm3", "bladder_cast_fill")
+
+def default_bounds() -> dict[str, tuple[float, float]]:
+    """Default search range of each decision variable of every registered layout.
+
+    Returns
+    -------
+    dict of str to tuple of float
+        Variable name -> ``(low, high)`` in its unit (mm, mm³; ``bladder_cast_fill`` a fraction): the
+        shared four, each layout's own (:mod:`vvea_design.spring.layouts`), then the cast fill.
+    """
+    own = {name: var.bounds for name, (_, var) in layout_variables().items()}
+    return {**COMMON_BOUNDS, **own, "bladder_cast_fill": CAST_FILL_BOUNDS}
+
+
+def _zero_low() -> set[str]:
+    """Bounds whose low end may be 0 (the layouts' own volumes, the cast fill); the others must be > 0."""
+    return set(layout_variables()) | {"bladder_cast_fill"}
+
+
+#: Default search range of each decision variable (of the layouts registered at import; :func:`default_bounds`).
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = default_bounds()
 
 #: Polytropic exponents whose worst linearity each objective minimises (``nominal``: the design's n_polytropic).
 OBJECTIVES: dict[str, tuple[float, ...] | None] = {
@@ -108,7 +117,7 @@ class Requirements:
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead", "annulus_top")  #: layout variants the optimiser chooses between
     optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
-    bounds: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(DEFAULT_BOUNDS))
+    bounds: dict[str, tuple[float, float]] = field(default_factory=default_bounds)
     fixed: FixedParameters = field(default_factory=FixedParameters)
 
     def __post_init__(self) -> None:
@@ -147,15 +156,16 @@ class Requirements:
         if not lays or any(not isinstance(v, str) or v not in LAYOUTS for v in lays):
             raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {show(self.layouts)}")
         object.__setattr__(self, "layouts", lays)
-        known_vars = set(DEFAULT_BOUNDS)
+        defaults, zero_low = default_bounds(), _zero_low()
+        known_vars = set(defaults)
         unknown = set(self.bounds) - known_vars
         if unknown:
             raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {sorted(known_vars)}")
         for name, (lo, hi) in self.bounds.items():
-            low_ok = lo >= 0 if name in _ZERO_LOW else lo > 0
+            low_ok = lo >= 0 if name in zero_low else lo > 0
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
                 raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
-                                + (" (low may be 0)" if name in _ZERO_LOW else ""))
+                                + (" (low may be 0)" if name in zero_low else ""))
         if self.bounds.get("bladder_cast_fill", (0.0, 1.0))[1] > 1.0:
             raise SpecError(f"[bounds] bladder_cast_fill = {show(list(self.bounds['bladder_cast_fill']))}: a stroke "
                             "fraction, the high end must be <= 1")
@@ -165,7 +175,7 @@ class Requirements:
             # a free cast fill trades gas room for bladder strain: it needs a strain limit, by default the
             # one the bladder check applies (the silicone's cyclic allowable)
             object.__setattr__(self, "max_bladder_strain", allowable_strain(self.bladder_material))
-        lo_D = self.bounds.get("outer_diameter_mm", DEFAULT_BOUNDS["outer_diameter_mm"])[0]
+        lo_D = self.bounds.get("outer_diameter_mm", defaults["outer_diameter_mm"])[0]
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
                 f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
@@ -197,7 +207,7 @@ class Requirements:
         Parameters
         ----------
         layout : str
-            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+            Layout variant, a name of :data:`vvea_design.spring.layouts.LAYOUTS` (``"inner_tube"``,
             ``"bulkhead"`` or ``"annulus_top"``).
 
         Returns
@@ -220,7 +230,7 @@ class Requirements:
         Parameters
         ----------
         layout : str
-            Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
+            Layout variant, a name of :data:`vvea_design.spring.layouts.LAYOUTS` (``"inner_tube"``,
             ``"bulkhead"`` or ``"annulus_top"``).
 
         Returns
@@ -234,9 +244,9 @@ class Requirements:
         DesignError
             If ``layout`` is unknown.
         """
-        out = []
+        out, defaults = [], default_bounds()
         for name in self.decision_variables(layout):
-            lo, hi = self.bounds.get(name, DEFAULT_BOUNDS[name])
+            lo, hi = self.bounds.get(name, defaults[name])
             if name == "outer_diameter_mm":
                 hi = min(hi, self.max_outer_diameter_mm)
             out.append((float(lo), float(hi)))
@@ -293,7 +303,7 @@ class Requirements:
             if key == "bounds":
                 if not isinstance(value, dict):
                     raise SpecError(f"{source}: [bounds] must be a table")
-                b = dict(DEFAULT_BOUNDS)
+                b = default_bounds()
                 for name, pair in value.items():
                     if (not isinstance(pair, (list, tuple)) or len(pair) != 2
                             or not all(isinstance(p, (int, float)) and not isinstance(p, bool) for p in pair)):
@@ -386,422 +396,3 @@ def load_requirements(path: str | Path | None) -> Requirements:
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     return Requirements.from_dict(data, source=str(path))
-
-
-# ---------------------------------------------------------------------------
-# Evaluation of one design against the requirements
-# ---------------------------------------------------------------------------
-
-#: Displacement samples of the curves that are drawn and written (the metric itself is exact, continuous).
-N_SAMPLES = 401
-
-
-@dataclass(frozen=True)
-class Evaluation:
-    """A design's performance and its constraint margins (positive = satisfied)."""
-
-    design: Design
-    linearity_error: float  #: fraction, exact (continuous) metric at the nominal n_polytropic
-    mean_stiffness_N_per_mm: float  #: continuous least-squares slope at the design's charge (nominal n)
-    max_force_N: float
-    peak_pressure_MPa: float  #: highest chamber pressure the walls are sized for
-    mass_g: float
-    margins: dict[str, float]  #: dimensionless, positive = satisfied
-    details: dict[str, dict[str, float | str]]  #: value, limit and unit of each constraint
-    linearity_isothermal: float = float("nan")  #: n = 1, fraction
-    linearity_adiabatic: float = float("nan")  #: n = 1.4, fraction
-    mean_stiffness_adiabatic_N_per_mm: float = float("nan")  #: n = 1.4, at the design's charge
-    objective: float = float("nan")  #: what the optimiser minimised (worst linearity over its exponents)
-    objective_exponents: tuple[float, ...] = (1.0,)
-
-    @property
-    def feasible(self) -> bool:
-        """Every margin >= 0 (to 1e-9)."""
-        return all(m >= -1e-9 for m in self.margins.values())
-
-    def binding(self, tol: float = 1e-3) -> list[str]:
-        """Constraints at (or beyond) their limit.
-
-        Parameters
-        ----------
-        tol : float
-            A constraint binds when its margin (scaled, dimensionless) is below this.
-
-        Returns
-        -------
-        list of str
-            Names of the binding or violated constraints, in the order of :attr:`margins`.
-        """
-        return [k for k, m in self.margins.items() if m < tol]
-
-    def performance(self) -> dict[str, float]:
-        """The design's performance figures (the ``performance`` block of the design JSON).
-
-        Returns
-        -------
-        dict
-            Linearity errors (fraction: nominal, n = 1, n = 1.4, objective) with the objective's
-            exponents, mean stiffness (N/mm, nominal and n = 1.4), stiffness per MPa of charge,
-            ``max_force_N``, ``mass_g``, ``peak_pressure_MPa``, ``p1_MPa``, ``housing_length_mm``,
-            ``total_gas_mm3`` and ``layout``.
-        """
-        return {
-            "linearity_error": self.linearity_error,
-            "linearity_error_isothermal": self.linearity_isothermal,
-            "linearity_error_adiabatic": self.linearity_adiabatic,
-            "objective": self.objective,
-            "objective_exponents": list(self.objective_exponents),
-            "mean_stiffness_N_per_mm": self.mean_stiffness_N_per_mm,
-            "mean_stiffness_adiabatic_N_per_mm": self.mean_stiffness_adiabatic_N_per_mm,
-            "stiffness_per_charge_N_per_mm_per_MPa": self.mean_stiffness_N_per_mm / self.design.p2_MPa,
-            "max_force_N": self.max_force_N,
-            "mass_g": self.mass_g,
-            "peak_pressure_MPa": self.peak_pressure_MPa,
-            "p1_MPa": self.design.p1_MPa,
-            "housing_length_mm": self.design.housing_length_mm,
-            "total_gas_mm3": self.design.V1_mm3 + self.design.V2_mm3,
-            "layout": self.design.layout,
-        }
-
-    def to_dict(self) -> dict:
-        """JSON-ready content.
-
-        Returns
-        -------
-        dict
-            ``performance`` (:meth:`performance`), ``constraints`` (name -> scaled margin,
-            dimensionless, > 0 met) and ``constraint_details`` (name -> value, limit, unit, kind).
-        """
-        return {"performance": self.performance(), "constraints": dict(self.margins),
-                "constraint_details": {k: dict(v) for k, v in self.details.items()}}
-
-
-def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Design:
-    """A design of ``layout`` from its decision vector, charged to the highest allowed pressure.
-
-    Parameters
-    ----------
-    v : array_like
-        Values of :meth:`Requirements.decision_variables` of the layout in their order and units
-        (mm, mm³; ``bladder_cast_fill`` a fraction, clipped to [0, 1]).
-    req : Requirements
-        Gives the charge p2 (``max_charge_MPa``), the set point (mm) and the fixed parameters.
-    layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
-        ``"bulkhead"`` or ``"annulus_top"``).
-
-    Returns
-    -------
-    Design
-        The design, charged to p2 = ``req.max_charge_MPa`` with p1 from the set point.
-
-    Raises
-    ------
-    DesignError
-        If the layout is unknown or the geometry cannot be drawn.
-    """
-    kw = {name: float(val) for name, val in zip(req.decision_variables(layout), v)}
-    fixed = req.fixed
-    if "bladder_cast_fill" in kw:
-        fixed = replace(fixed, bladder_cast_fill=min(max(kw.pop("bladder_cast_fill"), 0.0), 1.0))
-    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout)
-
-
-def _exponents(req: Requirements, report: bool = True) -> list[float]:
-    extra = REPORTED_N.values() if report else ()
-    cap = (REPORTED_N["adiabatic"],) if req.max_linearity_adiabatic is not None else ()
-    return sorted({float(req.n_polytropic), *extra, *cap, *req.objective_exponents})
-
-
-def _performance(g: dict, req: Requirements, p2, report: bool = True) -> dict[str, np.ndarray]:
-    """Linearity (exact metric) at every exponent needed, stiffness, force; arrays like ``g``."""
-    T = req.fixed.travel_mm
-    out: dict[str, np.ndarray] = {}
-    for n in _exponents(req, report):
-        r = linearity_exact(g["A1_mm2"], g["A2_mm2"], g["V1_mm3"], g["V2_mm3"], g["p1_MPa"], p2, T, n)
-        out[f"lin_{n:g}"] = r.linearity_error
-        out[f"k_{n:g}"] = r.mean_stiffness_N_per_mm
-        if n in req.objective_exponents or (n == REPORTED_N["adiabatic"] and req.max_linearity_adiabatic is not None):
-            with np.errstate(divide="ignore", invalid="ignore"):
-                out[f"ext_{n:g}"] = r.signed_extremes_N / r.force_span_N[..., None]
-        if n == req.n_polytropic:
-            A1, A2, V1, V2, p1 = g["A1_mm2"], g["A2_mm2"], g["V1_mm3"], g["V2_mm3"], g["p1_MPa"]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                F0 = A2 * p2 - A1 * p1
-                FT = A2 * p2 * (V2 / (V2 - A2 * T)) ** n - A1 * p1 * (V1 / (V1 + A1 * T)) ** n
-            out["max_force_N"] = np.maximum(np.abs(F0), np.abs(FT))
-    with np.errstate(invalid="ignore"):
-        out["objective"] = np.max([out[f"lin_{n:g}"] for n in req.objective_exponents], axis=0)
-    return out
-
-
-def _details(g: dict, perf: dict, req: Requirements, design_values: dict, layout: str,
-             strain=None, search: bool = False) -> dict[str, dict]:
-    """Every constraint's value, limit, unit and kind (values are arrays or floats like ``g``); with ``search``
-    not the wall safety factors (not searched: the sized walls meet them whenever ``wall_capacity`` does)."""
-    p1, p2 = g["p1_MPa"], design_values["p2_MPa"]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        scale_to_max = req.max_charge_MPa / np.maximum(p2, p1)
-        k = perf[f"k_{req.n_polytropic:g}"] * scale_to_max
-        gas_left = (g["V2_mm3"] - g["displaced_volume_mm3"]) / g["V2_mm3"]
-    t_bl = req.fixed.bladder_thickness_mm
-    d: dict[str, dict] = {
-        "outer_diameter": {"value": design_values["outer_diameter_mm"], "limit": req.max_outer_diameter_mm, "unit": "mm", "kind": "max"},
-        "housing_length": {"value": g["housing_length_mm"], "limit": req.max_housing_length_mm, "unit": "mm", "kind": "max"},
-        "charge_p1": {"value": p1, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
-        "charge_p2": {"value": p2, "limit": req.max_charge_MPa, "unit": "MPa", "kind": "max"},
-        "mean_stiffness": {"value": k, "limit": req.min_mean_stiffness_N_per_mm, "unit": "N/mm", "kind": "min"},
-        "gas_left_at_full_stroke": {"value": gas_left, "limit": req.min_gas_fraction_at_full_stroke, "unit": "-", "kind": "min"},
-        "bladder_room_compressed": {"value": g["bladder_clearance_compressed_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
-        "bladder_room_expanded": {"value": g["bladder_clearance_expanded_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
-        "bladder_channel_room": {"value": g["bladder_cast_gap_mm"], "limit": CHANNEL_GAP_MM, "unit": "mm", "kind": "min",
-                                 "scale": t_bl},
-        "wall_capacity": {"value": g["wall_capacity_value_MPa"], "limit": g["wall_capacity_limit_MPa"], "unit": "MPa", "kind": "max"},
-    }
-    if get_layout(layout).has_top_annulus:
-        d["cross_slot_room"] = {"value": g["cross_slot_room_mm"], "limit": 0.0, "unit": "mm", "kind": "min", "scale": 1.0}
-    for wall in () if search else _walls(layout, req.fixed):
-        d[f"wall_safety_{wall}"] = {"value": g[f"safety_{wall}"], "limit": req.min_wall_safety_factor, "unit": "-", "kind": "min"}
-    if req.max_mass_g is not None:
-        d["mass"] = {"value": g["mass_g"], "limit": req.max_mass_g, "unit": "g", "kind": "max"}
-    if req.max_linearity_adiabatic is not None:
-        d["linearity_adiabatic"] = {"value": perf[f"lin_{REPORTED_N['adiabatic']:g}"],
-                                    "limit": req.max_linearity_adiabatic, "unit": "-", "kind": "max"}
-    if req.max_bladder_strain is not None:
-        if strain is None:
-            raise ValueError("req.max_bladder_strain is set: pass the design's bladder_strain to evaluate_design")
-        d["bladder_strain"] = {"value": strain, "limit": req.max_bladder_strain, "unit": "-", "kind": "max"}
-    return d
-
-
-def _walls(layout: str, fixed=None) -> tuple[str, ...]:
-    """The pressure walls of a layout, plus the piston pocket's floor when ``fixed.piston_pocket``."""
-    return get_layout(layout).walls + (("piston_floor",) if fixed is not None and fixed.piston_pocket else ())
-
-
-def evaluate_design(design: Design, req: Requirements, bladder_strain: float | None = None) -> Evaluation:
-    """Performance and margins of ``design`` against ``req``.
-
-    The design is evaluated as charged (``design.p2_MPa``); the stiffness
-    requirement is checked at the highest allowed charge, where p2 is
-    ``req.max_charge_MPa`` unless p1 would exceed it (then p1 is the
-    limiting chamber). Linearity is the exact (continuous) metric, at the
-    nominal exponent and at n = 1 and n = 1.4.
-
-    Parameters
-    ----------
-    design : Design
-        The design as charged (geometry in mm, mm³; p1, p2 in MPa).
-    req : Requirements
-        The limits to check against.
-    bladder_strain : float or None
-        The design's bladder strain bound (fraction), required when ``req.max_bladder_strain``
-        is set.
-
-    Returns
-    -------
-    Evaluation
-        Linearity (fraction), stiffness (N/mm), force (N), peak pressure (MPa), mass (g) and every
-        constraint's margin (scaled, dimensionless, > 0 met) with its value, limit and unit.
-
-    Raises
-    ------
-    ValueError
-        If ``req.max_bladder_strain`` is set and ``bladder_strain`` is None.
-    """
-    g = dict(design._g)
-    g["V1_mm3"], g["V2_mm3"] = design.V1_mm3, design.V2_mm3
-    g["p1_MPa"] = design.p1_MPa
-    perf = {k: float(v) for k, v in _performance(g, req, design.p2_MPa).items() if not k.startswith("ext_")}
-    values = {"p2_MPa": design.p2_MPa, "outer_diameter_mm": design.outer_diameter_mm}
-    details = _details(g, perf, req, values, design.layout, bladder_strain)
-    details = {k: {kk: (float(vv) if not isinstance(vv, str) else vv) for kk, vv in v.items()} for k, v in details.items()}
-    margins = {name: float(_margin(d)) for name, d in details.items()}
-    n = req.n_polytropic
-    return Evaluation(
-        design=design,
-        linearity_error=perf[f"lin_{n:g}"],
-        mean_stiffness_N_per_mm=perf[f"k_{n:g}"],
-        max_force_N=perf["max_force_N"],
-        peak_pressure_MPa=max(design.peak_pressures_MPa().values()),
-        mass_g=design.mass_g,
-        margins=margins,
-        details=details,
-        linearity_isothermal=perf["lin_1"],
-        linearity_adiabatic=perf["lin_1.4"],
-        mean_stiffness_adiabatic_N_per_mm=perf["k_1.4"],
-        objective=perf["objective"],
-        objective_exponents=tuple(req.objective_exponents),
-    )
-
-
-def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain_fn=None, extremes: bool = False):
-    """Objective and constraint margins of many designs at once (what the optimiser calls).
-
-    ``X`` has shape ``(S, N)``: ``S`` decision vectors of ``layout`` (its
-    ``decision_variables``), each charged to ``req.max_charge_MPa``. Returns
-    ``(objective (S,), margins (M, S), buildable (S,))`` with the margins in
-    the order of ``constraint_names(req, layout, search=True)`` (the
-    constraints a search can violate: not the p2 charge, which is the limit,
-    nor the wall safety factors, which the sized walls meet whenever
-    ``wall_capacity`` does); the same formulas as
-    :func:`evaluate_design` (:func:`~vvea_design.spring.design.derive`).
-    ``strain_fn(g, cols) -> (S,)`` gives the bladder strain when
-    ``req.max_bladder_strain`` is set (the optimiser's surrogate). With
-    ``extremes`` a fourth array ``(4 E, S)`` holds the signed deviations
-    over the force span (at both ends, interior max and min) for each of the
-    ``E`` objective exponents: the objective is their largest magnitude, and
-    they are smooth where the objective has kinks (the polish's epigraph).
-
-    Parameters
-    ----------
-    X : array_like
-        Decision vectors, shape ``(S, N)``, each in the order and units of
-        ``req.decision_variables(layout)`` (mm, mm³; the cast fill a fraction).
-    req : Requirements
-        The limits; the charge is ``req.max_charge_MPa``.
-    layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
-        ``"bulkhead"`` or ``"annulus_top"``).
-    strain_fn : callable or None
-        ``strain_fn(g, cols)``: bladder strain bound (fraction) of each design from the derived
-        geometry ``g`` and the decision columns ``cols`` (name -> array); used only when
-        ``req.max_bladder_strain`` is set (None then counts as zero strain).
-    extremes : bool
-        Also return the signed deviations.
-
-    Returns
-    -------
-    objective : numpy.ndarray
-        Shape ``(S,)``: worst linearity error over the objective exponents (fraction); 1.0 for an
-        unbuildable design.
-    margins : numpy.ndarray
-        Shape ``(M, S)``: scaled, dimensionless margins (> 0 met); -1 for an unbuildable design.
-    buildable : numpy.ndarray
-        Shape ``(S,)``, bool: the geometry can be drawn and every value is finite.
-    extremes : numpy.ndarray
-        Only with ``extremes``: shape ``(4 E, S)``, signed deviations over the force span
-        (fraction).
-
-    Raises
-    ------
-    DesignError
-        If ``layout`` is unknown.
-    """
-    X = np.atleast_2d(np.asarray(X, dtype=float))
-    lay = get_layout(layout)
-    cols = {name: X[:, i] for i, name in enumerate(req.decision_variables(layout))}
-    S = X.shape[0]
-    p2 = np.full(S, req.max_charge_MPa)
-    # the walls' stresses (and the masses without a mass limit) are not searched: not derived, unless a strain
-    # function that may read them is used (the surrogate declares it reads only the bladder's geometry)
-    strained = strain_fn is not None and req.max_bladder_strain is not None
-    lean = not strained or getattr(strain_fn, "reads_bladder_geometry_only", False)
-    with np.errstate(all="ignore"):
-        g = derive(cols["piston_diameter_mm"], cols["outer_diameter_mm"], cols["V1_mm3"], cols["V2_mm3"],
-                   cols.get("V2_top_mm3", np.zeros(S)), p2, req.setpoint_x0_mm, req.fixed, lay.has_bulkhead,
-                   cast_fill=cols.get("bladder_cast_fill"), V1_annulus_mm3=cols.get("V1_annulus_mm3", np.zeros(S)),
-                   top_annulus=lay.has_top_annulus, stresses=not lean, masses=not lean or req.max_mass_g is not None)
-        g["V1_mm3"], g["V2_mm3"] = cols["V1_mm3"], cols["V2_mm3"]
-        perf = _performance(g, req, p2, report=False)
-        strain = strain_fn(g, cols) if strained else None
-        details = _details(g, perf, req, {"p2_MPa": p2, "outer_diameter_mm": cols["outer_diameter_mm"]}, layout,
-                           strain if req.max_bladder_strain is None else (strain if strain is not None else np.zeros(S)),
-                           search=lean)
-        rows = []
-        for k in constraint_names(req, layout, search=True):
-            if k.startswith("linearity_adiabatic["):  # smooth pieces of max |deviation| <= limit (no kinks)
-                i = int(k[len("linearity_adiabatic["):-1])
-                e = perf[f"ext_{REPORTED_N['adiabatic']:g}"][:, i % 4]
-                lim = req.max_linearity_adiabatic
-                rows.append((lim - e) / lim if i < 4 else (lim + e) / lim)
-            else:
-                m = _margin(details[k])
-                rows.append(m if np.shape(m) == (S,) else np.broadcast_to(m, (S,)))
-        margins = np.array(rows, dtype=float)
-    ok = g["buildable"] & np.all(np.isfinite(margins), axis=0) & np.isfinite(perf["objective"])
-    obj = np.where(ok, perf["objective"], 1.0)
-    margins = np.where(ok[None, :], margins, -1.0)
-    if extremes:
-        ext = np.concatenate([perf[f"ext_{n:g}"].T for n in req.objective_exponents], axis=0)
-        ext = np.where(ok[None, :], ext, 1.0)
-        return obj, margins, ok, ext
-    return obj, margins, ok
-
-
-def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool = False) -> list[str]:
-    """Names of the constraints :func:`evaluate_design` reports for ``req`` and ``layout``, in its order.
-
-    Parameters
-    ----------
-    req : Requirements
-        Optional limits (mass, adiabatic linearity, bladder strain) add their constraints.
-    layout : str
-        Layout variant, a name of :data:`vvea_design.spring.design.LAYOUTS` (``"inner_tube"``,
-        ``"bulkhead"`` or ``"annulus_top"``).
-    search : bool
-        Only the constraints :func:`evaluate_population` returns (no p2 charge, no wall safety
-        factors; the adiabatic linearity as its 8 smooth pieces).
-
-    Returns
-    -------
-    list of str
-        Constraint names in order.
-
-    Raises
-    ------
-    DesignError
-        If ``layout`` is unknown (only when ``search`` is false).
-    """
-    names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
-             "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
-             "wall_capacity"]
-    if get_layout(layout).has_top_annulus:
-        names.append("cross_slot_room")
-    if search:
-        names.remove("charge_p2")
-    else:
-        names += [f"wall_safety_{w}" for w in _walls(layout, req.fixed)]
-    if req.max_mass_g is not None:
-        names.append("mass")
-    if req.max_linearity_adiabatic is not None:
-        names += [f"linearity_adiabatic[{i}]" for i in range(8)] if search else ["linearity_adiabatic"]
-    if req.max_bladder_strain is not None:
-        names.append("bladder_strain")
-    return names
-
-
-def _margin(d: dict):
-    v, lim = d["value"], d["limit"]
-    scale = d.get("scale")
-    if scale is None:
-        if isinstance(lim, (float, int)):  # a scalar limit (float64 arithmetic either way: the same values)
-            scale = float(abs(lim)) if lim != 0 else 1.0
-        else:
-            scale = np.where(np.asarray(lim) != 0, np.abs(lim), 1.0)
-    if d["kind"] == "max":
-        return (lim - v) / scale
-    return (v - lim) / scale
-
-
-def constraint_margins(design: Design, req: Requirements) -> dict[str, float]:
-    """Just the margins (positive = satisfied) of ``design`` against ``req``.
-
-    Parameters
-    ----------
-    design : Design
-        The design as charged.
-    req : Requirements
-        The limits (without ``max_bladder_strain``: this passes no strain).
-
-    Returns
-    -------
-    dict of str to float
-        Constraint name -> scaled margin, dimensionless (> 0 met).
-
-    Raises
-    ------
-    ValueError
-        If ``req.max_bladder_strain`` is set (use :func:`evaluate_design` with the strain).
-    """
-    return evaluate_design(design, req).margins

@@ -103,13 +103,13 @@ def _predict(Z: np.ndarray) -> np.ndarray:
     return np.exp(poly_terms(Zs, int(c["degree"])) @ np.asarray(c["coefficients"]))
 
 
-def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
-    """Surrogate strain bound of every design in a :func:`~vvea_design.spring.design.derive` result.
+def population_strain(g, cols: dict | None = None) -> np.ndarray:
+    """Surrogate strain bound of every design in a :func:`~vvea_design.spring.derive.derive` result.
 
     Parameters
     ----------
-    g : dict
-        The derived quantities (mm, mm³) of ``S`` designs.
+    g : Derived
+        The derived quantities (mm, mm³) of ``S`` designs (:class:`~vvea_design.spring.derive.Derived`).
     cols : dict, optional
         Their decision variables (unused; the optimiser passes them to every strain function).
 
@@ -118,11 +118,11 @@ def population_strain(g: dict, cols: dict | None = None) -> np.ndarray:
     ndarray
         Shape ``(S,)``, strain as a fraction; ``inf`` where the bladder cannot be drawn.
     """
-    R = np.asarray(g["bladder_mid_radius_mm"], dtype=float)
-    L = np.asarray(g["bladder_free_length_mm"], dtype=float)
-    H = np.asarray(g["bladder_outer_radius_mm"], dtype=float) - np.asarray(g["bladder_inner_radius_mm"], dtype=float)
-    disp = np.asarray(g["displaced_volume_mm3"], dtype=float)
-    f = np.asarray(g["bladder_cast_fill_fraction"], dtype=float)
+    R = np.asarray(g.bladder_mid_radius_mm, dtype=float)
+    L = np.asarray(g.bladder_free_length_mm, dtype=float)
+    H = np.asarray(g.bladder_outer_radius_mm, dtype=float) - np.asarray(g.bladder_inner_radius_mm, dtype=float)
+    disp = np.asarray(g.displaced_volume_mm3, dtype=float)
+    f = np.asarray(g.bladder_cast_fill, dtype=float)
     ok = (R > H) & (L > 0) & np.isfinite(R) & np.isfinite(L)
     Rs = np.where(ok, R, 10.0)
     Ls = np.where(ok, L, 10.0)
@@ -148,4 +148,4 @@ def design_strain(design) -> float:
     float
         Strain bound as a fraction (``inf`` if the bladder cannot be drawn).
     """
-    return float(np.asarray(population_strain(design._g)).ravel()[0])
+    return float(np.asarray(population_strain(design.derived)).ravel()[0])

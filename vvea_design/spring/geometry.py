@@ -1,0 +1,80 @@
+"""Typed intermediate results of :func:`~vvea_design.spring.derive.derive`, read by the layouts' hooks.
+
+Each is a frozen dataclass whose numeric fields are numpy arrays broadcast over a population (or 0-d arrays
+for one design): :class:`Pressures` (the charge and the peaks the walls are sized for) and :class:`Section`
+(the radii and the sized walls of the cross-section: the typed geometry the wall stresses are computed
+from). Lengths in mm, areas mm², volumes mm³, pressures and stresses MPa.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Pressures", "Section", "Array"]
+
+#: A float, or a numpy array of floats broadcast over a population.
+Array = Any
+
+
+@dataclass(frozen=True)
+class Pressures:
+    """Charges and the pressures the walls carry, MPa (arrays broadcast over a population).
+
+    The peaks are those of a stroke at ``max(n_polytropic, fixed.wall_sizing_n)`` (adiabatic by default).
+    """
+
+    p1_MPa: Array  #: chamber-1 charge that puts zero force at the set point (paper eq. 6)
+    peak_chamber_2_MPa: Array  #: chamber 2 at full stroke (its highest)
+    min_chamber_1_MPa: Array  #: chamber 1 at full stroke (its lowest)
+    chamber_difference_MPa: Array  #: largest chamber-2 minus chamber-1 pressure (or p1 - p2), >= 0: on the walls between the chambers
+    inner_tube_net_pressure_MPa: Array  #: chamber 2 outside minus chamber 1 inside the inner tube at full stroke, >= 0
+
+    def to_dict(self) -> dict[str, Array]:
+        """Every field by name.
+
+        Returns
+        -------
+        dict of str to ndarray
+            Pressures, MPa.
+        """
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class Section:
+    """The unit's cross-section with its sized walls: what the wall stresses and the axial stack read.
+
+    Radii and thicknesses in mm, areas mm², stresses MPa (arrays broadcast over a population).
+    """
+
+    A1_mm2: Array  #: chamber-1 area, the full piston face
+    A2_mm2: Array  #: chamber-2 area, piston minus rod
+    outer_radius_mm: Array  #: outer tube outer radius (half the outer diameter)
+    outer_bore_radius_mm: Array  #: outer tube bore
+    piston_radius_mm: Array  #: inner tube bore = piston radius
+    inner_tube_outer_radius_mm: Array  #: inner tube outer radius
+    walls_mm: dict[str, Array]  #: sized walls: outer_tube, inner_tube, top_cap, base and the layout's own
+    allowable_MPa: float  #: housing material's yield over the wall safety factor
+    plate_factor: float  #: ``3 (3 + nu) / 8`` of the housing material (plate stress ``k p a^2 / t^2``)
+    piston_floor_mm: Array  #: floor of the piston pocket (the piston height without a pocket)
+    piston_pocket_radius_mm: Array  #: radius of the pocket (0 without one)
+    piston_pocket_volume_mm3: Array  #: chamber-1 gas in the pocket (0 without one)
+    has_piston_pocket: Array  #: bool: a pocket is bored (``fixed.piston_pocket`` and room beside the rod)
+
+    @property
+    def annulus_area_mm2(self) -> Array:
+        """Area of the annulus between the inner tube and the outer bore, mm²."""
+        return np.pi * (self.outer_bore_radius_mm**2 - self.inner_tube_outer_radius_mm**2)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Every field by name.
+
+        Returns
+        -------
+        dict
+            Radii and walls (mm), areas (mm²), stresses (MPa), volume (mm³), the pocket flag.
+        """
+        return {f.name: getattr(self, f.name) for f in fields(self)}
