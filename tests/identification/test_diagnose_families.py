@@ -7,8 +7,6 @@ effect (held-out error near the noise, no second name beside it) or that a
 selection rule does what it says.
 """
 
-import numpy as np
-
 from vvea_benches import physbench as pb
 from vvea_design.identification.diagnose import diagnose
 from vvea_design.identification.effects import REGISTRY

@@ -60,7 +60,7 @@ def test_the_candidates_keep_their_order():
                              "friction_along_stroke", "campaign_trend")
     assert tuple(REGISTRY) == EFFECT_IDS + DISCOVERY_IDS
     assert DiagnoseSettings().candidates == EFFECT_IDS and DiagnoseSettings().discovery == DISCOVERY_IDS
-    ranks = [sys.modules[m].RANK for m in fx.effect_modules()]
+    ranks = [sys.modules[m].RANK for m in fx.discover()]
     assert ranks == sorted(ranks)
 
 
@@ -94,7 +94,7 @@ def test_a_new_effect_module_registers_itself(tmp_path, catalogue):
             "from vvea_design.identification.settings import DiagnoseSettings; s = DiagnoseSettings(); "
             "print(json.dumps(dict(file=fx.__file__, ids=list(fx.REGISTRY), catalogue=list(fx.EFFECT_IDS), "
             "discovery=list(fx.DISCOVERY_IDS), candidates=list(s.candidates) + list(s.discovery), "
-            "modules=list(fx.effect_modules()))))")
+            "modules=list(fx.discover()))))")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
     assert r.returncode == 0, r.stderr

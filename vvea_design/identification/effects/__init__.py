@@ -64,15 +64,16 @@ import sys
 from .base import REGISTRY, Check, Effect, Param, effect_columns, is_effect_id, register
 
 __all__ = ["REGISTRY", "CATALOGUE", "DISCOVERY", "EFFECT_IDS", "DISCOVERY_IDS", "Effect", "Param", "Check", "register",
-           "is_effect_id", "effect_columns", "effect_modules"]
+           "is_effect_id", "effect_columns", "discover"]
 
 
-def effect_modules() -> tuple[str, ...]:
-    """The effect modules of this package (every module but :mod:`.base` and private ones), imported, in rank order.
+def discover() -> tuple[str, ...]:
+    """Import every effect module of this package (all but :mod:`.base` and private ones) and order the registry.
 
-    Importing a module registers its effects; the registry is then ordered by the ``RANK`` of the module
-    that defines each effect's class (lower first, unranked modules last by name), registration order
-    within a module.
+    Importing a module registers its effects (a module already imported is not run again). The registry is
+    then ordered by the ``RANK`` of the module that defines each effect's class (lower first, unranked
+    modules last by name), registration order within a module: the order the selection tests the
+    candidates in. Runs once on import of this package.
 
     Returns
     -------
@@ -93,7 +94,7 @@ def effect_modules() -> tuple[str, ...]:
     return tuple(sorted((f"{__name__}.{n}" for n in names), key=rank))
 
 
-effect_modules()
+discover()
 
 #: Catalogue effects (named physics of the unit), in registry order.
 CATALOGUE: dict[str, Effect] = {k: e for k, e in REGISTRY.items() if e.catalogue}

@@ -269,7 +269,7 @@ class Effect:
     bench_linear: bool = True
 
     def bench_force(self, P: dict, cols: dict, spec) -> np.ndarray:
-        """Force this effect adds to eq. 14 on the unit-test bench (``testbench``, not the proof's simulator).
+        """Force this effect adds to eq. 14 on the unit-test bench (``vvea_benches.testbench``, not the proof's simulator).
 
         Parameters
         ----------
