@@ -233,15 +233,10 @@ _LINE = 1.07  # height of one line of text / font size (DejaVu Sans as matplotli
 _TITLE = 0.8  # a title's rise above its baseline (which sits _TITLEPAD_PT above the axes) / font size
 
 
-def _text_w_pt(s: str, size: float) -> float:
-    """Width in points of one line of text at font size ``size`` (no drawing)."""
-    return 72.0 * text_width_in(s, size)
-
-
 def _rotated_h_pt(s: str, size: float, deg: float) -> float:
-    """Vertical extent in points of a label rotated by ``deg`` degrees."""
+    """Vertical extent in points of a label rotated by ``deg`` degrees (its width from ``figure_layout``, no drawing)."""
     a = np.radians(deg)
-    return _text_w_pt(s, size) * abs(np.sin(a)) + _LINE * size * abs(np.cos(a))
+    return 72.0 * text_width_in(s, size) * abs(np.sin(a)) + _LINE * size * abs(np.cos(a))
 
 
 def _has_offset_text(ax) -> bool:

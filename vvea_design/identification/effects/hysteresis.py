@@ -10,7 +10,7 @@ import numpy as np
 from ..signals import first_ramp, stop_operator, travel_since_reversal
 from .base import Effect, Param, fmt_estimate, register
 
-__all__ = []
+__all__: list[str] = []  # its effects are reached through the registry
 
 #: Place of this module's effects among the candidates (see :mod:`vvea_design.identification.effects`).
 RANK = 130

@@ -11,7 +11,7 @@ from ..fit_data import cached
 from .base import Check, Effect, Param, fmt_estimate, register
 from .gas_nonlinearity import chamber_remainders
 
-__all__ = []
+__all__: list[str] = []  # its effects are reached through the registry
 
 #: Place of this module's effects among the candidates (see :mod:`vvea_design.identification.effects`).
 RANK = 70

@@ -16,7 +16,7 @@ from ..fit_data import FitData, cached
 from ..signals import thermal_state
 from .base import Check, Effect, Param, fmt_estimate, register
 
-__all__ = []
+__all__: list[str] = []  # its effects are reached through the registry
 
 #: Place of this module's effects among the candidates (see :mod:`vvea_design.identification.effects`).
 RANK = 20

@@ -9,7 +9,7 @@ import numpy as np
 
 from .base import FREE, Effect, Param, fmt_estimate, register
 
-__all__ = []
+__all__: list[str] = []  # its effects are reached through the registry
 
 #: Place of this module's effects among the candidates (see :mod:`vvea_design.identification.effects`).
 RANK = 160
