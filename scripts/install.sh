@@ -57,3 +57,6 @@ fi
 extra=""
 if [ "${1:-}" = "test" ]; then extra="[test]"; fi
 "$PYTHON" -m pip install --quiet --disable-pip-version-check -e ".${extra}"
+if [ "${1:-}" = "test" ]; then  # the bench simulators the tests and studies use (not part of the library)
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check -e benches
+fi

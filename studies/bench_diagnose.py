@@ -98,10 +98,11 @@ def _one(path: str, copies: int, learner: bool, trace: bool = False) -> dict:
     """Run in a child process: read ``copies`` concatenated copies of ``path``, fit eq. 14, diagnose."""
     import pandas as pd
 
-    from vvea_design.identification.diagnose import DiagnoseSettings, diagnose
-    from vvea_design.identification.effects import FitData
-    from vvea_design.identification.identify import fit_model
+    from vvea_design.identification.diagnose import diagnose
+    from vvea_design.identification.fit_data import FitData
+    from vvea_design.identification.fitting import fit_model
     from vvea_design.identification.recordings import read_recordings, recordings_from_frame
+    from vvea_design.identification.settings import DiagnoseSettings
 
     t0 = time.perf_counter()
     if copies == 1:
@@ -154,9 +155,10 @@ def _case(spec: str, learner: bool) -> dict:
     """Run in a child process: simulate one benchmark campaign (``effect:seed``), read it back, diagnose it."""
     import tempfile
 
-    from vvea_design.identification import physbench as pb
-    from vvea_design.identification.diagnose import DiagnoseSettings, diagnose
+    from vvea_benches import physbench as pb
+    from vvea_design.identification.diagnose import diagnose
     from vvea_design.identification.recordings import read_recordings
+    from vvea_design.identification.settings import DiagnoseSettings
 
     effect, seed = spec.split(":")
     camp = pb.simulate_campaign(pb.random_parameters((effect,) if effect != "null" else (), seed=int(seed), grid=pb.CampaignGrid()))

@@ -40,7 +40,7 @@ t3 = time.perf_counter()
 print(json.dumps(dict(rows=rec.rows_read, experiments=rec.n_experiments, import_s=t1 - t0, read_s=t2 - t1,
                       identify_s=t3 - t2, total_s=t3 - t1,
                       peak_MB=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
-                      files=summary["files"], g=summary["parameters"]["g"]["value"])))
+                      files=list(summary.files), g=summary.parameters["g"].value)))
 """
 
 
@@ -51,8 +51,8 @@ def _campaign_frame(path: Path | None):
     for cand in (path, shared, Path("/work/shared/recordings/campaign_a.csv")):
         if cand is not None and Path(cand).exists():
             return pd.read_csv(cand, dtype={"experiment": str}), str(cand)
-    sys.path.insert(0, str(ROOT))
-    from vvea_design.identification import physbench as pb
+    sys.path[:0] = [str(ROOT), str(ROOT / "benches")]  # the checkout, and its benches (scripts/install.sh test installs them)
+    from vvea_benches import physbench as pb
 
     return pb.simulate_campaign(pb.random_parameters((), seed=0)).frame, "physbench seed 0 (null campaign)"
 

@@ -44,7 +44,7 @@ RESULT_KEYS = ("effects[].accepted", "effects[].parameters", "heldout", "noise_f
 
 
 def _recordings(spec: str, recordings: Path):
-    from vvea_design.identification import physbench as pb
+    from vvea_benches import physbench as pb
     from vvea_design.identification.recordings import read_recordings
 
     if ":" not in spec:
@@ -56,7 +56,8 @@ def _recordings(spec: str, recordings: Path):
 
 
 def dump(out: Path, cases: list[str], recordings: Path) -> None:
-    from vvea_design.identification.diagnose import DiagnoseSettings, diagnose
+    from vvea_design.identification.diagnose import diagnose
+    from vvea_design.identification.settings import DiagnoseSettings
 
     out.mkdir(parents=True, exist_ok=True)
     for spec in cases:

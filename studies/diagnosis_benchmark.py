@@ -1,6 +1,6 @@
 """Benchmark of ``diagnose`` on the independent physics bench (issue 10 item 8).
 
-Campaigns come from :mod:`vvea_design.identification.physbench`, a simulator
+Campaigns come from :mod:`vvea_benches.physbench`, a simulator
 written from the physics (chamber energy balance, regime-dependent orifice
 flow, relief valve, LuGre friction, leak, sensor filter, ripples) that
 shares no formula with the effect catalogue. For every catalogue effect
@@ -55,10 +55,10 @@ import numpy as np
 import pandas as pd
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
+sys.path[:0] = [str(HERE.parent), str(HERE.parent / "benches")]  # the checkout and its benches, as scripts/install.sh test installs them
 
 from vvea_design.figure_layout import tight_layout_once  # noqa: E402
-from vvea_design.identification import physbench as pb  # noqa: E402
+from vvea_benches import physbench as pb  # noqa: E402
 
 #: Words an accepted non-catalogue effect id must contain to count as naming
 #: the out-of-catalogue physics (lower case, any one suffices).

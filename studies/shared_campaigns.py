@@ -24,10 +24,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from vvea_design.identification.diagnose import DiagnoseSettings, diagnose, write_diagnosis
+from vvea_design.identification.diagnose import diagnose, write_diagnosis
 from vvea_design.identification.identify import write_identification
 from vvea_design.progress import console, progress_bar
 from vvea_design.identification.recordings import read_recordings
+from vvea_design.identification.settings import DiagnoseSettings
 
 HERE = Path(__file__).resolve().parent
 #: What the shared README says each campaign holds beyond eq. 14.
@@ -48,7 +49,7 @@ def main(argv=None) -> list[dict]:
             t0 = time.perf_counter()
             rec = read_recordings(args.recordings / f"{name}.csv")
             t1 = time.perf_counter()
-            ident = write_identification(rec, args.out / name / "identify")
+            ident = write_identification(rec, args.out / name / "identify").to_dict()
             t2 = time.perf_counter()
             diag = diagnose(rec, DiagnoseSettings())
             write_diagnosis(diag, args.out / name / "diagnose")

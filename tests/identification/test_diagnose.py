@@ -1,13 +1,14 @@
-"""Tests of the diagnosis: effect registry, selection honesty, discovery, noise floor, typed report, CLI.
+"""Tests of the diagnosis end to end: effects recovered, discovery, typed report and its files, the final model,
+small campaigns, the CLI.
 
-The small benchmark is in test_diagnose_bench.py, the shared campaigns in test_diagnose_shared.py (their own
-modules so that pytest-xdist can run them beside this one)."""
+The registry is tested in test_effects.py, the noise floor in test_noise.py; the small benchmark is in
+test_diagnose_bench.py, the shared campaigns in test_diagnose_shared.py (their own modules so that pytest-xdist
+can run them beside this one)."""
 
 from __future__ import annotations
 
 import json
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,52 +16,18 @@ from tests.helpers import REPO, SHARED_RECORDINGS, make_app
 from scipy.signal import lfilter, lfilter_zi
 from typer.testing import CliRunner
 
+from vvea_benches.testbench import BenchmarkCase, case_spec, simulate, small_spec
 from vvea_design.cli.identify import register
-from vvea_design.identification.diagnose import (
-    DiagnoseSettings,
-    DiagnosisReport,
-    diagnose,
-    load_final_model,
-    noise_floor_N,
-    residual_map,
-    write_diagnosis,
-)
-from vvea_design.identification.effects import CATALOGUE, DISCOVERY, EFFECT_IDS, REGISTRY, Effect, FitData, Param
+from vvea_design.identification.diagnose import DiagnoseSettings, diagnose, write_diagnosis
+from vvea_design.identification.effects import EFFECT_IDS, REGISTRY
+from vvea_design.identification.fit_data import FitData
 from vvea_design.identification.recordings import recordings_from_frame
-from vvea_design.identification.testbench import BenchmarkCase, case_spec, simulate, small_spec
+from vvea_design.identification.report import DiagnosisReport, load_final_model
 from vvea_design.spring.design_file import spring_from_json
 
 SHARED = SHARED_RECORDINGS
 
-SPEC_IDS = {"gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction", "leakage"}
 CONTRACT = {"baseline", "heldout_rmse_N", "effects", "unexplained_structure", "final_model", "noise_floor_N"}
-
-
-def test_registry_covers_the_spec_and_is_signed():
-    assert SPEC_IDS <= set(EFFECT_IDS)
-    assert set(CATALOGUE) | set(DISCOVERY) == set(REGISTRY)
-    for e in REGISTRY.values():
-        assert e.physics and e.equation and e.title
-        assert isinstance(e, Effect)
-    for e in CATALOGUE.values():
-        for p in e.amplitudes:
-            assert p.lower >= 0.0, f"{e.id}.{p.name} must carry its physical sign"
-
-
-def test_no_if_chains_on_effect_ids_outside_the_registry():
-    """identify, diagnose and the bench call effect methods; no code keys on an effect id."""
-    src = REPO / "vvea_design" / "identification"
-    for name in ("identify.py", "diagnose.py", "testbench.py"):
-        text = (src / name).read_text()
-        for eid in REGISTRY:
-            assert f'== "{eid}"' not in text and f'"{eid}" in ' not in text, (name, eid)
-
-
-def test_case_spec_is_deterministic():
-    c = BenchmarkCase("single", ("stiction",), (3.0,), 77, "small")
-    a, b = case_spec(c), case_spec(c)
-    assert a == b
-    np.testing.assert_array_equal(simulate(a).frame["force_N"], simulate(b).frame["force_N"])
 
 
 def test_fitted_effect_parameters_match_truth():
@@ -118,37 +85,6 @@ def test_force_lag_is_discovered_with_its_time_constant():
     assert "sensor or amplifier" in lag.explanation
 
 
-def test_noise_floor_is_not_inflated_by_ripple_or_slow_structure():
-    D = FitData.from_recordings(recordings_from_frame(simulate(small_spec(seed=3)).frame, "n"))
-    rng = np.random.default_rng(0)
-    white = rng.standard_normal(D.n) * 4.0
-    assert noise_floor_N(D, white) == pytest.approx(4.0, rel=0.1)
-    ar = lfilter([1.0], [1.0, -0.8], rng.standard_normal(D.n)) * 4.0 * np.sqrt(1 - 0.64)
-    assert noise_floor_N(D, ar) == pytest.approx(4.0, rel=0.15)
-    # a 20 N time ripple, a 15 N position ripple and a 30 N slow bow on 4 N noise (RMS 19 N in all): the
-    # floor rises by < 40 % (Hann side lobes of the strong lines), where the RMS rises 4.8-fold
-    ripple = 20 * np.sin(2 * np.pi * D.t / 0.5) + 15 * np.sin(2 * np.pi * D.x / 5.0) + 30 * (D.x / 40.0) ** 2
-    assert noise_floor_N(D, white + ripple) < 1.4 * noise_floor_N(D, white)
-
-
-# -- naming discipline and the extension point ---------------------------------------------------------------
-def test_a_new_effect_is_one_registered_object(monkeypatch):
-    """Adding a term touches one place: an Effect object in the registry, found by the selection."""
-
-    class CubicFriction(Effect):
-        def columns(self, D, _, ctx):
-            return (D.s * (D.x / 40.0) ** 3)[:, None]
-
-    eff = CubicFriction("cubic_test", "cubic friction", "Friction growing along the stroke.", "f += b sign(xdot) (x/40)^3",
-                        (Param("b", "N", 0.0, np.inf),), catalogue=False)
-    monkeypatch.setitem(REGISTRY, eff.id, eff)
-    frame = simulate(small_spec(seed=5)).frame.copy()
-    v = np.gradient(frame["displacement_mm"].to_numpy())
-    frame["force_N"] += 40.0 * np.sign(v) * (frame["displacement_mm"] / 40.0) ** 3
-    d = diagnose(recordings_from_frame(frame, "cubic"), DiagnoseSettings(learner=False, discovery=("cubic_test",)))
-    assert [e.id for e in d.report.accepted] == ["cubic_test"]
-
-
 # -- typed report, contract, files, final model -------------------------------------------------------------
 def test_report_contract_and_files(tmp_path, ripple_diag):
     r = ripple_diag.report
@@ -177,14 +113,6 @@ def test_final_model_file_evaluates_new_motions(tmp_path, ripple_diag):
     D2 = FitData.from_recordings(recordings_from_frame(simulate(small_spec(seed=99, speeds_mm_s=(2.0,))).frame, "new"))
     f2 = fm.predict(D2)
     assert f2.shape == (D2.n,) and np.all(np.isfinite(f2))
-
-
-def test_residual_map_bins_account_for_every_sample(ripple_diag):
-    D = ripple_diag.data
-    m = residual_map(D, D.y - ripple_diag.baseline.predict(D), 1.0)
-    assert {f.name for f in m} == {"displacement", "speed", "direction", "time_since_reversal", "p2", "valve", "campaign_time"}
-    for feat in m:
-        assert sum(b.n for b in feat.bins) == D.n
 
 
 # -- small campaigns degrade gracefully ---------------------------------------------------------------------

@@ -6,12 +6,21 @@ from __future__ import annotations
 
 import pytest
 
+import numpy as np
+
+from vvea_benches.testbench import BenchmarkCase, case_spec, run_case, simulate, summarise_benchmark
 from vvea_design.identification.effects import EFFECT_IDS
-from vvea_design.identification.testbench import BenchmarkCase, run_case, summarise_benchmark
 
 SMALL_CASES = [BenchmarkCase("single", (eid,), (5.0,), 1000 + k, "small") for k, eid in enumerate(EFFECT_IDS)]
 SMALL_CASES[EFFECT_IDS.index("relief_valve")] = BenchmarkCase("single", ("relief_valve",), (4.0,), 123, "small")
 NULL_CASES = [BenchmarkCase("null", (), (), 2000 + k, "small") for k in range(3)]
+
+
+def test_case_spec_is_deterministic():
+    c = BenchmarkCase("single", ("stiction",), (3.0,), 77, "small")
+    a, b = case_spec(c), case_spec(c)
+    assert a == b
+    np.testing.assert_array_equal(simulate(a).frame["force_N"], simulate(b).frame["force_N"])
 
 
 @pytest.fixture(scope="module")

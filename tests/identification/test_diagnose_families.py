@@ -1,25 +1,21 @@
 """Catalogue families and selection rules of ``diagnose`` against the independent bench, at small size.
 
-Each test simulates one campaign with :mod:`vvea_design.identification.physbench`
+Each test simulates one campaign with :mod:`vvea_benches.physbench`
 (written from the physics, sharing no formula with the candidates) on a
 reduced grid and checks that the family follows the bench's form of the
 effect (held-out error near the noise, no second name beside it) or that a
 selection rule does what it says.
 """
 
-import numpy as np
-
-from vvea_design.identification import physbench as pb
-from vvea_design.identification.diagnose import (
-    DiagnoseSettings,
-    _backward_step,
-    diagnose,
-    noise_floor_N,
-    plan_split,
-)
-from vvea_design.identification.effects import REGISTRY, FitData
-from vvea_design.identification.identify import fit_model
+from vvea_benches import physbench as pb
+from vvea_design.identification.diagnose import diagnose
+from vvea_design.identification.effects import REGISTRY
+from vvea_design.identification.fit_data import FitData
+from vvea_design.identification.fitting import fit_model
+from vvea_design.identification.noise import noise_floor_N
 from vvea_design.identification.recordings import read_recordings
+from vvea_design.identification.selection import _backward_step, plan_split
+from vvea_design.identification.settings import DiagnoseSettings
 
 GRID = pb.CampaignGrid(pressures_MPa=(1.0, 4.0), valves_deg=(50.0, 104.0, 110.0, 120.0), speeds_mm_s=(0.1, 4.0, 12.0), samples=151)
 
@@ -37,23 +33,6 @@ def _campaign(tmp_path, effect, seed, grid=GRID, **overrides):
 
 def _diagnose(rec):
     return diagnose(rec, DiagnoseSettings(learner=False)).report
-
-
-def test_force_filter_runs_over_the_samples_left_out_at_rest():
-    # one experiment sampled at dt = 0.1 s, its force a ramp in time; the samples at rest (t = 0, and one
-    # in the middle) are left out. The lag must keep the time base across the gap: the first-order
-    # response of a ramp from rest is t - tau (1 - exp(-t/tau)).
-    dt, n, tau = 0.1, 41, 0.25
-    t = np.arange(n) * dt
-    keep = np.ones(n, bool)
-    keep[[0, 20]] = False
-    x = np.minimum(t, 4.0 - t) * 10.0
-    D = FitData(x=x[keep], v=np.gradient(x, t)[keep], p2=np.ones(keep.sum()), valve=np.zeros(keep.sum()),
-                valve_idx=np.zeros(keep.sum(), int), valves=(0.0,), t=t[keep], tsr=t[keep], ctime=t[keep],
-                exp=np.zeros(keep.sum(), int), y=np.zeros(keep.sum()), bounds=np.array([0, keep.sum()]))
-    got = REGISTRY["force_lag"].transform(D, t[keep][:, None], tau, {})[:, 0]
-    want = t[keep] - tau * (1 - np.exp(-t[keep] / tau))
-    assert np.max(np.abs(got - want)) < 0.15 * dt  # the discretisation's half step (dt/8), not a sample's shift (dt)
 
 
 def test_leakage_family_follows_a_straight_spring_losing_charge(tmp_path):
@@ -134,53 +113,11 @@ def test_backward_step_judges_a_term_against_the_noise_of_the_model_as_it_stands
     assert r.heldout.final_N <= 2.0 * truth.noise_N
 
 
-def _ramp_experiment(dt, speed, accel, travel=4.0, t_end=None):
-    """One out-and-back experiment of the machine's motion profile, sampled every ``dt``; samples at rest dropped."""
-    from vvea_design.identification.recordings import trapezoid_profile
-
-    t_rev = travel / speed + speed / accel
-    t = np.arange(0.0, 2 * t_rev + 1e-9, dt)
-    x, v = trapezoid_profile(t, speed, accel, t_rev)
-    keep = np.abs(v) > 0
-    n = int(keep.sum())
-    D = FitData(x=x[keep], v=v[keep], p2=np.ones(n), valve=np.zeros(n), valve_idx=np.zeros(n, int), valves=(0.0,),
-                t=t[keep], tsr=t[keep], ctime=t[keep], exp=np.zeros(n, int), y=np.zeros(n), bounds=np.array([0, n]))
-    return D, t_rev
-
-
-def test_sensor_filter_runs_the_damping_columns_with_the_velocity_between_samples():
-    # a stiff valve's damping force follows the velocity, whose ramps end between samples when the
-    # sampling is as coarse as the ramp: filtered as the straight line between samples, the reading
-    # at the next sample is wrong by a share of the force; with the motion profile's velocity it is
-    # the filter of the true velocity
-    from scipy.signal import lfilter
-
-    from vvea_design.identification.recordings import trapezoid_profile
-
-    dt, speed, accel, lag = 0.067, 4.0, 40.0, 0.026
-    D, t_rev = _ramp_experiment(dt, speed, accel)
-    eff = REGISTRY["force_critical_lag"]
-    X = np.column_stack([D.p2 * D.x, D.s, D.v])  # eq. 14's columns (one valve)
-    got = eff.transform(D, X.copy(), lag, {}, eq14_first=True)[:, 2]
-    lin = eff.transform(D, X.copy(), lag, {})[:, 2]
-    # reference: the velocity on a grid 400 x finer than the sampling, through the same filter
-    m = 400
-    tf = np.arange(0, D.t[-1] * m / dt + 0.5) * dt / m
-    vf = trapezoid_profile(tf, speed, accel, t_rev)[1]
-    wn = 2 * eff.zeta / lag
-    from vvea_design.identification.effects import _bilinear_2nd_order
-
-    ref_f = lfilter(*_bilinear_2nd_order(wn, eff.zeta, m / dt), vf)
-    ref = np.interp(D.t, tf, ref_f)
-    err, err_lin = np.max(np.abs(got - ref)), np.max(np.abs(lin - ref))
-    assert err < 0.01 * speed  # 1 % of the cruise speed (the fine grid's own discretisation)
-    assert err_lin > 5 * err  # the straight line between samples is off by several times that
-
-
 def test_sensor_filter_damping_ratio_is_fitted(tmp_path):
     # an amplifier between the standard filter types (zeta = 0.74): the selection accepts one of the
     # standard types and fits its damping ratio; the model names the fitted ratio in its id
-    from vvea_design.identification.effects import filter_id, is_effect_id
+    from vvea_design.identification.effects import is_effect_id
+    from vvea_design.identification.effects.force_lag import filter_id
 
     grid = pb.CampaignGrid(pressures_MPa=(1.0, 4.0), valves_deg=(50.0, 104.0, 110.0, 120.0), speeds_mm_s=(0.1, 4.0, 12.0), samples=301)
     rec, truth = _campaign(tmp_path, "force_lag", 9, grid=grid, sensor_lag_s=0.08, sensor_damping=0.74)
@@ -194,26 +131,10 @@ def test_sensor_filter_damping_ratio_is_fitted(tmp_path):
     assert "fitted" in acc[0].explanation
     assert r.heldout.final_N <= 2.0 * truth.noise_N
     # the final model names the fitted filter and reads back
-    from vvea_design.identification.diagnose import FinalModel
+    from vvea_design.identification.report import FinalModel
 
     fm = FinalModel.from_dict(r.final_model.to_dict())
     assert fm.effects == r.final_model.effects
-
-
-def test_fitted_filter_ids_are_made_on_lookup_and_checked():
-    import pytest
-
-    from vvea_design.identification.effects import filter_id, is_effect_id
-
-    assert filter_id(0.7334) == "force_filter_lag_z0733"
-    e = REGISTRY["force_filter_lag_z0733"]
-    assert e.zeta == 0.733 and not e.catalogue
-    assert "force_filter_lag_z0733" not in REGISTRY  # made, not listed among the candidates
-    assert is_effect_id("force_filter_lag_z0733") and not is_effect_id("force_filter_lag_zz")
-    with pytest.raises(KeyError):
-        REGISTRY["no_such_effect"]
-    with pytest.raises(ValueError, match="zeta"):
-        filter_id(3.0)
 
 
 def test_slow_time_ripple_period_is_resolved_by_the_long_experiments(tmp_path):

@@ -13,8 +13,9 @@ import pandas as pd
 import pytest
 from tests.helpers import SHARED_RECORDINGS
 
-from vvea_design.identification.diagnose import DiagnoseSettings, diagnose
+from vvea_design.identification.diagnose import diagnose
 from vvea_design.identification.recordings import read_recordings, recordings_from_frame
+from vvea_design.identification.settings import DiagnoseSettings
 
 
 def _subset(name: str):

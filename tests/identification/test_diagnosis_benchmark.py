@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import pytest  # noqa: E402
 
-from vvea_design.identification import physbench as pb  # noqa: E402
+from vvea_benches import physbench as pb  # noqa: E402
 from tests.helpers import REPO
 
 _spec = importlib.util.spec_from_file_location(

@@ -9,19 +9,19 @@ import pytest
 from tests.helpers import SHARED_RECORDINGS, make_app
 from typer.testing import CliRunner
 
+from vvea_benches.testbench import simulate, small_spec
 from vvea_design.cli.identify import register
-from vvea_design.identification.effects import FitData
+from vvea_design.identification.fit_data import FitData
 from vvea_design.identification.identify import (
     PAPER_ERROR_BAND_PCT,
     PAPER_TABLE3,
+    Identification,
     error_band_pct,
     fit_eq14,
-    solve_bounded,
     table3,
     write_identification,
 )
 from vvea_design.identification.recordings import read_recordings, recordings_from_frame
-from vvea_design.identification.testbench import simulate, small_spec
 
 SHARED = SHARED_RECORDINGS
 
@@ -59,18 +59,6 @@ def test_cluster_errors_exceed_iid_errors_for_correlated_noise(sim):
     assert fit.se[1] > 1.3 * iid[1]  # Coulomb friction: sign(ẋ) is constant over half runs
 
 
-def test_solve_bounded_respects_physical_signs():
-    rng = np.random.default_rng(0)
-    X = rng.normal(size=(200, 4))
-    y = X @ np.array([1.0, -2.0, 0.5, 3.0]) + rng.normal(size=200) * 0.1
-    lo = np.array([0.0, 0.0, -np.inf, 0.0])
-    hi = np.full(4, np.inf)
-    th = solve_bounded(X.T @ X, X.T @ y, lo, hi)
-    assert np.all(th >= lo - 1e-12)
-    assert th[1] == pytest.approx(0.0, abs=1e-9)  # the negative one is clamped
-    assert th[3] == pytest.approx(3.0, abs=0.3)
-
-
 def test_table3_layout(sim):
     _, rec = sim
     tab = table3(fit_eq14(rec))
@@ -96,11 +84,20 @@ def test_shared_campaign_a_table3_and_error_band():
 def test_write_identification(tmp_path, sim):
     _, rec = sim
     s = write_identification(rec, tmp_path, figures=False)
-    for f in s["files"]:
+    assert isinstance(s, Identification)
+    for f in s.files:
         assert (tmp_path / f).stat().st_size > 0
     j = json.loads((tmp_path / "identification.json").read_text())
     assert j["rows_left_out"] == 3 * rec.n_experiments
     assert set(j["parameters"]) >= {"g", "B (=C)"}
+    # the typed result is the file: same keys in the same order, same numbers
+    assert json.dumps(s.to_dict(), indent=2) == (tmp_path / "identification.json").read_text()
+    assert list(j) == ["source", "model", "rows_read", "rows_left_out", "rows_left_out_reason", "n_experiments",
+                       "velocity_fallback_experiments", "parameters", "rmse_N", "error_band_pct", "identifiability", "notes",
+                       "residual_sign", "fig11", "files"]
+    assert s.rows_left_out == j["rows_left_out"] and s.parameters["g"].value == j["parameters"]["g"]["value"]
+    with pytest.raises(AttributeError):
+        s.rmse_N = 0.0  # frozen
 
 
 def _app():
@@ -144,8 +141,9 @@ def test_repeated_test_conditions_with_figures(tmp_path, sim):
     assert not (tmp_path / "fig10_model_vs_measurement.png").exists()
     figs = sorted(p.name for p in tmp_path.glob("fig10_*.png"))
     assert figs == ["fig10_model_vs_measurement_p2_1MPa.png", "fig10_model_vs_measurement_p2_4MPa.png"]
-    assert s["fig11"]["experiment"].endswith("_r0")
-    assert s["identifiability"]["inseparable"] == [] and s["notes"] == []
+    assert s.fig11.experiment.endswith("_r0")
+    assert s.identifiability.inseparable == [] and s.notes == ()
+    assert json.loads((tmp_path / "identification.json").read_text())["fig11"] == s.fig11.to_dict()
     from PIL import Image
 
     w, h = Image.open(tmp_path / figs[0]).size
@@ -158,17 +156,17 @@ def test_one_experiment_says_what_cannot_be_separated(tmp_path, sim):
     one = ex[(ex["speed_mm_s"] == 4.0) & (ex["valve_deg"] == 100.0) & (ex["p2_MPa"] == 4.0)]["experiment"]
     sub = rec.subset(one)
     s = write_identification(sub, tmp_path, figures=False)
-    groups = s["identifiability"]["inseparable"]
+    groups = s.identifiability.inseparable
     assert any({"C", "L(100)"} <= set(g) for g in groups)
-    assert not s["identifiability"]["errors_reliable"]
-    assert all(p["std_error"] is None for p in s["parameters"].values())
-    assert any("cannot separate C and L(100)" in n for n in s["notes"])
-    assert any("only 1 experiment" in n for n in s["notes"])
+    assert not s.identifiability.errors_reliable
+    assert all(p.std_error is None for p in s.parameters.values())
+    assert any("cannot separate C and L(100)" in n for n in s.notes)
+    assert any("only 1 experiment" in n for n in s.notes)
     # two experiments, one valve, one pressure, two speeds: C and L separable, but too few experiments for errors
     two = ex[(ex["valve_deg"] == 100.0) & (ex["p2_MPa"] == 4.0)]["experiment"].iloc[:2]
     s2 = write_identification(rec.subset(two), tmp_path / "two", figures=False)
-    assert s2["identifiability"]["inseparable"] == []
-    assert s2["parameters"]["g"]["std_error"] is None
+    assert s2.identifiability.inseparable == []
+    assert s2.parameters["g"].std_error is None
 
 
 def test_cli_identify_prints_notes(tmp_path, sim):

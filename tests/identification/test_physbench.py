@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vvea_design.identification import physbench as pb
+from vvea_benches import physbench as pb
+from vvea_benches import physics
 from vvea_design.identification.recordings import read_recordings
 from vvea_design.spring.gas_spring import force_N as eq5_force_N
 from vvea_design.spring.paper import PAPER_FIG5
@@ -27,9 +28,8 @@ def _quiet(effects, **kw):
 
 
 def test_does_not_import_the_catalogue():
-    src = Path(pb.__file__).read_text()
     imported = set()
-    for node in ast.walk(ast.parse(src)):
+    for node in (n for f in (pb.__file__, physics.__file__) for n in ast.walk(ast.parse(Path(f).read_text()))):
         if isinstance(node, ast.ImportFrom):
             imported.add(node.module or "")
             imported.update(a.name for a in node.names)
@@ -37,10 +37,12 @@ def test_does_not_import_the_catalogue():
             imported.update(a.name for a in node.names)
     for bad in ("effects", "identify", "diagnose", "testbench"):
         assert not any(m == bad or m.endswith("." + bad) for m in imported), bad
+    assert not any(m.startswith("vvea_design.identification") or m in ("identification", "testbench") for m in imported)
     code = (
-        "import sys; import vvea_design.identification.physbench as m; m.simulate_campaign(m.random_parameters(('thermal',),"
+        "import sys; import vvea_benches.physbench as m; m.simulate_campaign(m.random_parameters(('thermal',),"
         " seed=1, grid=m.CampaignGrid(pressures_MPa=(1.0,), valves_deg=(50.0,), speeds_mm_s=(4.0,), samples=21)));"
-        "bad=[k for k in sys.modules if k.split('.')[-1] in ('effects','identify','diagnose','testbench') and 'vvea' in k];"
+        "bad=[k for k in sys.modules if (k.split('.')[-1] in ('effects','identify','diagnose','testbench') and 'vvea' in k)"
+        " or k.startswith('vvea_design.identification')];"
         "print(bad); sys.exit(1 if bad else 0)"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
@@ -160,7 +162,7 @@ def test_lugre_breakaway_presliding_and_coulomb():
 
 def test_relief_valve_caps_the_pressure_drop():
     A2 = PAPER_FIG5.A2_mm2
-    b, a = pb._throttle_coefficients(np.array([1024.7]), np.array([8.0]), A2)
+    b, a = pb.throttle_coefficients(np.array([1024.7]), np.array([8.0]), A2)
     v = np.linspace(0, 12, 61)
     relief = dict(cracking_MPa=2500.0 / A2, spring_N_per_mm=8.0)
     dp0 = pb.damping_dp_MPa(A2 * v, b, a, None)

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from vvea_benches.testbench import simulate, small_spec
 from vvea_design.identification.recordings import (
     MIN_SAMPLES_PER_EXPERIMENT,
     RecordingsError,
@@ -15,7 +16,6 @@ from vvea_design.identification.recordings import (
     recordings_from_frame,
     trapezoid_profile,
 )
-from vvea_design.identification.testbench import simulate, small_spec
 
 from tests.helpers import SHARED_RECORDINGS  # noqa: E402
 
@@ -236,7 +236,7 @@ def test_missing_file(tmp_path):
 
 # ---------------------------------------------------------------- issue 11: reader robustness
 def _tiny_frame(n_exp: int = 3, samples: int = 41) -> pd.DataFrame:
-    from vvea_design.identification import physbench as pb
+    from vvea_benches import physbench as pb
 
     grid = pb.CampaignGrid(pressures_MPa=(2.0,), valves_deg=(100.0,), speeds_mm_s=(1.0, 4.0, 12.0)[:n_exp], samples=samples)
     return pb.simulate_campaign(pb.random_parameters((), seed=5, grid=grid)).frame

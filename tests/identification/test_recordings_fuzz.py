@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from vvea_design.identification import physbench as pb
+from vvea_benches import physbench as pb
 from vvea_design.identification.recordings import Recordings, RecordingsError, read_recordings
 
 _GRID = pb.CampaignGrid(pressures_MPa=(2.0,), valves_deg=(100.0, 110.0), speeds_mm_s=(4.0,), samples=25)

@@ -30,7 +30,7 @@ def _read(file: Path):
 
 def _reference(design: Path | None):
     """The unit's gas spring from ``--design``, or the paper's Fig. 5 unit (said on stdout)."""
-    from ..identification.effects import REFERENCE_NOTE
+    from ..identification.fit_data import REFERENCE_NOTE
     from ..spring.design_file import DesignFileError, spring_from_json
     from ..spring.paper import PAPER_FIG5
 
@@ -64,7 +64,7 @@ def identify_cmd(
     _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
     rec = _read(file)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
-        summary = write_identification(rec, tmp)
+        summary = write_identification(rec, tmp).to_dict()
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
     for c in ("Parameter", "Unit", "Value", "± s.e.", "Paper"):
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")

@@ -28,10 +28,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
-from ..spring.gas_spring import GasSpring
-from ..spring.paper import PAPER_FIG5
-from .effects import REGISTRY
-from .recordings import trapezoid_profile
+from vvea_design.identification.effects import REGISTRY
+from vvea_design.identification.recordings import trapezoid_profile
+from vvea_design.spring.gas_spring import GasSpring
+from vvea_design.spring.paper import PAPER_FIG5
 
 __all__ = [
     "TABLE3_L",
@@ -381,7 +381,7 @@ def make_cases(
     list of BenchmarkCase
         Single-effect cases first, then the null and the combined ones.
     """
-    from .effects import EFFECT_IDS
+    from vvea_design.identification.effects import EFFECT_IDS
 
     effects = tuple(effects or EFFECT_IDS)
     rng = np.random.default_rng(seed)
@@ -463,8 +463,9 @@ def run_case(case: BenchmarkCase) -> dict:
     """
     import time
 
-    from .diagnose import DiagnoseSettings, diagnose
-    from .recordings import recordings_from_frame
+    from vvea_design.identification.diagnose import diagnose
+    from vvea_design.identification.recordings import recordings_from_frame
+    from vvea_design.identification.settings import DiagnoseSettings
 
     t0 = time.perf_counter()
     spec = case_spec(case)
@@ -522,7 +523,7 @@ def summarise_benchmark(results: list[dict], snr_bins=(0.0, 0.1, 0.25, 0.5, 1.0,
         model closes, fraction; mean held-out RMS errors in N), ``diagnose_s``
         (median and max time per diagnosis, s) and ``n_campaigns``.
     """
-    from .effects import EFFECT_IDS
+    from vvea_design.identification.effects import EFFECT_IDS
 
     out: dict = {"per_effect": {}, "n_campaigns": len(results)}
     for eid in EFFECT_IDS:

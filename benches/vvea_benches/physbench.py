@@ -2,8 +2,9 @@
 
 This module exists to *prove* the diagnosis (``shared/specs/diagnosis-report.md``,
 section "Proof"): it must never share a formula with the candidates of the
-effect catalogue, so it imports nothing from ``effects``, ``identify``,
-``diagnose`` or ``testbench`` (a test checks that). It simulates the paper's
+effect catalogue, so it imports nothing of ``vvea_design.identification``
+(the effects, the fit, the diagnosis) nor ``vvea_benches.testbench`` (a test
+checks that). It simulates the paper's
 tension-test campaign (section 4: p2 x nine valve positions x five speeds,
 0 -> travel -> 0 at constant speed, shuffled run order) on a unit given as a
 :class:`~vvea_design.spring.design.Design` or a
@@ -80,7 +81,7 @@ their parameters, the noise and the noise-free force.
 
 Example
 -------
->>> from vvea_design.identification.physbench import random_parameters, simulate_campaign
+>>> from vvea_benches.physbench import random_parameters, simulate_campaign
 >>> camp = simulate_campaign(random_parameters(("thermal",), seed=3))   # doctest: +SKIP
 >>> camp.frame.head()                                                     # doctest: +SKIP
 """
@@ -94,8 +95,22 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..spring.gas_spring import GasSpring
-from ..spring.paper import PAPER_FIG5
+from vvea_design.spring.gas_spring import GasSpring
+from vvea_design.spring.paper import PAPER_FIG5
+
+from .physics import (
+    KAPPA,
+    chamber_states,
+    damping_dp_MPa,
+    discharge_coefficient,
+    lugre_friction,
+    orifice,
+    relief_flow_mm3_s,
+    second_order_filter,
+    throttle_coefficients,
+    throttle_dp_MPa,
+    throttle_flow_mm3_s,
+)
 
 __all__ = [
     "CATALOGUE_EFFECTS",
@@ -171,11 +186,6 @@ PARAMETER_RANGES: dict[str, tuple] = {
     "noise_rho": (0.3, 0.9, "AR(1) correlation of the force noise between samples"),
 }
 
-_KAPPA = 1.4  #: cp/cv of nitrogen/air
-_RHO_OIL = 870.0  #: kg/m³
-_NU_OIL = 3.0e-5  #: m²/s (30 cSt)
-_CD_INF = 0.7  #: turbulent discharge coefficient of the throttle
-_PISTON_MASS_KG = 0.2  #: piston + rod (sets the LuGre micro-damping σ1)
 _COULOMB_SIGMA0 = 1.0e5  #: N/mm: bristles so stiff that LuGre is Coulomb friction
 
 
@@ -378,7 +388,7 @@ class BenchParameters:
             if e == "gas_nonlinearity":
                 out[e] = dict(V1_mm3=g.V1_mm3, V2_mm3=g.V2_mm3 * self.V2_fill_factor, A1_mm2=g.A1_mm2, A2_mm2=g.A2_mm2)
             elif e == "thermal":
-                out[e] = dict(tau2_s=self.thermal_tau_s, tau1_s=self.thermal_tau1_s, kappa=_KAPPA)
+                out[e] = dict(tau2_s=self.thermal_tau_s, tau1_s=self.thermal_tau1_s, kappa=KAPPA)
             elif e == "quadratic_damping":
                 out[e] = dict(transition_speed_mm_s={str(k): v for k, v in self.turbulent_transition_mm_s.items()},
                               orifice=_orifice_table(self))
@@ -502,349 +512,12 @@ def random_parameters(effects=(), seed: int = 0, unit=None, grid: CampaignGrid |
     )
 
 
-# ---------------------------------------------------------------- throttle and relief valve
-def discharge_coefficient(Re, Re_c: float, cd_inf: float = _CD_INF):
-    """Cd(Re) = Cd∞ sqrt(Re/(Re+Re_c)): ∝ sqrt(Re) (laminar) below Re_c, -> Cd∞ (turbulent) above.
-
-    Parameters
-    ----------
-    Re : float or array
-        Reynolds number of the jet, u D / ν (dimensionless).
-    Re_c : float
-        Transition Reynolds number (dimensionless).
-    cd_inf : float
-        Turbulent discharge coefficient (dimensionless).
-
-    Returns
-    -------
-    array
-        Discharge coefficient (dimensionless).
-    """
-    Re = np.abs(np.asarray(Re, float))
-    return cd_inf * np.sqrt(Re / (Re + Re_c))
-
-
-def _orifice(L_N_s_per_mm: float, vt_mm_s: float, A2_mm2: float):
-    """Orifice area A (m²), hydraulic diameter D (m) and Re_c of a valve position.
-
-    Chosen so that the laminar damping is L and the turbulent Δp equals the
-    laminar one at piston speed v_t (v_t = inf: a purely laminar channel).
-    """
-    A2 = A2_mm2 * 1e-6
-    L = L_N_s_per_mm * 1e3  # N s/m
-    if not np.isfinite(vt_mm_s):
-        return math.inf, math.nan, math.inf
-    K = L / (vt_mm_s * 1e-3)  # N s²/m²: K v_t = L
-    A = A2**1.5 * math.sqrt(_RHO_OIL / (2 * _CD_INF**2 * K))
-    D = math.sqrt(4 * A / math.pi)
-    Re_c = L * 2 * _CD_INF**2 * A * D / (A2**2 * _RHO_OIL * _NU_OIL)
-    return A, D, Re_c
-
-
 def _orifice_table(p: BenchParameters) -> dict:
     out = {}
     for g, L in p.L_N_s_per_mm.items():
-        A, D, Re_c = _orifice(L, p.turbulent_transition_mm_s.get(g, math.inf), p.geometry.A2_mm2)
+        A, D, Re_c = orifice(L, p.turbulent_transition_mm_s.get(g, math.inf), p.geometry.A2_mm2)
         out[str(g)] = dict(area_mm2=A * 1e6, hydraulic_diameter_mm=D * 1e3, Re_c=Re_c)
     return out
-
-
-def _throttle_coefficients(L_N_s_per_mm, vt_mm_s, A2_mm2):
-    """Δp = b Q + a Q|Q| (MPa, Q in mm³/s): b, a from the orifice law with Cd(Re)."""
-    L = np.asarray(L_N_s_per_mm, float)
-    b = L / A2_mm2**2  # laminar limit: A2 Δp = L ẋ
-    K = np.where(np.isfinite(vt_mm_s), L / np.asarray(vt_mm_s, float), 0.0)  # N s²/mm²
-    a = K / A2_mm2**3
-    return b, a
-
-
-def throttle_dp_MPa(Q_mm3_s, A_m2: float, D_m: float, Re_c: float, rho: float = _RHO_OIL, nu: float = _NU_OIL):
-    """Pressure drop (MPa) over an orifice of area ``A`` carrying ``Q`` with Cd(Re).
-
-    From Q = Cd(Re) A sqrt(2Δp/ρ), Re = (Q/A) D/ν:
-    Δp = ρ/(2 Cd∞²) (Q|Q|/A² + Re_c ν Q/(A D)).
-
-    Parameters
-    ----------
-    Q_mm3_s : float or array
-        Flow (mm³/s), signed.
-    A_m2 : float
-        Orifice area (m²).
-    D_m : float
-        Hydraulic diameter (m).
-    Re_c : float
-        Transition Reynolds number (dimensionless).
-    rho : float
-        Oil density (kg/m³).
-    nu : float
-        Kinematic viscosity (m²/s).
-
-    Returns
-    -------
-    array
-        Pressure drop (MPa), sign of ``Q``.
-    """
-    Q = np.asarray(Q_mm3_s, float) * 1e-9
-    dp = rho / (2 * _CD_INF**2) * (Q * np.abs(Q) / A_m2**2 + Re_c * nu * Q / (A_m2 * D_m))
-    return dp * 1e-6
-
-
-def throttle_flow_mm3_s(dp_MPa, A_m2: float, D_m: float, Re_c: float, rho: float = _RHO_OIL, nu: float = _NU_OIL):
-    """Flow (mm³/s) through the orifice at pressure drop ``dp`` (inverse of :func:`throttle_dp_MPa`).
-
-    Parameters
-    ----------
-    dp_MPa : float or array
-        Pressure drop (MPa), signed.
-    A_m2 : float
-        Orifice area (m²).
-    D_m : float
-        Hydraulic diameter (m).
-    Re_c : float
-        Transition Reynolds number (dimensionless).
-    rho : float
-        Oil density (kg/m³).
-    nu : float
-        Kinematic viscosity (m²/s).
-
-    Returns
-    -------
-    array
-        Flow (mm³/s), sign of ``dp``.
-    """
-    dp = np.asarray(dp_MPa, float) * 1e6
-    c = rho / (2 * _CD_INF**2)
-    a, b = c / A_m2**2, c * Re_c * nu / (A_m2 * D_m)
-    q = (-b + np.sqrt(b * b + 4 * a * np.abs(dp))) / (2 * a)
-    return np.sign(dp) * q * 1e9
-
-
-def relief_flow_mm3_s(dp_MPa, cracking_MPa: float, spring_N_per_mm: float, seat_mm: float = 2.5,
-                      max_lift_mm: float = 0.5, cd: float = 0.6, rho: float = _RHO_OIL):
-    """Flow (mm³/s, sign of Δp) through the spring-loaded ball relief valve (one per direction).
-
-    Parameters
-    ----------
-    dp_MPa : float or array
-        Pressure drop over the valve (MPa), signed.
-    cracking_MPa : float
-        Opening pressure (MPa).
-    spring_N_per_mm : float
-        Ball spring rate (N/mm).
-    seat_mm : float
-        Seat diameter (mm).
-    max_lift_mm : float
-        Lift stop (mm).
-    cd : float
-        Discharge coefficient of the curtain area (dimensionless).
-    rho : float
-        Oil density (kg/m³).
-
-    Returns
-    -------
-    array
-        Flow (mm³/s).
-    """
-    dp = np.asarray(dp_MPa, float)
-    a_seat = math.pi / 4 * seat_mm**2
-    lift = np.clip((np.abs(dp) - cracking_MPa) * a_seat / spring_N_per_mm, 0.0, max_lift_mm)  # mm
-    area_m2 = math.pi * seat_mm * lift * 1e-6
-    u = np.sqrt(2 * np.abs(dp) * 1e6 / rho)  # m/s
-    return np.sign(dp) * cd * area_m2 * u * 1e9
-
-
-def damping_dp_MPa(Q_mm3_s, b, a, relief: dict | None = None, iters: int = 60):
-    """Δp (MPa) over the throttle with the relief valve in parallel: Q_t(Δp) + Q_r(Δp) = Q.
-
-    Parameters
-    ----------
-    Q_mm3_s : float or array
-        Flow the piston pushes, A2 ẋ (mm³/s).
-    b : float or array
-        Laminar throttle coefficient (MPa s/mm³), broadcast with ``Q``.
-    a : float or array
-        Turbulent throttle coefficient (MPa s²/mm⁶): Δp = b Q_t + a Q_t|Q_t|.
-    relief : dict or None
-        Keyword arguments of :func:`relief_flow_mm3_s` (``None``: no relief valve).
-    iters : int
-        Bisection steps (dimensionless).
-
-    Returns
-    -------
-    array
-        Pressure drop (MPa), sign of ``Q``.
-    """
-    Q = np.asarray(Q_mm3_s, float)
-    b = np.broadcast_to(b, Q.shape)
-    a = np.broadcast_to(a, Q.shape)
-    dp_t = b * Q + a * Q * np.abs(Q)
-    if relief is None:
-        return dp_t
-    dp = dp_t.copy()
-    m = np.abs(dp_t) > relief["cracking_MPa"]
-    if not m.any():
-        return dp
-    q, bb, aa = np.abs(Q[m]), b[m], a[m]
-    lo = np.full(q.shape, relief["cracking_MPa"])
-    hi = np.abs(dp_t[m])
-
-    def qt(d):
-        lin = aa <= 0
-        safe_a = np.where(lin, 1.0, aa)
-        quad = (-bb + np.sqrt(bb * bb + 4 * safe_a * d)) / (2 * safe_a)
-        return np.where(lin, d / np.where(bb > 0, bb, np.inf), quad)
-
-    for _ in range(iters):  # Q_t + Q_r is increasing in Δp
-        mid = 0.5 * (lo + hi)
-        f = qt(mid) + relief_flow_mm3_s(mid, **relief) - q
-        lo = np.where(f < 0, mid, lo)
-        hi = np.where(f < 0, hi, mid)
-    dp[m] = np.sign(Q[m]) * 0.5 * (lo + hi)
-    return dp
-
-
-# ---------------------------------------------------------------- time integration
-def _expstep(y, a, b, h):
-    """Exact step of ẏ = a - b y over h with a, b frozen (b may be 0 or negative)."""
-    bh = b * h
-    small = np.abs(bh) < 1e-8
-    e = np.exp(-np.where(small, 0.0, bh))
-    phi = np.where(small, h * (1 - 0.5 * bh), (1 - e) / np.where(small, 1.0, b))  # (1 - e^{-bh})/b
-    return y * np.where(small, 1 - bh, e) + a * phi
-
-
-def chamber_states(t, V, dV, tau_s, leak_per_s=None):
-    """Temperature ratio θ = T/T_w and mass ratio μ = m/m₀ of a gas chamber over time.
-
-    Parameters
-    ----------
-    t : array (..., n)
-        Times (s).
-    V : array (..., n)
-        Gas volume (mm³, or any consistent unit).
-    dV : array (..., n)
-        Its rate (mm³/s, same unit per second).
-    tau_s : float or array
-        Thermal time constant m cv/(hA) (s), broadcast over the leading
-        axes; ``inf`` adiabatic, ``0`` isothermal.
-    leak_per_s : float, array or None
-        Relative leak rate at the initial pressure (1/s; mass flow ∝ P).
-
-    Returns
-    -------
-    theta, mu : arrays (..., n)
-        T/T_w and m/m₀ (dimensionless); the pressure is ``P₀ μ θ V₀/V``.
-    """
-    t = np.asarray(t, float)
-    n = t.shape[-1]
-    tau = np.broadcast_to(np.asarray(tau_s, float), t.shape[:-1])
-    theta = np.ones(t.shape)
-    mu = np.ones(t.shape)
-    if np.all(tau == 0) and leak_per_s is None:
-        return theta, mu
-    inv_tau = np.where(tau > 0, 1.0 / np.where(tau > 0, tau, 1.0), np.inf)
-    iso = np.isinf(inv_tau)  # τ = 0: isothermal
-    leak = 0.0 if leak_per_s is None else np.broadcast_to(np.asarray(leak_per_s, float), t.shape[:-1])
-    th = np.ones(t.shape[:-1])
-    m = np.ones(t.shape[:-1])
-    V0 = V[..., 0]
-    for k in range(n - 1):
-        h = t[..., k + 1] - t[..., k]
-        Vm = 0.5 * (V[..., k] + V[..., k + 1])
-        dVm = 0.5 * (dV[..., k] + dV[..., k + 1])
-        # leak: μ̇ = -leak μ θ V₀/V (mass flow ∝ P), frozen θ over the step
-        rate = leak * th * V0 / Vm
-        m_new = m * np.exp(-rate * h)
-        mdot_over_m = -rate
-        # θ̇ = 1/τ - θ (1/τ + (κ-1)(V̇/V - ṁ/m))
-        a = np.where(iso, 0.0, inv_tau)
-        b = a + (_KAPPA - 1) * (dVm / Vm - mdot_over_m)
-        th_new = np.where(iso, 1.0, _expstep(th, a, b, h))
-        th, m = th_new, m_new
-        theta[..., k + 1] = th
-        mu[..., k + 1] = m
-    return theta, mu
-
-
-def lugre_friction(t, v, Fc, Fs, vs, delta, sigma0, sigma2=0.0, sigma1=None):
-    """LuGre friction force along a prescribed velocity; bristles start relaxed (z = 0).
-
-    Parameters
-    ----------
-    t : array (..., n)
-        Times (s).
-    v : array (..., n)
-        Velocity (mm/s).
-    Fc : float or array
-        Coulomb force (N), broadcast over the leading axes.
-    Fs : float or array
-        Breakaway force (N).
-    vs : float or array
-        Stribeck velocity (mm/s).
-    delta : float or array
-        Stribeck exponent (dimensionless).
-    sigma0 : float or array
-        Bristle stiffness (N/mm).
-    sigma2 : float or array
-        Viscous friction (N s/mm).
-    sigma1 : float, array or None
-        Bristle damping (N s/mm); default the critical 2 sqrt(σ0 m) of a 0.2 kg piston.
-
-    Returns
-    -------
-    F, z : arrays (..., n)
-        Friction force (N, + opposes extension) and bristle deflection (mm).
-    """
-    t = np.asarray(t, float)
-    v = np.asarray(v, float)
-    shp = t.shape[:-1]
-    Fc, Fs, vs, delta, sigma0, sigma2 = (np.broadcast_to(np.asarray(q, float), shp) for q in (Fc, Fs, vs, delta, sigma0, sigma2))
-    if sigma1 is None:
-        sigma1 = 2 * np.sqrt(sigma0 * 1e3 * _PISTON_MASS_KG) * 1e-3  # N s/mm
-    sigma1 = np.broadcast_to(np.asarray(sigma1, float), shp)
-    z = np.zeros(t.shape)
-    zk = np.zeros(shp)
-    n = t.shape[-1]
-    for k in range(n - 1):
-        h = t[..., k + 1] - t[..., k]
-        vm = 0.5 * (v[..., k] + v[..., k + 1])
-        g = np.maximum(Fc + (Fs - Fc) * np.exp(-np.abs(vm / vs) ** delta), 1e-9)
-        c = sigma0 * np.abs(vm) / g
-        zk = _expstep(zk, vm, c, h)
-        z[..., k + 1] = zk
-    g = np.maximum(Fc[..., None] + (Fs - Fc)[..., None] * np.exp(-np.abs(v / vs[..., None]) ** delta[..., None]), 1e-9)
-    zdot = v - sigma0[..., None] * np.abs(v) * z / g
-    F = sigma0[..., None] * z + sigma1[..., None] * zdot + sigma2[..., None] * v
-    return F, z
-
-
-def _second_order_filter(t, u, lag_s, zeta):
-    """ÿ + 2ζω ẏ + ω² y = ω² u with ω = 2ζ/lag, exact for u held at the step midpoint; y(0) = u(0)."""
-    from scipy.linalg import expm
-
-    t = np.asarray(t, float)
-    ne, n = t.shape
-    w = 2 * zeta / lag_s
-    A = np.array([[0.0, 1.0], [-w * w, -2 * zeta * w]])
-    B = np.array([0.0, w * w])
-    # steps of one experiment are uniform: one discretisation per experiment
-    Ad = np.empty((ne, 2, 2))
-    Bd = np.empty((ne, 2))
-    for e in range(ne):
-        h = t[e, 1] - t[e, 0]
-        M = np.zeros((3, 3))
-        M[:2, :2] = A * h
-        M[:2, 2] = B * h
-        E = expm(M)
-        Ad[e], Bd[e] = E[:2, :2], E[:2, 2]
-    y = np.zeros((ne, n))
-    s = np.stack([u[:, 0], np.zeros(ne)], axis=1)
-    y[:, 0] = u[:, 0]
-    for k in range(n - 1):
-        um = 0.5 * (u[:, k] + u[:, k + 1])
-        s = np.einsum("eij,ej->ei", Ad, s) + Bd * um[:, None]
-        y[:, k + 1] = s[:, 0]
-    return y
 
 
 # ---------------------------------------------------------------- campaign
@@ -915,42 +588,30 @@ def _nonlinear_part(F: np.ndarray, x_ref: np.ndarray, F_ref: np.ndarray, x: np.n
     return Fx - s[..., None] * x
 
 
-def simulate_campaign(params: BenchParameters) -> BenchCampaign:
-    """Simulate the campaign of ``params`` (see the module doc).
-
-    Parameters
-    ----------
-    params : BenchParameters
-        The bench (effects, physical parameters, grid, seed).
-
-    Returns
-    -------
-    BenchCampaign
-        ``frame``: columns experiment, time_s, displacement_mm, force_N,
-        p2_MPa, valve_deg, speed_mm_s, experiments in run order; ``truth``.
-    """
-    p = params
-    g = p.geometry
-    G = p.grid
-    rng = np.random.default_rng(p.seed)
+def _schedule(p: BenchParameters, rng: np.random.Generator):
+    """Run order, fine time grid and the machine's motion: ``(P2, GAM, SPD, tf, x, v, start)`` (per experiment, run order)."""
+    g, G = p.geometry, p.grid
     combos = [(pr, float(v), s) for pr in G.pressures_MPa for v in G.valves_deg for s in G.speeds_mm_s]
     order = rng.permutation(len(combos)) if G.shuffle else np.arange(len(combos))
     runs = [combos[i] for i in order]
-    ne = len(runs)
     P2 = np.array([r[0] for r in runs], float)
     GAM = np.array([r[1] for r in runs], float)
     SPD = np.array([r[2] for r in runs], float)
     T_end = 2 * (g.travel_mm / SPD + SPD / G.accel_mm_s2)
-    ns, sub = G.samples, G.substeps
-    nf = (ns - 1) * sub + 1
+    nf = (G.samples - 1) * G.substeps + 1
     tf = np.linspace(0.0, 1.0, nf)[None, :] * T_end[:, None]
     x = np.empty_like(tf)
     v = np.empty_like(tf)
-    for e in range(ne):
+    for e in range(len(runs)):
         x[e], v[e], _ = motion_profile(tf[e], SPD[e], G.accel_mm_s2, g.travel_mm)
     start = np.concatenate([[0.0], np.cumsum(T_end + G.pause_s)[:-1]])
+    return P2, GAM, SPD, tf, x, v, start
 
-    # ---- gas chambers
+
+def _gas_force(p: BenchParameters, tf, x, v, P2):
+    """Force of the two gas chambers (N per sample of the fine grid) and the chamber-2 mass at each experiment's start
+    (fraction of the calibrated charge)."""
+    g, G = p.geometry, p.grid
     pa = p.ambient_MPa
     V1_0 = g.V1_mm3
     V2_0 = g.V2_mm3 * p.V2_fill_factor
@@ -974,7 +635,7 @@ def simulate_campaign(params: BenchParameters) -> BenchCampaign:
         r = mu2[:, -1]
         mu_start = np.cumprod(np.r_[1.0, r[:-1] * np.exp(-leak_per_s * G.pause_s)])
     else:
-        mu_start = np.ones(ne)
+        mu_start = np.ones(len(P2))
     mu2 = mu2 * mu_start[:, None]
     P1 = p1a[:, None] * th1 * V1_0 / V1
     P2c = p2a[:, None] * mu2 * th2 * V2_0 / V2
@@ -987,49 +648,55 @@ def simulate_campaign(params: BenchParameters) -> BenchCampaign:
         f2 = g.A2_mm2 * p2a[:, None] * mu_start[:, None] * V2_0 / V2
         f1 = g.A1_mm2 * p1a[:, None] * V1_0 / V1
         F_gas = F_gas - _nonlinear_part(f2, xr, f2r, x) + _nonlinear_part(f1, xr, f1r, x)
+    return F_gas, mu_start
 
-    # ---- throttle and relief valve (algebraic: incompressible fluid)
+
+def _damping_force(p: BenchParameters, v, GAM):
+    """Throttle and relief valve (algebraic: incompressible fluid): the damping force, N per sample of the fine grid."""
+    g = p.geometry
     L = np.array([p.L_N_s_per_mm[gm] for gm in GAM])
     if p.on("quadratic_damping"):
         vt = np.array([p.turbulent_transition_mm_s[gm] for gm in GAM])
     else:
-        vt = np.full(ne, np.inf)
-    b, a = _throttle_coefficients(L, vt, g.A2_mm2)
+        vt = np.full(len(GAM), np.inf)
+    b, a = throttle_coefficients(L, vt, g.A2_mm2)
     relief = None
     if p.on("relief_valve"):
         relief = dict(cracking_MPa=p.relief_force_N / g.A2_mm2, spring_N_per_mm=p.relief_spring_N_per_mm,
                       seat_mm=p.relief_seat_diameter_mm, max_lift_mm=p.relief_max_lift_mm, cd=p.relief_cd)
     dp = damping_dp_MPa(g.A2_mm2 * v, b[:, None], a[:, None], relief)
-    F_damp = g.A2_mm2 * dp
+    return g.A2_mm2 * dp
 
-    # ---- friction
+
+def _friction_force(p: BenchParameters, tf, v, P2, mu_start):
+    """LuGre seal friction (N per sample of the fine grid), its Coulomb level growing with the charge when that is on."""
+    G = p.grid
     if p.on("pressure_friction"):
         p_mean = float(np.mean(G.pressures_MPa))
         Fc0 = max(p.coulomb_N - p.pressure_friction_N_per_MPa * p_mean, 0.2 * p.coulomb_N)
         Fc = Fc0 + p.pressure_friction_N_per_MPa * P2 * mu_start
     else:
-        Fc = np.full(ne, p.coulomb_N)
+        Fc = np.full(len(P2), p.coulomb_N)
     Fs = Fc * (p.stiction_ratio if p.on("stiction") else 1.0)
     sigma0 = p.bristle_stiffness_N_per_mm if p.on("hysteresis") else _COULOMB_SIGMA0
     F_fric, _ = lugre_friction(tf, v, Fc, Fs, p.stribeck_speed_mm_s, p.stribeck_exponent, sigma0, p.viscous_N_s_per_mm)
+    return F_fric
 
-    # ---- load string
+
+def _load_string(p: BenchParameters, tf, x, v, start):
+    """Contact spring, position ripple and time ripple of the load string: ``(F_contact, F_pos, F_time)``, N."""
     zero = np.zeros_like(tf)
     F_contact = (p.contact_stiffness_N_per_mm * x * 0.5 * (1 + np.tanh(v / 0.02))) if p.on("direction_stiffness") else zero
     F_pos = (p.position_ripple_N * np.sin(2 * np.pi * x / p.position_ripple_pitch_mm + p.position_ripple_phase)
              if p.on("position_ripple") else zero)
     tc = start[:, None] + tf
     F_time = p.time_ripple_N * np.sin(2 * np.pi * p.time_ripple_Hz * tc + p.time_ripple_phase) if p.on("time_ripple") else zero
-    F_unit = F_gas + F_damp + F_fric + F_contact
-    F_meas = F_unit + F_pos + F_time
-    if p.on("force_lag"):
-        F_meas = _second_order_filter(tf, F_meas, p.sensor_lag_s, p.sensor_damping)
+    return F_contact, F_pos, F_time
 
-    # ---- sample, add noise
-    idx = np.arange(0, nf, sub)
-    ts = tf[:, idx]
-    xs = x[:, idx]
-    f_true = F_meas[:, idx]
+
+def _recorded(p: BenchParameters, rng: np.random.Generator, f_true, xs):
+    """The recorded force and displacement: AR(1) force noise (N) and white displacement noise (mm) on the samples."""
+    ne, ns = f_true.shape
     w = rng.standard_normal((ne, ns))
     noise = np.empty((ne, ns))
     noise[:, 0] = w[:, 0] * p.noise_N
@@ -1037,13 +704,49 @@ def simulate_campaign(params: BenchParameters) -> BenchCampaign:
     for k in range(1, ns):
         noise[:, k] = p.noise_rho * noise[:, k - 1] + c * w[:, k]
     xm = xs + rng.standard_normal((ne, ns)) * p.displacement_noise_mm
+    return f_true + noise, xm
+
+
+def simulate_campaign(params: BenchParameters) -> BenchCampaign:
+    """Simulate the campaign of ``params`` (see the module doc).
+
+    Parameters
+    ----------
+    params : BenchParameters
+        The bench (effects, physical parameters, grid, seed).
+
+    Returns
+    -------
+    BenchCampaign
+        ``frame``: columns experiment, time_s, displacement_mm, force_N,
+        p2_MPa, valve_deg, speed_mm_s, experiments in run order; ``truth``.
+    """
+    p = params
+    rng = np.random.default_rng(p.seed)
+    P2, GAM, SPD, tf, x, v, start = _schedule(p, rng)
+    F_gas, mu_start = _gas_force(p, tf, x, v, P2)
+    F_damp = _damping_force(p, v, GAM)
+    F_fric = _friction_force(p, tf, v, P2, mu_start)
+    F_contact, F_pos, F_time = _load_string(p, tf, x, v, start)
+    F_unit = F_gas + F_damp + F_fric + F_contact
+    F_meas = F_unit + F_pos + F_time
+    if p.on("force_lag"):
+        F_meas = second_order_filter(tf, F_meas, p.sensor_lag_s, p.sensor_damping)
+
+    # ---- sample, add noise
+    ne, ns = len(P2), p.grid.samples
+    idx = np.arange(0, tf.shape[1], p.grid.substeps)
+    ts = tf[:, idx]
+    xs = x[:, idx]
+    f_true = F_meas[:, idx]
+    f_rec, xm = _recorded(p, rng, f_true, xs)
     names = np.array([f"E{k:03d}" for k in range(ne)])
     frame = pd.DataFrame(
         dict(
             experiment=np.repeat(names, ns),
             time_s=np.round(ts.ravel(), 5),
             displacement_mm=np.round(xm.ravel(), 4),
-            force_N=np.round((f_true + noise).ravel(), 2),
+            force_N=np.round(f_rec.ravel(), 2),
             p2_MPa=np.repeat(P2, ns),
             valve_deg=np.repeat(GAM, ns),
             speed_mm_s=np.repeat(SPD, ns),
