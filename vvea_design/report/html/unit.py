@@ -135,7 +135,7 @@ def _spring_figure(unit: UnitResult) -> "Figure":
     p.grid(alpha=0.3)
     # margins in inches as a constrained layout set them, without the second draw it costs: fixed room for
     # the titles and axis labels, and left of each panel the room of its widest y tick label
-    from ..figure_layout import place_row_in, ytick_label_width_in
+    from ...figure_layout import place_row_in, ytick_label_width_in
 
     place_row_in(fig, (a, b, p), left=0.365 + ytick_label_width_in(a), right=0.042, bottom=0.477, top=0.255,
                  gaps=[0.39 + ytick_label_width_in(ax) for ax in (b, p)])
@@ -162,7 +162,7 @@ def _bladder_figure(unit: UnitResult) -> "Figure":
     ax.set_title(f"bladder strain bound {100 * bl.strain_bound:.1f} % vs allowable {100 * bl.allowable_strain:.1f} %", y=1.0)
     ax.legend(fontsize=8, loc="upper left", ncols=3)
     ax.grid(axis="y", alpha=0.3)
-    from ..figure_layout import set_margins_in, ytick_label_width_in
+    from ...figure_layout import set_margins_in, ytick_label_width_in
 
     # as a constrained layout set them (without its second draw); the y tick labels' room measured
     set_margins_in(fig, left=0.351 + ytick_label_width_in(ax), bottom=0.481, right=0.289, top=0.255)
@@ -235,7 +235,7 @@ def _bladder_section(unit: UnitResult) -> Section:
 
 
 def _actuator_section(unit: UnitResult) -> Section:
-    from ..actuator.model import PAPER_SETTINGS
+    from ...actuator.model import PAPER_SETTINGS
 
     a = unit.actuator
     rows = [(s.name, s.K_Nm_per_rad, s.D_min_Nms_per_rad, s.D_max_Nms_per_rad, s.eigenfrequency_Hz)
