@@ -9,7 +9,8 @@ A colour means one thing everywhere:
   column, the mould halves and the core; the CAD part table colours the STEP and glTF files with the
   same values;
 * **gas laws** of the spring curves (:data:`GAS_LAW_STYLES`): isothermal (n = 1) solid, adiabatic
-  (n = 1.4) dashed.
+  (n = 1.4) dashed;
+* **limits** (:data:`LIMIT_COLOUR`): an allowable value, a requirement no design meets.
 
 Colours are matplotlib colour strings (``"#rrggbb"``) for settings and gas laws and RGB triples
 (0..1) for parts; :func:`part_hex` gives a part's ``"#rrggbb"`` for HTML and three.js.
@@ -18,7 +19,8 @@ Colours are matplotlib colour strings (``"#rrggbb"``) for settings and gas laws 
 from __future__ import annotations
 
 __all__ = ["SETTING_COLOURS", "OTHER_COLOURS", "PART_COLOURS", "PART_LABELS", "GAS_LAW_STYLES",
-           "FIXED_DAMPING_STYLES", "setting_colour", "part_colour", "part_hex", "gas_law", "gas_law_label"]
+           "FIXED_DAMPING_STYLES", "LIMIT_COLOUR", "setting_colour", "part_colour", "part_hex", "gas_law",
+           "gas_law_label"]
 
 #: Colour of each named actuator setting, in every actuator figure.
 SETTING_COLOURS: dict[str, str] = {
@@ -31,6 +33,8 @@ SETTING_COLOURS: dict[str, str] = {
 #: Colours of settings or cases without a colour of their own (fixed-damping torque steps, user settings),
 #: taken in order; none of them is a setting's, a part's or a gas law's colour.
 OTHER_COLOURS: tuple[str, ...] = ("#2ca02c", "#17becf", "#bcbd22", "#e377c2", "#393b79")
+#: Colour of a limit, an allowable value or a violation (a requirement no design meets), as the report's FAIL.
+LIMIT_COLOUR = "#b00020"
 #: Line styles of fixed-damping cases, in order (a variable-damping case is drawn solid).
 FIXED_DAMPING_STYLES: tuple = ("--", "-.", (0, (1, 1.5)), (0, (5, 2, 1, 2, 1, 2)))
 
@@ -59,8 +63,8 @@ PART_LABELS: dict[str, str] = {
     "housing": "housing", "housing_base": "housing base", "housing_outer_tube": "outer tube",
     "housing_inner_tube": "inner tube", "housing_top_cap": "top cap", "piston": "piston with rod",
     "bladder": "bladder (silicone)", "support_ring": "support ring", "gas_chamber_1": "gas, chamber 1",
-    "gas_chamber_2": "gas, chamber 2", "fluid": "fluid column", "mould_half_a": "mould half A",
-    "mould_half_b": "mould half B", "mould_core": "mould core",
+    "gas_chamber_2": "gas, chamber 2", "fluid": "fluid column", "mould_half_a": "mould half A (pins)",
+    "mould_half_b": "mould half B (pin holes)", "mould_core": "mould core",
 }
 
 #: Colour and line style of each gas law in the spring figures.
