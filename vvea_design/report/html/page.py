@@ -137,9 +137,27 @@ pre{background:#f6f8fa;padding:8px;overflow:auto;font-size:.8em;max-height:420px
 .viewer-tools{margin:6px 0;display:flex;gap:6px;flex-wrap:wrap}
 .viewer-tools button{font:inherit;font-size:.85em;padding:3px 10px;border:1px solid #9aa8ba;background:#fff;
 border-radius:3px;cursor:pointer} .viewer-tools button.on{background:#1f3a5f;color:#fff}
+.viewer-stage{position:relative}
+.viewer-labels{position:absolute;inset:0;pointer-events:none;overflow:hidden}
+.viewer-labels span{position:absolute;transform:translate(-50%,-50%);background:#fffd;border:1px solid #9aa8ba;
+border-radius:3px;padding:1px 6px;font-size:.8em;white-space:nowrap}
 .legend span{display:inline-block;margin-right:14px;font-size:.85em}
 .legend i{display:inline-block;width:11px;height:11px;margin-right:4px;vertical-align:-1px;border:1px solid #0003}
 .note{font-size:.9em;color:#4a5566}
+.swatches span{display:inline-block;margin-right:14px;font-size:.85em;white-space:nowrap}
+.swatches i{display:inline-block;width:22px;height:0;margin-right:5px;vertical-align:3px;border-top-width:3px}
+a.sheet{display:block;color:inherit}
+td{overflow-wrap:anywhere}
+@media (max-width:640px){
+header{padding:10px 12px} main{padding:4px 12px 30px 12px}
+table{font-size:.82em} th,td{padding:2px 5px}
+table.wide,table.wide tbody,table.wide tr,table.wide td{display:block}
+table.wide thead{display:none}
+table.wide tr{border:1px solid #d5dbe3;margin:0 0 8px 0}
+table.wide td{border:0;border-bottom:1px solid #eef0f3;text-align:left;white-space:normal}
+table.wide td::before{content:attr(data-label);display:inline-block;width:46%;margin-right:4%;font-weight:600;
+color:#4a5566;vertical-align:top}
+}
 """
 
 
@@ -156,8 +174,17 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: Sequence[int] = ()) -> str:
+#: Tables with this many columns or more are shown one row per card on a narrow screen (phone).
+WIDE_TABLE_COLUMNS = 5
+
+
+def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: Sequence[int] = (),
+          num_columns: Sequence[int] = ()) -> str:
     """An HTML table; numbers right-aligned with 4 significant digits.
+
+    On a narrow screen (under 640 px: a phone) every cell may wrap, and a table of
+    :data:`WIDE_TABLE_COLUMNS` or more columns shows each row as a card of "header: value" lines,
+    so no table runs off the page; put the column a reader needs first (a verdict) first.
 
     Parameters
     ----------
@@ -167,22 +194,28 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
         Cells; floats are formatted, everything else shown as ``str``.
     raw_columns : sequence of int
         Columns whose cells are HTML already (not escaped).
+    num_columns : sequence of int
+        Columns of numbers given as text (already formatted): right-aligned like numbers.
 
     Returns
     -------
     str
         The ``<table>`` element.
     """
-    head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
+    labels = [html.escape(str(h), quote=True) for h in header]
+    head = "".join(f"<th>{h}</th>" for h in labels)
     body = []
     for row in rows:
         cells = []
         for i, v in enumerate(row):
-            num = isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
+            num = (isinstance(v, (int, float, np.number)) and not isinstance(v, bool)) or i in num_columns
             text = str(v) if i in raw_columns else html.escape(_fmt(v))
-            cells.append(f'<td class="num">{text}</td>' if num else f"<td>{text}</td>")
+            label = f' data-label="{labels[i]}"' if i < len(labels) else ""
+            cells.append(f'<td class="num"{label}>{text}</td>' if num else f"<td{label}>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
-    return f'<div class="tw"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
+    wide = ' class="wide"' if len(labels) >= WIDE_TABLE_COLUMNS else ""
+    return (f'<div class="tw"><table{wide}><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+            "</div>")
 
 
 def paragraph(text: str, cls: str = "") -> str:

@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from ...messages import show_margin
+from ...palette import GAS_LAW_STYLES, LIMIT_COLOUR, SETTING_COLOURS, part_colour
 from .page import HtmlReport, Section, figure_svg, image, paragraph, pass_fail, preformatted, table, verdict
 from .viewer import viewer, viewer_parts_from_cad
 
@@ -111,24 +113,26 @@ def _spring_figure(unit: UnitResult) -> "Figure":
     x = c.x_mm
     fig = Figure(figsize=(12.5, 3.9))
     a, b, p = fig.subplots(1, 3)
-    a.plot(x, c.force_isothermal_N, color="C0", lw=2, label=f"isothermal (n = 1), {c.stiffness_isothermal_N_per_mm:.1f} N/mm")
-    a.plot(x, c.force_adiabatic_N, color="C3", lw=1.5, ls="--",
+    iso, adi = GAS_LAW_STYLES["isothermal"], GAS_LAW_STYLES["adiabatic"]  # one style per gas law, every figure
+    c1, c2 = part_colour("gas_chamber_1"), part_colour("gas_chamber_2")  # the chambers' colours of the renders
+    a.plot(x, c.force_isothermal_N, **iso, lw=2, label=f"isothermal (n = 1), {c.stiffness_isothermal_N_per_mm:.1f} N/mm")
+    a.plot(x, c.force_adiabatic_N, **adi, lw=1.5,
            label=f"adiabatic (n = 1.4), {c.stiffness_adiabatic_N_per_mm:.1f} N/mm")
     a.set(xlabel="displacement x (mm), x > 0 extends", ylabel="force F (N), tension > 0")
     a.set_title("force over the stroke", y=1.0)  # placed, not searched for at the draw (no offset text here)
     a.legend(fontsize=8, loc="upper left")
     a.grid(alpha=0.3)
-    b.plot(x, c.deviation_isothermal_N, color="C0", lw=2, label=f"isothermal: {100 * c.linearity_isothermal:.2f} %")
-    b.plot(x, c.deviation_adiabatic_N, color="C3", lw=1.5, ls="--", label=f"adiabatic: {100 * c.linearity_adiabatic:.2f} %")
+    b.plot(x, c.deviation_isothermal_N, **iso, lw=2, label=f"isothermal: {100 * c.linearity_isothermal:.2f} %")
+    b.plot(x, c.deviation_adiabatic_N, **adi, lw=1.5, label=f"adiabatic: {100 * c.linearity_adiabatic:.2f} %")
     b.axhline(0, color="k", lw=0.6)
     b.set(xlabel="displacement x (mm)", ylabel="F − least-squares line (N)")
     b.set_title("deviation from the straight line (linearity error)", y=1.0)
     b.legend(fontsize=8, loc="best")
     b.grid(alpha=0.3)
-    p.plot(x, c.P1_isothermal_MPa, color="C2", lw=2, label="chamber 1, isothermal")
-    p.plot(x, c.P2_isothermal_MPa, color="C4", lw=2, label="chamber 2, isothermal")
-    p.plot(x, c.P1_adiabatic_MPa, color="C2", lw=1.2, ls="--", label="chamber 1, adiabatic")
-    p.plot(x, c.P2_adiabatic_MPa, color="C4", lw=1.2, ls="--", label="chamber 2, adiabatic")
+    p.plot(x, c.P1_isothermal_MPa, color=c1, ls=iso["ls"], lw=2, label="chamber 1, isothermal")
+    p.plot(x, c.P2_isothermal_MPa, color=c2, ls=iso["ls"], lw=2, label="chamber 2, isothermal")
+    p.plot(x, c.P1_adiabatic_MPa, color=c1, ls=adi["ls"], lw=1.2, label="chamber 1, adiabatic")
+    p.plot(x, c.P2_adiabatic_MPa, color=c2, ls=adi["ls"], lw=1.2, label="chamber 2, adiabatic")
     p.set(xlabel="displacement x (mm)", ylabel="gas pressure (MPa)")
     p.set_title("chamber pressures", y=1.0)
     p.legend(fontsize=8, loc="best")
@@ -154,7 +158,7 @@ def _bladder_figure(unit: UnitResult) -> "Figure":
     w = 0.35
     for i, (label, vals) in enumerate(kinds):
         ax.bar(np.arange(len(ends)) + (i - 0.5) * w, 100 * np.asarray(vals), w, label=label)
-    ax.axhline(100 * bl.allowable_strain, color="#b00020", lw=1.5, ls="--",
+    ax.axhline(100 * bl.allowable_strain, color=LIMIT_COLOUR, lw=1.5, ls="--",
                label=f"allowable {100 * bl.allowable_strain:.1f} % ({bl.silicone.name})")
     ax.set_xticks(np.arange(len(ends)), [f"{k}\n(ΔV = {bl.volume_change_mm3[k]:+.0f} mm³)" for k in ends])
     ax.set_ylabel("strain (%)")
@@ -185,18 +189,32 @@ def _requirements_section(unit: UnitResult) -> Section:
                    table(("requirement (unit in the name)", "value"), rows) + bounds)
 
 
+def _layout_text(unit: UnitResult) -> str:
+    """"the bulkhead layout (chosen of inner_tube, bulkhead, annulus_top)"."""
+    layout = unit.optimisation.evaluation.performance()["layout"]
+    searched = [str(x) for x in (getattr(unit.requirements, "layouts", None) or ())]
+    others = f" (chosen of {', '.join(searched)})" if len(searched) > 1 else ""
+    return f"the {layout} layout{others}"
+
+
 def _margins_section(unit: UnitResult) -> Section:
+    from ...palette import gas_law_label
+
     ev = unit.optimisation.evaluation
     rows = []
     for name, m in ev.margins.items():
         d = ev.details[name]
         rel = "≤" if d["kind"] == "max" else "≥"
         unit_s = d["unit"] if d["unit"] != "-" else ""
-        rows.append((name, f"{float(d['value']):.4g} {unit_s}".strip(), f"{rel} {float(d['limit']):.4g} {unit_s}".strip(),
-                     float(m), pass_fail(m >= -1e-9)))
+        # verdict first: on a phone a row reads top-down; round-off of a binding constraint reads 0
+        rows.append((pass_fail(m >= -1e-9), name, f"{show_margin(d['value'])} {unit_s}".strip(),
+                     f"{rel} {float(d['limit']):.4g} {unit_s}".strip(), show_margin(m)))
     perf = ev.performance()
-    prow = [("linearity error (isothermal)", f"{100 * perf['linearity_error']:.3f} %"),
-            ("mean stiffness at the charge", f"{perf['mean_stiffness_N_per_mm']:.2f} N/mm"),
+    law = gas_law_label(ev.design.gas_spring.n_polytropic)
+    prow = [("layout", _layout_text(unit)),
+            ("linearity error, isothermal (n = 1)", f"{100 * perf['linearity_error_isothermal']:.3f} %"),
+            ("linearity error, adiabatic (n = 1.4)", f"{100 * perf['linearity_error_adiabatic']:.3f} %"),
+            (f"mean stiffness at the charge, {law}", f"{perf['mean_stiffness_N_per_mm']:.2f} N/mm"),
             ("largest force over the stroke", f"{perf['max_force_N']:.1f} N"),
             ("charge p1 / p2", f"{perf['p1_MPa']:.3f} / {ev.design.p2_MPa:.3f} MPa"),
             ("peak pressure", f"{perf['peak_pressure_MPa']:.2f} MPa"),
@@ -207,11 +225,12 @@ def _margins_section(unit: UnitResult) -> Section:
             ("V1 / V2", f"{ev.design.V1_mm3:.0f} / {ev.design.V2_mm3:.0f} mm³")]
     body = (verdict(ev.feasible, "every constraint met" if ev.feasible else "a constraint is violated") +
             table(("quantity", "value"), prow) +
-            table(("constraint", "value", "limit", "margin (> 0 met, scaled)", "verdict"), rows, raw_columns=(4,)) +
+            table(("verdict", "constraint", "value", "limit", "margin (> 0 met, scaled)"), rows, raw_columns=(0,),
+                  num_columns=(4,)) +
             paragraph(f"binding (margin < 0.001): {', '.join(ev.binding()) or 'none'}; optimiser: "
                       f"{unit.optimisation.evaluations} evaluations in {unit.optimisation.seconds:.1f} s, seed "
                       f"{unit.seed}.", "note"))
-    return Section("Design and constraint margins", body)
+    return Section("Design and constraint margins", paragraph(f"Design of {_layout_text(unit)}.") + body)
 
 
 def _bladder_section(unit: UnitResult) -> Section:
@@ -240,8 +259,12 @@ def _actuator_section(unit: UnitResult) -> Section:
     a = unit.actuator
     rows = [(s.name, s.K_Nm_per_rad, s.D_min_Nms_per_rad, s.D_max_Nms_per_rad, s.eigenfrequency_Hz)
             for s in [a, *PAPER_SETTINGS.values()]]
+    from ...palette import gas_law_label
+
+    law = gas_law_label(unit.optimisation.evaluation.design.gas_spring.n_polytropic)
     body = (paragraph("Joint-level parameters of the unit (two pre-loaded units on the tendon pulley, paper "
-                      "section 3.4) beside the paper's Table 4 settings.") +
+                      f"section 3.4; K from the design's mean stiffness, {law}) beside the paper's Table 4 "
+                      "settings.") +
             table(("setting", "K (N m/rad)", "D_min (N m s/rad)", "D_max (N m s/rad)", "eigenfrequency (Hz)"), rows))
     study = unit.actuator_study
     if study is None:
@@ -250,6 +273,13 @@ def _actuator_section(unit: UnitResult) -> Section:
     else:
         body += _design_study_blocks(study)
     return Section("Actuator", body)
+
+
+def _setting_swatches(names) -> str:
+    """A line of the settings' colours (:data:`vvea_design.palette.SETTING_COLOURS`), as every figure draws them."""
+    items = "".join(f'<span><i style="border-top:3px solid {SETTING_COLOURS[n]}"></i>{html.escape(n)}</span>'
+                    for n in names if n in SETTING_COLOURS)
+    return f'<p class="swatches note">Colours in every actuator figure: {items}</p>'
 
 
 def _design_study_blocks(study: "DesignStudy") -> str:
@@ -273,17 +303,26 @@ def _design_study_blocks(study: "DesignStudy") -> str:
               s.n_unverified, s.mean_rmse_rad) for s in study.settings]
     out += table(("setting", "K (N m/rad)", "D_min (N m s/rad)", "D_max (N m s/rad)", "cases", "solved", "valid",
                   "unverified (left out)", "mean rmse (rad)"), srows)
+    out += _setting_swatches(["design", *(r.name for r in study.references)])
     f = study.files
+    refs = ", ".join(r.name for r in study.references)
     if getattr(f, "map_png", None) and Path(f.map_png).exists():
-        out += image(f.map_png, "Actuator comparison map: which setting tracks best in each (A, T) case.")
+        out += image(f.map_png, f"The design against the best valid of {refs}, case by case (green: the design "
+                                "tracks better; grey: the design's trajectory is not valid), and each setting's mean "
+                                "rmse over the cases where every setting is valid.")
     if getattr(f, "trajectory_png", None) and Path(f.trajectory_png).exists():
-        out += image(f.trajectory_png, "Optimal trajectories of one case.")
+        A, T = study.trajectory_case
+        out += image(f.trajectory_png, f"Optimal trajectories at A = {A:g} rad, T = {T:g} s: link angle against "
+                                       "the reference (dashed), motor torque and damping of every setting; the "
+                                       "design drawn thick.")
     cases = list(study.safety_design.cases) + [study.safety_reference.variable]
-    out += "<h3>Safety: 50 N m torque step (paper section 6)</h3>" + table(
+    tau = float(study.safety_design.setup["tau_ref_Nm"])
+    out += f"<h3>Safety: {tau:g} N m torque step (paper section 6)</h3>" + table(
         ("case", "mean D (N m s/rad)", "max D (N m s/rad)", "t95 (ms)", "status"),
         [(c.name, c.mean_D_Nms_per_rad, c.max_D_Nms_per_rad, 1e3 * c.t95_s, c.status) for c in cases])
     if getattr(f, "safety_png", None) and Path(f.safety_png).exists():
-        out += image(f.safety_png, "Torque step of the design and of the paper's VVEA.")
+        out += image(f.safety_png, "Torque step of the design and of the paper's VVEA: variable damping solid in "
+                                   "the setting's colour, fixed damping dashed.")
     t = study.timing
     out += paragraph(f"study time {t.total_s:.1f} s on {t.workers} worker(s); {study.n_left_out} result(s) left out "
                      "because their trajectory did not verify.", "note")
@@ -295,14 +334,21 @@ def _cad_section(unit: UnitResult) -> tuple[Section, tuple[str, ...]] | None:
     if unit.cad_manifest is None or not cad_dir.exists():
         return None
     parts = viewer_parts_from_cad(cad_dir)
-    block, scripts = viewer(parts, "Drag to rotate, wheel to zoom. Assembly at x = 0 (cut-away: the half towards "
-                                   "you removed); mould: the two halves opened apart around the core. Units: mm.")
+    lay = _layout_text(unit)
+    block, scripts = viewer(parts, f"The unit of {lay}. Drag to rotate, wheel to zoom. Assembly at x = 0 (cut-away: "
+                                   "the half towards you removed; gas chambers: chamber 1 blue, chamber 2 red, as in "
+                                   "the render below); mould: the two halves opened apart around the core. Units: mm.")
     m = unit.cad_manifest
-    meas = [(k, v["cad"], v["design"], v["rel_error"]) for k, v in m.get("measured", {}).items()]
-    body = block + table(("quantity", "CAD", "design", "relative error"), meas)
-    for name in ("assembly_cutaway.png", "mould_open.png"):
+    meas = [(k, v["cad"], v["design"], show_margin(v["rel_error"], ".3g", tol=1e-12))
+            for k, v in m.get("measured", {}).items()]
+    body = block + table(("quantity", "CAD", "design", "relative error"), meas, num_columns=(3,))
+    captions = {"assembly_cutaway.png": f"Meridian cut of the unit ({lay}) at x = 0 and at full stroke: gas of "
+                                        "chamber 1 blue, chamber 2 red, fluid green, bladder yellow.",
+                "mould_open.png": "The bladder mould laid open: half A (pins), the core with the cast bladder, "
+                                  "half B (pin holes), each named on its colour."}
+    for name, cap in captions.items():
         if (cad_dir / name).exists():
-            body += image(cad_dir / name, f"render: {name[:-4].replace('_', ' ')}")
+            body += image(cad_dir / name, cap)
     return Section("3-D model", body, anchor="model"), scripts
 
 
@@ -339,14 +385,27 @@ def _drawings_section(unit: UnitResult) -> Section | None:
         if not p.exists():
             continue
         size = p.stat().st_size
+        href = html.escape(_relative(p, unit.out_dir), quote=True)  # the sheet beside the report, full size
+        link = f'<a href="{href}">{html.escape(href)}</a>'
         if used + size > MAX_INLINE_DRAWINGS_BYTES:
-            body += paragraph(f"sheet {name}: cad/{p.name} (not inlined: the report stays small)", "note")
+            body += (f'<p class="note">sheet {html.escape(name)}: {link} (not inlined: the report stays '
+                     "small)</p>")
             continue
         used += size
         svg = p.read_text(encoding="utf-8")
         svg = svg[svg.index("<svg"):]
-        body += f"<figure>{svg}<figcaption>{html.escape(f'sheet {name}, scale {_scale(scale)}')}</figcaption></figure>"
+        cap = html.escape(f"sheet {name}, scale {_scale(scale)}; full-size sheet: ")
+        body += (f'<figure><a class="sheet" href="{href}" title="open the full-size sheet">{svg}</a>'
+                 f"<figcaption>{cap}{link}</figcaption></figure>")
     return Section("Drawings", body)
+
+
+def _relative(path: Path, folder: Path) -> str:
+    """``path`` as a link from a page in ``folder`` (POSIX separators; absolute when outside it)."""
+    try:
+        return Path(path).resolve().relative_to(Path(folder).resolve()).as_posix()
+    except ValueError:
+        return Path(path).resolve().as_uri()
 
 
 def _scale(s: float) -> str:
@@ -396,8 +455,9 @@ def unit_report(unit: UnitResult) -> HtmlReport:
     sections: list[Section] = [_margins_section(unit), _requirements_section(unit)]
     sections.append(Section("Force curve", figure_svg(
         _spring_figure(unit),
-        "Isothermal (slow motion, n = 1) and adiabatic (fast motion, n = 1.4) force from the same charge at x = 0; "
-        "deviation = force minus its least-squares line; chamber pressures.") +
+        f"The gas spring of {_layout_text(unit)}: isothermal (slow motion, n = 1; solid) and adiabatic (fast "
+        "motion, n = 1.4; dashed) force from the same charge at x = 0; deviation = force minus its least-squares "
+        "line; chamber pressures (chamber 1 blue, chamber 2 red, as in the renders).") +
         table(("gas law", "linearity error (%)", "mean stiffness (N/mm)", "F at full stroke (N)"),
               [("isothermal n = 1", 100 * unit.spring.linearity_isothermal, unit.spring.stiffness_isothermal_N_per_mm,
                 float(unit.spring.force_isothermal_N[-1])),
@@ -415,7 +475,11 @@ def unit_report(unit: UnitResult) -> HtmlReport:
             sections.append(extra)
     sections += [_files_section(unit), _provenance_section(unit)]
     ok = unit.passes
-    sub = (f'linearity error {100 * ev.linearity_error:.2f} %, stiffness {ev.mean_stiffness_N_per_mm:.1f} N/mm, '
+    from ...palette import gas_law
+
+    law = gas_law(ev.design.gas_spring.n_polytropic)
+    sub = (f'{html.escape(str(ev.performance()["layout"]))} layout, '
+           f'linearity error {100 * ev.linearity_error:.2f} % ({law}), stiffness {ev.mean_stiffness_N_per_mm:.1f} N/mm, '
            f'bladder {100 * unit.bladder.strain_bound:.1f} % of {100 * unit.bladder.allowable_strain:.0f} % — '
            f'<b>{"all checks pass" if ok else "a check fails"}</b> · vvea-design {html.escape(unit.version)}, '
            f'seed {unit.seed}')

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from ...palette import PART_LABELS, part_hex
 from .page import _script_safe
 
 __all__ = ["ViewerPart", "viewer_parts_from_cad", "viewer"]
@@ -23,13 +24,15 @@ __all__ = ["ViewerPart", "viewer_parts_from_cad", "viewer"]
 class ViewerPart:
     """One triangle mesh of the 3-D view (mm, CAD frame: z along the unit's axis)."""
 
-    name: str  #: part name shown in the legend
+    name: str  #: part name (CAD part table)
     group: str  #: view it belongs to: "assembly" or "mould"
     color: str  #: CSS hex colour "#rrggbb"
     vertices_mm: np.ndarray  #: (n, 3) vertex positions, mm
     faces: np.ndarray  #: (m, 3) vertex indices
     opacity: float = 1.0  #: 1 opaque ... 0 invisible
     visible: bool = True  #: shown when the page opens
+    label: str = ""  #: how the legend names it (default: ``name``)
+    callout: bool = False  #: also named in the view, above the part (parts of one colour told apart)
 
     def to_json(self) -> dict[str, Any]:
         """The part as the viewer script reads it (base64 float32 positions and uint32 indices).
@@ -37,27 +40,28 @@ class ViewerPart:
         Returns
         -------
         dict
-            name, group, color, opacity, visible, positions (base64), indices (base64).
+            name, label, group, color, opacity, visible, callout, positions (base64), indices (base64).
         """
         pos = np.ascontiguousarray(self.vertices_mm, dtype="<f4")
         idx = np.ascontiguousarray(self.faces, dtype="<u4")
-        return {"name": self.name, "group": self.group, "color": self.color, "opacity": float(self.opacity),
-                "visible": bool(self.visible),
+        return {"name": self.name, "label": self.label or self.name, "group": self.group, "color": self.color,
+                "opacity": float(self.opacity), "visible": bool(self.visible), "callout": bool(self.callout),
                 "positions": base64.b64encode(pos.tobytes()).decode("ascii"),
                 "indices": base64.b64encode(idx.tobytes()).decode("ascii")}
 
 
-#: Colour, view, opacity, shown-at-start of each CAD file the 3-D view uses (mould parts opened apart).
+#: View, opacity, shown-at-start and named-in-the-view of each CAD file the 3-D view uses (mould parts opened
+#: apart); the colours and legend names are the palette's (vvea_design.palette), as in every render.
 _CAD_VIEW = {
-    "housing": ("#a9b4c2", "assembly", 1.0, True),
-    "piston": ("#5d6d7e", "assembly", 1.0, True),
-    "bladder": ("#e07b39", "assembly", 1.0, True),
-    "support_ring": ("#3b8f5a", "assembly", 1.0, True),
-    "gas_chamber_1": ("#4f8fe0", "assembly", 0.35, False),
-    "gas_chamber_2": ("#6fc3e8", "assembly", 0.35, False),
-    "mould_half_a": ("#c9a227", "mould", 1.0, True),
-    "mould_half_b": ("#d9b84a", "mould", 1.0, True),
-    "mould_core": ("#8a6bb0", "mould", 1.0, True),
+    "housing": ("assembly", 1.0, True, False),
+    "piston": ("assembly", 1.0, True, False),
+    "bladder": ("assembly", 1.0, True, False),
+    "support_ring": ("assembly", 1.0, True, False),
+    "gas_chamber_1": ("assembly", 0.35, False, False),
+    "gas_chamber_2": ("assembly", 0.35, False, False),
+    "mould_half_a": ("mould", 1.0, True, True),  # both halves one colour: named in the view
+    "mould_half_b": ("mould", 1.0, True, True),
+    "mould_core": ("mould", 1.0, True, True),
 }
 #: How far each mould part is moved to show the mould opened (mm, CAD frame).
 _MOULD_OPEN_MM = {"mould_half_a": (0.0, 35.0, 0.0), "mould_half_b": (0.0, -35.0, 0.0)}
@@ -79,13 +83,14 @@ def viewer_parts_from_cad(cad_dir: str | Path) -> list[ViewerPart]:
     import trimesh
 
     parts = []
-    for name, (color, group, opacity, visible) in _CAD_VIEW.items():
+    for name, (group, opacity, visible, callout) in _CAD_VIEW.items():
         path = Path(cad_dir) / f"{name}.stl"
         if not path.exists():
             continue
         mesh = trimesh.load_mesh(path, file_type="stl", process=True)
         v = np.asarray(mesh.vertices, float) + np.asarray(_MOULD_OPEN_MM.get(name, (0.0, 0.0, 0.0)))
-        parts.append(ViewerPart(name, group, color, v, np.asarray(mesh.faces), opacity, visible))
+        parts.append(ViewerPart(name, group, part_hex(name), v, np.asarray(mesh.faces), opacity, visible,
+                                PART_LABELS.get(name, name), callout))
     return parts
 
 
@@ -113,13 +118,14 @@ def viewer(parts: Sequence[ViewerPart], caption: str = "") -> tuple[str, tuple[s
     buttons = "".join(f'<button data-group="{g}" class="{"on" if i == 0 else ""}">{html.escape(g)}</button>'
                       for i, g in enumerate(groups))
     legend = "".join(f'<span data-part="{html.escape(p.name)}" data-group="{p.group}"><i style="background:{p.color}">'
-                     f'</i>{html.escape(p.name)}</span>' for p in parts)
+                     f'</i>{html.escape(p.label or p.name)}</span>' for p in parts)
     cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
     block = (
         '<figure class="viewer-wrap"><div class="viewer-tools">' + buttons +
         '<button id="viewer-cut" class="on">cut-away</button><button id="viewer-gas">gas chambers</button>'
         '<button id="viewer-reset">reset view</button></div>'
-        '<canvas id="viewer" aria-label="3-D view: drag to rotate, wheel to zoom"></canvas>'
+        '<div class="viewer-stage"><canvas id="viewer" aria-label="3-D view: drag to rotate, wheel to zoom"></canvas>'
+        '<div class="viewer-labels" id="viewer-labels"></div></div>'
         f'<div class="legend" id="viewer-legend">{legend}</div>{cap}'
         f'<script type="application/json" id="viewer-data">{_script_safe(data)}</script></figure>'
     )
@@ -155,7 +161,7 @@ _VIEWER_JS = r"""
   camera.add(key);
   scene.add(camera);
   var cut = new THREE.Plane(new THREE.Vector3(0, 0, -1), 0);
-  var groups = {}, gas = [];
+  var groups = {}, gas = [], callouts = [];
   data.parts.forEach(function (p) {
     var g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(arr(p.positions, Float32Array), 3));
@@ -166,6 +172,13 @@ _VIEWER_JS = r"""
     var mesh = new THREE.Mesh(g, m);
     mesh.name = p.name;
     mesh.visible = p.visible;
+    if (p.callout) {
+      var tag = document.createElement('span');
+      tag.textContent = p.label;
+      tag.dataset.part = p.name;
+      document.getElementById('viewer-labels').appendChild(tag);
+      callouts.push({mesh: mesh, tag: tag, group: p.group});
+    }
     if (p.name.indexOf('gas_chamber') === 0) gas.push(mesh);
     if (!groups[p.group]) { groups[p.group] = new THREE.Group(); groups[p.group].rotation.x = -Math.PI / 2; scene.add(groups[p.group]); }
     groups[p.group].add(mesh);
@@ -176,7 +189,9 @@ _VIEWER_JS = r"""
     var box = new THREE.Box3().setFromObject(groups[current]);
     var size = box.getSize(new THREE.Vector3()), c = box.getCenter(new THREE.Vector3());
     orbit.target.copy(c);
-    orbit.radius = 0.62 * Math.max(size.x, size.y, size.z) / Math.tan(camera.fov * Math.PI / 360);
+    // the whole part in view, also in a portrait window (narrower than it is high)
+    orbit.radius = 0.62 * Math.max(size.x, size.y, size.z) / Math.tan(camera.fov * Math.PI / 360) /
+      Math.min(1, camera.aspect);
     cut.constant = c.z;
   }
   function setClip() {
@@ -203,6 +218,19 @@ _VIEWER_JS = r"""
                         orbit.target.z + r * Math.sin(p) * Math.cos(t));
     camera.lookAt(orbit.target);
     renderer.render(scene, camera);
+    var w = canvas.clientWidth, h = canvas.clientHeight;
+    callouts.forEach(function (c) {  // each named part's label above its top, where the camera sees it
+      var on = c.group === current && c.mesh.visible;
+      if (on) {
+        var box = new THREE.Box3().setFromObject(c.mesh), v = box.getCenter(new THREE.Vector3());
+        v.y = box.max.y;
+        v.project(camera);
+        on = v.z < 1;
+        c.tag.style.left = ((v.x + 1) / 2 * w) + 'px';
+        c.tag.style.top = Math.max(12, (1 - v.y) / 2 * h - 12) + 'px';
+      }
+      c.tag.style.display = on ? '' : 'none';
+    });
   }
   var drag = null;
   canvas.addEventListener('pointerdown', function (e) { drag = {x: e.clientX, y: e.clientY}; canvas.setPointerCapture(e.pointerId); });
@@ -228,6 +256,7 @@ _VIEWER_JS = r"""
   document.getElementById('viewer-reset').addEventListener('click', function () { orbit.theta = 0.65; orbit.phi = 1.2; show(current); });
   window.addEventListener('resize', function () { resize(); draw(); });
   resize(); setClip(); show(current);
-  window.vveaViewer = {ready: true, parts: data.parts.length, rotate: function (d) { orbit.theta += d; draw(); }};
+  window.vveaViewer = {ready: true, parts: data.parts.length, callouts: callouts.length,
+                      rotate: function (d) { orbit.theta += d; draw(); }};
 })();
 """
