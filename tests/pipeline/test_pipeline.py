@@ -284,7 +284,7 @@ def test_report_fits_a_phone_no_table_runs_off(browser_page):
     phone = _open(page, out, 400)
     try:
         assert phone.evaluate("document.documentElement.scrollWidth") <= 400  # no horizontal scroll of the page
-        over = phone.evaluate("Array.from(document.querySelectorAll('.tw')).filter("
+        over = phone.evaluate("Array.from(document.querySelectorAll('.tw, figure')).filter("
                               "e => e.scrollWidth > e.clientWidth + 1).map(e => e.innerText.slice(0, 40))")
         assert over == []  # and no table scrolls inside its box: every one wraps or stacks its rows
         # the constraint table reads verdict first, a row per card

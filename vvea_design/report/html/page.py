@@ -130,7 +130,7 @@ th{background:#eef2f7;white-space:normal;vertical-align:bottom}
 .verdict.pass{background:#e3f4e6} .verdict.fail{background:#fbe4e7}
 figure{margin:8px 0 16px 0} figcaption{font-size:.85em;color:#4a5566;max-width:1000px}
 figure svg,figure img{max-width:100%;height:auto;border:1px solid #eef0f3}
-figure img{max-width:min(100%,1000px)}
+figure img{max-width:min(100%,1000px)} figure svg,figure img,#viewer{box-sizing:border-box}
 pre{background:#f6f8fa;padding:8px;overflow:auto;font-size:.8em;max-height:420px}
 .viewer-wrap{position:relative;width:100%;max-width:1000px}
 #viewer{width:100%;height:520px;display:block;border:1px solid #d5dbe3;background:#f4f6f8;touch-action:none}
@@ -147,7 +147,7 @@ border-radius:3px;padding:1px 6px;font-size:.8em;white-space:nowrap}
 .swatches span{display:inline-block;margin-right:14px;font-size:.85em;white-space:nowrap}
 .swatches i{display:inline-block;width:22px;height:0;margin-right:5px;vertical-align:3px;border-top-width:3px}
 a.sheet{display:block;color:inherit}
-td{overflow-wrap:anywhere}
+td{overflow-wrap:break-word}
 @media (max-width:640px){
 header{padding:10px 12px} main{padding:4px 12px 30px 12px}
 table{font-size:.82em} th,td{padding:2px 5px}
@@ -175,7 +175,7 @@ def _fmt(v: Any) -> str:
 
 
 #: Tables with this many columns or more are shown one row per card on a narrow screen (phone).
-WIDE_TABLE_COLUMNS = 5
+WIDE_TABLE_COLUMNS = 6
 
 
 def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: Sequence[int] = (),
@@ -209,7 +209,8 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
         cells = []
         for i, v in enumerate(row):
             num = (isinstance(v, (int, float, np.number)) and not isinstance(v, bool)) or i in num_columns
-            text = str(v) if i in raw_columns else html.escape(_fmt(v))
+            # names break after their underscores on a narrow screen (constraint names, file paths)
+            text = str(v) if i in raw_columns else html.escape(_fmt(v)).replace("_", "_<wbr>")
             label = f' data-label="{labels[i]}"' if i < len(labels) else ""
             cells.append(f'<td class="num"{label}>{text}</td>' if num else f"<td{label}>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")

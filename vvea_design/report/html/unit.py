@@ -211,7 +211,7 @@ def _margins_section(unit: UnitResult) -> Section:
                      f"{rel} {float(d['limit']):.4g} {unit_s}".strip(), show_margin(m)))
     perf = ev.performance()
     law = gas_law_label(ev.design.gas_spring.n_polytropic)
-    prow = [("layout", _layout_text(unit)),
+    prow = [("layout", str(perf["layout"])),
             ("linearity error, isothermal (n = 1)", f"{100 * perf['linearity_error_isothermal']:.3f} %"),
             ("linearity error, adiabatic (n = 1.4)", f"{100 * perf['linearity_error_adiabatic']:.3f} %"),
             (f"mean stiffness at the charge, {law}", f"{perf['mean_stiffness_N_per_mm']:.2f} N/mm"),

@@ -231,6 +231,18 @@ _VIEWER_JS = r"""
       }
       c.tag.style.display = on ? '' : 'none';
     });
+    var placed = [];  // a name that would cover another moves down below it
+    callouts.forEach(function (c) {
+      if (c.tag.style.display === 'none') return;
+      var x = parseFloat(c.tag.style.left), y = parseFloat(c.tag.style.top);
+      var hw = c.tag.offsetWidth / 2 + 2, hh = c.tag.offsetHeight / 2 + 2;
+      for (var k = 0; k < placed.length; k++) {
+        var p = placed[k];
+        if (Math.abs(x - p.x) < hw + p.hw && Math.abs(y - p.y) < hh + p.hh) { y = p.y + hh + p.hh; k = -1; }
+      }
+      c.tag.style.top = y + 'px';
+      placed.push({x: x, y: y, hw: hw, hh: hh});
+    });
   }
   var drag = null;
   canvas.addEventListener('pointerdown', function (e) { drag = {x: e.clientX, y: e.clientY}; canvas.setPointerCapture(e.pointerId); });
