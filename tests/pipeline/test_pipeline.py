@@ -270,10 +270,14 @@ def test_report_screenshot_and_3d_view_not_blank(browser_page):
 
 
 # ---------------------------------------------------------------- the report read at phone and desktop width
+#: The rows of the report's constraint table (the table of the margins section whose first column is the verdict).
+_CONSTRAINT_ROWS = ("Array.from(document.querySelectorAll('#design-and-constraint-margins table')).filter("
+                    "t => t.tHead.rows[0].cells[0].textContent === 'verdict').flatMap(t => Array.from(t.tBodies[0].rows))")
+
+
 def _open(page, out, width):
     """A new page of the same browser showing the report at ``width`` px (the module's page stays as it is)."""
-    p = page.context.new_page()
-    p.set_viewport_size({"width": width, "height": 900})
+    p = page.context.browser.new_page(viewport={"width": width, "height": 900})
     p.goto((out / "report.html").resolve().as_uri(), wait_until="load")
     return p
 
@@ -287,17 +291,18 @@ def test_report_fits_a_phone_no_table_runs_off(browser_page):
         over = phone.evaluate("Array.from(document.querySelectorAll('.tw, figure')).filter("
                               "e => e.scrollWidth > e.clientWidth + 1).map(e => e.innerText.slice(0, 40))")
         assert over == []  # and no table scrolls inside its box: every one wraps or stacks its rows
-        # the constraint table reads verdict first, a row per card
-        row = phone.locator("#design-and-constraint-margins table.wide tbody tr").first
-        assert row.locator("td").first.inner_text() in ("PASS", "FAIL")
-        assert row.evaluate("r => getComputedStyle(r).display") == "block"
+        # the constraint table reads verdict first
+        assert phone.evaluate(_CONSTRAINT_ROWS + ".every(r => ['PASS', 'FAIL'].includes(r.cells[0].textContent))")
+        # a table of many columns (the bill of materials) shows a card per row
+        assert phone.evaluate("getComputedStyle(document.querySelector('#bill-of-materials table.wide tr')).display"
+                              ) == "block"
     finally:
         phone.close()
     wide = _open(page, out, 1400)
     try:
         assert wide.evaluate("document.documentElement.scrollWidth") <= 1400
-        row = wide.locator("#design-and-constraint-margins table.wide tbody tr").first
-        assert row.evaluate("r => getComputedStyle(r).display") == "table-row"  # a plain table at desktop width
+        assert wide.evaluate("getComputedStyle(document.querySelector('#bill-of-materials table.wide tr')).display"
+                             ) == "table-row"  # a plain table at desktop width
     finally:
         wide.close()
 
@@ -309,9 +314,7 @@ def test_report_margins_that_are_round_off_read_zero(ecoflex_run, browser_page):
     res, out, _ = ecoflex_run
     page, _, _ = browser_page
     margins = json.loads((out / "unit.json").read_text())["constraint_margins"]
-    cells = dict(page.eval_on_selector_all(
-        "#design-and-constraint-margins table.wide tbody tr",
-        "rows => rows.map(r => [r.cells[1].textContent, r.cells[4].textContent])"))
+    cells = dict(page.evaluate(_CONSTRAINT_ROWS + ".map(r => [r.cells[1].textContent, r.cells[4].textContent])"))
     assert set(cells) == set(margins)
     for name, m in margins.items():
         assert cells[name] == show_margin(m), name  # "0" for round-off, never "-4.3e-16"

@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -174,6 +175,16 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
+_LONG_RUN = re.compile(r"[A-Za-z0-9]{20,}")
+
+
+def _breakable(text: str) -> str:
+    """Escaped cell text with line-break opportunities for a narrow screen: after each underscore and slash
+    (constraint names, paths) and every 12 characters of a long run of letters and digits (a hash)."""
+    text = text.replace("_", "_<wbr>").replace("/", "/<wbr>")
+    return _LONG_RUN.sub(lambda m: "<wbr>".join(m.group(0)[k:k + 12] for k in range(0, len(m.group(0)), 12)), text)
+
+
 #: Tables with this many columns or more are shown one row per card on a narrow screen (phone).
 WIDE_TABLE_COLUMNS = 6
 
@@ -209,8 +220,7 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
         cells = []
         for i, v in enumerate(row):
             num = (isinstance(v, (int, float, np.number)) and not isinstance(v, bool)) or i in num_columns
-            # names break after their underscores on a narrow screen (constraint names, file paths)
-            text = str(v) if i in raw_columns else html.escape(_fmt(v)).replace("_", "_<wbr>")
+            text = str(v) if i in raw_columns else _breakable(html.escape(_fmt(v)))
             label = f' data-label="{labels[i]}"' if i < len(labels) else ""
             cells.append(f'<td class="num"{label}>{text}</td>' if num else f"<td{label}>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
