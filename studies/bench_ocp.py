@@ -41,7 +41,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for A, T in sample:
         for row in solve_case(RestToRestCase(A, T, settings, DEFAULT_MESH, fine_mesh=DEFAULT_FINE_MESH)):
-            per[row["setting"]].append(row["seconds"])
+            per[row.setting].append(row.seconds)
     wall = time.perf_counter() - t0
     print(f"sample: {len(sample)} cases x {len(settings)} settings = {len(sample) * len(settings)} OCPs, "
           f"{wall:.1f} s serial ({wall / (len(sample) * len(settings)):.2f} s per OCP incl. multi-start)")

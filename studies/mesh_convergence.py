@@ -41,7 +41,8 @@ def check_results(results_dir: Path, out: Path, finer_N: int = 384, workers=None
     sea = df[df.setting == "SEA"].set_index(["A_rad", "T_s"])
     N = int(sea.mesh_N.iloc[0])
     items = [(Mesh(finer_N, 3), PAPER_SETTINGS["SEA"], A, T) for A, T in sea.index]
-    ref = {finer_N: pd.DataFrame(parallel_map(solve_single, items, workers=workers, progress=False))
+    ref = {finer_N: pd.DataFrame([r.to_dict() for r in parallel_map(solve_single, items, workers=workers,
+                                                                      progress=False)])
            .set_index(["A_rad", "T_s"]).rmse}
     qp_path = out / "sea_lwr_rmse.csv"
     if qp_path.exists():
@@ -79,7 +80,7 @@ def main() -> None:
     items = [(Mesh(N, 3), PAPER_SETTINGS[s], A, T) for N in qp_N for s in ("SEA", "LWR")
              for A, T in GRIDS["paper"].cases()]
     rows = parallel_map(solve_single, items, workers=a.workers, description="SEA/LWR QPs over meshes")
-    qp = pd.DataFrame(rows)
+    qp = pd.DataFrame([r.to_dict() for r in rows])
     qp.to_csv(a.out / "sea_lwr_rmse.csv", index=False)
     conv = []
     for s in ("SEA", "LWR"):
@@ -94,14 +95,14 @@ def main() -> None:
     res = mesh_convergence([Mesh(N, 3) for N in stat_N], grid=SUBGRID, workers=a.workers)
     stats = []
     for r in res:
-        st = r["stats"]
-        stats.append({"mesh_N": r["mesh"].n_intervals, "wall_seconds": r["wall_seconds"],
-                      "solver_seconds": r["solver_seconds"], "mean_rmse_rad": st["mean_rmse_rad"],
-                      "pairs": {k: {kk: v[kk] for kk in ("fraction_X_beats_Y", "meanrmse_Y_over_X")}
-                                for k, v in st["pairs"].items() if k.endswith("_all")},
-                      "ivvea_vs_sea": st["ivvea_vs_sea_guarantee"], "winning_starts": st["winning_starts"]})
-        r["df"].assign(mesh_N=r["mesh"].n_intervals).to_csv(a.out / f"subgrid_results_N{r['mesh'].n_intervals}.csv",
-                                                            index=False)
+        st = r.stats
+        stats.append({"mesh_N": r.mesh.n_intervals, "wall_seconds": r.wall_seconds,
+                      "solver_seconds": r.solver_seconds, "mean_rmse_rad": st.mean_rmse_rad,
+                      "pairs": {k: {"fraction_X_beats_Y": v.fraction_X_beats_Y, "meanrmse_Y_over_X": v.meanrmse_Y_over_X}
+                                for k, v in st.pairs.items() if k.endswith("_all")},
+                      "ivvea_vs_sea": st.ivvea_vs_sea_guarantee, "winning_starts": st.winning_starts})
+        r.df.assign(mesh_N=r.mesh.n_intervals).to_csv(a.out / f"subgrid_results_N{r.mesh.n_intervals}.csv",
+                                                      index=False)
     out = {"qp_convergence": conv, "subgrid": {"A_rad": SUBGRID.A_rad, "T_s": SUBGRID.T_s}, "statistics": stats,
            "wall_seconds": round(time.perf_counter() - t0, 1), "loadavg_end": os.getloadavg()}
     (a.out / "mesh_convergence.json").write_text(json.dumps(out, indent=2))

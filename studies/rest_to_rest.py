@@ -43,9 +43,10 @@ def main() -> None:
     s = run_rest_to_rest(a.out, grid=a.grid, settings=settings, mesh=mesh, fine_mesh=fine, workers=a.workers,
                          scheduler=a.scheduler, restart=a.restart)
     wall = time.perf_counter() - t0
+    st = s.statistics.to_dict()
     print(json.dumps({"wall_seconds": round(wall, 1), "loadavg_start": load0, "loadavg_end": os.getloadavg(),
-                      "pairs": s["pairs"], "ivvea_vs_sea": s["ivvea_vs_sea_guarantee"],
-                      "winning_starts": s["winning_starts"], "failures": s["solver_failures"]}, indent=1))
+                      "pairs": st["pairs"], "ivvea_vs_sea": st["ivvea_vs_sea_guarantee"],
+                      "winning_starts": st["winning_starts"], "failures": st["solver_failures"]}, indent=1))
 
 
 if __name__ == "__main__":

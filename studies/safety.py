@@ -16,7 +16,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "safety")
     a = ap.parse_args()
-    s = run_safety(a.out)
+    s = run_safety(a.out).to_dict()
     print(json.dumps({k: s[k] for k in ("cases", "variable_start_won", "variable_D_settles_near_min_at_s")},
                      indent=1))
 

@@ -3,6 +3,9 @@
 f-strings with ``!r`` print numpy scalars as ``np.float64(…)`` (numpy >= 2)
 and tuples/lists of them likewise. Every error or notice that shows a value
 the user gave or a number the code computed formats it with :func:`show`.
+A constraint margin (or any number whose exact value is zero at the optimum)
+is shown with :func:`show_margin`: round-off below the optimiser's tolerance
+reads 0, not ``-4.3e-16`` or ``-0.0000``.
 """
 
 from __future__ import annotations
@@ -11,7 +14,11 @@ import math
 import numbers
 from typing import Any
 
-__all__ = ["show"]
+__all__ = ["show", "show_margin", "MARGIN_TOL"]
+
+#: Feasibility tolerance of the optimiser: a constraint margin >= -MARGIN_TOL counts as met, and a margin
+#: (or another scaled number) smaller than this in size is zero up to round-off (dimensionless).
+MARGIN_TOL = 1e-9
 
 
 def show(value: Any) -> str:
@@ -45,3 +52,33 @@ def show(value: Any) -> str:
     if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array / scalar of another kind
         return show(value.tolist())
     return repr(value)
+
+
+def show_margin(value: Any, spec: str = ".4g", tol: float = MARGIN_TOL) -> str:
+    """A constraint margin (or an error that is zero at the optimum) as a user should read it.
+
+    Parameters
+    ----------
+    value : Any
+        The number (Python or numpy real, dimensionless or in the unit the caller states).
+    spec : str
+        Format spec of a number that is not zero, e.g. ``".4g"`` or ``"+.4f"``.
+    tol : float
+        Size below which the number is round-off of zero, in the unit of ``value`` (default
+        :data:`MARGIN_TOL`, the optimiser's feasibility tolerance on the scaled margins).
+
+    Returns
+    -------
+    str
+        ``"0"`` when ``|value| < tol``, ``"nan"``/``"inf"`` as such, else ``format(value, spec)`` (a real
+        margin keeps its sign, however small).
+
+    >>> show_margin(-4.29e-16), show_margin(0.05102), show_margin(-2e-16, "+.4f"), show_margin(0.123456, "+.4f")
+    ('0', '0.05102', '0', '+0.1235')
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        return str(v)
+    if abs(v) < tol:
+        return "0"
+    return format(v, spec)

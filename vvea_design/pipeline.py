@@ -43,7 +43,7 @@ __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_sp
 #: The steps of :func:`design_unit` in order (the names its ``progress`` callback receives).
 STEPS = ("optimise", "spring", "cad", "bladder", "actuator", "actuator_study", "report")
 
-def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path]:
+def write_spring_files(spring: GasSpring, out_dir: str | Path, layout: str | None = None) -> dict[str, Path]:
     """Write ``spring.csv`` (x, force, stiffness, pressures) and ``spring.png`` into ``out_dir``.
 
     Parameters
@@ -52,6 +52,8 @@ def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path
         The gas spring (mm, mm², mm³, MPa).
     out_dir : path-like
         Folder (created).
+    layout : str, optional
+        The design's layout, named in the figure's title.
 
     Returns
     -------
@@ -72,7 +74,7 @@ def write_spring_files(spring: GasSpring, out_dir: str | Path) -> dict[str, Path
         w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
         for row in zip(x, F, k, P1, P2):
             w.writerow([f"{v:.6g}" for v in row])
-    png = _save(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0)), out / "spring.png")
+    png = _save(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0), layout=layout), out / "spring.png")
     return {"csv": csv_path, "png": png}
 
 
@@ -241,7 +243,7 @@ def design_unit(
     t = step("spring")
     gs = res.design.gas_spring
     curve = spring_curve(gs)
-    sp = write_spring_files(gs, out / "spring")
+    sp = write_spring_files(gs, out / "spring", layout=res.layout)
     files["spring_csv"], files["spring_png"] = sp["csv"], sp["png"]
     seconds["spring"] = time.perf_counter() - t
 

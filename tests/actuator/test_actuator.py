@@ -97,13 +97,14 @@ def test_mapping_scales_with_radius_squared(r, p2, n):
 def test_paper_mapping_reproduces_K_and_Dmax():
     """With the inferred radius, K = 362 and L(106°) gives ≈ the paper's D_max = 200."""
     chk = paper_mapping_check()
-    assert chk["K_Nm_per_rad"] == pytest.approx(362.0, rel=1e-9)
-    assert chk["D_of_gamma_Nms_per_rad"][106.0] == pytest.approx(200.0, rel=0.05)
+    assert chk.K_Nm_per_rad == pytest.approx(362.0, rel=1e-9)
+    assert chk.D_of_gamma_Nms_per_rad[106.0] == pytest.approx(200.0, rel=0.05)
     # D_min = 12.1 would need an L that Table 3 does not hold (between L(80) and L(100))
-    assert TABLE3_L_NS_PER_MM[80.0] < chk["L_needed_for_D12p1_Ns_per_mm"] < TABLE3_L_NS_PER_MM[100.0]
+    assert TABLE3_L_NS_PER_MM[80.0] < chk.L_needed_for_D12p1_Ns_per_mm < TABLE3_L_NS_PER_MM[100.0]
     act = actuator_from_spring(PAPER_FIG5, gamma_min_deg=50, gamma_max_deg=106)
     assert act.K_Nm_per_rad == pytest.approx(362.0)
-    assert act.D_max_Nms_per_rad == pytest.approx(chk["D_of_gamma_Nms_per_rad"][106.0])
+    assert act.D_max_Nms_per_rad == pytest.approx(chk.D_of_gamma_Nms_per_rad[106.0])
+    assert chk.to_dict()["K_Nm_per_rad"] == chk.K_Nm_per_rad and chk.to_dict()["n_units"] == 2
 
 
 def test_pulley_radius_roundtrip():

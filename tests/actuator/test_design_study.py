@@ -124,16 +124,16 @@ def _rows(table, verified=None, valid=None):
 def test_invalid_and_unverified_cases_are_left_out_and_counted():
     table = {"c1": dict(VVEA=1.0, SEA=2.0), "c2": dict(VVEA=1.0, SEA=2.0), "c3": dict(VVEA=3.0, SEA=2.0)}
     st = table5_statistics(_rows(table))
-    assert st["pairs"]["VVEA_vs_SEA_valid"]["X_beats_Y"] == 2 and st["pairs"]["VVEA_vs_SEA_valid"]["n_cases"] == 3
+    assert st.pairs["VVEA_vs_SEA_valid"].X_beats_Y == 2 and st.pairs["VVEA_vs_SEA_valid"].n_cases == 3
     # c1: VVEA's trajectory is not valid (95 % rule) -> out of the "valid" statistic only
     st = table5_statistics(_rows(table, valid={("c1", "VVEA"): False}))
-    p = st["pairs"]["VVEA_vs_SEA_valid"]
-    assert (p["n_cases"], p["X_beats_Y"], p["n_excluded"]) == (2, 1, 1)
-    assert st["pairs"]["VVEA_vs_SEA_all"]["n_cases"] == 3
+    p = st.pairs["VVEA_vs_SEA_valid"]
+    assert (p.n_cases, p.X_beats_Y, p.n_excluded) == (2, 1, 1)
+    assert st.pairs["VVEA_vs_SEA_all"].n_cases == 3
     # c2: VVEA's trajectory does not verify -> out of every statistic, and reported
     st = table5_statistics(_rows(table, verified={("c2", "VVEA"): False}))
-    assert st["pairs"]["VVEA_vs_SEA_all"]["n_cases"] == 2 and st["pairs"]["VVEA_vs_SEA_all"]["X_beats_Y"] == 1
-    assert st["unverified"]["count"] == 1 and st["unverified"]["cases"] == ["c2 VVEA"]
+    assert st.pairs["VVEA_vs_SEA_all"].n_cases == 2 and st.pairs["VVEA_vs_SEA_all"].X_beats_Y == 1
+    assert st.unverified["count"] == 1 and st.unverified["cases"] == ["c2 VVEA"]
 
 
 def test_figures_return_figures_and_leave_the_backend_alone(solver):

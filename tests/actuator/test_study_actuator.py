@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -15,10 +16,10 @@ import vvea_design.actuator.rest_to_rest as sa
 from vvea_design.actuator.model import PAPER_SETTINGS
 from vvea_design.cli.study import register
 from vvea_design.actuator.ocp import Mesh
-from vvea_design.actuator.multistart import RESULT_COLUMNS, RestToRestCase, solve_case
-from vvea_design.actuator.rest_to_rest import GRIDS, Grid, run_rest_to_rest
+from vvea_design.actuator.multistart import RESULT_COLUMNS, CaseRow, RestToRestCase, solve_case
+from vvea_design.actuator.rest_to_rest import GRIDS, Grid, RestToRestSummary, SweepRun, run_rest_to_rest
 from vvea_design.actuator.safety import run_safety
-from vvea_design.actuator.statistics import table5_statistics
+from vvea_design.actuator.statistics import Table5Statistics, table5_statistics
 from tests.helpers import REPO
 
 SMALL_MESH = Mesh(16, 3)
@@ -102,6 +103,18 @@ def test_every_start_is_recorded_and_the_winner_is_the_best(one_case_run):
             assert objs[r["start"]] == pytest.approx(best, rel=1e-5)
 
 
+def test_the_summary_is_typed_and_is_what_summary_json_holds(one_case_run):
+    out, summary = one_case_run
+    assert isinstance(summary, RestToRestSummary) and isinstance(summary.statistics, Table5Statistics)
+    assert isinstance(summary.run, SweepRun) and summary.out_dir == out
+    assert json.loads((out / "summary.json").read_text()) == json.loads(json.dumps(summary.to_dict()))
+    assert list(summary.to_dict())[-1] == "run" and summary.to_dict()["run"]["mesh"]["n_intervals"] == 16
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        summary.run = None
+    rows = pd.read_csv(out / "results.csv")
+    assert list(rows.columns) == RESULT_COLUMNS == [f.name for f in dataclasses.fields(CaseRow)]
+
+
 def test_dask_cluster_gives_the_local_numbers(tmp_path):
     distributed = pytest.importorskip("distributed")
     grid = Grid((0.5,), (0.6, 1.0))
@@ -117,7 +130,7 @@ def test_dask_cluster_gives_the_local_numbers(tmp_path):
     for col in ("rmse", "objective"):
         np.testing.assert_allclose(a[col].to_numpy(), b[col].to_numpy(), rtol=1e-9)
     assert (a.valid == b.valid).all() and (a.status == b.status).all()
-    assert local["pairs"] == dask["pairs"]
+    assert local.statistics.pairs == dask.statistics.pairs
 
 
 def test_resume_after_an_interrupted_sweep(tmp_path, monkeypatch):
@@ -162,15 +175,15 @@ def test_solver_failure_is_recorded_not_counted(tmp_path):
     assert len(df) == len(SETTINGS)
     assert (~df.success).all() and df.rmse.isna().all() and (~df.valid).all()
     assert df.status.str.contains("Maximum_Iterations").all()
-    assert summary["solver_failures"]["count"] == len(SETTINGS)
-    assert summary["pairs"]["VVEA_vs_SEA_all"]["n_cases"] == 0
+    assert summary.statistics.solver_failures["count"] == len(SETTINGS)
+    assert summary.statistics.pairs["VVEA_vs_SEA_all"].n_cases == 0
 
 
 def test_unexpected_error_becomes_rows():
     bad = RestToRestCase(0.5, 0.8, SETTINGS, Mesh(18, 3))  # not a multiple of 4
     rows = solve_case(bad)
     assert len(rows) == len(SETTINGS)
-    assert all(r["status"].startswith("error: ValueError") and not r["success"] for r in rows)
+    assert all(r.status.startswith("error: ValueError") and not r.success for r in rows)
 
 
 def test_table5_statistics_on_constructed_data():
@@ -183,12 +196,16 @@ def test_table5_statistics_on_constructed_data():
                              seconds=0.1, success=True, start="x", D_min_Nms_per_rad=a.D_min_Nms_per_rad,
                              D_max_Nms_per_rad=a.D_max_Nms_per_rad))
     st = table5_statistics(pd.DataFrame(rows))
-    p = st["pairs"]
-    assert p["VVEA_vs_SEA_all"]["fraction_X_beats_Y"] == 0.5
-    assert p["VVEA_vs_LWR_all"]["fraction_X_beats_Y"] == 0.5
-    assert p["iVVEA_vs_SEA_all"]["fraction_X_beats_Y"] == 1.0
-    assert p["VVEA_vs_SEA_all"]["meanrmse_Y_over_X"] == pytest.approx(1.9 / 1.5)
-    assert st["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
+    p = st.pairs
+    assert p["VVEA_vs_SEA_all"].fraction_X_beats_Y == 0.5
+    assert p["VVEA_vs_LWR_all"].fraction_X_beats_Y == 0.5
+    assert p["iVVEA_vs_SEA_all"].fraction_X_beats_Y == 1.0
+    assert p["VVEA_vs_SEA_all"].meanrmse_Y_over_X == pytest.approx(1.9 / 1.5)
+    assert st.ivvea_vs_sea_guarantee["iVVEA_worse_than_SEA_cases"] == 0
+    assert st.pair("VVEA", "SEA", "all") is p["VVEA_vs_SEA_all"] and st.pair("SEA", "VVEA") is None
+    d = st.to_dict()  # the JSON of summary.json: plain dicts, the pairs included
+    assert d["pairs"]["VVEA_vs_SEA_all"]["fraction_X_beats_Y"] == 0.5 and list(d)[:3] == [
+        "outperform_rtol", "n_cases", "n_cases_any_valid"]
 
 
 def test_cli_bad_grid_is_a_clear_error(tmp_path):
@@ -224,10 +241,10 @@ def test_safety_bad_input(tmp_path):
 @pytest.mark.slow
 def test_paper_grid_guarantee(tmp_path):
     """The full paper grid (600 OCPs): no failures, iVVEA <= SEA on every case."""
-    summary = run_rest_to_rest(tmp_path, grid="paper", progress=False, figures=False)
-    assert summary["solver_failures"]["count"] == 0
-    assert summary["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
-    assert summary["n_cases"] == 150
+    summary = run_rest_to_rest(tmp_path, grid="paper", progress=False, figures=False).statistics
+    assert summary.solver_failures["count"] == 0
+    assert summary.ivvea_vs_sea_guarantee["iVVEA_worse_than_SEA_cases"] == 0
+    assert summary.n_cases == 150
 
 
 FINE = Mesh(32, 3)
@@ -250,7 +267,7 @@ def test_two_level_rows_come_from_the_fine_mesh(two_level_run):
     df = pd.read_csv(out / "results.csv")
     assert len(df) == len(TWO_LEVEL.cases()) * len(SETTINGS) and df.success.all()
     assert (df.mesh_N == FINE.n_intervals).all() and (df.coarse_mesh_N == SMALL_MESH.n_intervals).all()
-    assert summary["run"]["fine_mesh"]["n_intervals"] == FINE.n_intervals
+    assert summary.run.fine_mesh.n_intervals == FINE.n_intervals
     # constant damping: the fine-mesh QP; variable damping: the fine QP at D_min or the polish
     assert set(df[df.setting.isin(["SEA", "LWR"])].start) == {"qp"}
     var = df[df.setting.isin(["VVEA", "iVVEA"])]
@@ -265,7 +282,7 @@ def test_two_level_ivvea_never_worse_than_sea_on_the_fine_mesh(two_level_run):
     df = pd.read_csv(out / "results.csv")
     p = df.pivot(index="case_id", columns="setting", values="objective")
     assert (p["iVVEA"] <= p["SEA"] * (1 + 1e-12)).all()
-    assert summary["ivvea_vs_sea_guarantee"]["iVVEA_worse_than_SEA_cases"] == 0
+    assert summary.statistics.ivvea_vs_sea_guarantee["iVVEA_worse_than_SEA_cases"] == 0
     # the fine SEA objective is the direct fine-mesh QP (the sweep's per-process solver of that mesh)
     s = ms._solver(FINE, ())
     row = df[(df.setting == "SEA")].iloc[0]
@@ -280,7 +297,7 @@ def test_two_level_resume_checks_the_fine_mesh(tmp_path, two_level_run):
     before = pd.read_csv(out / "results.csv")
     # the same command resumes (nothing to solve, rows unchanged)
     s2 = run_rest_to_rest(out, grid=TWO_LEVEL, mesh=SMALL_MESH, fine_mesh=FINE, workers=1, progress=False, figures=False)
-    assert s2["run"]["cases_solved_this_run"] == 0
+    assert s2.run.cases_solved_this_run == 0
     pd.testing.assert_frame_equal(pd.read_csv(out / "results.csv")[RESULT_COLUMNS], before[RESULT_COLUMNS])
     # another fine mesh, or none, is a different sweep
     for fm in (Mesh(24, 3), None):
@@ -291,7 +308,7 @@ def test_two_level_resume_checks_the_fine_mesh(tmp_path, two_level_run):
 
 def test_default_fine_mesh_only_with_the_default_mesh(tmp_path, one_case_run):
     s = one_case_run[1]  # run_rest_to_rest(grid=ONE, mesh=SMALL_MESH), fine_mesh left at "auto"
-    assert s["run"]["fine_mesh"] is None
+    assert s.run.fine_mesh is None
     assert ms.DEFAULT_FINE_MESH.n_intervals == 192 and ms.DEFAULT_MESH.n_intervals == 64
     with pytest.raises(ValueError, match="multiple of 4"):
         run_rest_to_rest(tmp_path / "x", grid=ONE, mesh=SMALL_MESH, fine_mesh=Mesh(30, 3), workers=1,

@@ -267,3 +267,101 @@ def test_report_screenshot_and_3d_view_not_blank(browser_page):
     mould = canvas.screenshot()
     assert mould != turned and _non_background_fraction(mould) > 0.02
     page.click("button[data-group=assembly]")
+
+
+# ---------------------------------------------------------------- the report read at phone and desktop width
+#: The rows of the report's constraint table (the table of the margins section whose first column is the verdict).
+_CONSTRAINT_ROWS = ("Array.from(document.querySelectorAll('#design-and-constraint-margins table')).filter("
+                    "t => t.tHead.rows[0].cells[0].textContent === 'verdict').flatMap(t => Array.from(t.tBodies[0].rows))")
+
+
+def _open(page, out, width):
+    """A new page of the same browser showing the report at ``width`` px (the module's page stays as it is)."""
+    p = page.context.browser.new_page(viewport={"width": width, "height": 900})
+    p.goto((out / "report.html").resolve().as_uri(), wait_until="load")
+    return p
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_fits_a_phone_no_table_runs_off(browser_page):
+    page, _, out = browser_page
+    phone = _open(page, out, 400)
+    try:
+        assert phone.evaluate("document.documentElement.scrollWidth") <= 400  # no horizontal scroll of the page
+        over = phone.evaluate("Array.from(document.querySelectorAll('.tw, figure')).filter("
+                              "e => e.scrollWidth > e.clientWidth + 1).map(e => e.innerText.slice(0, 40))")
+        assert over == []  # and no table scrolls inside its box: every one wraps or stacks its rows
+        # the constraint table reads verdict first
+        assert phone.evaluate(_CONSTRAINT_ROWS + ".every(r => ['PASS', 'FAIL'].includes(r.cells[0].textContent))")
+        # a table of many columns (the bill of materials) shows a card per row
+        assert phone.evaluate("getComputedStyle(document.querySelector('#bill-of-materials table.wide tr')).display"
+                              ) == "block"
+    finally:
+        phone.close()
+    wide = _open(page, out, 1400)
+    try:
+        assert wide.evaluate("document.documentElement.scrollWidth") <= 1400
+        assert wide.evaluate("getComputedStyle(document.querySelector('#bill-of-materials table.wide tr')).display"
+                             ) == "table-row"  # a plain table at desktop width
+    finally:
+        wide.close()
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_margins_that_are_round_off_read_zero(ecoflex_run, browser_page):
+    from vvea_design.messages import show_margin
+
+    res, out, _ = ecoflex_run
+    page, _, _ = browser_page
+    margins = json.loads((out / "unit.json").read_text())["constraint_margins"]
+    cells = dict(page.evaluate(_CONSTRAINT_ROWS + ".map(r => [r.cells[1].textContent, r.cells[4].textContent])"))
+    assert set(cells) == set(margins)
+    for name, m in margins.items():
+        assert cells[name] == show_margin(m), name  # "0" for round-off, never "-4.3e-16"
+    assert "-0.0000" not in res.stdout and not any("e-1" in c for c in cells.values())
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_states_the_layout_and_the_gas_laws(ecoflex_run, browser_page):
+    page, _, out = browser_page
+    layout = json.loads((out / "unit.json").read_text())["performance"]["layout"]
+    assert f"{layout} layout" in page.inner_text("header")
+    assert f"the {layout} layout" in page.inner_text("#design-and-constraint-margins")
+    force = page.inner_text("#force figcaption")
+    assert f"the {layout} layout" in force and "isothermal" in force and "adiabatic" in force
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_3d_mould_view_has_a_legend_and_names_its_pieces(browser_page):
+    from vvea_design.palette import PART_LABELS, part_hex
+
+    page, _, _ = browser_page
+    page.click("button[data-group=mould]")
+    try:
+        shown = [s for s in page.locator("#viewer-legend span").all() if s.is_visible()]
+        names = ["mould_half_a", "mould_half_b", "mould_core"]
+        assert [s.inner_text() for s in shown] == [PART_LABELS[n] for n in names]
+        swatches = [s.locator("i").evaluate("i => getComputedStyle(i).backgroundColor") for s in shown]
+        hexes = ["#" + "".join(f"{int(c):02x}" for c in sw[sw.index("(") + 1:-1].split(",")) for sw in swatches]
+        assert hexes == [part_hex(n) for n in names]  # the palette's colours, as the renders
+        tags = [t for t in page.locator("#viewer-labels span").all() if t.is_visible()]
+        assert sorted(t.inner_text() for t in tags) == sorted(PART_LABELS[n] for n in names)  # named in the view
+        box = page.locator("#viewer").bounding_box()
+        for t in tags:
+            b = t.bounding_box()
+            assert box["x"] <= b["x"] + b["width"] / 2 <= box["x"] + box["width"]
+            assert box["y"] <= b["y"] + b["height"] / 2 <= box["y"] + box["height"]
+    finally:
+        page.click("button[data-group=assembly]")
+    assert not any(t.is_visible() for t in page.locator("#viewer-labels span").all())  # mould names only there
+
+
+@pytest.mark.xdist_group("design_run")
+def test_report_drawings_link_their_full_size_sheets(browser_page):
+    page, _, out = browser_page
+    hrefs = page.eval_on_selector_all("#drawings figure a.sheet", "els => els.map(e => e.getAttribute('href'))")
+    assert hrefs and all(h.startswith("cad/drawing_") and h.endswith(".svg") for h in hrefs)
+    for h in hrefs:
+        assert (out / h).is_file(), h
+    n_svg = page.eval_on_selector_all("#drawings figure", "els => els.filter(e => e.querySelector('a.sheet svg')).length")
+    assert n_svg == len(hrefs)  # each inlined sheet is the link

@@ -45,11 +45,11 @@ from ..parallel import parallel_map
 from ..spring.gas_spring import GasSpring
 from .figures import plot_design_map, plot_safety, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator, actuator_from_spring
-from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, RestToRestCase, solve_case_results
+from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, CaseRow, RestToRestCase, solve_case_results
 from .ocp import Mesh, Regularisation
 from .rest_to_rest import Grid
 from .safety import SafetyStudy, solve_safety
-from .statistics import PAPER_TABLE5, table5_statistics
+from .statistics import PAPER_TABLE5, Table5Statistics, table5_statistics
 
 __all__ = [
     "DESIGN_GRID",
@@ -98,6 +98,23 @@ class CaseResult:
     def usable(self) -> bool:
         """Counts in the statistics: solved, valid and verified."""
         return self.valid and self.verified and math.isfinite(self.rmse_rad)
+
+    @classmethod
+    def from_row(cls, row: CaseRow) -> "CaseResult":
+        """The case of a ``results.csv`` row.
+
+        Parameters
+        ----------
+        row : CaseRow
+            A row of :func:`~vvea_design.actuator.multistart.solve_case_results` (SI units).
+
+        Returns
+        -------
+        CaseResult
+            Amplitude (rad), period (s), setting, rmse (rad), validity, verification, status and start.
+        """
+        return cls(float(row.A_rad), float(row.T_s), row.setting, float(row.rmse), bool(row.valid),
+                   bool(row.verified), str(row.status), str(row.start))
 
     def to_dict(self) -> dict:
         """Plain-JSON dictionary.
@@ -220,7 +237,7 @@ class StudyFiles:
                                  self.safety_png) if p is not None])
 
 
-@dataclass
+@dataclass(frozen=True)
 class DesignStudy:
     """Result of :func:`run_design_study`."""
 
@@ -379,6 +396,57 @@ def _work(item):
         return solve_case(payload), {}
 
 
+def _solve_items(items: list, workers: int | None, progress, total: int) -> tuple[list, int]:
+    """Every work item through :func:`~vvea_design.parallel.parallel_map`; (results in order, workers used)."""
+    from ..parallel import default_workers
+
+    done = [0]
+
+    def on_result(i, r) -> None:
+        done[0] += 1
+        if progress is not None:
+            kind, payload = items[i]
+            msg = (f"torque step {payload[2]}" if kind == "safety"
+                   else f"rest-to-rest A = {payload.A_rad:g} rad, T = {payload.T_s:g} s")
+            progress(done[0], total, msg)
+
+    used = 1 if workers == 1 else min(default_workers() if workers is None else workers, len(items))
+    return parallel_map(_work, items, workers=workers, on_result=on_result, progress=False), used
+
+
+def _setting_summaries(settings: Sequence[Actuator], cases: tuple[CaseResult, ...],
+                       grid: Grid) -> tuple[SettingSummary, ...]:
+    """Each setting over the grid; the mean rmse over the cases where every setting is usable."""
+    names = [a.name for a in settings]
+    usable = {(c.A_rad, c.T_s, c.setting): c.usable for c in cases}
+    all_ok = [k for k in grid.cases() if all(usable.get((k[0], k[1], n), False) for n in names)]
+    rm = {(c.A_rad, c.T_s, c.setting): c.rmse_rad for c in cases}
+    out = []
+    for a in settings:
+        mine = [c for c in cases if c.setting == a.name]
+        out.append(SettingSummary(
+            a.name, a.K_Nm_per_rad, a.D_min_Nms_per_rad, a.D_max_Nms_per_rad, len(mine),
+            sum(1 for c in mine if math.isfinite(c.rmse_rad)),
+            sum(1 for c in mine if c.valid and math.isfinite(c.rmse_rad)),
+            sum(1 for c in mine if math.isfinite(c.rmse_rad) and not c.verified),
+            float(np.mean([rm[(A, T, a.name)] for A, T in all_ok])) if all_ok else float("nan")))
+    return tuple(out)
+
+
+def _comparisons(refs: Sequence[Actuator], stats: Table5Statistics, n_grid: int) -> tuple[Comparison, ...]:
+    """The design against each reference over the cases where both are usable (Table-5-like)."""
+    out = []
+    for r in refs:
+        p = stats.pair("design", r.name, "valid")
+        paper = (PAPER_TABLE5.get(f"VVEA_beats_{r.name}"), PAPER_TABLE5.get(f"meanrmse_{r.name}_over_VVEA"))
+        if p is None:
+            out.append(Comparison(r.name, 0, n_grid, 0, 0, None, None, *paper))
+        else:
+            out.append(Comparison(r.name, p.n_cases, p.n_excluded, p.X_beats_Y, p.X_worse_than_Y,
+                                  p.fraction_X_beats_Y, p.meanrmse_Y_over_X, *paper))
+    return tuple(out)
+
+
 def run_design_study(
     design,
     out_dir: str | Path | None = None,
@@ -410,7 +478,7 @@ def run_design_study(
     workers
         Local worker processes (default: all cores; 1 = in this process).
     grid, mesh
-        Rest-to-rest grid and collocation mesh (defaults :data:`DESIGN_GRID`,
+        Rest-to-rest grid (A in rad, T in s) and collocation mesh (defaults :data:`DESIGN_GRID`,
         :data:`DESIGN_MESH`).
     references
         Names in :data:`~vvea_design.actuator.model.PAPER_SETTINGS` to compare with.
@@ -423,7 +491,7 @@ def run_design_study(
     Returns
     -------
     DesignStudy
-        Typed result; ``to_dict()`` gives the JSON.
+        Typed result (rmse in rad, times in s); ``to_dict()`` gives the JSON.
     """
     import pandas as pd
 
@@ -439,72 +507,34 @@ def run_design_study(
                    ("safety", (PAPER_SETTINGS["VVEA"], safety_mesh, "VVEA, variable D", ()))]
     items += [("r2r", RestToRestCase(A, T, settings, mesh, DESIGN_STARTS, (), None, reg)) for A, T in grid.cases()]
     total = len(items) + 1
-    done = [0]
-
-    def on_result(i, r) -> None:
-        done[0] += 1
-        if progress is not None:
-            kind, payload = items[i]
-            msg = f"torque step {payload[2]}" if kind == "safety" else f"rest-to-rest A = {payload.A_rad:g} rad, T = {payload.T_s:g} s"
-            progress(done[0], total, msg)
-
-    n_workers = workers if workers is not None else None
-    from ..parallel import default_workers
-
-    used = 1 if n_workers == 1 else min(default_workers() if n_workers is None else n_workers, len(items))
-    out = parallel_map(_work, items, workers=n_workers, on_result=on_result, progress=False)
+    out, used = _solve_items(items, workers, progress, total)
     t_solved = time.perf_counter()
     safety_design, safety_ref = out[0], out[1]
-    rows: list[dict] = []
-    bests: dict[tuple[float, float], dict] = {}
-    for (kind, case), res in zip(items[2:], out[2:]):
-        rs, best = res
-        rows.extend(rs)
-        bests[(case.A_rad, case.T_s)] = best
-    df = pd.DataFrame(rows, columns=RESULT_COLUMNS)
-    stats = table5_statistics(df)
-    cases = tuple(CaseResult(float(r["A_rad"]), float(r["T_s"]), r["setting"], float(r["rmse"]), bool(r["valid"]),
-                             bool(r["verified"]), str(r["status"]), str(r["start"])) for r in rows)
-    names = [a.name for a in settings]
-    usable = {(c.A_rad, c.T_s, c.setting): c.usable for c in cases}
-    all_ok = [k for k in grid.cases() if all(usable.get((k[0], k[1], n), False) for n in names)]
-    rm = {(c.A_rad, c.T_s, c.setting): c.rmse_rad for c in cases}
-    summaries = []
-    for a in settings:
-        mine = [c for c in cases if c.setting == a.name]
-        summaries.append(SettingSummary(
-            a.name, a.K_Nm_per_rad, a.D_min_Nms_per_rad, a.D_max_Nms_per_rad, len(mine),
-            sum(1 for c in mine if math.isfinite(c.rmse_rad)),
-            sum(1 for c in mine if c.valid and math.isfinite(c.rmse_rad)),
-            sum(1 for c in mine if math.isfinite(c.rmse_rad) and not c.verified),
-            float(np.mean([rm[(A, T, a.name)] for A, T in all_ok])) if all_ok else float("nan")))
-    comps = []
-    for r in refs:
-        p = stats["pairs"].get(f"design_vs_{r.name}_valid", {})
-        comps.append(Comparison(
-            r.name, int(p.get("n_cases", 0)), int(p.get("n_excluded", len(grid.cases()))), int(p.get("X_beats_Y", 0)),
-            int(p.get("X_worse_than_Y", 0)), p.get("fraction_X_beats_Y"), p.get("meanrmse_Y_over_X"),
-            PAPER_TABLE5.get(f"VVEA_beats_{r.name}"), PAPER_TABLE5.get(f"meanrmse_{r.name}_over_VVEA")))
+    rows: list[CaseRow] = [row for rs, _ in out[2:] for row in rs]
+    bests = {(case.A_rad, case.T_s): best for (_, case), (_, best) in zip(items[2:], out[2:])}
+    df = pd.DataFrame([r.to_dict() for r in rows], columns=RESULT_COLUMNS)
+    cases = tuple(CaseResult.from_row(r) for r in rows)
     # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
-    Aex = min(grid.A_rad, key=lambda a: abs(a - 0.7))
-    Tex = min(grid.T_s, key=lambda t: abs(t - 1.0))
+    ex = (min(grid.A_rad, key=lambda a: abs(a - 0.7)), min(grid.T_s, key=lambda t: abs(t - 1.0)))
     study = DesignStudy(
         actuator=act, references=refs, grid=grid, mesh=mesh, starts=DESIGN_STARTS, regularisation=reg,
-        cases=cases, settings=tuple(summaries), comparisons=tuple(comps), safety_design=safety_design,
+        cases=cases, settings=_setting_summaries(settings, cases, grid),
+        comparisons=_comparisons(refs, table5_statistics(df), len(grid.cases())), safety_design=safety_design,
         safety_reference=safety_ref,
         timing=StudyTiming(t_solved - t_start, 0.0, 0.0, used,
                            float(df["seconds"].sum()) + safety_design.wall_seconds + safety_ref.wall_seconds,
                            float(df["cpu_seconds"].sum())),
-        trajectory_case=(Aex, Tex), best=bests.get((Aex, Tex), {}),
+        trajectory_case=ex, best=bests.get(ex, {}),
     )
     if out_dir is not None:
-        study.files = _write(study, df, Path(out_dir))
+        study = dataclasses.replace(study, files=_write(study, df, Path(out_dir)))
         if progress is not None:
             progress(total, total, f"wrote {out_dir}")
     elif progress is not None:
         progress(total, total, "done")
     t_end = time.perf_counter()
-    study.timing = dataclasses.replace(study.timing, figures_s=t_end - t_solved, total_s=t_end - t_start)
+    study = dataclasses.replace(study, timing=dataclasses.replace(study.timing, figures_s=t_end - t_solved,
+                                                                   total_s=t_end - t_start))
     if out_dir is not None:  # the JSON carries the final timing
         Path(study.files.summary_json).write_text(json.dumps(study.to_dict(), indent=2))
     return study

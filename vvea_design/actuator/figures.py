@@ -17,18 +17,15 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..figure_layout import legend_width_in, set_margins_in, ytick_label_width_in
+from ..palette import FIXED_DAMPING_STYLES, OTHER_COLOURS, SETTING_COLOURS, setting_colour
 from .ocp import OcpResult, rest_to_rest_reference
 
+# SETTING_COLOURS: the palette's (vvea_design.palette), named here as before
 __all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map"]
-
-#: Colour of each named setting in every actuator figure.
-SETTING_COLOURS = {"SEA": "tab:blue", "LWR": "tab:gray", "VVEA": "tab:purple", "iVVEA": "tab:orange",
-                   "design": "tab:red"}
-_PALETTE = ["tab:green", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 
 
 def _colour(name: str, i: int = 0) -> str:
-    return SETTING_COLOURS.get(name, _PALETTE[i % len(_PALETTE)])
+    return setting_colour(name, i)
 
 
 def _bool(series):
@@ -131,7 +128,8 @@ def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highli
     -------
     Figure
     """
-    if fig is None:
+    own = fig is None
+    if own:
         fig = Figure(figsize=(7.5, 7.5))
     axes = fig.subplots(3, 1, sharex=True)
     tt = np.linspace(0, 2 * T_s, 801)
@@ -149,49 +147,79 @@ def plot_trajectory(best: dict[str, OcpResult], A_rad: float, T_s: float, highli
     axes[2].set_ylabel("damping D (N m s/rad)")
     axes[2].set_yscale("symlog", linthresh=10)
     axes[2].set_xlabel("time t (s)")
-    axes[0].legend(fontsize=7, loc="lower right")
-    axes[1].legend(fontsize=7, loc="upper right", ncol=len(best))
+    # one legend for the three panels (one colour per setting in each), right of them: it covers no trace
+    title = f"setting (thick: {highlight})" if highlight in best else "setting"
+    leg = axes[0].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), title=title, title_fontsize=7)
     for ax in axes:
         ax.grid(alpha=0.3)
     axes[1].set_ylim(-125, 140)
     axes[0].set_title(f"Rest-to-rest optimum, A = {A_rad:g} rad, T = {T_s:g} s", fontsize=9, y=1.0)
+    lw = legend_width_in(leg)
+    if own:  # the panels keep their width; the figure grows by the legend's
+        fig.set_size_inches(7.5 + lw + 0.1, 7.5)
     # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the title and
-    # the labels, and the room of the widest y tick labels (measured)
-    set_margins_in(fig, left=0.475 + max(ytick_label_width_in(ax) for ax in axes), bottom=0.585, right=0.15,
-                   top=0.343, hspace=0.2)
+    # the labels, the room of the widest y tick labels (measured) and the legend right of the panels
+    W = fig.get_size_inches()[0]
+    left = 0.475 + max(ytick_label_width_in(ax) for ax in axes)
+    set_margins_in(fig, left=left, bottom=0.585, right=(0.15 + lw + 0.02 * (W - left)) / 1.02, top=0.343,
+                   hspace=0.2)
     return fig
 
 
+def _safety_styles(names, base_setting: str) -> dict[str, tuple[str, object]]:
+    """(colour, line style) of each torque-step case: a variable-damping case in its setting's colour, solid;
+    a fixed-damping case dashed (then dash-dotted, dotted) in the palette's other colours, in order.
+
+    A case named ``"<setting>, ..."`` belongs to that setting; any other to ``base_setting``.
+    """
+    out, k = {}, 0
+    for name in names:
+        head, sep, rest = name.partition(", ")
+        setting = head if sep and head in SETTING_COLOURS else base_setting
+        if (rest if sep else name).startswith("fixed D"):
+            out[name] = (OTHER_COLOURS[k % len(OTHER_COLOURS)], FIXED_DAMPING_STYLES[k % len(FIXED_DAMPING_STYLES)])
+            k += 1
+        else:
+            out[name] = (setting_colour(setting), "-")
+    return out
+
+
 def plot_safety(results: dict[str, OcpResult], tau_ref: float, zoom_s: float = 0.03,
-                fig: Figure | None = None) -> Figure:
+                fig: Figure | None = None, base_setting: str = "VVEA") -> Figure:
     """Fig. 14: τ, τ_m and D over the horizon (left) and over the first ``zoom_s`` seconds (right).
+
+    A variable-damping case is drawn solid in its setting's colour (:mod:`vvea_design.palette`), a
+    fixed-damping case dashed in a colour of no setting.
 
     Parameters
     ----------
     results
-        Torque-step result per case name.
+        Torque-step result per case name (``"design, variable D"``, ``"fixed D 31"``, ...).
     tau_ref
         Step height (N m).
     zoom_s
         Width of the zoomed column (s).
     fig
         Figure to draw into (3 x 2 panels).
+    base_setting
+        Setting of the cases whose name does not start with a setting's (``"VVEA"``: the paper's study).
 
     Returns
     -------
     Figure
     """
-    colours = ["tab:green", "tab:red", "tab:blue", "tab:orange", "tab:purple"]
+    styles = _safety_styles(results, base_setting)
     if fig is None:
         fig = Figure(figsize=(11, 7))
     axes = fig.subplots(3, 2, sharex="col", gridspec_kw={"width_ratios": [1.4, 1]})
     for col, xmax in ((0, None), (1, zoom_s)):
         ax = axes[:, col]
-        for c, (name, r) in zip(colours, results.items()):
+        for name, r in results.items():
+            c, ls = styles[name]
             lab = f"{name}: mean D {r.extra['mean_D_Nms_per_rad']:.1f}, t95 {r.extra['t95_s'] * 1e3:.1f} ms"
-            ax[0].plot(r.t_s, r.tau_Nm, color=c, label=lab)
-            ax[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", color=c, label=name)
-            ax[2].plot(r.t_s, r.D_Nms_per_rad, color=c, label=name)
+            ax[0].plot(r.t_s, r.tau_Nm, color=c, ls=ls, label=lab)
+            ax[1].step(r.t_s[:-1], r.tau_m_Nm, where="post", color=c, ls=ls, label=name)
+            ax[2].plot(r.t_s, r.D_Nms_per_rad, color=c, ls=ls, label=name)
         ax[0].axhline(tau_ref, color="k", ls="--", lw=0.8, label="τ_ref")
         ax[0].axhline(0.95 * tau_ref, color="0.5", ls=":", lw=0.8)
         for a in ax:

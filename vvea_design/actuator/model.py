@@ -32,7 +32,7 @@ shows what that radius gives for the damping range (see docs/actuator.md).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +57,7 @@ __all__ = [
     "actuator_from_spring",
     "from_design_json",
     "paper_mapping_check",
+    "MappingCheck",
 ]
 
 #: Motor-side inertia B (kg m²), section 3.4.
@@ -351,7 +352,34 @@ def from_design_json(path: str | Path, **kwargs) -> Actuator:
     return actuator_from_spring(design.gas_spring, **kwargs)
 
 
-def paper_mapping_check(pulley_radius_m: float = PAPER_PULLEY_RADIUS_M, n_units: int = 2) -> dict:
+@dataclass(frozen=True)
+class MappingCheck:
+    """What the section 3.4 mapping gives with the paper's numbers (:func:`paper_mapping_check`)."""
+
+    pulley_radius_m: float  #: pulley radius r, m
+    n_units: int  #: pre-loaded units on the pulley
+    k_fig5_N_per_mm: float  #: mean stiffness of the paper's Fig. 5 spring, N/mm
+    k_table3_at_2p385MPa_N_per_mm: float  #: Table 3's g times the Fig. 5 charge, N/mm
+    K_Nm_per_rad: float  #: joint stiffness n r² k, N m/rad
+    D_of_gamma_Nms_per_rad: dict[float, float]  #: joint damping of every Table 3 valve angle (deg), N m s/rad
+    L_needed_for_D12p1_Ns_per_mm: float  #: throttle damping the paper's D_min = 12.1 would need, N s/mm
+    L_needed_for_D200_Ns_per_mm: float  #: throttle damping the paper's D_max = 200 would need, N s/mm
+    K_over_D_paper_min_per_s: float  #: 362 / 12.1, 1/s
+    K_over_D_paper_max_per_s: float  #: 362 / 200, 1/s
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            Field name to value, units as in the names (m, N/mm, N m/rad, N m s/rad, N s/mm, 1/s); the
+            valve angles of ``D_of_gamma_Nms_per_rad`` in deg.
+        """
+        return asdict(self)
+
+
+def paper_mapping_check(pulley_radius_m: float = PAPER_PULLEY_RADIUS_M, n_units: int = 2) -> MappingCheck:
     """What the section 3.4 mapping gives with the paper's numbers.
 
     Parameters
@@ -363,22 +391,22 @@ def paper_mapping_check(pulley_radius_m: float = PAPER_PULLEY_RADIUS_M, n_units:
 
     Returns
     -------
-    dict
-        Spring stiffness, K, the damping of every Table 3 valve angle, and
-        the angles/damping that the paper's 12.1 and 200 N m s/rad would need.
+    MappingCheck
+        Spring stiffness (N/mm), K (N m/rad), the damping of every Table 3 valve angle (N m s/rad), and
+        the throttle damping (N s/mm) that the paper's 12.1 and 200 N m s/rad would need.
     """
     k_fig5 = PAPER_FIG5.mean_stiffness_N_per_mm()
     r2n = n_units * pulley_radius_m**2
     D_of = {g: r2n * L * 1e3 for g, L in TABLE3_L_NS_PER_MM.items()}
-    return {
-        "pulley_radius_m": pulley_radius_m,
-        "n_units": n_units,
-        "k_fig5_N_per_mm": k_fig5,
-        "k_table3_at_2p385MPa_N_per_mm": TABLE3_G_N_PER_MM_MPA * PAPER_FIG5.p2_MPa,
-        "K_Nm_per_rad": r2n * k_fig5 * 1e3,
-        "D_of_gamma_Nms_per_rad": D_of,
-        "L_needed_for_D12p1_Ns_per_mm": 12.1 / (r2n * 1e3),
-        "L_needed_for_D200_Ns_per_mm": 200.0 / (r2n * 1e3),
-        "K_over_D_paper_min_per_s": 362.0 / 12.1,
-        "K_over_D_paper_max_per_s": 362.0 / 200.0,
-    }
+    return MappingCheck(
+        pulley_radius_m=pulley_radius_m,
+        n_units=n_units,
+        k_fig5_N_per_mm=k_fig5,
+        k_table3_at_2p385MPa_N_per_mm=TABLE3_G_N_PER_MM_MPA * PAPER_FIG5.p2_MPa,
+        K_Nm_per_rad=r2n * k_fig5 * 1e3,
+        D_of_gamma_Nms_per_rad=D_of,
+        L_needed_for_D12p1_Ns_per_mm=12.1 / (r2n * 1e3),
+        L_needed_for_D200_Ns_per_mm=200.0 / (r2n * 1e3),
+        K_over_D_paper_min_per_s=362.0 / 12.1,
+        K_over_D_paper_max_per_s=362.0 / 200.0,
+    )

@@ -26,7 +26,7 @@ import json
 import threading
 import time
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 
@@ -36,6 +36,8 @@ from .ocp import Mesh, OcpResult, Regularisation, RestToRestSolver, WARM_START_I
 
 __all__ = [
     "RestToRestCase",
+    "CaseRow",
+    "SingleSolve",
     "DEFAULT_MESH",
     "DEFAULT_FINE_MESH",
     "DEFAULT_STARTS",
@@ -82,14 +84,54 @@ class RestToRestCase:
         return f"A{self.A_rad:.6g}_T{self.T_s:.6g}"
 
 
-#: Columns of results.csv, in order.
-RESULT_COLUMNS = [
-    "case_id", "setting", "A_rad", "T_s", "rmse", "valid", "status", "seconds", "cpu_seconds", "success", "objective",
-    "iterations", "start", "n_starts", "start_objectives", "peak_q_up1_rad", "peak_q_up2_rad",
-    "mean_D_Nms_per_rad", "max_D_Nms_per_rad", "K_Nm_per_rad", "D_min_Nms_per_rad", "D_max_Nms_per_rad",
-    "mesh_N", "mesh_degree", "coarse_mesh_N", "coarse_rmse", "verified", "verify_reason", "resim_rmse",
-    "resim_rel_error",
-]
+@dataclass(frozen=True)
+class CaseRow:
+    """One setting's result at one (A, T): a row of ``results.csv`` (SI units; NaN where not solved)."""
+
+    case_id: str  #: ``A<A>_T<T>`` (6 significant digits)
+    setting: str  #: setting name
+    A_rad: float  #: reference amplitude, rad
+    T_s: float  #: reference period, s
+    rmse: float  #: tracking rmse, rad (NaN when not solved)
+    valid: bool  #: the link reaches 95 % of A in both up-phases
+    status: str  #: IPOPT status of the reported result (or the error)
+    seconds: float  #: solver wall time of every solve of this setting, s
+    cpu_seconds: float  #: solver CPU time of every solve of this setting, s
+    success: bool  #: a result was found
+    objective: float  #: tracking integral ∫ (q - q_des)² dt, rad² s
+    iterations: int  #: IPOPT iterations of every solve of this setting
+    start: str  #: start that won ("" when none succeeded)
+    n_starts: int  #: starts tried
+    start_objectives: str  #: JSON object: start label to its objective (rad² s; null = failed)
+    peak_q_up1_rad: float  #: highest link angle in the first up-phase, rad
+    peak_q_up2_rad: float  #: highest link angle in the second up-phase, rad
+    mean_D_Nms_per_rad: float  #: time-mean damping, N m s/rad
+    max_D_Nms_per_rad: float  #: peak damping, N m s/rad
+    K_Nm_per_rad: float  #: series stiffness of the setting, N m/rad
+    D_min_Nms_per_rad: float  #: damping range, lower end, N m s/rad
+    D_max_Nms_per_rad: float  #: damping range, upper end, N m s/rad
+    mesh_N: int  #: intervals of the mesh the row was solved on
+    mesh_degree: int  #: Radau degree of that mesh
+    coarse_mesh_N: int  #: intervals of the multi-start mesh (= mesh_N for a single-level run)
+    coarse_rmse: float  #: rmse of the multi-start optimum, rad
+    verified: bool  #: the re-simulation reproduces the trajectory within its tolerances
+    verify_reason: str  #: "ok", or why not verified
+    resim_rmse: float  #: rmse of the re-simulated trajectory, rad
+    resim_rel_error: float  #: relative difference of the two rmse (fraction)
+
+    def to_dict(self) -> dict:
+        """The row as ``results.csv`` writes it.
+
+        Returns
+        -------
+        dict
+            Column name (:data:`RESULT_COLUMNS`, in order) to value, SI units as in the field names.
+        """
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+#: Columns of results.csv, in order (the fields of :class:`CaseRow`).
+RESULT_COLUMNS = [f.name for f in fields(CaseRow)]
 
 # -- per-process solver cache (one parametric solver per mesh and options) ------------------------
 _SOLVERS: dict[tuple, RestToRestSolver] = {}
@@ -110,51 +152,44 @@ def _mean_D(r: OcpResult, solver: RestToRestSolver) -> float:
 
 def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n_starts: int,
          secs: float, iters: int, start_obj: dict, solver: RestToRestSolver | None, status: str | None = None,
-         cpu: float = float("nan")) -> dict:
+         cpu: float = float("nan")) -> CaseRow:
     ok = r is not None and r.success and np.isfinite(r.objective)
-    return {
-        "case_id": case.case_id,
-        "setting": act.name,
-        "A_rad": case.A_rad,
-        "T_s": case.T_s,
-        "rmse": r.extra["rmse_rad"] if ok else float("nan"),
-        "valid": bool(r.extra["valid"]) if ok else False,
-        "status": status if status is not None else (r.status if r is not None else "not solved"),
-        "seconds": round(secs, 4),
-        "cpu_seconds": round(cpu, 4),
-        "success": bool(ok),
-        "objective": r.objective if ok else float("nan"),
-        "iterations": iters,
-        "start": start if ok else "",
-        "n_starts": n_starts,
-        "start_objectives": json.dumps({k: (None if not np.isfinite(v) else float(f"{v:.10g}"))
-                                        for k, v in start_obj.items()}),
-        "peak_q_up1_rad": r.extra["peak_q_up_rad"][0] if ok else float("nan"),
-        "peak_q_up2_rad": r.extra["peak_q_up_rad"][1] if ok else float("nan"),
-        "mean_D_Nms_per_rad": _mean_D(r, solver) if ok else float("nan"),
-        "max_D_Nms_per_rad": float(np.max(r.Z[..., 4])) if ok else float("nan"),
-        "K_Nm_per_rad": act.K_Nm_per_rad,
-        "D_min_Nms_per_rad": act.D_min_Nms_per_rad,
-        "D_max_Nms_per_rad": act.D_max_Nms_per_rad,
-        "mesh_N": case.mesh.n_intervals,
-        "mesh_degree": case.mesh.degree,
-        "coarse_mesh_N": case.mesh.n_intervals,
-        "coarse_rmse": r.extra["rmse_rad"] if ok else float("nan"),
-        "verified": False,
-        "verify_reason": "not checked",
-        "resim_rmse": float("nan"),
-        "resim_rel_error": float("nan"),
-    }
+    return CaseRow(
+        case_id=case.case_id,
+        setting=act.name,
+        A_rad=case.A_rad,
+        T_s=case.T_s,
+        rmse=r.extra["rmse_rad"] if ok else float("nan"),
+        valid=bool(r.extra["valid"]) if ok else False,
+        status=status if status is not None else (r.status if r is not None else "not solved"),
+        seconds=round(secs, 4),
+        cpu_seconds=round(cpu, 4),
+        success=bool(ok),
+        objective=r.objective if ok else float("nan"),
+        iterations=iters,
+        start=start if ok else "",
+        n_starts=n_starts,
+        start_objectives=json.dumps({k: (None if not np.isfinite(v) else float(f"{v:.10g}"))
+                                     for k, v in start_obj.items()}),
+        peak_q_up1_rad=r.extra["peak_q_up_rad"][0] if ok else float("nan"),
+        peak_q_up2_rad=r.extra["peak_q_up_rad"][1] if ok else float("nan"),
+        mean_D_Nms_per_rad=_mean_D(r, solver) if ok else float("nan"),
+        max_D_Nms_per_rad=float(np.max(r.Z[..., 4])) if ok else float("nan"),
+        K_Nm_per_rad=act.K_Nm_per_rad,
+        D_min_Nms_per_rad=act.D_min_Nms_per_rad,
+        D_max_Nms_per_rad=act.D_max_Nms_per_rad,
+        mesh_N=case.mesh.n_intervals,
+        mesh_degree=case.mesh.degree,
+        coarse_mesh_N=case.mesh.n_intervals,
+        coarse_rmse=r.extra["rmse_rad"] if ok else float("nan"),
+        verified=False,
+        verify_reason="not checked",
+        resim_rmse=float("nan"),
+        resim_rel_error=float("nan"),
+    )
 
 
-def _better(a: OcpResult | None, b: OcpResult | None) -> bool:
-    """True when ``b`` is a successful result strictly better than ``a``."""
-    if b is None or not b.success or not np.isfinite(b.objective):
-        return False
-    return a is None or b.objective < a.objective
-
-
-def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpResult]]:
+def solve_case_results(case: RestToRestCase) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Solve every setting of one case; return (rows, best results by setting name).
 
     With ``case.fine_mesh`` the multi-start runs on ``case.mesh`` and the rows
@@ -168,28 +203,29 @@ def solve_case_results(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpR
 
     Returns
     -------
-    (list of dict, dict)
-        One ``results.csv`` row per setting (SI units, :data:`RESULT_COLUMNS`)
-        and the best :class:`~vvea_design.actuator.ocp.OcpResult` per setting name.
+    (list of CaseRow, dict)
+        One ``results.csv`` row per setting (:class:`CaseRow`, SI units) and the best
+        :class:`~vvea_design.actuator.ocp.OcpResult` per setting name.
     """
     rows, best = _solve_case_one_mesh(case)
     if case.fine_mesh is not None and case.fine_mesh != case.mesh:
         rows, best = _polish_on_fine_mesh(case, rows, best)
     acts = {a.name: a for a in case.settings}
+    checked = []
     for row in rows:
-        r = best.get(row["setting"])
+        r = best.get(row.setting)
         if r is None:
-            v = Verification(False, f"solver: {row['status']}", *(4 * [float("nan")]))
+            v = Verification(False, f"solver: {row.status}", *(4 * [float("nan")]))
         else:
-            v = verify_rest_to_rest(r, acts[row["setting"]], case.A_rad, case.T_s)
+            v = verify_rest_to_rest(r, acts[row.setting], case.A_rad, case.T_s)
             r.extra["verification"] = v
-        row.update(verified=v.verified, verify_reason=v.reason or "ok", resim_rmse=v.resim_rmse_rad,
-                   resim_rel_error=v.rmse_rel_error)
-    return rows, best
+        checked.append(replace(row, verified=v.verified, verify_reason=v.reason or "ok", resim_rmse=v.resim_rmse_rad,
+                               resim_rel_error=v.rmse_rel_error))
+    return checked, best
 
 
-def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
-                         coarse_best: dict[str, OcpResult]) -> tuple[list[dict], dict[str, OcpResult]]:
+def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
+                         coarse_best: dict[str, OcpResult]) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Second level: solve every setting of the case on ``case.fine_mesh``.
 
     Constant damping: the convex QP, directly. Variable damping: candidates are
@@ -204,7 +240,7 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
     A, T = case.A_rad, case.T_s
     fcase = RestToRestCase(A, T, case.settings, fm, case.starts, case.ipopt_options,
                            regularisation=case.regularisation)
-    crow = {r["setting"]: r for r in coarse_rows}
+    crow = {r.setting: r for r in coarse_rows}
     qp_cache: dict[tuple, OcpResult] = {}
 
     def const_solve(act: Actuator) -> OcpResult:
@@ -218,8 +254,8 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
     cN = case.mesh.n_intervals
     for act in case.settings:
         cr = crow[act.name]
-        secs, cpu, iters = float(cr["seconds"]), float(cr["cpu_seconds"]), int(cr["iterations"])
-        obj = {f"N{cN} {k}": v for k, v in json.loads(cr["start_objectives"]).items()}
+        secs, cpu, iters = float(cr.seconds), float(cr.cpu_seconds), int(cr.iterations)
+        obj = {f"N{cN} {k}": v for k, v in json.loads(cr.start_objectives).items()}
         obj = {k: (float("nan") if v is None else v) for k, v in obj.items()}
         cand: dict[str, OcpResult] = {}
         qp = const_solve(act)
@@ -232,7 +268,7 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
             cand["const-Dmin (adopted)"] = fs.evaluate_as(qp, act, A, T, status=qp.status)
             cb = coarse_best.get(act.name)
             if cb is not None and cb.success:
-                lab = f"polish:{cr['start']}"
+                lab = f"polish:{cr.start}"
                 r = fw.solve(act, A, T, w0=fw.guess_from_other_mesh(cb, act, A, T), regularisation=case.regularisation)
                 if not r.success:  # retry with the default options from the same start
                     secs, cpu, iters = secs + r.seconds, cpu + r.extra.get("cpu_seconds", 0.0), iters + max(r.iterations, 0)
@@ -252,13 +288,11 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[dict],
             first = next(iter(cand.values()), None)
             status = first.status if first is not None else "no start tried"
         row = _row(fcase, act, b, label or "", len(cand), secs, iters, obj, fs, status=status, cpu=cpu)
-        row["coarse_mesh_N"] = cN
-        row["coarse_rmse"] = cr["rmse"]
-        rows.append(row)
+        rows.append(replace(row, coarse_mesh_N=cN, coarse_rmse=cr.rmse))
     return rows, best
 
 
-def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, OcpResult]]:
+def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Multi-start on ``case.mesh`` only."""
     s = _solver(case.mesh, case.ipopt_options)
     A, T = case.A_rad, case.T_s
@@ -266,7 +300,7 @@ def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[dict], dict[str, Oc
     unknown = set(case.starts) - _ALL_STARTS
     if unknown:
         raise ValueError(f"unknown start(s) {sorted(unknown)}; choose from {sorted(_ALL_STARTS)}")
-    rows: dict[str, dict] = {}
+    rows: dict[str, CaseRow] = {}
     best: dict[str, OcpResult] = {}
     info: dict[str, dict] = {}
     qp_cache: dict[tuple, OcpResult] = {}
@@ -394,7 +428,7 @@ def keep_results() -> Iterator[list]:
         _KEPT.sink = previous
 
 
-def solve_case(case: RestToRestCase) -> list[dict]:
+def solve_case(case: RestToRestCase) -> list[CaseRow]:
     """Work function of the sweep: rows for one (A, T) case; never raises.
 
     Any exception becomes rows with ``status = "error: ..."`` and no result.
@@ -407,8 +441,8 @@ def solve_case(case: RestToRestCase) -> list[dict]:
 
     Returns
     -------
-    list of dict
-        One ``results.csv`` row per setting (SI units, :data:`RESULT_COLUMNS`).
+    list of CaseRow
+        One ``results.csv`` row per setting (SI units; ``to_dict()`` gives the CSV row).
     """
     t0 = time.perf_counter()
     try:
@@ -426,7 +460,7 @@ def solve_case(case: RestToRestCase) -> list[dict]:
 
 
 
-def _sweep_item(item: tuple) -> tuple[list[dict], dict | None]:
+def _sweep_item(item: tuple) -> tuple[list[CaseRow], dict | None]:
     """Work function of :func:`~vvea_design.actuator.rest_to_rest.run_rest_to_rest`.
 
     ``item = (solve, case, keep)``: ``solve`` is the sweep's :func:`solve_case` (passed along, so a
@@ -441,7 +475,32 @@ def _sweep_item(item: tuple) -> tuple[list[dict], dict | None]:
     return rows, next((best for c, best in kept if c is case), None)
 
 
-def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
+@dataclass(frozen=True)
+class SingleSolve:
+    """One setting at one (A, T) on one mesh, single start (:func:`solve_single`)."""
+
+    mesh_N: int  #: intervals of the mesh
+    mesh_degree: int  #: Radau degree of the mesh
+    setting: str  #: setting name
+    A_rad: float  #: reference amplitude, rad
+    T_s: float  #: reference period, s
+    rmse: float  #: tracking rmse, rad (NaN when IPOPT failed)
+    status: str  #: IPOPT status
+    seconds: float  #: solver wall time, s
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary (a table row).
+
+        Returns
+        -------
+        dict
+            Field name to value: ``mesh_N``, ``mesh_degree`` (counts), ``setting``, ``A_rad`` (rad),
+            ``T_s`` (s), ``rmse`` (rad), ``status`` and ``seconds`` (s).
+        """
+        return asdict(self)
+
+
+def solve_single(item: tuple[Mesh, Actuator, float, float]) -> SingleSolve:
     """Work function: one setting at one (A, T) on one mesh, single start (for QP convergence checks).
 
     Parameters
@@ -451,10 +510,10 @@ def solve_single(item: tuple[Mesh, Actuator, float, float]) -> dict:
 
     Returns
     -------
-    dict
+    SingleSolve
         Mesh, setting, A (rad), T (s), ``rmse`` (rad), IPOPT status, wall ``seconds``.
     """
     mesh, act, A, T = item
     r = _solver(mesh, ()).solve(act, A, T)
-    return {"mesh_N": mesh.n_intervals, "mesh_degree": mesh.degree, "setting": act.name, "A_rad": A, "T_s": T,
-            "rmse": r.extra["rmse_rad"] if r.success else float("nan"), "status": r.status, "seconds": r.seconds}
+    return SingleSolve(mesh.n_intervals, mesh.degree, act.name, A, T,
+                       r.extra["rmse_rad"] if r.success else float("nan"), r.status, r.seconds)

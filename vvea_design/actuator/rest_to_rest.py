@@ -12,8 +12,9 @@ import json
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,11 +24,14 @@ from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
 from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
-                         RestToRestCase, _sweep_item, solve_case, solve_case_results)
+                         CaseRow, RestToRestCase, _sweep_item, solve_case, solve_case_results)
 from .ocp import Mesh, Regularisation, WARM_START_IPOPT
-from .statistics import table5_statistics
+from .statistics import Table5Statistics, table5_statistics
 
-__all__ = ["Grid", "GRIDS", "run_rest_to_rest", "mesh_convergence"]
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+__all__ = ["Grid", "GRIDS", "SweepRun", "RestToRestSummary", "MeshConvergence", "run_rest_to_rest", "mesh_convergence"]
 
 
 @dataclass(frozen=True)
@@ -132,6 +136,181 @@ def _read_done(path: Path, settings: Sequence[Actuator]) -> list[dict]:
     return keep
 
 
+@dataclass(frozen=True)
+class SweepRun:
+    """How a sweep ran (the ``run`` record of ``summary.json``)."""
+
+    grid: str  #: grid name ("paper", "coarse" or "custom")
+    cases: int  #: (A, T) cases of the grid
+    cases_solved_this_run: int  #: cases solved by this call (the others were resumed from results.csv)
+    ocps: int  #: cases x settings
+    wall_seconds_this_run: float  #: wall time of this call's solves, s (2 decimals)
+    mesh: Mesh  #: multi-start mesh
+    fine_mesh: Mesh | None  #: mesh the results are reported on (None: ``mesh`` itself)
+    starts: tuple[str, ...]  #: multi-start set
+    regularisation: Regularisation  #: input smoothing (rmse stays the pure tracking cost)
+    solver_seconds_total: float  #: summed solver wall time of every row, s (2 decimals)
+    solver_cpu_seconds_total: float | None  #: summed solver CPU time, s (None: an old results.csv without it)
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary (the ``run`` entry of ``summary.json``).
+
+        Returns
+        -------
+        dict
+            Field name to value: meshes and regularisation as dicts, starts as a list, times in s.
+        """
+        return {
+            "grid": self.grid, "cases": self.cases, "cases_solved_this_run": self.cases_solved_this_run,
+            "ocps": self.ocps, "wall_seconds_this_run": self.wall_seconds_this_run, "mesh": asdict(self.mesh),
+            "fine_mesh": asdict(self.fine_mesh) if self.fine_mesh is not None else None, "starts": list(self.starts),
+            "regularisation": asdict(self.regularisation), "solver_seconds_total": self.solver_seconds_total,
+            "solver_cpu_seconds_total": self.solver_cpu_seconds_total,
+        }
+
+
+@dataclass(frozen=True)
+class RestToRestSummary:
+    """Result of :func:`run_rest_to_rest`: the Table 5 statistics of the whole results file and the run."""
+
+    statistics: Table5Statistics  #: Table 5 statistics of every case in results.csv (fractions, rmse in rad)
+    run: SweepRun  #: grid, meshes, starts, case counts and times (s) of this call
+    out_dir: Path  #: the sweep's folder (results.csv, meta.json, summary.json, figures)
+
+    def to_dict(self) -> dict:
+        """The content of ``summary.json``: the statistics, then ``run``.
+
+        Returns
+        -------
+        dict
+            :meth:`Table5Statistics.to_dict` with the key ``run`` (:meth:`SweepRun.to_dict`) added.
+        """
+        return {**self.statistics.to_dict(), "run": self.run.to_dict()}
+
+
+@dataclass(frozen=True)
+class _Options:
+    """The checked options of one sweep."""
+
+    grid_name: str
+    grid: Grid
+    settings: tuple[Actuator, ...]
+    mesh: Mesh
+    fine_mesh: Mesh | None
+    starts: tuple[str, ...]
+    ipopt: tuple
+    regularisation: Regularisation
+
+    def case(self, A: float, T: float) -> RestToRestCase:
+        return RestToRestCase(A, T, self.settings, self.mesh, self.starts, self.ipopt, self.fine_mesh,
+                              self.regularisation)
+
+
+def _check_options(grid, settings, mesh, fine_mesh, starts, workers, ipopt_options, regularisation) -> _Options:
+    """Every option checked before any file is touched or any case is solved (ValueError names it)."""
+    if isinstance(grid, str):
+        if grid not in GRIDS:
+            raise ValueError(f"grid must be one of {sorted(GRIDS)} or a Grid, got {grid!r}")
+        grid_name, grid = grid, GRIDS[grid]
+    else:
+        grid_name = "custom"
+    rep = grid.repeated()
+    if rep:
+        grid = grid.unique()
+        console.print(f"[bold yellow]note[/]: the grid repeats {rep}; each case is solved once "
+                      f"({len(grid.A_rad)} amplitudes x {len(grid.T_s)} periods)", soft_wrap=True)
+    settings = tuple(PAPER_SETTINGS.values()) if settings is None else tuple(settings)
+    names = [a.name for a in settings]
+    if len(set(names)) != len(names):
+        raise ValueError(f"setting names must be unique, got {names}")
+    if mesh.n_intervals % 4:
+        raise ValueError(f"the mesh must have a multiple of 4 intervals (the reference switches at T/2, T, 3T/2), "
+                         f"got {mesh.n_intervals}")
+    unknown = set(starts) - set(DEFAULT_STARTS)
+    if unknown or not starts:
+        raise ValueError(f"starts must be a non-empty selection of {list(DEFAULT_STARTS)}, got {list(starts)}")
+    if workers is not None and (int(workers) != workers or workers < 1):
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    if isinstance(fine_mesh, str):
+        if fine_mesh != "auto":
+            raise ValueError(f"fine_mesh must be a Mesh, None or 'auto', got {fine_mesh!r}")
+        fine_mesh = DEFAULT_FINE_MESH if mesh == DEFAULT_MESH else None
+    if fine_mesh is not None and fine_mesh == mesh:
+        fine_mesh = None
+    if fine_mesh is not None and fine_mesh.n_intervals % 4:
+        raise ValueError(f"the fine mesh must have a multiple of 4 intervals, got {fine_mesh.n_intervals}")
+    return _Options(grid_name, grid, settings, mesh, fine_mesh, tuple(starts),
+                    tuple(sorted((ipopt_options or {}).items())), regularisation)
+
+
+def _prepare_results(out: Path, opt: _Options, restart: bool) -> set[str]:
+    """Check an existing sweep in ``out`` is this one, write meta.json and rewrite results.csv clean.
+
+    Returns the ids of the complete cases already in results.csv (resumed, not solved again).
+    """
+    res_path, meta_path = out / "results.csv", out / "meta.json"
+    meta = _meta(opt.grid, opt.settings, opt.mesh, opt.starts, opt.ipopt, opt.fine_mesh, opt.regularisation)
+    if res_path.exists() and not restart:
+        old = json.loads(meta_path.read_text()) if meta_path.exists() else None
+        if old != json.loads(json.dumps(meta)):
+            raise ValueError(
+                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts/regularisation differ from "
+                f"{meta_path}); use another output folder, or discard it with --restart (restart=True in Python)"
+            )
+    if restart and res_path.exists():
+        res_path.unlink()
+    meta_path.write_text(json.dumps(meta, indent=2))
+    done_rows = _read_done(res_path, opt.settings)
+    # rewrite the file clean (drops a torn last line / incomplete case)
+    with res_path.open("w", newline="") as fh:
+        wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
+        wr.writeheader()
+        wr.writerows(done_rows)
+    return {r["case_id"] for r in done_rows}
+
+
+def _solve_cases(res_path: Path, todo: list[RestToRestCase], keep: RestToRestCase | None, description: str,
+                 workers, scheduler, progress: bool) -> tuple[float, list[dict]]:
+    """Solve ``todo``, appending each finished case's rows to results.csv at once.
+
+    Returns the wall time (s) and the best results of ``keep`` (the trajectory figure's case) when it was
+    solved here (a one-element list; empty otherwise).
+    """
+    kept: list[dict] = []
+    fh = res_path.open("a", newline="")
+    wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
+
+    def on_result(i: int, res: tuple[list[CaseRow], dict | None]) -> None:
+        rows, best = res
+        wr.writerows(r.to_dict() for r in rows)
+        fh.flush()
+        if best is not None:
+            kept.append(best)
+
+    t0 = time.perf_counter()
+    try:
+        parallel_map(_sweep_item, [(solve_case, c, c == keep) for c in todo], workers=workers,
+                     scheduler=scheduler, description=description, on_result=on_result, progress=progress)
+    finally:
+        fh.close()
+    return time.perf_counter() - t0, kept
+
+
+def _write_summary_and_figures(out: Path, summary: RestToRestSummary, df, opt: _Options, figures: bool,
+                               ex_case: RestToRestCase, ex_best: list[dict]) -> None:
+    """summary.json, best_map.png and trajectory.png, replaced whole or not at all."""
+    finals = [out / "summary.json"] + ([out / "best_map.png", out / "trajectory.png"] if figures else [])
+    with output_files(*finals, option="") as tmps:
+        tmps[0].write_text(json.dumps(summary.to_dict(), indent=2))
+        if figures:
+            plot_best_map(df).savefig(tmps[1], dpi=130)
+            names_set = set(df["setting"])
+            ex = "VVEA" if "VVEA" in names_set else next((a.name for a in opt.settings if a.variable_damping),
+                                                        opt.settings[0].name)
+            best = ex_best[0] if ex_best else solve_case_results(ex_case)[1]
+            plot_trajectory(best, ex_case.A_rad, ex_case.T_s, highlight=ex).savefig(tmps[2], dpi=130)
+
+
 def run_rest_to_rest(
     out_dir: str | Path,
     *,
@@ -148,7 +327,7 @@ def run_rest_to_rest(
     figures: bool = True,
     outperform_rtol: float = 1e-3,
     regularisation: Regularisation = DEFAULT_REGULARISATION,
-) -> dict:
+) -> RestToRestSummary:
     """Run (or resume) the rest-to-rest sweep and write its files.
 
     Parameters
@@ -158,14 +337,14 @@ def run_rest_to_rest(
         ``summary.json`` (Table 5 statistics), ``best_map.png`` (Fig. 13) and
         ``trajectory.png`` (Fig. 12-like example).
     grid
-        A :class:`Grid` or a name in :data:`GRIDS`.
+        A :class:`Grid` (A in rad, T in s) or a name in :data:`GRIDS`.
     settings
         Actuator settings (default Table 4: VVEA, iVVEA, SEA, LWR).
     mesh, starts, ipopt_options
         Collocation mesh of the multi-start, multi-start set, extra IPOPT options.
     fine_mesh
         Mesh on which the reported results are solved (two-level scheme, see
-        :func:`_polish_on_fine_mesh`); ``None`` = report ``mesh`` itself;
+        :func:`~vvea_design.actuator.multistart.solve_case_results`); ``None`` = report ``mesh`` itself;
         ``"auto"`` (default) = :data:`DEFAULT_FINE_MESH` when ``mesh`` is
         :data:`DEFAULT_MESH`, else ``None``.
     workers, scheduler
@@ -184,128 +363,69 @@ def run_rest_to_rest(
 
     Returns
     -------
-    dict
-        The summary (also in ``summary.json``).
+    RestToRestSummary
+        The statistics (rmse in rad, fractions dimensionless) and the run record (times in s);
+        ``to_dict()`` is what ``summary.json`` holds.
 
     Raises
     ------
     ValueError
         If ``out_dir`` holds a results.csv of a different sweep (grid,
-        settings, mesh, starts) and ``restart`` is false.
+        settings, mesh, starts) and ``restart`` is false, or an option is out of range.
     """
-    if isinstance(grid, str):
-        if grid not in GRIDS:
-            raise ValueError(f"grid must be one of {sorted(GRIDS)} or a Grid, got {grid!r}")
-        grid_name, grid = grid, GRIDS[grid]
-    else:
-        grid_name = "custom"
-    rep = grid.repeated()
-    if rep:
-        grid = grid.unique()
-        console.print(f"[bold yellow]note[/]: the grid repeats {rep}; each case is solved once "
-                      f"({len(grid.A_rad)} amplitudes x {len(grid.T_s)} periods)", soft_wrap=True)
-    settings = tuple(PAPER_SETTINGS.values()) if settings is None else tuple(settings)
-    names = [a.name for a in settings]
-    if len(set(names)) != len(names):
-        raise ValueError(f"setting names must be unique, got {names}")
-    # every option is checked here, before any file is touched or any case is solved
-    if mesh.n_intervals % 4:
-        raise ValueError(f"the mesh must have a multiple of 4 intervals (the reference switches at T/2, T, 3T/2), "
-                         f"got {mesh.n_intervals}")
-    unknown = set(starts) - set(DEFAULT_STARTS)
-    if unknown or not starts:
-        raise ValueError(f"starts must be a non-empty selection of {list(DEFAULT_STARTS)}, got {list(starts)}")
-    if workers is not None and (int(workers) != workers or workers < 1):
-        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
-    ipo = tuple(sorted((ipopt_options or {}).items()))
-    if isinstance(fine_mesh, str):
-        if fine_mesh != "auto":
-            raise ValueError(f"fine_mesh must be a Mesh, None or 'auto', got {fine_mesh!r}")
-        fine_mesh = DEFAULT_FINE_MESH if mesh == DEFAULT_MESH else None
-    if fine_mesh is not None and fine_mesh == mesh:
-        fine_mesh = None
-    if fine_mesh is not None and fine_mesh.n_intervals % 4:
-        raise ValueError(f"the fine mesh must have a multiple of 4 intervals, got {fine_mesh.n_intervals}")
+    opt = _check_options(grid, settings, mesh, fine_mesh, starts, workers, ipopt_options, regularisation)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    res_path, meta_path = out / "results.csv", out / "meta.json"
-    meta = _meta(grid, settings, mesh, starts, ipo, fine_mesh, regularisation)
-    meta_json = json.loads(json.dumps(meta))
-    if res_path.exists() and not restart:
-        old = json.loads(meta_path.read_text()) if meta_path.exists() else None
-        if old != meta_json:
-            raise ValueError(
-                f"{res_path} belongs to a different sweep (grid/settings/mesh/starts/regularisation differ from "
-                f"{meta_path}); use another output folder, or discard it with --restart (restart=True in Python)"
-            )
-    if restart and res_path.exists():
-        res_path.unlink()
-    meta_path.write_text(json.dumps(meta, indent=2))
-    done_rows = _read_done(res_path, settings)
-    done = {r["case_id"] for r in done_rows}
-    # rewrite the file clean (drops a torn last line / incomplete case)
-    with res_path.open("w", newline="") as fh:
-        wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
-        wr.writeheader()
-        wr.writerows(done_rows)
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation) for A, T in grid.cases()]
+    res_path = out / "results.csv"
+    done = _prepare_results(out, opt, restart)
+    cases = [opt.case(A, T) for A, T in opt.grid.cases()]
     todo = [c for c in cases if c.case_id not in done]
     if done:
         console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}", soft_wrap=True)
     # the case of the trajectory figure (Fig. 12-like): the worker that solves it hands its best results back,
     # so the figure needs no second solve of it (only when it was solved in an earlier run)
-    Aex = min(grid.A_rad, key=lambda a: abs(a - 0.8))
-    Tex = min(grid.T_s, key=lambda t: abs(t - 1.4))
-    ex_case = RestToRestCase(Aex, Tex, settings, mesh, tuple(starts), ipo, fine_mesh, regularisation)
-    ex_best: list[dict] = []
-
-    fh = res_path.open("a", newline="")
-    wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
-
-    def on_result(i: int, res: tuple[list[dict], dict | None]) -> None:
-        rows, best = res
-        wr.writerows(rows)
-        fh.flush()
-        if best is not None:
-            ex_best.append(best)
-
-    t0 = time.perf_counter()
-    try:
-        parallel_map(_sweep_item, [(solve_case, c, figures and c == ex_case) for c in todo], workers=workers,
-                     scheduler=scheduler,
-                     description=f"rest-to-rest {grid_name} ({len(settings)} settings/case)",
-                     on_result=on_result, progress=progress)
-    finally:
-        fh.close()
-    wall = time.perf_counter() - t0
+    ex_case = opt.case(min(opt.grid.A_rad, key=lambda a: abs(a - 0.8)), min(opt.grid.T_s, key=lambda t: abs(t - 1.4)))
+    wall, ex_best = _solve_cases(res_path, todo, ex_case if figures else None,
+                                 f"rest-to-rest {opt.grid_name} ({len(opt.settings)} settings/case)", workers,
+                                 scheduler, progress)
     import pandas as pd
 
     df = pd.read_csv(res_path)
-    summary = table5_statistics(df, outperform_rtol=outperform_rtol)
-    summary["run"] = {
-        "grid": grid_name, "cases": len(cases), "cases_solved_this_run": len(todo), "ocps": len(cases) * len(settings),
-        "wall_seconds_this_run": round(wall, 2), "mesh": asdict(mesh),
-        "fine_mesh": asdict(fine_mesh) if fine_mesh is not None else None, "starts": list(starts),
-        "regularisation": asdict(regularisation),
-        "solver_seconds_total": round(float(df["seconds"].sum()), 2),
-        "solver_cpu_seconds_total": round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None,
-    }
+    run = SweepRun(
+        grid=opt.grid_name, cases=len(cases), cases_solved_this_run=len(todo), ocps=len(cases) * len(opt.settings),
+        wall_seconds_this_run=round(wall, 2), mesh=opt.mesh, fine_mesh=opt.fine_mesh, starts=opt.starts,
+        regularisation=opt.regularisation, solver_seconds_total=round(float(df["seconds"].sum()), 2),
+        solver_cpu_seconds_total=round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None)
+    summary = RestToRestSummary(table5_statistics(df, outperform_rtol=outperform_rtol), run, out)
     # results.csv grows case by case (resumable); the summary and figures are replaced whole or not at all
-    finals = [out / "summary.json"] + ([out / "best_map.png", out / "trajectory.png"] if figures else [])
-    with output_files(*finals, option="") as tmps:
-        tmps[0].write_text(json.dumps(summary, indent=2))
-        if figures:
-            plot_best_map(df).savefig(tmps[1], dpi=130)
-            names_set = set(df["setting"])
-            ex = "VVEA" if "VVEA" in names_set else next((a.name for a in settings if a.variable_damping),
-                                                        settings[0].name)
-            best = ex_best[0] if ex_best else solve_case_results(ex_case)[1]
-            plot_trajectory(best, Aex, Tex, highlight=ex).savefig(tmps[2], dpi=130)
+    _write_summary_and_figures(out, summary, df, opt, figures, ex_case, ex_best)
     return summary
 
 
-
 # -- mesh convergence ------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class MeshConvergence:
+    """The sweep on one mesh (no files): :func:`mesh_convergence` returns one per mesh."""
+
+    mesh: Mesh  #: collocation mesh
+    df: "pd.DataFrame" = field(repr=False)  #: every row (``results.csv`` columns; rmse in rad)
+    stats: Table5Statistics  #: Table 5 statistics of the rows
+    wall_seconds: float  #: wall time of the sweep, s
+    solver_seconds: float  #: summed solver wall time of the rows, s
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary (the rows left out: ``df`` holds them).
+
+        Returns
+        -------
+        dict
+            ``mesh`` (dict), ``stats`` (:meth:`Table5Statistics.to_dict`), ``wall_seconds`` and
+            ``solver_seconds`` (s).
+        """
+        return {"mesh": asdict(self.mesh), "stats": self.stats.to_dict(), "wall_seconds": self.wall_seconds,
+                "solver_seconds": self.solver_seconds}
+
+
 def mesh_convergence(
     meshes: Sequence[Mesh],
     *,
@@ -314,7 +434,7 @@ def mesh_convergence(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = True,
-) -> list[dict]:
+) -> list[MeshConvergence]:
     """Run the sweep on several meshes (no files) and return per-mesh statistics.
 
     Parameters
@@ -332,9 +452,9 @@ def mesh_convergence(
 
     Returns
     -------
-    list of dict
-        Per mesh: the mesh, Table 5 statistics, per-setting mean rmse and the
-        per-case rmse arrays (for relative-change comparisons), solver seconds.
+    list of MeshConvergence
+        Per mesh: the mesh, every row (for per-case relative-change comparisons; rmse in rad), the
+        Table 5 statistics and the times (s).
     """
     import pandas as pd
 
@@ -347,9 +467,6 @@ def mesh_convergence(
         rows = parallel_map(solve_case, cases, workers=workers, scheduler=scheduler,
                             description=f"mesh N={m.n_intervals} d={m.degree}", progress=progress)
         wall = time.perf_counter() - t0
-        df = pd.DataFrame([r for rs in rows for r in rs])
-        out.append({"mesh": m, "df": df, "stats": table5_statistics(df), "wall_seconds": wall,
-                    "solver_seconds": float(df["seconds"].sum())})
+        df = pd.DataFrame([r.to_dict() for rs in rows for r in rs])
+        out.append(MeshConvergence(m, df, table5_statistics(df), wall, float(df["seconds"].sum())))
     return out
-
-

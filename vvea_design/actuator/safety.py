@@ -103,7 +103,7 @@ class TorqueStepCase:
                    float(r.D_Nms_per_rad[-1]), float(r.tau_Nm[-1]), r.seconds)
 
 
-@dataclass
+@dataclass(frozen=True)
 class SafetyStudy:
     """Result of :func:`solve_safety`: the variable-damping step and the fixed-damping ones."""
 
@@ -276,7 +276,7 @@ def run_safety(
     weights: TorqueStepWeights = PAPER_TABLE6,
     mesh: Mesh = SAFETY_MESH,
     figures: bool = True,
-) -> dict:
+) -> SafetyStudy:
     """:func:`solve_safety` and its files: ``safety.json`` (numbers + the paper's
     statements), ``safety_trajectories.csv`` and ``safety.png`` (Fig. 14).
 
@@ -291,17 +291,16 @@ def run_safety(
 
     Returns
     -------
-    dict
-        The content of ``safety.json`` (per case: objective, mean/max D, time
-        to 95 % of τ_ref, status).
+    SafetyStudy
+        The study (per case: objective, mean/max D in N m s/rad, time to 95 % of τ_ref in s, status);
+        ``to_dict()`` is the content of ``safety.json``.
     """
     study = solve_safety(base, M_kgm2=M_kgm2, tau_ref_Nm=tau_ref_Nm, fixed_D_Nms_per_rad=fixed_D_Nms_per_rad,
                          weights=weights, mesh=mesh)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    summary = study.to_dict()
-    (out / "safety.json").write_text(json.dumps(summary, indent=2))
+    (out / "safety.json").write_text(json.dumps(study.to_dict(), indent=2))
     write_trajectories_csv(study.results, out / "safety_trajectories.csv")
     if figures:
-        plot_safety(study.results, tau_ref_Nm).savefig(out / "safety.png", dpi=130)
-    return summary
+        plot_safety(study.results, tau_ref_Nm, base_setting=base.name).savefig(out / "safety.png", dpi=130)
+    return study

@@ -1,10 +1,17 @@
-"""Table 5 statistics of a rest-to-rest results table (paper section 5)."""
+"""Table 5 statistics of a rest-to-rest results table (paper section 5).
+
+:func:`table5_statistics` turns a ``results.csv`` table into a typed :class:`Table5Statistics` (one
+:class:`PairStatistics` per pair of settings and scope); ``to_dict()`` gives the JSON of
+``summary.json``.
+"""
 
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass, fields
+
 import pandas as pd
 
-__all__ = ["PAPER_TABLE5", "table5_statistics"]
+__all__ = ["PAPER_TABLE5", "PairStatistics", "Table5Statistics", "table5_statistics"]
 
 
 #: Table 5 of the paper (fractions and ratios).
@@ -20,7 +27,142 @@ PAPER_TABLE5 = {
 }
 
 
-def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
+@dataclass(frozen=True)
+class PairStatistics:
+    """A variable-damping setting X against another setting Y over one scope of cases (Table 5 row)."""
+
+    n_cases: int  #: cases compared (both solved; for the ``valid`` scope also both valid and verified)
+    X_beats_Y: int  #: cases with rmse_X < (1 - rtol) rmse_Y
+    fraction_X_beats_Y: float | None  #: X_beats_Y / n_cases (None without cases)
+    X_worse_than_Y: int  #: cases with rmse_X > (1 + rtol) rmse_Y
+    meanrmse_Y_over_X: float | None  #: mean rmse of Y over mean rmse of X (None without cases)
+    n_excluded: int  #: cases of the table left out of this comparison
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: the case counts ``n_cases``, ``X_beats_Y``, ``X_worse_than_Y``,
+            ``n_excluded``, the fraction ``fraction_X_beats_Y`` (dimensionless) and the ratio
+            ``meanrmse_Y_over_X`` (dimensionless); ``None`` where not defined.
+        """
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class Table5Statistics:
+    """Table 5 statistics of one results table (what ``summary.json`` holds besides the run record).
+
+    Fractions and ratios dimensionless, rmse in rad, times in s.
+    """
+
+    outperform_rtol: float  #: relative margin of "X beats Y" (fraction)
+    n_cases: int  #: (A, T) cases in the table
+    n_cases_any_valid: int  #: cases where at least one setting is usable (valid and verified)
+    valid_cases_per_setting: dict[str, int]  #: usable cases by setting name
+    mean_rmse_rad: dict[str, float]  #: mean rmse (rad) by setting over its solved, verified cases
+    pairs: dict[str, PairStatistics]  #: ``"<X>_vs_<Y>_<all|valid>"`` to the comparison
+    ivvea_vs_sea_guarantee: dict  #: iVVEA against SEA case by case (empty without both settings)
+    winning_starts: dict[str, dict[str, int]]  #: per variable-damping setting: start label to cases it won
+    best_valid_setting_counts: dict[str, dict[str, int]]  #: per group of settings: best usable setting to cases
+    unverified: dict  #: results left out because their trajectory did not verify (count, by setting, cases)
+    solver_failures: dict  #: results IPOPT did not solve (count, by status)
+    paper_table5: dict[str, float]  #: the paper's Table 5 (context)
+    seconds_per_setting: dict[str, float]  #: mean solver wall time per result (s) by setting
+
+    def pair(self, X: str, Y: str, scope: str = "valid") -> PairStatistics | None:
+        """The comparison of ``X`` with ``Y`` over ``scope``.
+
+        Parameters
+        ----------
+        X : str
+            Name of the variable-damping setting.
+        Y : str
+            Name of the other setting.
+        scope : str
+            ``"valid"`` (both trajectories valid and verified) or ``"all"`` (both solved).
+
+        Returns
+        -------
+        PairStatistics or None
+            None when the table has no such pair (X has constant damping, or a name is not in it).
+        """
+        return self.pairs.get(f"{X}_vs_{Y}_{scope}")
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary, in the key order of ``summary.json``.
+
+        Returns
+        -------
+        dict
+            JSON-ready: every field by name, ``pairs`` as name to :meth:`PairStatistics.to_dict`
+            (fractions and ratios dimensionless, rmse in rad, times in s).
+        """
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        d["pairs"] = {k: p.to_dict() for k, p in self.pairs.items()}
+        return d
+
+
+def _bool(series: pd.Series) -> pd.Series:
+    return series.astype(str).str.lower().isin(["true", "1"])
+
+
+def _variable_settings(df: pd.DataFrame, settings: list[str]) -> list[str]:
+    """Settings whose damping range is not a single value (variable damping), in table order."""
+    return sorted({s for s in settings if (df.loc[df.setting == s, "D_max_Nms_per_rad"]
+                                         > df.loc[df.setting == s, "D_min_Nms_per_rad"]).any()},
+                  key=settings.index)
+
+
+def _pairs(piv: pd.DataFrame, valid: pd.DataFrame, varset: list[str], settings: list[str],
+           rtol: float) -> dict[str, PairStatistics]:
+    """Every (X variable, Y other) comparison over both scopes."""
+    pairs = {}
+    for X in varset:
+        for Y in settings:
+            if Y == X:
+                continue
+            both_valid = valid[X] & valid[Y]
+            for scope, mask in (("all", pd.Series(True, index=piv.index)), ("valid", both_valid)):
+                sub = piv.loc[mask.reindex(piv.index, fill_value=False), [X, Y]].dropna()
+                n = len(sub)
+                beats = int((sub[X] < (1 - rtol) * sub[Y]).sum()) if n else 0
+                worse = int((sub[X] > (1 + rtol) * sub[Y]).sum()) if n else 0
+                pairs[f"{X}_vs_{Y}_{scope}"] = PairStatistics(
+                    n_cases=n, X_beats_Y=beats, fraction_X_beats_Y=beats / n if n else None, X_worse_than_Y=worse,
+                    meanrmse_Y_over_X=float(sub[Y].mean() / sub[X].mean()) if n else None,
+                    n_excluded=int(piv.shape[0] - n))
+    return pairs
+
+
+def _guarantee(piv: pd.DataFrame, settings: list[str]) -> dict:
+    """iVVEA against SEA case by case (the multi-start's guarantee: iVVEA never worse)."""
+    if "iVVEA" not in settings or "SEA" not in settings:
+        return {}
+    sub = piv[["iVVEA", "SEA"]].dropna()
+    diff = sub["iVVEA"] - sub["SEA"]
+    return {
+        "n_cases": len(sub),
+        "iVVEA_worse_than_SEA_cases": int((diff > 0).sum()),
+        "max_rmse_iVVEA_minus_SEA_rad": float(diff.max()) if len(sub) else None,
+    }
+
+
+def _best_counts(piv: pd.DataFrame, valid: pd.DataFrame, varset: list[str], settings: list[str]) -> dict:
+    """Per variable-damping setting with the constant ones: which usable setting tracks best, case count."""
+    best_counts = {}
+    for scope_sets in ([s for s in settings if s not in varset or s == v] for v in varset):
+        cols = [c for c in scope_sets if c in piv.columns]
+        label = "+".join(cols)
+        rm = piv[cols].where(valid[cols])
+        winner = rm.apply(lambda r: r.dropna().idxmin() if r.notna().any() else "none-valid", axis=1)
+        best_counts[label] = {str(k): int(v) for k, v in winner.value_counts().items()}
+    return best_counts
+
+
+def table5_statistics(df, outperform_rtol: float = 1e-3) -> Table5Statistics:
     """Table 5 statistics from a results table (pandas DataFrame of results.csv).
 
     For every pair (X, Y) of settings with X variable-damping: the fraction of
@@ -42,85 +184,41 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> dict:
 
     Returns
     -------
-    dict
-        JSON-ready statistics (fractions dimensionless, rmse in rad, times in s).
+    Table5Statistics
+        Typed statistics (fractions dimensionless, rmse in rad, times in s); ``to_dict()`` gives the JSON.
     """
     df = df.copy()
-
-    def _bool(col: str) -> pd.Series:
-        return df[col].astype(str).str.lower().isin(["true", "1"])
-
-    df["success"] = _bool("success")
-    df["valid"] = _bool("valid")
-    df["verified"] = _bool("verified") if "verified" in df else df["success"]
+    df["success"] = _bool(df["success"])
+    df["valid"] = _bool(df["valid"])
+    df["verified"] = _bool(df["verified"]) if "verified" in df else df["success"]
     unverified = df[df.success & ~df.verified]
     df.loc[~df.verified, "rmse"] = float("nan")  # an unverified trajectory is no result
     df["usable"] = df.valid & df.verified & df.success
     one = df.drop_duplicates(["case_id", "setting"], keep="last")
     piv = one.pivot(index="case_id", columns="setting", values="rmse").astype(float)
     valid = one.pivot(index="case_id", columns="setting", values="usable").fillna(False).astype(bool)
-    any_valid = valid.any(axis=1)
     settings = list(dict.fromkeys(df["setting"]))
-    varset = sorted({s for s in settings if (df.loc[df.setting == s, "D_max_Nms_per_rad"]
-                                           > df.loc[df.setting == s, "D_min_Nms_per_rad"]).any()},
-                    key=settings.index)
-    pairs = {}
-    for X in varset:
-        for Y in settings:
-            if Y == X:
-                continue
-            both_valid = valid[X] & valid[Y]
-            for scope, mask in (("all", pd.Series(True, index=piv.index)), ("valid", both_valid)):
-                sub = piv.loc[mask.reindex(piv.index, fill_value=False), [X, Y]].dropna()
-                n = len(sub)
-                beats = int((sub[X] < (1 - outperform_rtol) * sub[Y]).sum()) if n else 0
-                worse = int((sub[X] > (1 + outperform_rtol) * sub[Y]).sum()) if n else 0
-                pairs[f"{X}_vs_{Y}_{scope}"] = {
-                    "n_cases": n,
-                    "X_beats_Y": beats,
-                    "fraction_X_beats_Y": beats / n if n else None,
-                    "X_worse_than_Y": worse,
-                    "meanrmse_Y_over_X": float(sub[Y].mean() / sub[X].mean()) if n else None,
-                    "n_excluded": int(piv.shape[0] - n),
-                }
-    guarantee = {}
-    if "iVVEA" in settings and "SEA" in settings:
-        sub = piv[["iVVEA", "SEA"]].dropna()
-        diff = sub["iVVEA"] - sub["SEA"]
-        guarantee = {
-            "n_cases": len(sub),
-            "iVVEA_worse_than_SEA_cases": int((diff > 0).sum()),
-            "max_rmse_iVVEA_minus_SEA_rad": float(diff.max()) if len(sub) else None,
-        }
+    varset = _variable_settings(df, settings)
     wins = {}
     for X in varset:
         wins[X] = {str(k): int(v) for k, v in df.loc[(df.setting == X) & df.success, "start"]
                    .fillna("").astype(str).str.replace(r"^cross:.*", "cross", regex=True).value_counts().items()}
     failures = df.loc[~df.success, ["case_id", "setting", "status"]]
-    best_counts = {}
-    for scope_sets in ([s for s in settings if s not in varset or s == v] for v in varset):
-        cols = [c for c in scope_sets if c in piv.columns]
-        label = "+".join(cols)
-        rm = piv[cols].where(valid[cols])
-        winner = rm.apply(lambda r: r.dropna().idxmin() if r.notna().any() else "none-valid", axis=1)
-        best_counts[label] = {str(k): int(v) for k, v in winner.value_counts().items()}
-    return {
-        "outperform_rtol": outperform_rtol,
-        "n_cases": int(piv.shape[0]),
-        "n_cases_any_valid": int(any_valid.sum()),
-        "valid_cases_per_setting": {s: int(valid[s].sum()) for s in valid.columns},
-        "mean_rmse_rad": {s: float(piv[s].mean()) for s in piv.columns},
-        "pairs": pairs,
-        "ivvea_vs_sea_guarantee": guarantee,
-        "winning_starts": wins,
-        "best_valid_setting_counts": best_counts,
-        "unverified": {"count": int(len(unverified)),
-                       "by_setting": {str(k): int(v) for k, v in unverified["setting"].value_counts().items()},
-                       "cases": [f"{r.case_id} {r.setting}" for r in unverified.itertuples()]},
-        "solver_failures": {"count": int(len(failures)),
-                            "by_status": {str(k): int(v) for k, v in failures["status"].value_counts().items()}},
-        "paper_table5": PAPER_TABLE5,
-        "seconds_per_setting": {s: float(df.loc[df.setting == s, "seconds"].mean()) for s in settings},
-    }
-
-
+    return Table5Statistics(
+        outperform_rtol=outperform_rtol,
+        n_cases=int(piv.shape[0]),
+        n_cases_any_valid=int(valid.any(axis=1).sum()),
+        valid_cases_per_setting={s: int(valid[s].sum()) for s in valid.columns},
+        mean_rmse_rad={s: float(piv[s].mean()) for s in piv.columns},
+        pairs=_pairs(piv, valid, varset, settings, outperform_rtol),
+        ivvea_vs_sea_guarantee=_guarantee(piv, settings),
+        winning_starts=wins,
+        best_valid_setting_counts=_best_counts(piv, valid, varset, settings),
+        unverified={"count": int(len(unverified)),
+                    "by_setting": {str(k): int(v) for k, v in unverified["setting"].value_counts().items()},
+                    "cases": [f"{r.case_id} {r.setting}" for r in unverified.itertuples()]},
+        solver_failures={"count": int(len(failures)),
+                         "by_status": {str(k): int(v) for k, v in failures["status"].value_counts().items()}},
+        paper_table5=PAPER_TABLE5,
+        seconds_per_setting={s: float(df.loc[df.setting == s, "seconds"].mean()) for s in settings},
+    )

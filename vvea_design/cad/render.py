@@ -9,7 +9,9 @@ Debian needs ``libegl1 libegl-mesa0 libgl1-mesa-dri`` (Mesa llvmpipe).
   a scale bar; bladder and chamber 2 deformed volume-consistently at each x;
   chamber-1 gas blue, chamber-2 gas red (the paper's Fig. 2 colours).
 * :func:`render_mould_open` -- the two mould halves laid open, parting faces
-  up, with the core and the cast bladder between them.
+  up, with the core and the cast bladder between them, each piece named.
+
+Every colour is the palette's (:mod:`vvea_design.palette`), as in every figure and the report's 3-D view.
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ from __future__ import annotations
 import os
 
 import numpy as np
+
+from ..palette import PART_LABELS, part_colour
 
 if not os.environ.get("DISPLAY"):
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -66,7 +70,6 @@ def _section_meshes(model, x_mm: float, offset_mm: float) -> list[tuple[str, obj
     from ._shapes import ring
     from .bladder import bladder_deformed
     from .mesh import to_mesh
-    from .registry import FLUID_COLOUR, get_part
 
     lay = model.layout
     solids = model.solids_at(x_mm, "assembly", "gas")
@@ -77,7 +80,7 @@ def _section_meshes(model, x_mm: float, offset_mm: float) -> list[tuple[str, obj
     extra = [("gas_chamber_2", t) for t in top]  # bulkhead layout: chamber-2 gas above the bulkhead
     out = []
     for name, solid in [*solids.items(), *extra, ("fluid", fluid)]:
-        colour = FLUID_COLOUR if name == "fluid" else get_part(name).colour
+        colour = part_colour(name)
         alpha = 0.55 if name in ("fluid", "gas_chamber_1", "gas_chamber_2") else 1.0
         poly = _poly(to_mesh(solid, 0.05, 0.1)).translate((offset_mm, 0.0, 0.0), inplace=False)
         out.append((name, _cut(poly), colour, alpha))
@@ -189,9 +192,11 @@ def render_assembly_cutaway(model, meshes: dict | None = None) -> bytes:
 
 
 def render_mould_open(model, meshes: dict) -> bytes:
-    """PNG: the mould laid open -- half B, core with the cast bladder, half A (turned), parting faces up.
+    """PNG: the mould laid open -- half A (turned), core with the cast bladder, half B, parting faces up,
+    each piece named under it on a label of its colour.
 
-    The cavity (the bladder scaled by the shrinkage) is drawn translucent on the core.
+    The cavity (the bladder scaled by the shrinkage) is drawn translucent on the core. Both halves are the
+    palette's mould colour; the names under them tell them apart.
 
     Parameters
     ----------
@@ -218,11 +223,51 @@ def render_mould_open(model, meshes: dict) -> bytes:
     from .mesh import to_mesh
 
     cav = _poly(to_mesh(m.cavity, 0.1, 0.2))
-    pl.add_mesh(hb, color=(0.55, 0.75, 0.95))
-    pl.add_mesh(ha, color=(0.55, 0.75, 0.95))
-    pl.add_mesh(core, color=(0.85, 0.85, 0.85))
-    pl.add_mesh(cav, color=(0.95, 0.75, 0.20), opacity=0.6)
-    pl.add_text("bladder mould: half B | core + cast bladder | half A (parting faces up)", font_size=11, color="black")
+    pl.add_mesh(hb, color=part_colour("mould_half_b"))
+    pl.add_mesh(ha, color=part_colour("mould_half_a"))
+    pl.add_mesh(core, color=part_colour("mould_core"))
+    pl.add_mesh(cav, color=part_colour("bladder"), opacity=0.6)
     pl.camera_position = [(0.0, 500.0, 420.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
     pl.reset_camera()
-    return _png(pl)
+    img = np.asarray(pl.screenshot(None, return_img=True))
+    # where each piece's name goes (under it) and the bladder's (beside the core), in pixels of the picture
+    z_lo = min(p.bounds[4] for p in (hb, ha, core))
+    height = max(p.bounds[5] for p in (hb, ha, core)) - z_lo
+    mid = lambda p, z: (0.5 * (p.bounds[0] + p.bounds[1]), 0.5 * (p.bounds[2] + p.bounds[3]), z)  # noqa: E731
+    labels = [(mid(hb, z_lo - 0.15 * height), PART_LABELS["mould_half_b"], "mould_half_b", "center"),
+              (mid(core, z_lo - 0.2 * height), "core with the cast bladder", "mould_core", "center"),
+              (mid(ha, z_lo - 0.15 * height), PART_LABELS["mould_half_a"], "mould_half_a", "center"),
+              ((core.bounds[0], 0.5 * (core.bounds[2] + core.bounds[3]), z_lo + 0.55 * height),
+               "cast bladder (cavity)", "bladder", "left")]
+    at = []
+    for xyz, *rest in labels:
+        pl.renderer.SetWorldPoint(*xyz, 1.0)
+        pl.renderer.WorldToDisplay()
+        u, v, _ = pl.renderer.GetDisplayPoint()
+        at.append((u, img.shape[0] - v, *rest))
+    pl.close()
+    return _labelled_png(img, "bladder mould laid open, parting faces up: each piece named on its colour "
+                              "(both halves share one)", at)
+
+
+def _labelled_png(img: np.ndarray, title: str, labels) -> bytes:
+    """The render ``img`` with a title and ``(u, v, text, part, ha)`` labels (pixels from the top left) on
+    boxes of the part's colour, as a PNG of the render's size (no timestamp metadata)."""
+    import io
+
+    from matplotlib.figure import Figure
+
+    h, w = img.shape[:2]
+    fig = Figure(figsize=(w / 100, h / 100), dpi=100)
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.imshow(img, interpolation="none")
+    ax.set_xlim(0, w)
+    ax.set_ylim(h, 0)
+    ax.axis("off")
+    ax.text(8, 8, title, fontsize=12, va="top", ha="left")
+    for u, v, text, part, ha in labels:
+        ax.text(u, v, text, fontsize=13, ha=ha, va="center", weight="bold",
+                bbox=dict(facecolor=part_colour(part), edgecolor="0.3", boxstyle="round,pad=0.35"))
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
+    return buf.getvalue()

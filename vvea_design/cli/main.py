@@ -19,6 +19,7 @@ from rich.table import Table
 from .common import fail as _fail
 from .common import load_design_or_exit
 from .outputs import check_out, out_dir, out_files
+from ..messages import show_margin
 from ..progress import console
 from ..progress import out as stdout
 
@@ -74,7 +75,8 @@ def _print_evaluation(ev, title: str) -> None:
         d = ev.details[name]
         style = "red" if m < -1e-9 else ("yellow" if m < 1e-3 else "green")
         rel = "<=" if d["kind"] == "max" else ">="
-        c.add_row(name, f"{float(d['value']):.4g} {d['unit']}", f"{rel} {float(d['limit']):.4g}", f"[{style}]{m:+.4f}[/]")
+        c.add_row(name, f"{show_margin(d['value'])} {d['unit']}", f"{rel} {float(d['limit']):.4g}",
+                  f"[{style}]{show_margin(m, '+.4f')}[/]")  # round-off of a binding constraint reads 0
     stdout.print(c)
 
 

@@ -131,43 +131,43 @@ def rest_to_rest(
     text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
     typer.echo(text)
     with output_files(out / "report.html", option="") as (tmp_report,):  # whole or not at all
-        folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary,
+        folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary.to_dict(),
                       provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n}
                       ).write(tmp_report)
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
                   f"{out / 'trajectory.png'}, {out / 'report.html'}")
 
 
-def _print_summary(summary: dict, console) -> None:
+def _print_summary(summary, console) -> None:
     from rich.table import Table
 
+    st = summary.statistics
     tab = Table(title="Table 5: ours (all solved cases / cases where both trajectories are valid) vs paper")
     for c in ("statistic", "ours (all)", "ours (both valid)", "paper"):
         tab.add_column(c)
-    paper = summary["paper_table5"]
-    p = summary["pairs"]
-    xs = list(dict.fromkeys(k.split("_vs_")[0] for k in p))
+    paper = st.paper_table5
+    xs = list(dict.fromkeys(k.split("_vs_")[0] for k in st.pairs))
     for X in xs:
         for Y in ("SEA", "LWR"):
-            a, v = p.get(f"{X}_vs_{Y}_all"), p.get(f"{X}_vs_{Y}_valid")
+            a, v = st.pair(X, Y, "all"), st.pair(X, Y, "valid")
             if not a:
                 continue
-            fa = a["fraction_X_beats_Y"]
-            fv = v["fraction_X_beats_Y"] if v else None
+            fa = a.fraction_X_beats_Y
+            fv = v.fraction_X_beats_Y if v else None
             pb = paper.get(f"{X}_beats_{Y}")
             tab.add_row(f"{X} beats {Y}", f"{fa:.1%}" if fa is not None else "-",
                         f"{fv:.1%}" if fv is not None else "-", f"{pb:.1%}" if pb is not None else "-")
-            ra, rv = a["meanrmse_Y_over_X"], v["meanrmse_Y_over_X"] if v else None
+            ra, rv = a.meanrmse_Y_over_X, v.meanrmse_Y_over_X if v else None
             pr = paper.get(f"meanrmse_{Y}_over_{X}")
             tab.add_row(f"mean rmse {Y} / {X}", f"{ra:.3f}" if ra else "-", f"{rv:.3f}" if rv else "-",
                         f"{pr:.3f}" if pr is not None else "-")
     console.print(tab)
-    g = summary.get("ivvea_vs_sea_guarantee") or {}
+    g = st.ivvea_vs_sea_guarantee
     if g:
         console.print(f"iVVEA worse than SEA in {g['iVVEA_worse_than_SEA_cases']} of {g['n_cases']} cases")
-    console.print(f"winning starts: {json.dumps(summary['winning_starts'])}")
-    console.print(f"solver failures: {summary['solver_failures']['count']}")
-    unv = summary.get("unverified", {})
+    console.print(f"winning starts: {json.dumps(st.winning_starts)}")
+    console.print(f"solver failures: {st.solver_failures['count']}")
+    unv = st.unverified
     if unv.get("count"):
         console.print(f"left out of every statistic, trajectory not reproduced by re-simulation: {unv['count']} "
                       f"({', '.join(unv['cases'][:8])}{' ...' if unv['count'] > 8 else ''})")
@@ -209,11 +209,11 @@ def safety(
         tab = Table(title=f"{tau_ref_nm:g} N m torque step")
         for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
             tab.add_column(c)
-        for name, c in s["cases"].items():
-            tab.add_row(name, f"{c['mean_D_Nms_per_rad']:.1f}", f"{c['max_D_Nms_per_rad']:.1f}",
-                        f"{c['t95_s'] * 1e3:.1f}", c["status"])
+        for c in s.cases:
+            tab.add_row(c.name, f"{c.mean_D_Nms_per_rad:.1f}", f"{c.max_D_Nms_per_rad:.1f}",
+                        f"{c.t95_s * 1e3:.1f}", c.status)
         text = recorded_text(lambda c: c.print(tab))
-        write_folder_report("vvea study safety", tmp, summary_text=text, data=s, label=str(out),
+        write_folder_report("vvea study safety", tmp, summary_text=text, data=s.to_dict(), label=str(out),
                             provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n,
                                         "link_inertia_kgm2": link_inertia_kgm2})
     typer.echo(text)

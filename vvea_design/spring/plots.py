@@ -15,6 +15,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..figure_layout import set_margins_in, tight_layout_once, ytick_label_width_in
+from ..palette import GAS_LAW_STYLES, LIMIT_COLOUR, OTHER_COLOURS, SETTING_COLOURS, gas_law, gas_law_label, part_colour
 from .gas_spring import GasSpring
 
 __all__ = ["plot_spring", "plot_pareto", "plot_linearity_map", "save_figure", "VARIABLE_LABELS"]
@@ -66,26 +67,57 @@ def _axes(ax, figsize, nrows=1, ncols=1):
     return fig, fig.subplots(nrows, ncols)
 
 
+#: Line styles and grey levels of the recharged curves, in order (none is a gas law's style).
+_RECHARGE_STYLES = ((0, (6, 2)), (0, (1, 1.2)), (0, (8, 2, 1, 2)), (0, (3, 1.5, 1, 1.5, 1, 1.5)))
+_RECHARGE_GREYS = ("0.25", "0.45", "0.6", "0.35")
+
+
+def _own_charge(spring: GasSpring, p2_MPa: float) -> bool:
+    """``p2_MPa`` is the spring's own charge (its recharged curve is the nominal one)."""
+    return abs(p2_MPa - spring.p2_MPa) <= 1e-9 * max(1.0, abs(p2_MPa))
+
+
+def _recharged(ax, spring: GasSpring, x, charges_MPa) -> None:
+    """Draw the spring recharged to each p2 but its own (grey, each its own line style, labelled at its end)."""
+    k = 0
+    for p2 in charges_MPa:
+        if _own_charge(spring, p2):
+            continue
+        F = spring.with_pressures(p2).force_N(x)
+        ls, grey = _RECHARGE_STYLES[k % len(_RECHARGE_STYLES)], _RECHARGE_GREYS[k % len(_RECHARGE_GREYS)]
+        ax.plot(x, F, lw=1.3, color=grey, ls=ls,
+                label=f"recharged p2 = {p2:g} MPa, {gas_law_label(spring.n_polytropic)}")
+        ax.annotate(f"p2 = {p2:g} MPa", (x[-1], F[-1]), xytext=(-3, 4), textcoords="offset points", ha="right",
+                    va="bottom", fontsize=7, color=grey)
+        k += 1
+
+
 def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig: Figure | None = None,
-                adiabatic: bool = True) -> Figure:
+                adiabatic: bool = True, layout: str | None = None) -> Figure:
     """Force–displacement with its least-squares line, the deviation, stiffness and pressures.
 
     Four panels into ``fig`` (a new Figure by default). With ``adiabatic``
     the same charged spring compressed at n = 1.4 is drawn dashed next to the
-    nominal curve. Linearity numbers are the exact (continuous) metric.
+    nominal curve. Linearity numbers are the exact (continuous) metric. Colours
+    and line styles come from :mod:`vvea_design.palette`: one per gas law
+    (isothermal solid, adiabatic dashed) and, for the pressures, one per chamber
+    (chamber 1 blue, chamber 2 red, as in the CAD renders).
 
     Parameters
     ----------
     spring : GasSpring
         The charged spring (mm², mm³, MPa, travel mm).
     title : str
-        Figure title; empty: the linearity error, exponent and p2.
+        Figure title; empty: the layout (when given), the linearity error, the gas law and p2.
     extra_charges_MPa : sequence of float
-        Further p2 charges drawn in grey on the force panel (p1 from eq. 6 each).
+        Further p2 charges (MPa) drawn in grey on the force panel (p1 from eq. 6 each), each in its own line
+        style and labelled at its end; a charge equal to the spring's own is not drawn again (the legend says so).
     fig : matplotlib.figure.Figure or None
         Figure to draw into (it must be empty); None: a new 10.5 × 7.5 in Figure.
     adiabatic : bool
         Also draw the same charged spring at n = 1.4 (dashed) when its own exponent is not 1.4.
+    layout : str or None
+        The design's layout (``"bulkhead"``, ...), named in the default title.
 
     Returns
     -------
@@ -96,27 +128,29 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
     fig = fig or Figure(figsize=(10.5, 7.5))
     axes = fig.subplots(2, 2)
     x = spring.x_mm(401)
-    cases = [(spring, "-", f"n = {spring.n_polytropic:g}")]
+    cases = [spring]
     if adiabatic and spring.n_polytropic != 1.4:
-        cases.append((spring.with_polytropic(1.4), "--", "n = 1.4 (adiabatic)"))
+        cases.append(spring.with_polytropic(1.4))
     lin0 = spring.linearity()
-    for s, ls, lab in cases:
+    same = [p2 for p2 in extra_charges_MPa if _own_charge(spring, p2)]
+    for s in cases:
         r = s.linearity()
         k, b = float(r.mean_stiffness_N_per_mm), float(r.intercept_N)
         F = s.force_N(x)
-        color = "C0" if ls == "-" else "C1"
-        axes[0, 0].plot(x, F, ls, color=color, lw=2, label=f"F(x), {lab}: {100 * float(r.linearity_error):.2f} %")
+        lab = gas_law_label(s.n_polytropic)
+        st = GAS_LAW_STYLES[gas_law(s.n_polytropic)]
+        color, ls = st["color"], st["ls"]
+        own = f" (charge p2 = {same[0]:g} MPa)" if same and s is spring else ""
+        axes[0, 0].plot(x, F, ls=ls, color=color, lw=2,
+                        label=f"F(x), {lab}: {100 * float(r.linearity_error):.2f} %{own}")
         axes[0, 0].plot(x, k * x + b, ":", color="k", lw=1)
-        axes[0, 1].plot(x, F - (k * x + b), ls, color=color,
+        axes[0, 1].plot(x, F - (k * x + b), ls=ls, color=color,
                         label=f"{lab}: max {float(r.max_deviation_N):.1f} N = {100 * float(r.linearity_error):.2f} % of span")
-        axes[1, 0].plot(x, s.stiffness_N_per_mm(x), ls, color=color, label=f"{lab}, mean {k:.1f} N/mm")
+        axes[1, 0].plot(x, s.stiffness_N_per_mm(x), ls=ls, color=color, label=f"{lab}, mean {k:.1f} N/mm")
         P1, P2 = s.pressures_MPa(x)
-        axes[1, 1].plot(x, P1, ls, color="C2", label=f"chamber 1 (expands), {lab}")
-        axes[1, 1].plot(x, P2, ls, color="C3", label=f"chamber 2 (compressed), {lab}")
-    for p2, grey in zip(extra_charges_MPa, np.linspace(0.35, 0.65, max(len(extra_charges_MPa), 1))):
-        s = spring.with_pressures(p2)
-        axes[0, 0].plot(x, s.force_N(x), lw=1, color=str(grey),
-                        label=f"recharged p2 = {p2:g} MPa, n = {spring.n_polytropic:g}")
+        axes[1, 1].plot(x, P1, ls=ls, color=part_colour("gas_chamber_1"), label=f"chamber 1 (expands), {lab}")
+        axes[1, 1].plot(x, P2, ls=ls, color=part_colour("gas_chamber_2"), label=f"chamber 2 (compressed), {lab}")
+    _recharged(axes[0, 0], spring, x, extra_charges_MPa)
     axes[0, 0].set(xlabel="displacement x [mm] (extension > 0)", ylabel="force F [N] (tension > 0)")
     axes[0, 0].set_title("force–displacement (dotted: least-squares lines)", y=1.0)
     axes[0, 1].axhline(0, color="k", lw=0.5)
@@ -131,8 +165,9 @@ def plot_spring(spring: GasSpring, title: str = "", extra_charges_MPa=(), *, fig
     for ax in axes.flat:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle(title or f"gas spring: linearity error {100 * float(lin0.linearity_error):.2f} % "
-                          f"(n = {spring.n_polytropic:g}, p2 = {spring.p2_MPa:.2f} MPa)")
+    head = f"gas spring, {layout} layout" if layout else "gas spring"
+    fig.suptitle(title or f"{head}: linearity error {100 * float(lin0.linearity_error):.2f} % "
+                          f"({gas_law(spring.n_polytropic)}, n = {spring.n_polytropic:g}; p2 = {spring.p2_MPa:.2f} MPa)")
     # margins in inches as tight_layout set them, without its extra layout pass: fixed room for the titles
     # and labels, and, left of each column, the room of its widest y tick labels
     w = [max(ytick_label_width_in(ax) for ax in axes[:, c]) for c in range(2)]
@@ -173,15 +208,16 @@ def plot_pareto(rows: list[dict], x_key: str, x_label: str, title: str = "", *, 
     feas = np.array([bool(r.get("feasible")) for r in rows])
     ys = np.array([100 * float(r.get("linearity_error", np.nan)) if f else np.nan for r, f in zip(rows, feas)])
     order = np.argsort(xs)
-    ax.plot(xs[order][feas[order]], ys[order][feas[order]], "o-", label="best feasible design")
+    ax.plot(xs[order][feas[order]], ys[order][feas[order]], "o-", color=SETTING_COLOURS["design"],
+            label="best feasible design")
     if (~feas).any():
         trans = ax.get_xaxis_transform()  # x in data, y in axes fraction
-        ax.plot(xs[~feas], np.full((~feas).sum(), 0.04), "rx", ms=10, mew=2, transform=trans, clip_on=False,
-                label="no feasible design (misses: see label)")
+        ax.plot(xs[~feas], np.full((~feas).sum(), 0.04), "x", color=LIMIT_COLOUR, ms=10, mew=2, transform=trans,
+                clip_on=False, label="no feasible design (misses: see label)")
         for r, xv in zip([r for r, f in zip(rows, feas) if not f], xs[~feas]):
             miss = r.get("binding") or r.get("error", "")
             ax.annotate(str(miss).split(",")[0][:28], (xv, 0.04), xycoords=trans, textcoords="offset points",
-                        xytext=(0, 8), ha="center", fontsize=7, color="r")
+                        xytext=(0, 8), ha="center", fontsize=7, color=LIMIT_COLOUR)
     if np.isfinite(ys).any():
         ax.set_ylim(0.0, 1.1 * np.nanmax(ys))  # linearity >= 0; the infeasible strip sits at the bottom
     ax.set(xlabel=x_label, ylabel="best linearity error [%]", title=title or "Pareto front")
@@ -235,7 +271,8 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
     infeas = (~np.asarray(m["feasible"], dtype=bool)).astype(float)
     ax.contourf(X, Y, infeas, levels=[0.5, 1.5], colors="none", hatches=["///"], alpha=0.3)
     # where each constraint binds: its zero-margin line, labelled, on the side it is violated the hatching
-    styles = [("w", "-"), ("k", "--"), ("tab:red", "-."), ("tab:orange", ":"), ("w", ":"), ("k", "-.")]
+    # neutral and "other" colours: red is the design's (the optimum's star), no setting's colour is a constraint's
+    styles = [("w", "-"), ("k", "--"), (OTHER_COLOURS[3], "-."), (OTHER_COLOURS[2], ":"), ("w", ":"), ("k", "-.")]
     handles = []
     k = 0
     for name, grid in (m.get("margins") or {}).items():
@@ -247,7 +284,8 @@ def plot_linearity_map(m: dict, optimum: tuple[float, float] | None = None, *, a
         handles.append(Line2D([], [], color=col, ls=ls, lw=1.8, label=f"{name.replace('_', ' ')} binds"))
         k += 1
     if optimum is not None:
-        handles += ax.plot(optimum[0] * sx, optimum[1] * sy, "r*", ms=16, mec="w", mew=1.0, clip_on=False, zorder=10,
+        handles += ax.plot(optimum[0] * sx, optimum[1] * sy, "*", color=SETTING_COLOURS["design"], ms=16, mec="w",
+                           mew=1.0, clip_on=False, zorder=10,
                            label="optimum")
     if handles:
         leg = ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
