@@ -1582,7 +1582,12 @@ def result_row(r: Result, ctx: Ctx) -> dict:
             "cpu_s": round(r.cpu, 2), "maxrss_mb": round(r.maxrss_mb, 1), "message": r.message(),
             "command": " ".join(_quote(a) for a in ["vvea", *c.command(ctx)[len(ctx.vvea):]]),
             "events": r.events, "changed": r.changed, "orphans": r.orphans, "fullfs": r.extra,
-            "stdout_tail": r.out[-1500:], "stderr_tail": r.err[-2500:]}
+            "stdout_tail": _tail(r.out, 1500), "stderr_tail": _tail(r.err, 2500)}
+
+
+def _tail(text: str, n: int) -> str:
+    """The last ``n`` characters of ``text`` with the padding of wide boxes and tables squeezed out."""
+    return "\n".join(re.sub(r" {2,}", " ", ln.rstrip()) for ln in text.splitlines())[-n:]
 
 
 # =====================================================================================================
