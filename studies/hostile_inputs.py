@@ -1464,9 +1464,13 @@ def disk_cases() -> list[Case]:
     return cs
 
 
+NOT_REGULAR = r"regular|device|fifo|pipe|special|not a (plain |normal )?file|character"
+
+
 def size_cases() -> list[Case]:
     """Non-regular files and absurd sizes: refused before reading, within bounded memory and time."""
     cs: list[Case] = []
+    # "does not exist" for a device or a pipe that exists misleads, as for a folder (issue 24: WEAK)
 
     def add(title, argv, expect, prepare, mention=(), issue="", cpu_slow=10.0, timeout=60, **kw):
         cs.append(Case(f"size-{len(cs) + 1:02d}", "size", title, argv, expect, (BAD_INPUT,), mention, prepare,
@@ -1474,21 +1478,21 @@ def size_cases() -> list[Case]:
 
     none = lambda w, ctx: None
     add("identify /dev/zero", ["identify", "/dev/zero", "-o", "{w}/id"],
-        "refused (2) as not a regular file, at once, in bounded memory", none, (r"/dev/zero",), issue="8")
+        "refused (2) as not a regular file, at once, in bounded memory", none, (r"/dev/zero", NOT_REGULAR), issue="8")
     add("diagnose /dev/urandom", ["diagnose", "/dev/urandom", "-o", "{w}/dg"], "refused (2) as not a regular file",
-        none, (r"/dev/urandom",))
+        none, (r"/dev/urandom", NOT_REGULAR))
     add("identify a FIFO (no writer)", ["identify", "{w}/rec.csv", "-o", "{w}/id"], "refused (2) at once, no hang",
-        fifo("rec.csv"), (r"rec\.csv",))
+        fifo("rec.csv"), (r"rec\.csv", NOT_REGULAR))
     add("identify a 20 GB sparse .csv", ["identify", "{w}/rec.csv", "-o", "{w}/id"],
         "refused (2) for its size before reading", sparse("rec.csv"), (r"rec\.csv", r"size|large|GB|GiB|bytes"))
     add("optimise --spec /dev/zero", ["optimise", "--spec", "/dev/zero", "-o", "{w}/d.json"],
-        "refused (2) as not a regular file", none, (r"/dev/zero",))
+        "refused (2) as not a regular file", none, (r"/dev/zero", NOT_REGULAR))
     add("optimise --spec a FIFO", ["optimise", "--spec", "{w}/req.toml", "-o", "{w}/d.json"], "refused (2), no hang",
-        fifo("req.toml"), (r"req\.toml",))
+        fifo("req.toml"), (r"req\.toml", NOT_REGULAR))
     add("optimise --spec a 20 GB sparse file", ["optimise", "--spec", "{w}/req.toml", "-o", "{w}/d.json"],
         "refused (2) for its size", sparse("req.toml"), (r"req\.toml", r"size|large|GB|GiB|bytes"))
     add("check /dev/zero", ["check", "/dev/zero", "--max-linearity", "0.015"], "refused (2) as not a regular file",
-        none, (r"/dev/zero",))
+        none, (r"/dev/zero", NOT_REGULAR))
     add("check a 20 GB sparse file", ["check", "{w}/d.json", "--max-linearity", "0.015"], "refused (2) for its size",
         sparse("d.json"), (r"d\.json", r"size|large|GB|GiB|bytes"))
     add("bladder --elements 10000000", ["bladder", "{w}/d.json", "-o", "{w}/bl", "--elements", "10000000"],
