@@ -347,7 +347,7 @@ def _distributions() -> dict[str, list[str]]:
 
 def _third_party(mods: set[str]) -> dict[str, str]:
     dists = _distributions()
-    local = {"vvea_design", "tests"} | {p.stem for d in ("tests", "studies") for p in (ROOT / d).rglob("*.py")}
+    local = {"vvea_design", "tests", "vvea_benches"} | {p.stem for d in ("tests", "studies") for p in (ROOT / d).rglob("*.py")}
     out = {}
     for m in sorted(mods - set(sys.stdlib_module_names) - local):
         assert m in dists, f"import {m}: no installed distribution provides it"
