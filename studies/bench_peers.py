@@ -11,6 +11,9 @@ Usage::
 
     PYTHONPATH=$PWD:$PWD/benches python studies/bench_peers.py --run studies/results/blind_diagnosis/run \
         --half all --workers 2
+
+It may run while the diagnosis run is still going (it takes the campaigns scored so far);
+``--resume`` keeps the campaigns already done in ``RUN/peers_rows.jsonl``.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ import pandas as pd
 
 from vvea_benches.blind.peers import peer_heldout_rmse
 from vvea_benches.blind.plots import plot_peers
+from vvea_benches.blind.runlog import RunLog
 from vvea_design.parallel import parallel_map
 from vvea_design.progress import console
 
@@ -68,6 +72,20 @@ def peer_row(item: dict) -> dict:
                 "peer_s": time.perf_counter() - t0}
     except Exception as exc:  # a failed campaign is data
         return {**head, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _scored_rows(run: Path, half: str) -> list[dict]:
+    """Scored campaigns of a run: ``RUN/rows.jsonl`` (also while the run is still going), else ``RUN/<half>/scores.json``."""
+    halves = ("dev", "blind") if half == "all" else (half,)
+    if (run / "rows.jsonl").exists():
+        rows = [json.loads(line) for line in (run / "rows.jsonl").read_text().splitlines()]
+    else:
+        rows = []
+        for h in halves:
+            f = run / h / "scores.json"
+            if f.exists():
+                rows += json.loads(f.read_text())["campaigns"]
+    return [r for r in rows if "error" not in r and r["half"] in halves]
 
 
 def summarise_peers(rows: list[dict]) -> dict:
@@ -119,25 +137,27 @@ def main(argv=None) -> dict:
     ap.add_argument("--half", choices=("dev", "blind", "all"), default="dev")
     ap.add_argument("--seeds", type=int, nargs="*", default=None, help="only these seeds (default: all in the run)")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--resume", action="store_true", help="keep campaigns already done in RUN/peers_rows.jsonl")
     args = ap.parse_args(argv)
     run = args.run.resolve()
-    rows = []
-    for half in (("dev", "blind") if args.half == "all" else (args.half,)):
-        f = run / half / "scores.json"
-        if f.exists():
-            rows += [r for r in json.loads(f.read_text())["campaigns"] if "error" not in r]
+    rows = _scored_rows(run, args.half)
     if args.seeds is not None:
         rows = [r for r in rows if int(r["seed"]) in set(args.seeds)]
     if not rows:
         raise SystemExit(f"no scored campaigns in {run} for half {args.half}: run studies/blind_diagnosis.py first")
+    log = RunLog(run / "peers_rows.jsonl", args.resume)
+    todo = [r for r in rows if r["campaign_id"] not in log.done]
     load0, t0 = os.getloadavg(), time.time()
-    console.print(f"peers on {len(rows)} campaigns, {args.workers} workers, load {load0[0]:.1f}")
-    res = parallel_map(peer_row, [{"row": r, "run": str(run)} for r in rows], workers=args.workers,
-                       description="peers")
+    console.print(f"peers on {len(rows)} campaigns ({len(todo)} to run), {args.workers} workers, load {load0[0]:.1f}")
+
+    new = parallel_map(peer_row, [{"row": r, "run": str(run)} for r in todo], workers=args.workers,
+                       description="peers", on_result=log.append)
+    res = log.merged([r["campaign_id"] for r in rows], new)
     for half in ("dev", "blind"):
         rs = [r for r in res if r["half"] == half and "error" not in r]
         if rs:
             every = [r for r in res if r["half"] == half]
+            (run / half).mkdir(parents=True, exist_ok=True)
             pd.DataFrame(every).sort_values(["kind", "campaign_id"]).to_csv(run / half / "peers.csv", index=False)
             plot_peers(rs, run / half / "peers.png",
                        f"{half.upper()} half: held-out RMS / true noise, vvea diagnose (bars) and peers (markers)")

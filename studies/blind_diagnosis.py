@@ -38,6 +38,7 @@ import pandas as pd
 
 from vvea_benches.blind.campaign import CampaignSpec, build_campaign, campaign_specs, write_campaign
 from vvea_benches.blind.plots import plot_scores
+from vvea_benches.blind.runlog import RunLog
 from vvea_benches.blind.score import score_campaign, summarise
 from vvea_design.parallel import parallel_map
 from vvea_design.progress import console
@@ -175,29 +176,16 @@ def main(argv=None) -> dict:
     specs = campaign_specs(args.half, args.seeds, args.n_per_ramp)
     if args.only:
         specs = [s for s in specs if s.campaign_id in set(args.only)]
-    jsonl = out / "rows.jsonl"
-    done = {}
-    if args.resume and jsonl.exists():
-        for line in jsonl.read_text().splitlines():
-            r = json.loads(line)
-            if "error" not in r:
-                done[r["campaign_id"]] = r
-    elif jsonl.exists():
-        jsonl.unlink()
-    todo = [s for s in specs if s.campaign_id not in done]
+    log = RunLog(out / "rows.jsonl", args.resume)
+    todo = [s for s in specs if s.campaign_id not in log.done]
     vvea = vvea_command()
     load0, t0, c0 = os.getloadavg(), time.time(), time.process_time()
     console.print(f"{len(specs)} campaigns ({len(todo)} to run), {args.workers} workers, "
                   f"load {load0[0]:.1f}; command: {' '.join(vvea)} diagnose")
 
-    def on_result(_i, row):
-        with jsonl.open("a") as fh:
-            fh.write(json.dumps(row, default=str) + "\n")
-
     items = [{"spec": s.to_dict(), "out": str(out), "vvea": vvea, "timeout_s": args.timeout} for s in todo]
-    new = parallel_map(run_one, items, workers=args.workers, description="blind diagnosis", on_result=on_result)
-    by_id = {**done, **{r["campaign_id"]: r for r in new}}
-    rows = [by_id[s.campaign_id] for s in specs if s.campaign_id in by_id]
+    new = parallel_map(run_one, items, workers=args.workers, description="blind diagnosis", on_result=log.append)
+    rows = log.merged([s.campaign_id for s in specs], new)
     ok = [r for r in rows if "error" not in r]
     run_info = {
         "started_utc": datetime.fromtimestamp(t0, timezone.utc).isoformat(timespec="seconds"),
