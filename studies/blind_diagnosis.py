@@ -104,6 +104,30 @@ def run_one(item: dict) -> dict:
         return {**head, "error": f"{type(exc).__name__}: {exc}", "outcome": "error"}
 
 
+def rescore(row: dict, out: Path) -> dict:
+    """Score a finished campaign again from its files (truth and report on disk), keeping its times.
+
+    Parameters
+    ----------
+    row : dict
+        The row logged when the campaign finished.
+    out : pathlib.Path
+        Run folder.
+
+    Returns
+    -------
+    dict
+        The row scored by the current scorer (the logged row if a file is missing or it had failed).
+    """
+    truth = out / "campaigns" / f"{row['campaign_id']}.truth.json"
+    report = out / "diagnose" / row["campaign_id"] / "report.json"
+    if "error" in row or not truth.exists() or not report.exists():
+        return row
+    new = score_campaign(json.loads(truth.read_text()), json.loads(report.read_text()))
+    new.update({k: row[k] for k in ("generate_s", "diagnose_wall_s") if k in row})
+    return new
+
+
 def _git_commit() -> str | None:
     try:
         return subprocess.run(["git", "-C", str(REPO), "rev-parse", "HEAD"], capture_output=True, text=True,
@@ -185,7 +209,7 @@ def main(argv=None) -> dict:
 
     items = [{"spec": s.to_dict(), "out": str(out), "vvea": vvea, "timeout_s": args.timeout} for s in todo]
     new = parallel_map(run_one, items, workers=args.workers, description="blind diagnosis", on_result=log.append)
-    rows = log.merged([s.campaign_id for s in specs], new)
+    rows = [rescore(r, out) for r in log.merged([s.campaign_id for s in specs], new)]
     ok = [r for r in rows if "error" not in r]
     run_info = {
         "started_utc": datetime.fromtimestamp(t0, timezone.utc).isoformat(timespec="seconds"),

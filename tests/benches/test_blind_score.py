@@ -70,3 +70,16 @@ def test_summary_precision_recall_per_half():
     assert dev["outside"]["outcomes"]["modelled+misnamed"] == 1
     assert s["blind"]["null"] == {"campaigns": 1, "accepted_effects": 1, "campaigns_with_acceptance": 1}
     assert s["all"]["campaigns"] == 4 and np.isnan(rows[0]["states_recall"])
+
+
+def test_states_precision_and_the_tables():
+    from vvea_benches.blind.tables import markdown
+
+    t = truth("mechanism", ["gas_nonlinearity"], ["m"], ["valve", "history"])
+    r = score_campaign(t, report([("gas_nonlinearity", True)], final=30.0, flagged=True,
+                                 where=["valve 108 deg: x", "p2 4 MPa: x", "speed 8 mm/s: x", "direction extending: x"]))
+    assert r["states_recall"] == pytest.approx(0.5) and r["states_precision"] == pytest.approx(0.25)
+    s = summarise([r])
+    assert s["dev"]["outside"]["flagged_states_precision_mean"] == pytest.approx(0.25)
+    md = markdown(s, None, [r], [])
+    assert "| mechanism-x | flagged |" in md and "BLIND" not in md.split("### DEV")[0].split("\n")[2]

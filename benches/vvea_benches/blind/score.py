@@ -148,9 +148,15 @@ def score_campaign(truth: dict, report: dict) -> dict:
         "states_named": " ".join(states), "states_unknown": " ".join(unknown),
         "states_truth": " ".join(truth_states), "states_hit": " ".join(hit),
         "states_recall": (len(hit) / len(truth_states)) if truth_states else np.nan,
+        "states_precision": (len(hit) / len(states)) if states else np.nan,
         "outcome": _outcome(kind, modelled, misnamed, flagged, missed, extra, len(accepted)),
         "runtime_s": float(report.get("runtime_s", np.nan)),
     }
+
+
+def _mean(values):
+    v = [float(x) for x in values if x is not None and np.isfinite(float(x))]
+    return float(np.mean(v)) if v else None
 
 
 def _per_id(rows) -> dict:
@@ -212,6 +218,8 @@ def summarise(rows: list[dict]) -> dict:
                 "flagged": sum(r["flagged"] for r in outside),
                 "flagged_not_modelled": len(flagged_not_modelled),
                 "flagged_with_a_true_state": sum(bool(r["states_hit"]) for r in flagged_not_modelled),
+                "flagged_states_recall_mean": _mean(r.get("states_recall") for r in flagged_not_modelled),
+                "flagged_states_precision_mean": _mean(r.get("states_precision") for r in flagged_not_modelled),
                 "missed": sum(r["outcome"] == "missed" for r in outside),
                 "outcomes": {k: sum(r["outcome"] == k for r in outside)
                              for k in ("modelled", "modelled+misnamed", "flagged", "misnamed+flagged", "misnamed",
