@@ -193,6 +193,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds allowed for one diagnose run")
     ap.add_argument("--only", nargs="*", default=None, help="run only these campaign ids")
     ap.add_argument("--resume", action="store_true", help="keep campaigns already scored in OUT/rows.jsonl")
+    ap.add_argument("--reverse", action="store_true", help="run the campaigns in reverse order (a second sweep "
+                                                           "sharing the run folder from the other end)")
     args = ap.parse_args(argv)
 
     out = args.out.resolve()
@@ -202,6 +204,8 @@ def main(argv=None) -> dict:
         specs = [s for s in specs if s.campaign_id in set(args.only)]
     log = RunLog(out / "rows.jsonl", args.resume)
     todo = [s for s in specs if s.campaign_id not in log.done]
+    if args.reverse:
+        todo = todo[::-1]
     vvea = vvea_command()
     load0, t0, c0 = os.getloadavg(), time.time(), time.process_time()
     console.print(f"{len(specs)} campaigns ({len(todo)} to run), {args.workers} workers, "
