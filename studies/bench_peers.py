@@ -138,6 +138,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--seeds", type=int, nargs="*", default=None, help="only these seeds (default: all in the run)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--resume", action="store_true", help="keep campaigns already done in RUN/peers_rows.jsonl")
+    ap.add_argument("--no-run", action="store_true", help="fit nothing: write what RUN/peers_rows.jsonl holds")
     args = ap.parse_args(argv)
     run = args.run.resolve()
     rows = _scored_rows(run, args.half)
@@ -145,8 +146,8 @@ def main(argv=None) -> dict:
         rows = [r for r in rows if int(r["seed"]) in set(args.seeds)]
     if not rows:
         raise SystemExit(f"no scored campaigns in {run} for half {args.half}: run studies/blind_diagnosis.py first")
-    log = RunLog(run / "peers_rows.jsonl", args.resume)
-    todo = [r for r in rows if r["campaign_id"] not in log.done]
+    log = RunLog(run / "peers_rows.jsonl", args.resume or args.no_run)
+    todo = [] if args.no_run else [r for r in rows if r["campaign_id"] not in log.done]
     load0, t0 = os.getloadavg(), time.time()
     console.print(f"peers on {len(rows)} campaigns ({len(todo)} to run), {args.workers} workers, load {load0[0]:.1f}")
 

@@ -193,6 +193,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds allowed for one diagnose run")
     ap.add_argument("--only", nargs="*", default=None, help="run only these campaign ids")
     ap.add_argument("--resume", action="store_true", help="keep campaigns already scored in OUT/rows.jsonl")
+    ap.add_argument("--no-run", action="store_true", help="run nothing: score and write what OUT/rows.jsonl holds")
     ap.add_argument("--reverse", action="store_true", help="run the campaigns in reverse order (a second sweep "
                                                            "sharing the run folder from the other end)")
     args = ap.parse_args(argv)
@@ -202,8 +203,8 @@ def main(argv=None) -> dict:
     specs = campaign_specs(args.half, args.seeds, args.n_per_ramp)
     if args.only:
         specs = [s for s in specs if s.campaign_id in set(args.only)]
-    log = RunLog(out / "rows.jsonl", args.resume)
-    todo = [s for s in specs if s.campaign_id not in log.done]
+    log = RunLog(out / "rows.jsonl", args.resume or args.no_run)
+    todo = [] if args.no_run else [s for s in specs if s.campaign_id not in log.done]
     if args.reverse:
         todo = todo[::-1]
     vvea = vvea_command()
@@ -217,6 +218,8 @@ def main(argv=None) -> dict:
     ok = [r for r in rows if "error" not in r]
     run_info = {
         "started_utc": datetime.fromtimestamp(t0, timezone.utc).isoformat(timespec="seconds"),
+        "mode": "score only (--no-run)" if args.no_run else "run", "campaigns_planned": len(specs),
+        "campaigns_scored": len(ok),
         "wall_s": time.time() - t0, "parent_cpu_s": time.process_time() - c0,
         "loadavg_start": list(load0), "loadavg_end": list(os.getloadavg()), "cpu_count": os.cpu_count(),
         "workers": args.workers, "half": args.half, "seeds": args.seeds, "n_per_ramp": args.n_per_ramp,
