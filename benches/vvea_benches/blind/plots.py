@@ -87,7 +87,7 @@ def plot_scores(rows: list[dict], path: Path, title: str) -> Path:
                       label="baseline (eq. 14) held-out RMS / noise")
     used = [k for k in OUTCOME_COLOURS if any(r.get("outcome") == k for r in rows)]
     handles = [Patch(facecolor=OUTCOME_COLOURS[k], edgecolor="black", label=k) for k in used] + [base]
-    return _finish(fig, ax, rows, path, title, "held-out RMS / true noise RMS (bar: final model; ≤ 2: modelled)",
+    return _finish(fig, ax, rows, path, title, "held-out RMS / true noise (bar: final model)",
                    handles)
 
 
