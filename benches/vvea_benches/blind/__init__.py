@@ -13,7 +13,9 @@ here imports the diagnosis. Layout:
 - ``registry.py`` — all of them and the DEV / BLIND split;
 - ``campaign.py`` — campaigns (CSV + truth JSON), deterministic from a seed;
 - ``score.py`` — scores a diagnosis report against the truth;
-- ``peers.py`` — SINDy (STLSQ) and eq. 14 + gradient boosting on the same held-out experiments.
+- ``peers.py`` — SINDy (STLSQ) and eq. 14 + gradient boosting on the same held-out experiments;
+- ``plots.py``, ``tables.py`` — the figures and the markdown tables of a run;
+- ``runlog.py`` — the resumable log of a sweep.
 
 ``BLIND.md`` describes the BLIND half; the method's developer does not read it.
 """
