@@ -18,7 +18,9 @@ Usage::
     PYTHONPATH=$PWD:$PWD/benches python studies/blind_diagnosis.py --half dev --seeds 0 1 --workers 2 \
         --out studies/results/blind_diagnosis/run
 
-``--resume`` keeps campaigns already scored in ``OUT/rows.jsonl``.
+``--resume`` keeps campaigns already scored in ``OUT/rows.jsonl``; ``--no-run`` only rescores
+and rewrites; ``--doc docs/diagnosis-protocol.md`` also writes the tables into that page (after
+``studies/bench_peers.py``, with the peers' columns).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ import pandas as pd
 from vvea_benches.blind.campaign import CampaignSpec, build_campaign, campaign_specs, write_campaign
 from vvea_benches.blind.plots import plot_scores
 from vvea_benches.blind.runlog import RunLog
+from vvea_benches.blind.tables import write_tables
 from vvea_benches.blind.score import score_campaign, summarise
 from vvea_design.parallel import parallel_map
 from vvea_design.progress import console
@@ -194,6 +197,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--only", nargs="*", default=None, help="run only these campaign ids")
     ap.add_argument("--resume", action="store_true", help="keep campaigns already scored in OUT/rows.jsonl")
     ap.add_argument("--no-run", action="store_true", help="run nothing: score and write what OUT/rows.jsonl holds")
+    ap.add_argument("--doc", type=Path, default=None,
+                    help="also write the tables (with the peers', if bench_peers ran) into this page's untuned markers")
     ap.add_argument("--reverse", action="store_true", help="run the campaigns in reverse order (a second sweep "
                                                            "sharing the run folder from the other end)")
     args = ap.parse_args(argv)
@@ -231,6 +236,8 @@ def main(argv=None) -> dict:
         "errors": {r["campaign_id"]: r["error"] for r in rows if "error" in r},
     }
     result = write_outputs(rows, out, run_info)
+    if args.doc is not None:
+        write_tables(out, args.doc)
     for half in ("dev", "blind"):
         s = result[half]
         if not s["campaigns"]:

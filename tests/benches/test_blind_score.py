@@ -83,3 +83,23 @@ def test_states_precision_and_the_tables():
     assert s["dev"]["outside"]["flagged_states_precision_mean"] == pytest.approx(0.25)
     md = markdown(s, None, [r], [])
     assert "| mechanism-x | flagged |" in md and "BLIND" not in md.split("### DEV")[0].split("\n")[2]
+
+
+def test_write_tables_into_a_page(tmp_path):
+    import json
+
+    from vvea_benches.blind.tables import write_tables
+
+    r = score_campaign(truth("null", []), report(final=3.0, baseline=3.0))
+    (tmp_path / "dev").mkdir()
+    (tmp_path / "dev" / "scores.json").write_text(json.dumps({"campaigns": [r]}))
+    (tmp_path / "summary.json").write_text(json.dumps({"run": {"campaigns_scored": 1, "campaigns_planned": 2},
+                                                       **summarise([r])}))
+    page = tmp_path / "page.md"
+    page.write_text("# P\n\n<!-- untuned:start -->\nold\n<!-- untuned:end -->\ntail\n")
+    write_tables(tmp_path, page)
+    text = page.read_text()
+    assert "old" not in text and "Campaigns scored: 1 of 2" in text and "| null-x | clean |" in text
+    assert text.endswith("<!-- untuned:end -->\ntail\n")
+    with pytest.raises(ValueError, match="marker"):
+        write_tables(tmp_path, tmp_path / "dev" / "scores.json")

@@ -5,7 +5,7 @@ Only aggregates are given for the BLIND half; the per-campaign table is the DEV 
 
 from __future__ import annotations
 
-__all__ = ["summary_table", "catalogue_table", "dev_campaign_table", "markdown"]
+__all__ = ["summary_table", "catalogue_table", "dev_campaign_table", "markdown", "write_tables"]
 
 
 def _f(x, digits=2):
@@ -147,3 +147,49 @@ def markdown(summary: dict, peers_summary: dict | None, dev_rows: list[dict], pe
         "### Catalogue ids per half (over every campaign of the half)\n\n" + catalogue_table(summary),
         "### DEV campaigns\n\n" + dev_campaign_table(dev_rows, peers),
     ])
+
+
+def write_tables(run, doc=None) -> str:
+    """Write ``RUN/tables.md`` from a run folder and, if ``doc`` is given, put it between the doc's
+    ``<!-- untuned:start -->`` and ``<!-- untuned:end -->`` markers.
+
+    Parameters
+    ----------
+    run : path-like
+        Run folder of ``studies/blind_diagnosis.py`` (``summary.json``, ``dev/scores.json``,
+        optionally ``peers_summary.json`` and ``peers_rows.jsonl``).
+    doc : path-like or None
+        Markdown page to update.
+
+    Returns
+    -------
+    str
+        The markdown written.
+    """
+    import json
+    import re
+    from pathlib import Path
+
+    run = Path(run)
+    summary = json.loads((run / "summary.json").read_text())
+    peers_path, prow_path = run / "peers_summary.json", run / "peers_rows.jsonl"
+    peers = json.loads(peers_path.read_text()) if peers_path.exists() else None
+    prow = [json.loads(line) for line in prow_path.read_text().splitlines()] if prow_path.exists() else []
+    dev_path = run / "dev" / "scores.json"
+    dev = json.loads(dev_path.read_text())["campaigns"] if dev_path.exists() else []
+    n_s, n_p = summary["run"].get("campaigns_scored"), summary["run"].get("campaigns_planned")
+    head = f"Campaigns scored: {n_s} of {n_p}"
+    if n_s != n_p:
+        head += " — the sweep had not finished when these tables were written; `--resume` completes it"
+    head += f"; peers on {peers['all']['campaigns'] if peers else 0} of them.\n\n"
+    md = head + markdown(summary, peers, dev, prow) + "\n"
+    (run / "tables.md").write_text(md)
+    if doc is not None:
+        doc = Path(doc)
+        text = doc.read_text()
+        if "<!-- untuned:start -->" not in text:
+            raise ValueError(f"{doc}: no '<!-- untuned:start -->' marker to write the tables at")
+        text = re.sub(r"<!-- untuned:start -->.*<!-- untuned:end -->",
+                      lambda _m: "<!-- untuned:start -->\n" + md + "<!-- untuned:end -->", text, flags=re.S)
+        doc.write_text(text)
+    return md
