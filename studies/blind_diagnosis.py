@@ -101,7 +101,7 @@ def run_one(item: dict) -> dict:
             raise RuntimeError(f"vvea diagnose exited {proc.returncode}: {proc.stderr.strip()[-400:]}")
         report = json.loads((dest / "report.json").read_text())
         row = score_campaign(json.loads(truth_path.read_text()), report)
-        row.update(generate_s=t1 - t0, diagnose_wall_s=t2 - t1)
+        row.update(generate_s=t1 - t0, diagnose_wall_s=t2 - t1, loadavg_1min_after=os.getloadavg()[0])
         return row
     except Exception as exc:  # a failed campaign is data, not the end of the sweep
         return {**head, "error": f"{type(exc).__name__}: {exc}", "outcome": "error"}
@@ -127,7 +127,7 @@ def rescore(row: dict, out: Path) -> dict:
     if "error" in row or not truth.exists() or not report.exists():
         return row
     new = score_campaign(json.loads(truth.read_text()), json.loads(report.read_text()))
-    new.update({k: row[k] for k in ("generate_s", "diagnose_wall_s") if k in row})
+    new.update({k: row[k] for k in ("generate_s", "diagnose_wall_s", "loadavg_1min_after") if k in row})
     return new
 
 
