@@ -1,9 +1,10 @@
-"""The `vvea` command line: a thin layer over the library.
+"""The `vvea` command line: each command parses its options, calls one job and prints its result.
 
 Spring side (this module): ``optimise``, ``spring``, ``check``, ``pareto``,
-``map`` and ``design`` (the main job, :func:`vvea_design.pipeline.design_unit`).
-Other topics register their commands from their own modules (``cli/*.py``).
-Results and tables go to stdout, progress and logs to stderr.
+``map`` (the jobs of :mod:`vvea_design.jobs.spring`) and ``design`` (the main
+job, :func:`vvea_design.pipeline.design_unit`). Other topics register their
+commands from their own modules (``cli/*.py``). Results and tables go to
+stdout, progress and logs to stderr.
 """
 
 from __future__ import annotations
