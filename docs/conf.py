@@ -40,7 +40,6 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
     "numpydoc",
-    "sphinxcontrib.typer",
     "sphinx_gallery.gen_gallery",
     "vvea_docs",
 ]
