@@ -45,10 +45,29 @@ def test_sphinx_build_has_no_warnings(tmp_path):
                  "reference/formats", "reference/_schemas/requirements", "benchmarks", "auto_examples/index"):
         assert (out / f"{page}.html").is_file(), f"{page}.html was not built"
     cli = (out / "reference" / "cli.html").read_text()
-    for command in ("vvea design", "vvea optimise", "vvea study rest-to-rest", "vvea diagnose", "--scheduler"):
-        assert command in cli, f"the CLI reference lacks {command!r}"
+    for path, params in _cli_commands():
+        assert f'id="cli-{"-".join(path) or "vvea"}"' in cli, f"the CLI reference lacks vvea {' '.join(path)}"
+        for opt in params:
+            assert opt in cli, f"the CLI reference lacks {opt} of vvea {' '.join(path)}"
     api = (out / "reference" / "api.html").read_text()
     assert "design_unit" in api and "assert_linearity" in api
+
+
+def _cli_commands():
+    """``(path, option names)`` of every command of the ``vvea`` app, e.g. ``(["study", "safety"], ["--out", ...])``."""
+    import typer.main
+
+    from vvea_design.cli.main import app
+
+    out = []
+
+    def walk(cmd, path):
+        out.append((path, [o for p in cmd.params for o in p.opts if o.startswith("--") and o != "--help"]))
+        for name, sub in getattr(cmd, "commands", {}).items():
+            walk(sub, [*path, name])
+
+    walk(typer.main.get_command(app), [])
+    return out
 
 
 def test_the_face_is_what_the_api_reference_lists():
