@@ -40,15 +40,15 @@ print(f"travel {requirements.travel_mm:g} mm, envelope {requirements.max_outer_d
 # %%
 # Optimise
 # --------
-# The search is seeded: the same seed gives the same design. ``out`` is where the job writes
-# ``design.json`` (the file every other command and job reads).
-out = Path(tempfile.mkdtemp(prefix="vvea_example_")) / "optimise"
+# The search is seeded: the same seed gives the same design. ``out`` is the design file the job
+# writes (with its force plot beside it): the file every other command and job reads.
+out = Path(tempfile.mkdtemp(prefix="vvea_example_")) / "design.json"
 result = vd.optimise(requirements, seed=0, out=out)
 ev = result.evaluation
 print(f"layout {ev.design.layout}: linearity {100 * ev.linearity_isothermal:.3f} % (isothermal), "
       f"{100 * ev.linearity_adiabatic:.3f} % (adiabatic); {ev.mean_stiffness_N_per_mm:.1f} N/mm, "
       f"{ev.mass_g:.0f} g")
-print(f"wrote {out / 'design.json'}")
+print(f"wrote {out}")
 
 # %%
 # Every constraint's margin
