@@ -71,5 +71,6 @@ assert run.returncode == 0, run.stdout + run.stderr
 # ---------------------
 # The deviation of the force from its least-squares line (second panel): the linearity error is
 # its largest absolute value divided by the force span.
-fig = plot_spring(design.gas_spring, title=f"reference design: linearity {100 * lin:.3f} %")
+fig = plt.figure(figsize=(11, 7))  # plot_spring draws into a pyplot figure (the gallery shows those)
+plot_spring(design.gas_spring, title=f"reference design: linearity {100 * lin:.3f} %", fig=fig)
 plt.show()

@@ -63,6 +63,7 @@ assert all(m >= -1e-9 for m in ev.margins.values()), "every constraint is met"
 # ---------------
 # At the design's charge and at 1 and 2 MPa (the stiffness follows the charge; the shape does not),
 # dashed: the same hardware with adiabatic gas (fast strokes).
-fig = plot_spring(ev.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
-                  title=f"{ev.design.layout} layout: linearity {100 * ev.linearity_error:.2f} %")
+fig = plt.figure(figsize=(11, 7))  # plot_spring draws into a pyplot figure (the gallery shows those)
+plot_spring(ev.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
+            title=f"{ev.design.layout} layout: linearity {100 * ev.linearity_error:.2f} %", fig=fig)
 plt.show()
