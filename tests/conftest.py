@@ -68,7 +68,8 @@ def reference_model():
 #: test_cad_drawing, test_cad_cli) are not listed: they come after test_cad has started building it.
 HEAVY_FIRST = ("test_cad.py", "test_diagnose.py", "test_optimise.py", "test_pipeline.py", "test_study_actuator.py",
                "test_diagnose_families.py", "test_diagnose_bench.py", "test_bladder.py", "test_identify.py",
-               "test_hygiene.py", "test_diagnose_shared.py", "test_design_study.py")
+               "test_hygiene.py", "test_diagnose_shared.py", "test_design_study.py", "test_docs_build.py",
+               "test_examples.py")
 
 
 def pytest_collection_modifyitems(session, config, items):
