@@ -267,7 +267,7 @@ def buildability(design) -> Buildability:
         (mm) and hydraulics (N s/mm).
     """
     g = design.derived
-    loads = g.loads
+    loads = g.load_cases
     if loads is None:  # a gas-only design: the load cases of the pieces as drawn
         from .derive import peak_pressures
 

@@ -45,7 +45,7 @@ class Stack:
 
 
 #: Fields of :class:`Derived` that hold objects (records, nested results), kept as they are by :meth:`Derived.item`.
-_OBJECT_FIELDS = {"loads", "section", "check", "governing", "hydraulic_path"}
+_OBJECT_FIELDS = {"load_cases", "section", "check", "governing", "hydraulic_path"}
 
 
 @dataclass(frozen=True)
@@ -115,7 +115,7 @@ class Derived:
     sizing_rules: str = "buildable"  #: ``fixed.sizing_rules``
     #: the buildability rules' results (None under ``gas_only``): the load cases, the sized section (with the
     #: joint's sizing), every piece's check per case, the governing case per piece, the damper's flow path
-    loads: Any = None
+    load_cases: Any = None
     section: Any = None
     check: Any = None
     governing: Any = None
@@ -310,6 +310,8 @@ def _size_piston_floor(ri, dP, f: FixedParameters, sized=None):
         t_fl_req = sized(t_fl_req)
     t_fl = np.where(has_pk, np.fmin(np.fmax(f.min_piston_floor_mm, t_fl_req), f.piston_height_mm),
                     f.piston_height_mm)
+    if sized is not None:  # the buildability rules: also the room the floor leaves (< 0: capped at the height)
+        return has_pk, r_pk_s, t_fl, np.where(has_pk, f.piston_height_mm - t_fl_req, np.inf)
     return has_pk, r_pk_s, t_fl
 
 
@@ -652,7 +654,7 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
         **bl, buildable=buildable, layout_quantities=quantities, inner_tube_cut_mm3=stack.layout.inner_tube_cut_mm3,
         stresses_MPa=st, safety_factors=safety,
         inner_tube_buckling_MPa=buckling, masses_g=m, mass_g=None if m is None else sum(m.values()),
-        joint=joint, sizing_rules=f.sizing_rules, loads=loads, section=sec,
+        joint=joint, sizing_rules=f.sizing_rules, load_cases=loads, section=sec,
         check=None if checks is None else checks["check"], governing=None if checks is None else checks["governing"],
         hydraulic_path=path, required_safety_factors=None if checks is None else checks["required"],
         joint_utilisation=None if sec.joint is None else sec.joint.utilisation, parasitic_damping_N_s_per_mm=d_min)
@@ -660,7 +662,9 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
 
 def _capacity_pressure(loads, lay: LayoutVariant):
     """The buildability rules' ``wall_capacity`` value: the larger effective pressure of the outer tube and the
-    inner tube (each carries at most half the allowable stress), MPa."""
+    inner tube, times its stress-concentration factor (each carries at most half the allowable stress), MPa."""
+    from .concentration import concentration_factor
     from .sizing import _inner_tube_pressure, outer_tube_pressure
 
-    return np.fmax(loads.effective(lambda c: outer_tube_pressure(c, lay)), loads.effective(_inner_tube_pressure))
+    return np.fmax(loads.effective(lambda c: outer_tube_pressure(c, lay)) * concentration_factor("outer_tube"),
+                   loads.effective(_inner_tube_pressure) * concentration_factor("inner_tube"))

@@ -641,6 +641,16 @@ class Design:
         """The built unit's damper (:class:`~vvea_design.spring.hydraulics.Hydraulics`): oil, restrictions, D_min, D_max."""
         return self.buildability.hydraulics
 
+    @property
+    def parasitic_damping_N_s_per_mm(self) -> float:
+        """``D_min``: the damping of the fully open throttle, the flow path's own (the paper's identification), N s/mm."""
+        return self.derived.parasitic_damping_N_s_per_mm
+
+    @property
+    def joint_utilisation(self) -> float | None:
+        """The joint's worst check over its limit (<= 1 met; None under the gas-only rules), dimensionless."""
+        return self.derived.joint_utilisation
+
     def damping_range_N_s_per_mm(self) -> tuple[float, float]:
         """The built unit's damping range: ``D_min`` (throttle open, the parasitic damping) and ``D_max``
         (closed, capped by the relief valve), the paper's least-squares damping over its identification speeds.

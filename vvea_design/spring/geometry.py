@@ -71,6 +71,7 @@ class Section:
     outer_tube_outer_radius_mm: Array = None  #: the outer tube's outside radius (inside the rod circle for tie rods)
     joint: Any = None  #: the joint's sizing (:class:`~vvea_design.spring.joints.JointSizing`), None under gas_only
     base_own_mm: Array = None  #: the base below its joint zone (valves, channels, rod seal), mm
+    piston_floor_room_mm: Array = None  #: piston height less the floor its load needs (< 0: the floor is capped), mm
 
     def sized_thickness_mm(self, required_mm: Array) -> Array:
         """A sized thickness's nominal: what its load needs at the least-material condition plus the tolerance, mm.

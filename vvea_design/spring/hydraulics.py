@@ -216,8 +216,10 @@ def linear_damping_N_s_per_mm(path: HydraulicPath, open_fraction=1.0, speeds_mm_
         ``L = sum F(v) v / sum v^2``, N s/mm.
     """
     v = np.asarray(speeds_mm_s, dtype=float)
-    num = sum(damping_force_N(path, vi, open_fraction) * vi for vi in v)
-    return num / float(np.sum(v**2))
+    A2 = np.asarray(path.A2_mm2, dtype=float)
+    shape = (v.size,) + (1,) * A2.ndim  # the speeds on a leading axis, the population after
+    F = damping_force_N(path, v.reshape(shape), np.asarray(open_fraction, dtype=float))
+    return np.tensordot(v, F, axes=(0, 0)) / float(np.sum(v**2))
 
 
 @dataclass(frozen=True)

@@ -256,12 +256,20 @@ THREAD_CLASSES = {"S": (5, 5, "5H/5g6g"), "N": (6, 6, "6H/6g")}
 MIN_ENGAGEMENT_PITCHES = 3.0
 
 
-def _engagement(F, safety_factor, tau, Dk, P):
+@lru_cache(maxsize=8)
+def _thread_table(candidates: tuple, P: float) -> dict[str, np.ndarray]:
+    """Per candidate size: group N's bounds, the shear areas per mm of groups S and N, the basic diameters."""
+    Dk = np.asarray(candidates, dtype=float)
+    Ln_min, Ln_max = engagement_group_n_mm(Dk, P)
+    g = thread_geometry(Dk, P)
+    return {"D": Dk, "Ln_min": Ln_min, "Ln_max": Ln_max, "a_S": np.fmin(*_stripping_areas_per_mm(Dk, P, 5, 5)),
+            "a_N": np.fmin(*_stripping_areas_per_mm(Dk, P, 6, 6)), "d2": g["d2"], "D1": g["D1"]}
+
+
+def _engagement(F, safety_factor, tau, table, P):
     """Engagement length per end and candidate: group S (5H/5g6g) when stripping needs less than group N's lower
     bound, else group N (6H/6g); the utilisation of group N's upper bound, and the shear area per mm used."""
-    Ln_min, Ln_max = engagement_group_n_mm(Dk, P)
-    a_S = np.fmin(*_stripping_areas_per_mm(Dk, P, 5, 5))
-    a_N = np.fmin(*_stripping_areas_per_mm(Dk, P, 6, 6))
+    Ln_min, Ln_max, a_S, a_N = table["Ln_min"], table["Ln_max"], table["a_S"], table["a_N"]
     with np.errstate(divide="ignore", invalid="ignore"):
         L_S = np.fmax(MIN_ENGAGEMENT_PITCHES * P, F * safety_factor / (tau * a_S))
         L_N = np.fmax(Ln_min, F * safety_factor / (tau * a_N))
@@ -306,13 +314,14 @@ def select_thread(ro_lmc_mm, top_load_N, base_load_N, yield_MPa: float, safety_f
         ``stripping_base_safety`` (dimensionless).
     """
     P = THREAD_PITCH_MM
-    Dk = np.asarray(candidates, dtype=float)  # (K,)
+    table = _thread_table(tuple(float(d) for d in candidates), P)
+    Dk = table["D"]  # (K,)
     ro = np.asarray(ro_lmc_mm, dtype=float)[..., None]  # (S, 1)
     Ft = np.asarray(top_load_N, dtype=float)[..., None] * (0.0 if base_only else 1.0)
     Fb = np.asarray(base_load_N, dtype=float)[..., None]
     tau = yield_MPa / 2
-    Lt, st, ut, at = _engagement(Ft, safety_factor, tau, Dk, P)
-    Lb, sb, ub, ab = _engagement(Fb, safety_factor, tau, Dk, P)
+    Lt, st, ut, at = _engagement(Ft, safety_factor, tau, table, P)
+    Lb, sb, ub, ab = _engagement(Fb, safety_factor, tau, table, P)
     with np.errstate(divide="ignore", invalid="ignore"):
         A_wall = math.pi * (ro**2 - ((Dk + 0.2165 * P) / 2) ** 2)
         F = np.fmax(Ft, Fb)
@@ -326,7 +335,7 @@ def select_thread(ro_lmc_mm, top_load_N, base_load_N, yield_MPa: float, safety_f
     def pick(arr):
         return np.take_along_axis(np.broadcast_to(arr, util.shape), k[..., None], axis=-1)[..., 0]
 
-    g = thread_geometry(Dk, P)
+    g = table
     Lt_k, Lb_k = pick(Lt), pick(Lb)
     with np.errstate(divide="ignore", invalid="ignore"):
         return {"major_mm": pick(Dk), "minor_mm": pick(g["D1"]), "pitch_diameter_mm": pick(g["d2"]),

@@ -129,13 +129,16 @@ class Loads:
         """
         return {c.name: load(c) for c in self.cases}
 
-    def effective(self, load: Callable[[LoadCase], Array]) -> Array:
+    def effective(self, load: Callable[[LoadCase], Array], stacked: bool = True) -> Array:
         """The load a piece is sized for: the largest of ``load(case) x SF(case) / SF_ref`` over the cases.
 
         Parameters
         ----------
         load : callable
             ``load(case)`` -> a non-negative array (MPa or N) to which the piece's stress is proportional.
+        stacked : bool
+            Evaluate ``load`` once on every case stacked along a leading axis (:attr:`stacked`; ``load`` must
+            broadcast over it); else once per case.
 
         Returns
         -------
@@ -143,11 +146,28 @@ class Loads:
             The effective load, in the unit of ``load``: sized with ``reference_safety_factor`` it meets every
             case's own safety factor.
         """
+        ratio = np.array([c.required_safety_factor for c in self.cases]) / self.reference_safety_factor
+        if stacked:
+            v = np.asarray(load(self.stacked), dtype=float)
+            return np.max(v * ratio.reshape((-1,) + (1,) * (v.ndim - 1)), axis=0)
         out = None
-        for c in self.cases:
-            v = np.asarray(load(c), dtype=float) * (c.required_safety_factor / self.reference_safety_factor)
+        for c, k in zip(self.cases, ratio):
+            v = np.asarray(load(c), dtype=float) * k
             out = v if out is None else np.fmax(out, v)
         return out
+
+    @property
+    def stacked(self) -> LoadCase:
+        """Every case in one: each field an array with the cases on a leading axis (MPa, N)."""
+        st = self.__dict__.get("_stacked")
+        if st is None:
+            cs = self.cases
+            st = LoadCase("stacked", "every case", *(np.array(np.broadcast_arrays(*[getattr(c, k) for c in cs]))
+                                                    for k in ("chamber_1_MPa", "chamber_2_MPa", "fluid_MPa",
+                                                              "external_force_N")),
+                          np.array([c.required_safety_factor for c in cs]), "")
+            object.__setattr__(self, "_stacked", st)
+        return st
 
     @property
     def chamber_difference_MPa(self) -> Array:
@@ -239,7 +259,8 @@ def lame_tresca_MPa(p_inside_MPa, p_outside_MPa, r_inside_mm, r_outside_mm, sigm
     """Largest Tresca stress (``max |sigma_i - sigma_j|``) of a thick-walled tube (Lamé), MPa.
 
     ``sigma_r = A - B/r^2``, ``sigma_theta = A + B/r^2`` with ``A = (p_i ri^2 - p_o ro^2)/(ro^2 - ri^2)`` and
-    ``B = (p_i - p_o) ri^2 ro^2/(ro^2 - ri^2)``; evaluated at both surfaces with the given axial stress.
+    ``B = (p_i - p_o) ri^2 ro^2/(ro^2 - ri^2)``; at the bore, where ``|sigma_theta|`` and ``|sigma_theta -
+    sigma_r|`` are largest (``B/r^2`` falls outward), with the given axial stress.
 
     Parameters
     ----------
@@ -259,14 +280,9 @@ def lame_tresca_MPa(p_inside_MPa, p_outside_MPa, r_inside_mm, r_outside_mm, sigm
                                                                  r_outside_mm, sigma_axial_MPa))
     with np.errstate(divide="ignore", invalid="ignore"):
         den = ro**2 - ri**2
-        A = (pi_ * ri**2 - po * ro**2) / den
-        B = (pi_ - po) * ri**2 * ro**2 / den
-        out = None
-        for r, pr in ((ri, pi_), (ro, po)):
-            st, sr = A + B / r**2, -pr
-            t = np.fmax(np.fmax(np.abs(st - sr), np.abs(st - sz)), np.abs(sr - sz))
-            out = t if out is None else np.fmax(out, t)
-    return out
+        st = (pi_ * (ri**2 + ro**2) - 2 * po * ro**2) / den  # sigma_theta at the bore
+        sr = -pi_
+        return np.fmax(np.fmax(np.abs(st - sr), np.abs(st - sz)), np.abs(sr - sz))
 
 
 def plate_centre_moment_per_MPa(load_radius_mm, support_radius_mm, poisson: float):

@@ -158,7 +158,22 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
         it = it + pi * (rb**2 - rio**2) * (g["collar"] + h) - pi * (rbo**2 - rbi**2) * cuff - b["beads"]
         it = it - g["cross_slot_volume"] - pi * (rb**2 - (rb - dep) ** 2) * wid
     out["housing_inner_tube"] = it
-    # --- top cap: the plate, the top clamp (not in annulus_top), the upper cuff's groove, ports, counterbores
+    out["housing_top_cap"] = _top_cap_mm3(g, f, layout, b, fp, r_port2, z1, t_cap, h)
+    out["housing_base"] = _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0)
+    # --- piston and rod
+    pd, pw = dynamic_gland_mm(c["oring_cross_section_mm"])
+    pv = pi * rp**2 * f.piston_height_mm + pi * rr**2 * g["rod_length"]
+    pv = pv - 2 * pi * (rp**2 - (rp - pd) ** 2) * pw - pi * (c["rod_thread_core_mm"] / 2) ** 2 * c["rod_thread_depth_mm"]
+    out["piston"] = pv - pi * g["pocket_r"] ** 2 * g["pocket_depth"]
+    return out
+
+
+def _top_cap_mm3(g, f, layout, b, fp, r_port2, z1, t_cap, h):
+    """The top cap's volume: the plate, the top clamp (not in annulus_top), the upper cuff's groove, the ports and
+    their counterbores, the bulkhead layout's fill-tube bore, riser and cross port, mm³."""
+    c, pi = CAD_FEATURES, math.pi
+    ro, rb, rp, rio, rbi, rbo = g["ro"], g["rb"], g["rp"], g["rio"], g["rbi"], g["rbo"]
+    cuff = b["cuff"]
     cb, cbd = c["fill_port_counterbore_mm"] / 2, c["fill_port_counterbore_depth_mm"]
     cap = pi * ro**2 * t_cap
     if not layout.has_top_annulus:
@@ -182,8 +197,17 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
         if y_riser is not None:
             ok = ok & ~((r_port > 0) & (np.abs(r_port - y_riser) < cb + 0.8))
         cap = cap - np.where(ok, pi * (cb**2 - (fp / 2) ** 2) * cbd, 0.0)
-    out["housing_top_cap"] = cap
-    # --- base: rod bore and seal groove, valve bores, servo screws, channels
+    return cap
+
+
+def _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0):
+    """The base's volume: the rod bore and its seal groove, the throttle and relief bores, the servo's screw holes,
+    the channels (their overlap with the bores they start in), annulus_top's chamber-2 port, mm³."""
+    c, pi = CAD_FEATURES, math.pi
+    ro, rb, rp, rio = g["ro"], g["rb"], g["rp"], g["rio"]
+    rr = f.rod_diameter_mm / 2
+    cb, cbd = c["fill_port_counterbore_mm"] / 2, c["fill_port_counterbore_depth_mm"]
+    buildable = spec == "buildable"
     dep, wid = dynamic_gland_mm(c["oring_cross_section_mm"])
     own = g["base_own"] if buildable else z0
     throttle = np.fmin(f.throttle_bore_mm, own - 8.0)
@@ -209,13 +233,7 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
     if layout.has_top_annulus:
         base = base - pi * (fp / 2) ** 2 * z0
         base = base - np.where(r_port2 + cb < ro - 0.8, pi * (cb**2 - (fp / 2) ** 2) * cbd, 0.0)
-    out["housing_base"] = base
-    # --- piston and rod
-    pd, pw = dynamic_gland_mm(c["oring_cross_section_mm"])
-    pv = pi * rp**2 * f.piston_height_mm + pi * rr**2 * g["rod_length"]
-    pv = pv - 2 * pi * (rp**2 - (rp - pd) ** 2) * pw - pi * (c["rod_thread_core_mm"] / 2) ** 2 * c["rod_thread_depth_mm"]
-    out["piston"] = pv - pi * g["pocket_r"] ** 2 * g["pocket_depth"]
-    return out
+    return base
 
 
 def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array]]:

@@ -347,6 +347,11 @@ def _starts(prob, de, bounds, n_starts: int) -> list[np.ndarray]:
     return starts
 
 
+def _search_rank(info: LayoutSearch) -> tuple:
+    """A search's rank: feasible first, then the lowest objective (or the smallest violation)."""
+    return (0, info.objective) if info.feasible else (1, -info.worst_margin)
+
+
 def _best_polish(prob, starts, bounds) -> tuple[np.ndarray, bool]:
     """Polish from every start; the best feasible result (or the first start)."""
     x, best, polished = starts[0], np.inf, False
@@ -387,7 +392,8 @@ def optimise(
     tol : float
         Differential-evolution convergence tolerance, relative, dimensionless.
     polish : bool
-        Run an SLSQP polish from the best point of each layout.
+        Run an SLSQP polish from the best points of each layout's best joint (the joints are searched for each
+        layout: ``req.joints`` under the buildability rules).
     progress : bool
         Show a progress bar on stderr (one step per generation and layout).
     bladder_strain_fn : callable or None
@@ -436,14 +442,18 @@ def optimise(
     with progress_bar("optimising linearity", total=maxiter * len(choices), enabled=progress) as advance:
         for lay, joint in choices:
             x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance, joint=joint)
-            polished = False
-            if polish:
-                x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
-                mar = prob.constraints(x)
-                info = replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
-                               decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
-                               evaluations=prob.count)
-            found.append((lay, x, info, prob, polished))
+            found.append([lay, x, info, prob, False])
+    if polish:  # each layout's best joint after the global search is polished (the others keep their search's)
+        for lay in layouts:
+            item = min((it for it in found if it[0] == lay), key=lambda it: _search_rank(it[2]))
+            _, x, info, prob, _ = item
+            x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
+            mar = prob.constraints(x)
+            item[1:] = [x, replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
+                                   decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
+                                   evaluations=prob.count), prob, polished]
+    found = [tuple(it) for it in found]
+
     # best layout: feasible first, then the lowest objective (or the least violation)
     def rank(item):
         lay, x, info, prob, _ = item

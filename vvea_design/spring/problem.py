@@ -199,10 +199,13 @@ def _details(g: Derived, perf: dict, req: Requirements, values: dict, layout: La
     }
     if req.buildable:
         d["joint_capacity"] = {"value": g.joint_utilisation, "limit": 1.0, "unit": "-", "kind": "max"}
+        if req.fixed.piston_pocket:
+            d["piston_floor_room"] = {"value": g.section.piston_floor_room_mm, "limit": 0.0, "unit": "mm", "kind": "min",
+                                      "scale": 1.0}
         if req.max_parasitic_damping_N_s_per_mm is not None:
             d["parasitic_damping"] = {"value": g.parasitic_damping_N_s_per_mm,
                                       "limit": req.max_parasitic_damping_N_s_per_mm, "unit": "N s/mm", "kind": "max"}
-    for wall in () if (search and not req.buildable) else _walls(layout, req.fixed):
+    for wall in () if search else _walls(layout, req.fixed):
         limit = g.required_safety_factors[wall] if req.buildable else req.min_wall_safety_factor
         d[f"wall_safety_{wall}"] = {"value": g.safety_factors[wall], "limit": limit, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
@@ -342,8 +345,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     # function that may read them is used (the surrogate declares it reads only the bladder's geometry)
     strained = strain_fn is not None and req.max_bladder_strain is not None
     lean = not strained or getattr(strain_fn, "reads_bladder_geometry_only", False)
-    with np.errstate(all="ignore"):  # the buildability rules search every piece's safety (the pieces' checks)
-        g = derive(cols, p2, req.setpoint_x0_mm, req.fixed, lay, joint=joint, stresses=req.buildable or not lean,
+    with np.errstate(all="ignore"):
+        g = derive(cols, p2, req.setpoint_x0_mm, req.fixed, lay, joint=joint, stresses=not lean,
                    masses=not lean or req.max_mass_g is not None)
         perf = _performance(g.A1_mm2, g.A2_mm2, cols["V1_mm3"], cols["V2_mm3"], g.p1_MPa, p2, req, report=False)
         strain = strain_fn(g, cols) if strained else None
@@ -402,11 +405,13 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     names += get_layout(layout).own_constraints
     if req.buildable:
         names.append("joint_capacity")
+        if req.fixed.piston_pocket:
+            names.append("piston_floor_room")
         if req.max_parasitic_damping_N_s_per_mm is not None:
             names.append("parasitic_damping")
     if search:
         names.remove("charge_p2")
-    if not search or req.buildable:
+    else:
         names += [f"wall_safety_{w}" for w in _walls(layout, req.fixed)]
     if req.max_mass_g is not None:
         names.append("mass")

@@ -36,12 +36,16 @@ from .geometry import Array, Section
 from .joints import (JOINT_SHOULDER_MM, RUNOUT_PITCHES, THREAD_PITCH_MM, E_STEEL_MPa, JointSizing, PROPERTY_CLASSES,
                      select_ring, select_thread, static_gland_width_mm, tie_rod_candidates,
                      tie_rod_preload)
+from .concentration import concentration_factor
 from .layouts.base import LayoutVariant
 from .loads import LoadCase, Loads, lame_tresca_MPa, plate_centre_moment_per_MPa
 from .parameters import FixedParameters
 from .tolerances import it_tolerance_mm
 
-__all__ = ["size_section", "size_joint", "check_section", "governing", "outer_tube_pressure", "cap_pressure",
+#: The pressure-bearing pieces.
+PIECES = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar", "piston_floor")
+
+__all__ = ["PIECES", "size_section", "size_joint", "check_section", "governing", "outer_tube_pressure", "cap_pressure",
            "base_pressure", "base_annulus_pressure"]
 
 
@@ -141,25 +145,27 @@ def _end_loads(loads: Loads, r_seal, layout: LayoutVariant, r_bore) -> tuple[Arr
         return x.reshape(x.shape + (1,) * (area.ndim - x.ndim)) if area.ndim > x.ndim else x
 
     bore = math.pi * np.asarray(r_bore) ** 2
-    top = loads.effective(lambda c: m(cap_pressure(c)) * area + m(np.fmax(c.external_force_N, 0.0)))
-    base = loads.effective(lambda c: m(base_pressure(c)) * m(bore) + m(base_annulus_pressure(c)) * (area - m(bore)))
+    per = area.ndim <= np.ndim(loads.cases[0].chamber_2_MPa)  # the cases stacked unless a candidate axis follows
+    top = loads.effective(lambda c: m(cap_pressure(c)) * area + m(np.fmax(c.external_force_N, 0.0)), stacked=per)
+    base = loads.effective(lambda c: m(base_pressure(c)) * m(bore) + m(base_annulus_pressure(c)) * (area - m(bore)),
+                           stacked=per)
     return top, base
 
 
-def _tube_bore_lmc(r_t_lmc, loads: Loads, layout: LayoutVariant, yield_MPa: float, compression_N=0.0):
+def _tube_bore_lmc(r_t_lmc, loads: Loads, layout: LayoutVariant, yield_MPa: float, compression_N=0.0):  # yield / K
     """Largest bore radius at the least-material condition the outer tube carries every case with, mm (nan where
     none): Tresca ``2 p ro^2/(ro^2 - rb^2)`` and, with an axial compression ``F_c``, ``(p (ro^2 + rb^2) + F_c/pi)
     / (ro^2 - rb^2)``."""
-    rb2 = None
     ro2 = np.asarray(r_t_lmc) ** 2
     Fc = np.asarray(compression_N)
-    for c in loads.cases:
-        sa = yield_MPa / c.required_safety_factor
-        p = outer_tube_pressure(c, layout)
-        p = np.expand_dims(p, -1) if np.ndim(ro2) > np.ndim(p) else p
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r2 = np.fmin(ro2 * (1 - 2 * p / sa), ((sa - p) * ro2 - Fc / math.pi) / (sa + p))
-        rb2 = r2 if rb2 is None else np.fmin(rb2, r2)
+    st = loads.stacked
+    p = outer_tube_pressure(st, layout)  # (C, S)
+    if np.ndim(ro2) > np.ndim(p) - 1:  # a candidate axis after the population's
+        p = p[..., None]
+    sa = (yield_MPa / st.required_safety_factor).reshape((-1,) + (1,) * (p.ndim - 1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r2 = np.fmin(ro2 * (1 - 2 * p / sa), ((sa - p) * ro2 - Fc / math.pi) / (sa + p))
+    rb2 = np.min(r2, axis=0)
     return np.sqrt(np.where(rb2 > 0, rb2, np.nan))
 
 
@@ -255,6 +261,7 @@ def size_joint(kind: str, ro_mm, loads: Loads, layout: LayoutVariant, fixed: Fix
     Re = get_material(fixed.housing_material).yield_MPa
     sf, seal = fixed.wall_safety_factor, _seal_zone_mm(fixed)
     ro = np.asarray(ro_mm, dtype=float)
+    Re = Re / concentration_factor("outer_tube")  # the joint's wall checks are the outer tube's
     if kind in ("thread", "ring_top"):
         return _thread_joint(ro, loads, layout, fixed, Re, sf, seal, kind == "ring_top", bore_radius_mm)
     if kind == "tie_rods":
@@ -299,7 +306,8 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
     joint : str
         The joint kind.
     piston_floor : callable
-        ``piston_floor(ri, dP, fixed, allowance)`` -> (has pocket, pocket radius, floor) (the derivation's).
+        ``piston_floor(ri, dP, fixed, allowance)`` -> (has pocket, pocket radius, floor, the room the floor leaves
+        in the piston's height) (the derivation's).
 
     Returns
     -------
@@ -310,15 +318,17 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
     mat = get_material(f.housing_material)
     Re, nu, sf = mat.yield_MPa, mat.poisson, f.wall_safety_factor
     sa = Re / sf
+    K = concentration_factor
     kp = 3 * (3 + nu) / 8
     ro, ri = np.asarray(Do_mm, dtype=float) / 2, np.asarray(dp_mm, dtype=float) / 2
     with np.errstate(divide="ignore", invalid="ignore"):
         # inner tube: the bore at its largest, the outside at its smallest
         ri_l = ri + it_tolerance_mm(2 * ri, f.bore_tolerance_grade) / 2
         p_in = loads.effective(_inner_tube_pressure)
-        rio_l = np.where(2 * p_in < sa, ri_l * np.sqrt(sa / (sa - 2 * p_in)), np.nan)
+        sa_i = sa / K("inner_tube")
+        rio_l = np.where(2 * p_in < sa_i, ri_l * np.sqrt(sa_i / (sa_i - 2 * p_in)), np.nan)
         kb = mat.youngs_modulus_MPa / (4 * (1 - nu**2))
-        cb = np.cbrt(sf * loads.effective(_buckling_pressure) / kb)
+        cb = np.cbrt(sf * K("inner_tube") * loads.effective(_buckling_pressure) / kb)
         rio_l = np.fmax(rio_l, ri_l + ri_l * cb / (1 - cb / 2))
         rio = np.fmax(ri + f.min_inner_tube_wall_mm,
                       rio_l + it_tolerance_mm(2 * np.nan_to_num(rio_l) + 0.2, f.outside_tolerance_grade) / 2)
@@ -328,14 +338,15 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
         r_t = js.tube_outer_radius_mm
         r_t_l = r_t - it_tolerance_mm(2 * r_t, f.outside_tolerance_grade) / 2
         Fc = js.quantities.get("rods_compression_N", 0.0)
-        rb_l = _tube_bore_lmc(r_t_l, loads, layout, Re, Fc)
+        rb_l = _tube_bore_lmc(r_t_l, loads, layout, Re / K("outer_tube"), Fc)
         rb_gas = rb_l - it_tolerance_mm(2 * np.nan_to_num(rb_l), f.bore_tolerance_grade) / 2
         rb = np.fmin(np.where(np.isfinite(rb_gas), rb_gas, r_t - f.min_outer_wall_mm), r_t - f.min_outer_wall_mm)
         rb = np.fmin(rb, np.where(np.isfinite(js.bore_cap_radius_mm), js.bore_cap_radius_mm, rb))
         rb_seal = rb + it_tolerance_mm(2 * rb, f.bore_tolerance_grade) / 2
         # end pieces: plates on the seal's circle supported at the joint
-        t_cap_req = _plate_required_mm(loads.effective(cap_pressure), rb_seal, js.top_support_radius_mm, nu, sa)
-        t_base_req = np.sqrt(6 * _base_moment_eff(loads, ri_l, rb_seal, js.base_support_radius_mm, nu) / sa)
+        t_cap_req = _plate_required_mm(loads.effective(cap_pressure), rb_seal, js.top_support_radius_mm, nu,
+                                       sa / K("top_cap"))
+        t_base_req = np.sqrt(6 * _base_moment_eff(loads, ri_l, rb_seal, js.base_support_radius_mm, nu) * K("base") / sa)
         tc = f.thickness_tolerance_class
         shoulder = 0.0 if joint == "ring_top" else JOINT_SHOULDER_MM
         sec0 = Section(A1_mm2, A2_mm2, ro, rb, ri, rio, {}, sa, kp, np.zeros_like(ri), np.zeros_like(ri),
@@ -346,17 +357,21 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
         t_base = base_own + js.base_zone_mm
         ph = f.piston_height_mm
         if f.piston_pocket:
-            has_pk, r_pk_s, t_fl = piston_floor(ri, loads.piston_floor_difference_MPa, f, sec0.sized_thickness_mm)
+            has_pk, r_pk_s, t_fl, floor_room = piston_floor(ri, loads.piston_floor_difference_MPa * K("piston_floor"),
+                                                            f, sec0.sized_thickness_mm)
             V_pk = np.where(has_pk, pi * r_pk_s**2 * (ph - t_fl), 0.0)
         else:
             has_pk = np.zeros_like(ri, dtype=bool)
             r_pk_s, t_fl, V_pk = np.zeros_like(ri), np.full_like(ri, ph), np.zeros_like(ri)
+            floor_room = np.full_like(ri, np.inf)
         walls = {"outer_tube": r_t - rb, "inner_tube": rio - ri, "top_cap": t_cap, "base": t_base}
         sec = replace(sec0, walls_mm=walls, piston_floor_mm=t_fl * np.ones_like(ri),
                       piston_pocket_radius_mm=np.where(has_pk, r_pk_s, 0.0) * np.ones_like(ri),
                       piston_pocket_volume_mm3=V_pk * np.ones_like(ri), has_piston_pocket=has_pk,
-                      base_own_mm=base_own)
-        own = layout.size_walls(sec, loads, f)
+                      base_own_mm=base_own, piston_floor_room_mm=floor_room * np.ones_like(ri))
+        own = {}
+        for wall in layout.own_walls:  # each with its own concentration factor
+            own[wall] = layout.size_walls(replace(sec, allowable_MPa=sa / K(wall)), loads, f)[wall]
         pocket = {"piston_floor": sec.piston_floor_mm} if f.piston_pocket else {}
     return replace(sec, walls_mm={**walls, **own, **pocket})
 
@@ -407,6 +422,11 @@ def check_section(section: Section, loads: Loads, fixed: FixedParameters, layout
     p_cr = kb * (t_i / (ri_l + t_i / 2)) ** 3
     stress: dict[str, dict] = {}
     safety: dict[str, dict] = {}
+    k_cap = 6 * plate_centre_moment_per_MPa(rb_l, js.top_support_radius_mm, mat.poisson) / t_cap**2
+    k_bore = plate_centre_moment_per_MPa(ri_l, js.base_support_radius_mm, mat.poisson)
+    k_seal = plate_centre_moment_per_MPa(rb_l, js.base_support_radius_mm, mat.poisson)
+    k_base = 6 / t_base**2
+    Ks = {piece: concentration_factor(piece) for piece in PIECES}
     with np.errstate(divide="ignore", invalid="ignore"):
         for c in loads.cases:
             view = _CaseView(c)
@@ -415,19 +435,19 @@ def check_section(section: Section, loads: Loads, fixed: FixedParameters, layout
                 "inner_tube": np.fmax(lame_tresca_MPa(0.0, c.chamber_2_MPa, ri_l, rio_l),
                                       lame_tresca_MPa(np.fmax(c.chamber_1_MPa, c.fluid_MPa), c.chamber_2_MPa,
                                                       ri_l, rio_l)),
-                "top_cap": 6 * plate_centre_moment_per_MPa(rb_l, js.top_support_radius_mm, mat.poisson)
-                * cap_pressure(c) / t_cap**2,
-                "base": 6 * _base_moment_per(c, ri_l, rb_l, js.base_support_radius_mm, mat.poisson) / t_base**2,
+                "top_cap": k_cap * cap_pressure(c),
+                "base": k_base * (base_pressure(c) * k_bore + base_annulus_pressure(c) * (k_seal - k_bore)),
             }
             st.update(layout.wall_stresses(s, view, f))
             if f.piston_pocket:
                 st["piston_floor"] = floor_stress(s, view.piston_floor_difference_MPa, f)
             for piece, v in st.items():
+                v = v * Ks[piece]
                 m = mat_p if piece == "piston_floor" else mat
                 stress.setdefault(piece, {})[c.name] = v
                 sfv = np.where(v > 0, m.yield_MPa / v, np.inf)
                 if piece == "inner_tube":
-                    pn = _buckling_pressure(c)
+                    pn = _buckling_pressure(c) * Ks[piece]
                     sfv = np.fmin(sfv, np.where(pn > 0, p_cr / pn, np.inf))
                 safety.setdefault(piece, {})[c.name] = sfv
     return {"stress": stress, "safety": safety, "required": {c.name: c.required_safety_factor for c in loads.cases},
@@ -452,10 +472,10 @@ def governing(check: dict) -> dict[str, tuple[Array, Array, Array, Array]]:
     names = list(check["required"])
     req = np.array([check["required"][n] for n in names])
     for piece, per in check["safety"].items():
-        sfs = np.array([np.broadcast_to(per[n], np.shape(per[names[0]])) for n in names], dtype=float)
-        st = np.array([np.broadcast_to(check["stress"][piece][n], sfs.shape[1:]) for n in names], dtype=float)
+        sfs = np.array(np.broadcast_arrays(*[per[n] for n in names]), dtype=float)
+        st = np.array(np.broadcast_arrays(*[check["stress"][piece][n] for n in names]), dtype=float)
         util = req.reshape((-1,) + (1,) * (sfs.ndim - 1)) / sfs
         k = np.argmax(np.nan_to_num(util, nan=np.inf), axis=0)
-        take = lambda a: np.take_along_axis(a, k[None, ...], axis=0)[0]  # noqa: E731
-        out[piece] = (k, take(st), take(sfs), req[k])
+        idx = k[None, ...]
+        out[piece] = (k, np.take_along_axis(st, idx, axis=0)[0], np.take_along_axis(sfs, idx, axis=0)[0], req[k])
     return out
