@@ -50,7 +50,7 @@ TABLE3_L_N_S_PER_MM = {50.0: 0.4, 80.0: 0.5, 100.0: 7.1, 104.0: 15.1, 106.0: 25.
                        110.0: 85.2, 120.0: 1024.7}
 #: Valve angles (deg) at which the rotary throttle's window is fully open and closed (fitted to Table 3,
 #: ``tests/spring/test_hydraulics.py``).
-GAMMA_OPEN_DEG, GAMMA_CLOSED_DEG = 30.0, 114.0
+GAMMA_OPEN_DEG, GAMMA_CLOSED_DEG = 32.0, 114.0
 #: Discharge coefficient of the throttle's sharp-edged port (ISO 5167-2's orifice plates: about 0.6).
 DISCHARGE_COEFFICIENT = 0.61
 #: Loss coefficients of a channel's entry and exit.
