@@ -35,9 +35,9 @@ def test_general_tolerances_are_iso_2768_1_and_the_allowance_covers_the_nominal(
     for req in np.linspace(0.5, 60, 400):  # nominal = required + allowance keeps its lower limit above required
         nom = req + thickness_allowance_mm(req, "f")
         assert nom - general_tolerance_mm(nom, "f") >= req - 1e-12
-    t = DrawnTolerance.bore("outer_tube_bore", "housing_outer_tube", 56.32, 8)
+    t = DrawnTolerance.of("bore", "outer_tube_bore", "housing_outer_tube", 56.32, 8)
     assert (t.upper_deviation_mm, t.lower_deviation_mm, t.least_material_mm) == pytest.approx((0.046, 0.0, 56.366))
-    o = DrawnTolerance.outside("outer_tube_outside", "housing_outer_tube", 59.5, 9)
+    o = DrawnTolerance.of("outside", "outer_tube_outside", "housing_outer_tube", 59.5, 9)
     assert o.least_material_mm == pytest.approx(59.426) and o.designation == "Ø59.500 h9"
 
 

@@ -104,3 +104,24 @@ def test_a_single_joint_and_the_gas_only_rules_search_what_they_say():
     old = optimise(Requirements(layouts=("bulkhead",), fixed=FixedParameters(sizing_rules="gas_only")), seed=0,
                    progress=False, maxiter=20)
     assert len(old.searches) == 1 and "joint_capacity" not in old.evaluation.margins
+
+
+def test_the_tight_manufacturing_preset_holds_together(result):
+    """examples/paper_tight.toml under the buildability rules (its 14 mm base): feasible, its open valve's
+    parasitic damping at most the requirement (it binds: the larger piston's flow through the base), every
+    piece at its least-material condition, the cupped piston's floor under the relief valve's fluid, and more
+    linear than the defaults' buildable optimum (docs/layout.md, the cost of buildability)."""
+    from functools import partial
+
+    from vvea_design.bladder.check import strain_bound
+    from vvea_design.spring.requirements import load_requirements
+
+    req = load_requirements(REPO / "examples" / "paper_tight.toml")
+    assert req.fixed.sizing_rules == "buildable" and req.fixed.min_base_mm == 14.0
+    r = optimise(req, seed=0, progress=False, bladder_strain_fn=partial(strain_bound, material=req.bladder_material))
+    ev, d = r.evaluation, r.design
+    assert ev.feasible and all(m >= -1e-9 for m in ev.margins.values())
+    assert d.parasitic_damping_N_s_per_mm <= req.max_parasitic_damping_N_s_per_mm + 1e-9
+    assert ev.margins["wall_safety_piston_floor"] >= -1e-9 and d.piston_pocket_volume_mm3 > 0.0
+    assert GAS_ONLY_OPTIMUM < ev.linearity_isothermal < result.evaluation.linearity_isothermal - 0.0003
+    assert r.bladder_strain_fe <= req.max_bladder_strain

@@ -2,7 +2,7 @@
 
 import pytest
 
-from vvea_design.spring.design import Design
+from vvea_design.spring.design import Design, FixedParameters
 from vvea_design.spring.problem import constraint_names, evaluate_design
 from vvea_design.spring.requirements import Requirements, SpecError, load_requirements
 from tests.helpers import REPO

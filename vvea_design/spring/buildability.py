@@ -240,15 +240,15 @@ def _tolerances(design, sec: Section) -> tuple[DrawnTolerance, ...]:
     f = design.fixed
     gb, go, tc = f.bore_tolerance_grade, f.outside_tolerance_grade, f.thickness_tolerance_class
     w = design.walls_mm()
-    out = [DrawnTolerance.outside("outer_tube_outside", "housing_outer_tube", 2 * _f(sec.outer_tube_outer_radius_mm), go),
-           DrawnTolerance.bore("outer_tube_bore", "housing_outer_tube", 2 * design.outer_bore_radius_mm, gb),
-           DrawnTolerance.bore("inner_tube_bore", "housing_inner_tube", design.piston_diameter_mm, gb),
-           DrawnTolerance.outside("inner_tube_outside", "housing_inner_tube", 2 * design.inner_tube_outer_radius_mm, go),
-           DrawnTolerance.thickness("top_cap_thickness", "housing_top_cap", w["top_cap"], tc),
-           DrawnTolerance.thickness("base_thickness", "housing_base", _f(sec.base_own_mm), tc)]
+    out = [DrawnTolerance.of("outside", "outer_tube_outside", "housing_outer_tube", 2 * _f(sec.outer_tube_outer_radius_mm), go),
+           DrawnTolerance.of("bore", "outer_tube_bore", "housing_outer_tube", 2 * design.outer_bore_radius_mm, gb),
+           DrawnTolerance.of("bore", "inner_tube_bore", "housing_inner_tube", design.piston_diameter_mm, gb),
+           DrawnTolerance.of("outside", "inner_tube_outside", "housing_inner_tube", 2 * design.inner_tube_outer_radius_mm, go),
+           DrawnTolerance.of("thickness", "top_cap_thickness", "housing_top_cap", w["top_cap"], tc),
+           DrawnTolerance.of("thickness", "base_thickness", "housing_base", _f(sec.base_own_mm), tc)]
     for piece, part in (("bulkhead", "housing_inner_tube"), ("collar", "housing_inner_tube"), ("piston_floor", "piston")):
         if piece in w:
-            out.append(DrawnTolerance.thickness(f"{piece}_thickness", part, w[piece], tc))
+            out.append(DrawnTolerance.of("thickness", f"{piece}_thickness", part, w[piece], tc))
     return tuple(out)
 
 

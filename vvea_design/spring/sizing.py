@@ -45,8 +45,7 @@ from .tolerances import it_tolerance_mm
 #: The pressure-bearing pieces.
 PIECES = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar", "piston_floor")
 
-__all__ = ["PIECES", "size_section", "size_joint", "check_section", "governing", "outer_tube_pressure", "cap_pressure",
-           "base_pressure", "base_annulus_pressure"]
+__all__ = ["PIECES", "size_section", "size_joint", "check_section", "governing", "outer_tube_pressure"]
 
 
 def outer_tube_pressure(case: LoadCase, layout: LayoutVariant) -> Array:
@@ -69,52 +68,18 @@ def outer_tube_pressure(case: LoadCase, layout: LayoutVariant) -> Array:
     return case.chamber_2_MPa
 
 
-def cap_pressure(case: LoadCase) -> Array:
-    """Pressure on the top cap's underside: the higher of the two chambers (conservative for every layout), MPa.
-
-    Parameters
-    ----------
-    case : LoadCase
-        The pressures on each kind of face, MPa.
-
-    Returns
-    -------
-    ndarray
-        Pressure, MPa.
-    """
+# The pressure on each loaded face of the end pieces in a load case, MPa: the top cap's underside (the higher of
+# the two chambers, conservative for every layout), the base inside the inner tube (the fluid under the piston)
+# and the base around it (chamber 2: the bladder's fluid and gas).
+def cap_pressure(case: LoadCase) -> Array:  # noqa: D103 - the comment above
     return np.fmax(case.chamber_1_MPa, case.chamber_2_MPa)
 
 
-def base_pressure(case: LoadCase) -> Array:
-    """Pressure on the base's top inside the inner tube: the fluid under the piston, MPa (the annulus around the
-    inner tube carries chamber 2, the bladder's fluid and gas: :func:`base_annulus_pressure`).
-
-    Parameters
-    ----------
-    case : LoadCase
-        The pressures on each kind of face, MPa.
-
-    Returns
-    -------
-    ndarray
-        Pressure, MPa.
-    """
+def base_pressure(case: LoadCase) -> Array:  # noqa: D103 - the comment above
     return case.fluid_MPa
 
 
-def base_annulus_pressure(case: LoadCase) -> Array:
-    """Pressure on the base's top around the inner tube: chamber 2 (the bladder's fluid and gas), MPa.
-
-    Parameters
-    ----------
-    case : LoadCase
-        The pressures on each kind of face, MPa.
-
-    Returns
-    -------
-    ndarray
-        Pressure, MPa.
-    """
+def base_annulus_pressure(case: LoadCase) -> Array:  # noqa: D103 - the comment above
     return case.chamber_2_MPa
 
 

@@ -18,8 +18,8 @@ import numpy as np
 
 from .records import Record
 
-__all__ = ["DrawnTolerance", "it_tolerance_mm", "general_tolerance_mm", "hole_max_mm", "shaft_min_mm",
-           "thickness_allowance_mm", "IT_GRADES", "GENERAL_CLASSES"]
+__all__ = ["DrawnTolerance", "it_tolerance_mm", "general_tolerance_mm", "thickness_allowance_mm", "IT_GRADES",
+           "GENERAL_CLASSES"]
 
 #: ISO 286-1:2010 Table 1, upper bound of each nominal-size step, mm (the steps are ``<= 3``, ``> 3 .. 6``, ...).
 _STEP_UPPER_MM = np.array([3.0, 6.0, 10.0, 18.0, 30.0, 50.0, 80.0, 120.0, 180.0, 250.0])
@@ -103,42 +103,6 @@ def general_tolerance_mm(nominal_mm, tolerance_class: str):
     return out if out.ndim else float(out)
 
 
-def hole_max_mm(nominal_mm, grade: int):
-    """Largest size of a bore toleranced ``H<grade>`` (0 .. +IT): its least-material size, mm.
-
-    Parameters
-    ----------
-    nominal_mm : float or array
-        Nominal diameter, mm.
-    grade : int
-        IT grade (ISO 286-1).
-
-    Returns
-    -------
-    float or ndarray
-        ``nominal + IT``, mm.
-    """
-    return nominal_mm + it_tolerance_mm(nominal_mm, grade)
-
-
-def shaft_min_mm(nominal_mm, grade: int):
-    """Smallest size of an outside diameter toleranced ``h<grade>`` (-IT .. 0): its least-material size, mm.
-
-    Parameters
-    ----------
-    nominal_mm : float or array
-        Nominal diameter, mm.
-    grade : int
-        IT grade (ISO 286-1).
-
-    Returns
-    -------
-    float or ndarray
-        ``nominal - IT``, mm.
-    """
-    return nominal_mm - it_tolerance_mm(nominal_mm, grade)
-
-
 def thickness_allowance_mm(required_mm, tolerance_class: str):
     """What a sized thickness adds to its required least-material value so that its lower limit still holds, mm.
 
@@ -175,67 +139,40 @@ class DrawnTolerance(Record):
     standard: str  #: ISO 286-1 (fit) or ISO 2768-1 (general tolerance class)
 
     @classmethod
-    def bore(cls, feature: str, part: str, nominal_mm: float, grade: int) -> "DrawnTolerance":
-        """A bore toleranced ``H<grade>``.
+    def of(cls, kind: str, feature: str, part: str, nominal_mm: float, grade) -> "DrawnTolerance":
+        """A toleranced dimension: a bore ``H<grade>`` (0 .. +IT, least material at its largest), an outside
+        diameter ``h<grade>`` (-IT .. 0, least material at its smallest) or an axial thickness with the ISO 2768-1
+        general tolerance of class ``grade`` (±, least material at its thinnest).
 
         Parameters
         ----------
+        kind : str
+            ``"bore"``, ``"outside"`` or ``"thickness"``.
         feature, part : str
             What is dimensioned and on which part.
         nominal_mm : float
-            Nominal diameter, mm.
-        grade : int
-            IT grade (ISO 286-1).
+            Nominal size, mm.
+        grade : int or str
+            IT grade (ISO 286-1) of a diameter, or ISO 2768-1 class (``"f"``, ``"m"``, ``"c"``) of a thickness.
 
         Returns
         -------
         DrawnTolerance
-            0 .. +IT; least material at the largest bore, mm.
+            The dimension with its deviations and least-material size, mm.
+
+        Raises
+        ------
+        ValueError
+            For an unknown kind.
         """
-        it = it_tolerance_mm(nominal_mm, grade)
-        return cls(feature, part, float(nominal_mm), f"Ø{nominal_mm:.3f} H{grade}", it, 0.0, nominal_mm + it,
-                   "ISO 286-1")
-
-    @classmethod
-    def outside(cls, feature: str, part: str, nominal_mm: float, grade: int) -> "DrawnTolerance":
-        """An outside diameter toleranced ``h<grade>``.
-
-        Parameters
-        ----------
-        feature, part : str
-            What is dimensioned and on which part.
-        nominal_mm : float
-            Nominal diameter, mm.
-        grade : int
-            IT grade (ISO 286-1).
-
-        Returns
-        -------
-        DrawnTolerance
-            -IT .. 0; least material at the smallest diameter, mm.
-        """
-        it = it_tolerance_mm(nominal_mm, grade)
-        return cls(feature, part, float(nominal_mm), f"Ø{nominal_mm:.3f} h{grade}", 0.0, -it, nominal_mm - it,
-                   "ISO 286-1")
-
-    @classmethod
-    def thickness(cls, feature: str, part: str, nominal_mm: float, tolerance_class: str) -> "DrawnTolerance":
-        """An axial thickness with the ISO 2768-1 general tolerance of ``tolerance_class``.
-
-        Parameters
-        ----------
-        feature, part : str
-            What is dimensioned and on which part.
-        nominal_mm : float
-            Nominal thickness, mm.
-        tolerance_class : str
-            ISO 2768-1 class (``"f"``, ``"m"``, ``"c"``).
-
-        Returns
-        -------
-        DrawnTolerance
-            ± the class's deviation; least material at the thinnest, mm.
-        """
-        a = general_tolerance_mm(nominal_mm, tolerance_class)
-        return cls(feature, part, float(nominal_mm), f"{nominal_mm:.2f} ±{a:g}", a, -a, nominal_mm - a,
-                   f"ISO 2768-1 {tolerance_class}")
+        n = float(nominal_mm)
+        if kind == "bore":
+            it = it_tolerance_mm(n, grade)
+            return cls(feature, part, n, f"Ø{n:.3f} H{grade}", it, 0.0, n + it, "ISO 286-1")
+        if kind == "outside":
+            it = it_tolerance_mm(n, grade)
+            return cls(feature, part, n, f"Ø{n:.3f} h{grade}", 0.0, -it, n - it, "ISO 286-1")
+        if kind == "thickness":
+            a = general_tolerance_mm(n, grade)
+            return cls(feature, part, n, f"{n:.2f} ±{a:g}", a, -a, n - a, f"ISO 2768-1 {grade}")
+        raise ValueError(f"kind must be 'bore', 'outside' or 'thickness', got {kind!r}")
