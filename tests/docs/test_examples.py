@@ -17,8 +17,8 @@ EXAMPLES = REPO / "examples"
 EXPECT = {
     "plot_paper_spring.py": ["linearity error: exact 1.866 %, on 401 samples 1.854 %"],
     "plot_check_linearity.py": ["limit 1.35 %: passes", "limit 1.30 %: fails", "1 passed"],
-    "plot_design_from_toml.py": ["layout bulkhead: linearity 0.782 % (isothermal)", "wrote "],
-    "plot_design_unit.py": ["bulkhead layout: linearity 0.782 % (isothermal)", "every check passes: True"],
+    "plot_design_from_toml.py": ["layout bulkhead: linearity 0.989 % (isothermal)", "wrote "],
+    "plot_design_unit.py": ["bulkhead layout: linearity 0.989 % (isothermal)", "every check passes: True"],
     "plot_diagnose_campaign.py": ["50 experiments", "accepted: gas_nonlinearity, stiction"],
 }
 

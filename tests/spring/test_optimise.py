@@ -5,10 +5,19 @@ import json
 import numpy as np
 import pytest
 
+from tests.spring.rules import GAS_ONLY, gas_only_defaults
+
 from vvea_design.spring.optimise import Infeasible, OptimisationResult, optimise
 from vvea_design.spring.studies import linearity_map, pareto_front
 from vvea_design.spring.requirements import Requirements
 from tests.helpers import REPO
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _gas_only_rules():
+    """These tests are the gas-only rules' (tests/spring/rules.py): every FixedParameters() here defaults to them."""
+    with gas_only_defaults():
+        yield
 
 
 @pytest.fixture(scope="module")
@@ -291,16 +300,21 @@ def test_the_piston_pocket_is_opt_in_and_off_changes_nothing(result):
 
 
 def test_the_tight_manufacturing_preset_reaches_the_paper_target(result):
-    """examples/paper_tight.toml: the paper's requirements, a cupped piston, the cast fill free, 0.5 mm fluid
-    clearance and an 11 mm base (the CAD's minima) -> <= 1.20 % isothermal with every margin >= 0 and the
-    FE strain bound of the bladder within the allowable."""
+    """examples/paper_tight.toml under the gas-only rules, with the 11 mm base it had under them: the paper's
+    requirements, a cupped piston, the cast fill free, 0.5 mm fluid clearance and an 11 mm base (the CAD's
+    minima) -> <= 1.20 % isothermal with every margin >= 0 and the FE strain bound of the bladder within the
+    allowable. (The preset keeps the 14 mm base now: under the buildability rules an 11 mm base's throttle port
+    exceeds the parasitic-damping limit; tests/spring/test_buildability_optimise.py optimises the preset as it
+    is.)"""
+    from dataclasses import replace
     from functools import partial
-    from pathlib import Path
 
     from vvea_design.bladder.check import strain_bound
     from vvea_design.spring.requirements import load_requirements
 
-    req = load_requirements(REPO / "examples" / "paper_tight.toml")
+    preset = load_requirements(REPO / "examples" / "paper_tight.toml")
+    assert preset.fixed.min_base_mm == Requirements().fixed.min_base_mm == 14.0
+    req = replace(preset, fixed=replace(preset.fixed, min_base_mm=11.0, sizing_rules="gas_only"))
     base = Requirements()
     assert (req.fixed.piston_pocket, req.optimise_cast_fill, req.fixed.fluid_clearance_mm, req.fixed.min_base_mm) \
         == (True, True, 0.5, 11.0)
