@@ -258,7 +258,7 @@ FLOORS = {
     "palette": 0,
     "spring": 1, "bladder": 1,
     "cad": 2, "identification": 2, "actuator": 2, "schema": 2, "testing": 2,
-    "report": 3,
+    "report": 3, "structure": 3,
     "pipeline": 4,
     "cli": 5,
     "__main__": 6,
