@@ -2,9 +2,9 @@
 
 :func:`design_unit` runs the chain of the toolkit in order::
 
-    requirements -> optimise -> spring curve -> CAD -> bladder check (the
-    requirements' silicone) -> actuator parameters -> the design's actuator
-    study -> report.html
+    requirements -> optimise -> spring curve -> CAD -> FE of the pressure-bearing
+    pieces -> bladder check (the requirements' silicone) -> actuator parameters ->
+    the design's actuator study -> report.html
 
 and returns a :class:`UnitDesign` (frozen, ``to_dict()`` for JSON). The
 ``vvea design`` command only calls it and prints the result.
@@ -36,12 +36,13 @@ if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them
     from .cad.manifest import CadManifest
     from .report.bom import BillOfMaterials
     from .report.drawing import DrawingSet
+    from .structure.check import StructureResult
 
 __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
            "Infeasible"]
 
 #: The steps of :func:`design_unit` in order (the names its ``progress`` callback receives).
-STEPS = ("optimise", "spring", "cad", "bladder", "actuator", "actuator_study", "report")
+STEPS = ("optimise", "spring", "cad", "structure", "bladder", "actuator", "actuator_study", "report")
 
 def write_spring_files(spring: GasSpring, out_dir: str | Path, layout: str | None = None) -> dict[str, Path]:
     """Write ``spring.csv`` (x, force, stiffness, pressures) and ``spring.png`` into ``out_dir``.
@@ -109,6 +110,7 @@ class UnitDesign:
     seed: int  #: seed of the optimiser
     version: str  #: vvea-design version that made it
     spec_path: str | None = None  #: requirements file (None: the built-in defaults)
+    structure: StructureResult | None = None  #: FE check of the pressure-bearing pieces (None: no CAD)
 
     @property
     def passes(self) -> bool:
@@ -140,6 +142,7 @@ class UnitDesign:
             "actuator": _actuator_dict(self.actuator),
             "bom": None if self.bom is None else self.bom.to_dict(),
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
+            "structure": None if self.structure is None else self.structure.to_dict(),
             "actuator_study": None if study is None else {
                 "comparisons": [c.to_dict() for c in study.comparisons],
                 "settings": [s.to_dict() for s in study.settings],
@@ -177,15 +180,16 @@ def design_unit(
         What the unit must meet (mm, MPa, N/mm; ``bladder_material`` names the silicone checked).
     out_dir : path-like
         Folder for everything (created): ``design.json``, ``design_force.png``,
-        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``bladder/``, ``actuator/``,
+        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``structure/`` (the FE's stress
+        pictures), ``bladder/``, ``actuator/``,
         ``unit.json``, ``report.html``.
     seed : int
         Seed of the optimiser's global search (same seed, same design).
     renders : bool
         Make the CAD PNG renders (off-screen pyvista).
     cad : bool
-        Build and export the CAD set, its drawings and bill of materials (False skips them and the
-        3-D view of the report).
+        Build and export the CAD set, its drawings and bill of materials, and check its pressure-bearing
+        pieces by FE (False skips them, the FE and the 3-D view of the report).
     actuator_study : bool
         Run the design's own actuator study (rest-to-rest against VVEA, SEA, LWR and the torque step,
         :func:`vvea_design.actuator.design_study.run_design_study`) into ``actuator/``.
@@ -264,6 +268,16 @@ def design_unit(
         files["bom_csv"] = out / "cad" / "bom.csv"
     seconds["cad"] = time.perf_counter() - t
 
+    # 3b. FE of the pressure-bearing pieces (their CAD sections, the load cases) ------
+    t = step("structure")
+    structure = None
+    if cad:
+        from .structure import check_structure
+
+        structure = check_structure(model, out_dir=out / "structure")
+        files["structure"] = out / "structure"
+    seconds["structure"] = time.perf_counter() - t
+
     # 4. bladder, with the requirements' silicone ------------------------------
     t = step("bladder")
     bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
@@ -298,7 +312,7 @@ def design_unit(
     unit = UnitDesign(requirements=requirements, optimisation=res, spring=curve, bladder=bl, actuator=act,
                       cad_manifest=manifest, bom=bom, drawings=drawings, actuator_study=study, out_dir=out, files=dict(files),
                       seconds=dict(seconds), seed=seed, version=__version__,
-                      spec_path=None if spec_path is None else str(spec_path))
+                      spec_path=None if spec_path is None else str(spec_path), structure=structure)
 
     # 7. report ----------------------------------------------------------------
     t = step("report")

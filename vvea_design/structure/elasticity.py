@@ -25,9 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import coo_matrix
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis, LinearForm, MeshTri1, MeshTri2
+from skfem.mapping import MappingIsoparametric
 from skfem.helpers import grad
 
-__all__ = ["AxiProblem", "AxiSolution", "solve_axisymmetric", "von_mises", "tresca", "principal_stresses", "probe_matrix"]
+__all__ = ["AxiProblem", "AxiSolution", "RobustIsoparametric", "solve_axisymmetric", "von_mises", "tresca", "principal_stresses", "probe_matrix"]
 
 TWO_PI = 2 * math.pi
 
@@ -135,14 +136,73 @@ def probe_matrix(basis: Basis, points_mm: np.ndarray):
         ``(n, basis.N)``: field values at the points = matrix @ nodal values.
     """
     m = basis.mesh
-    finder = MeshTri1(m.p, m.t).element_finder()  # straight cells find; the curved mapping maps
+    finder = MeshTri1(m.p[:, :m.nvertices], m.t).element_finder()  # straight cells find; the curved mapping maps
     x = np.asarray(points_mm, dtype=float)
     cells = finder(*x)
-    pts = basis.mapping.invF(x[:, :, np.newaxis], tind=cells)
+    mapping = basis.mapping if isinstance(basis.mapping, RobustIsoparametric) else RobustIsoparametric(m)
+    pts = mapping.invF(x[:, :, np.newaxis], tind=cells)
     phis = np.array([basis.elem.gbasis(basis.mapping, pts, k, tind=cells)[0] for k in range(basis.Nbfun)]).flatten()
     rows = np.tile(np.arange(x.shape[1], dtype=np.int32), basis.Nbfun)
     cols = basis.element_dofs[:, cells].flatten()
     return coo_matrix((phis, (rows, cols)), shape=(x.shape[1], basis.N)).tocsr()
+
+
+class RobustIsoparametric(MappingIsoparametric):
+    """scikit-fem's isoparametric mapping with an inverse that starts from the straight cell's.
+
+    scikit-fem's own inverse starts every Newton iteration at the reference triangle's centre and clips to the
+    unit square, which stalls for points on a strongly curved edge (a fillet meshed with few elements). Starting
+    from the straight cell's affine inverse converges in two or three steps; a point that still does not
+    converge keeps the affine inverse (it is on a straight-enough cell).
+
+    Parameters
+    ----------
+    mesh : MeshTri2
+        A quadratic triangle mesh.
+    """
+
+    def __init__(self, mesh: MeshTri2) -> None:
+        super().__init__(mesh, mesh.elem(), getattr(mesh, "bndelem", None))
+
+    def _affine_inverse(self, x: np.ndarray, tind) -> np.ndarray:
+        t = self.mesh.t if tind is None else self.mesh.t[:, tind]
+        p = self.mesh.p
+        v0, v1, v2 = (p[:, t[k]] for k in range(3))  # (2, n)
+        a, b, c, d = v1[0] - v0[0], v2[0] - v0[0], v1[1] - v0[1], v2[1] - v0[1]
+        det = a * d - b * c
+        dx, dy = x[0] - v0[0][:, None], x[1] - v0[1][:, None]
+        return np.array([(d[:, None] * dx - b[:, None] * dy) / det[:, None],
+                         (-c[:, None] * dx + a[:, None] * dy) / det[:, None]])
+
+    def invF(self, x, tind=None, newton_max_iters=25, newton_tol=1e-12):
+        """Reference coordinates of global points ``x`` (``(2, n_cells, n_points)``) in cells ``tind``.
+
+        Parameters
+        ----------
+        x : ndarray
+            Global points, mm, one row of points per cell.
+        tind : ndarray, optional
+            The cells (all when None).
+        newton_max_iters : int
+            Newton steps at most.
+        newton_tol : float
+            Step size that ends the iteration (reference coordinates).
+
+        Returns
+        -------
+        ndarray
+            Reference coordinates, same shape as ``x``.
+        """
+        X0 = self._affine_inverse(x, tind)
+        X = X0.copy()
+        for _ in range(newton_max_iters):
+            dX = np.einsum("ijkl,jkl->ikl", self.invDF(X, tind), x - self.F(X, tind))
+            X = X + dX
+            if np.abs(dX).max() < newton_tol:
+                return X
+        bad = np.abs(self.F(X, tind) - x).max(axis=(0, 2)) > 1e-8
+        X[:, bad] = X0[:, bad]
+        return X
 
 
 @dataclass(frozen=True)
@@ -219,7 +279,8 @@ class AxiProblem:
         self.mesh, self.E, self.nu = mesh, float(youngs_modulus_MPa), float(poisson)
         self.pin_node = None if pin_node is None else int(pin_node)
         self.element = ElementVector(ElementTriP2())
-        self.basis = Basis(mesh, self.element, intorder=4)
+        self.mapping = RobustIsoparametric(mesh)
+        self.basis = Basis(mesh, self.element, mapping=self.mapping, intorder=4)
         self.K = _stiffness_form(self.E, self.nu).assemble(self.basis).tocsr()
         bf = mesh.boundary_facets()
         on_axis = bf[np.all(mesh.p[0, mesh.facets[:, bf]] < axis_tol_mm, axis=0)]
@@ -250,7 +311,7 @@ class AxiProblem:
         facets = np.asarray(facets, dtype=np.int64)
         if not facets.size:
             return self.basis.zeros()
-        fb = FacetBasis(self.mesh, self.element, facets=facets, intorder=4)
+        fb = FacetBasis(self.mesh, self.element, mapping=self.mapping, facets=facets, intorder=4)
         nqp = fb.X.shape[1]
         p = np.repeat(np.asarray(pressure_MPa, dtype=float)[:, None], nqp, axis=1)
         tz = np.repeat(np.asarray(axial_traction_MPa, dtype=float)[:, None], nqp, axis=1)
@@ -326,12 +387,12 @@ def solve_axisymmetric(mesh: MeshTri2, youngs_modulus_MPa: float, poisson: float
 def _recover(mesh, basis, u, E, nu, applied, reaction) -> AxiSolution:
     """Stress at each element's six nodes, averaged at the nodes; displacement at the nodes."""
     ref = ElementTriP2.doflocs.T  # (2, 6) reference nodes, in the order of the scalar basis's element dofs
-    sb = Basis(mesh, ElementTriP2(), quadrature=(ref, np.ones(ref.shape[1]) / 6))
-    vb = Basis(mesh, ElementVector(ElementTriP2()), quadrature=(ref, np.ones(ref.shape[1]) / 6))
+    sb = Basis(mesh, ElementTriP2(), mapping=basis.mapping, quadrature=(ref, np.ones(ref.shape[1]) / 6))
+    vb = Basis(mesh, ElementVector(ElementTriP2()), mapping=basis.mapping, quadrature=(ref, np.ones(ref.shape[1]) / 6))
     uf = vb.interpolate(u)
     g = uf.grad  # (2, 2, n_el, 6)
     r = sb.mapping.F(ref)[0]  # (n_el, 6) r of each element node
-    ur = uf.value[0]
+    ur = np.asarray(uf)[0]
     on_axis = r < 1e-9
     err, ezz, grz = g[0, 0], g[1, 1], g[0, 1] + g[1, 0]
     ett = np.where(on_axis, err, ur / np.where(on_axis, 1.0, r))  # on the axis e_tt = e_rr (symmetry)

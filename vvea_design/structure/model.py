@@ -22,7 +22,7 @@ from .loads import LoadCase
 from .section import MeridianSection
 from .surroundings import Surroundings
 
-__all__ = ["Bearing", "PieceModel", "CaseSolution", "boundary_facets"]
+__all__ = ["Bearing", "PieceModel", "CaseSolution", "boundary_facets", "nearest_vertex"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +87,25 @@ def boundary_facets(mesh: MeshTri2) -> tuple[np.ndarray, np.ndarray, np.ndarray,
     return bf, mid, n, length
 
 
+def nearest_vertex(mesh: MeshTri2, r_mm: float, z_mm: float) -> int:
+    """The mesh vertex (not an edge node) nearest a point.
+
+    Parameters
+    ----------
+    mesh : MeshTri2
+        A section's mesh, mm.
+    r_mm, z_mm : float
+        The point, mm.
+
+    Returns
+    -------
+    int
+        Vertex index (into ``mesh.p[:, :mesh.nvertices]``).
+    """
+    v = mesh.p[:, :mesh.nvertices]
+    return int(np.argmin(np.hypot(v[0] - r_mm, v[1] - z_mm)))
+
+
 @dataclass(frozen=True)
 class CaseSolution:
     """A piece solved under one load case."""
@@ -134,7 +153,7 @@ class PieceModel:
     def _pin_node(self) -> int:
         """A vertex of the first bearing face (any vertex when the piece has none)."""
         if not self.bearings:
-            return int(np.argmin(self.mesh.p[1]))
+            return int(np.argmin(self.mesh.p[1, :self.mesh.nvertices]))
         f = self.facets[self.bearing_masks[0]][0]
         return int(self.mesh.facets[0, f])
 

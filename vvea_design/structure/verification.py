@@ -11,6 +11,8 @@ relative error) at points away from edges and concentrations:
 * :func:`annular_plate`: the piston pocket's floor as the sizing idealises it (clamped at the rod, free at the
   pocket wall with the rim's line load): the bending stress at the rod, linearised through the thickness,
   against :func:`~vvea_design.spring.derive.piston_floor_moment`;
+* :func:`spherical_cavity`: a concentration with an exact solution, Goodier's spherical cavity in a body
+  under uniaxial tension (``s_z = (27 - 15 nu) / (2 (7 - 5 nu)) s`` at its equator);
 * :func:`grooved_tube`: a tube with a rectangular groove (the peak at its root: the convergence study's
   concentration case).
 
@@ -19,6 +21,7 @@ Lengths mm, pressures and stresses MPa.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,10 +31,10 @@ from .closed_form import annular_plate_moment, lame, plate_clamped, plate_simply
 from .elasticity import AxiProblem, AxiSolution
 from .evaluate import StressLine, linearise
 from .meshing import MeshSpec, mesh_section
-from .model import boundary_facets
-from .section import section_from_outline, with_corner_radii
+from .model import boundary_facets, nearest_vertex
+from .section import Corner, MeridianSection, section_from_outline, with_corner_radii
 
-__all__ = ["Comparison", "thick_cylinder", "circular_plate", "annular_plate", "grooved_tube"]
+__all__ = ["Comparison", "thick_cylinder", "circular_plate", "annular_plate", "spherical_cavity", "grooved_tube"]
 
 E_AL, NU_AL = 68.9e3, 0.33
 
@@ -96,7 +99,7 @@ def thick_cylinder(inner_radius_mm: float = 10.0, outer_radius_mm: float = 15.0,
     outer = np.abs(mid[0] - b) < 1e-9
     facets = bf[inner | outer]
     p = np.where(inner[inner | outer], p_inner_MPa, p_outer_MPa)
-    prob = AxiProblem(mesh, E_AL, NU_AL, int(np.argmin(mesh.p[1] + 1e3 * mesh.p[0])))
+    prob = AxiProblem(mesh, E_AL, NU_AL, nearest_vertex(mesh, a, 0.0))
     sol = prob.solve(prob.load_vector(facets, p, np.zeros_like(p)))
     r = np.array([a, 0.5 * (a + b), b])
     eps = 1e-7 * (b - a)
@@ -220,6 +223,44 @@ def _bending_rr(sol: AxiSolution, r_mm: float, t_mm: float, n: int = 81) -> floa
     return float(6 * np.trapezoid(st["s_rr"] * (0.5 - s), s))
 
 
+def spherical_cavity(radius_mm: float = 1.0, body_mm: float = 15.0, stress_MPa: float = 1.0, poisson: float = 0.3,
+                     spec: MeshSpec = MeshSpec(max_size_mm=2.0, growth=0.2)) -> tuple[list[Comparison], AxiSolution]:
+    """A spherical cavity in a cylinder (radius and half-height ``body_mm``) pulled along the axis, against
+    Goodier's solution for an infinite body: ``s_z = (27 - 15 nu) / (2 (7 - 5 nu)) s`` at the equator (the
+    finite body adds a fraction of a per cent for ``body_mm / radius_mm = 15``).
+
+    Parameters
+    ----------
+    radius_mm, body_mm : float
+        The cavity and the body, mm.
+    stress_MPa : float
+        Remote axial stress, MPa.
+    poisson : float
+        Poisson's ratio.
+    spec : MeshSpec
+        Mesh sizes (``elements_per_radius`` resolves the cavity).
+
+    Returns
+    -------
+    tuple
+        One comparison (the peak axial stress at the equator) and the solution.
+    """
+    from build123d import Align, Circle, Rectangle
+
+    a, R = radius_mm, body_mm
+    face = (Rectangle(R, 2 * R, align=(Align.MIN, Align.CENTER)) - Circle(a)).faces()[0]
+    sec = MeridianSection("spherical_cavity", face, math.nan, 1.0, (Corner(a, 0.0, 270.0, a),))
+    mesh = mesh_section(sec, spec)
+    bf, mid, n, _ = boundary_facets(mesh)
+    tz = np.where(np.abs(mid[1] - R) < 1e-9, stress_MPa, 0.0) - np.where(np.abs(mid[1] + R) < 1e-9, stress_MPa, 0.0)
+    prob = AxiProblem(mesh, E_AL, poisson, nearest_vertex(mesh, R, 0.0))
+    sol = prob.solve(prob.load_vector(bf, np.zeros(bf.size), tz))
+    st = sol.stress_at(np.array([a + 1e-6]), np.array([0.0]))
+    exact = (27 - 15 * poisson) / (2 * (7 - 5 * poisson)) * stress_MPa
+    return [Comparison(f"spherical cavity a = {a:g} mm in a body {R:g} mm, nu = {poisson:g}",
+                       "axial stress at the equator (peak)", float(st["s_zz"][0]), exact)], sol
+
+
 def grooved_tube(inner_radius_mm: float = 10.0, wall_mm: float = 3.0, groove_depth_mm: float = 1.0,
                  groove_width_mm: float = 2.0, root_radius_mm: float = 0.3, pressure_MPa: float = 10.0,
                  spec: MeshSpec = MeshSpec()) -> tuple[float, float, AxiSolution]:
@@ -252,7 +293,7 @@ def grooved_tube(inner_radius_mm: float = 10.0, wall_mm: float = 3.0, groove_dep
     mesh = mesh_section(sec, spec)
     bf, mid, n, _ = boundary_facets(mesh)
     inner = np.abs(mid[0] - a) < 1e-9
-    prob = AxiProblem(mesh, E_AL, NU_AL, int(np.argmin(mesh.p[1] + 1e3 * mesh.p[0])))
+    prob = AxiProblem(mesh, E_AL, NU_AL, nearest_vertex(mesh, a, 0.0))
     sol = prob.solve(prob.load_vector(bf[inner], np.full(inner.sum(), pressure_MPa), np.zeros(inner.sum())))
     near = (np.abs(sol.nodes_mm[0] - (b - d)) < root_radius_mm + 0.05) & (sol.nodes_mm[1] > z0 - 0.05) \
         & (sol.nodes_mm[1] < z1 + 0.05)
