@@ -313,9 +313,10 @@ def test_the_unit_report_reads_only_what_the_pipeline_result_has():
     from vvea_design.cad.manifest import CadManifest
     from vvea_design.report.bom import BillOfMaterials
     from vvea_design.report.drawing import DrawingSet
+    from vvea_design.structure.check import StructureResult
 
     lazy = dict(DesignStudy=DesignStudy, BillOfMaterials=BillOfMaterials, DrawingSet=DrawingSet,
-                CadManifest=CadManifest)  # TYPE_CHECKING-only
+                CadManifest=CadManifest, StructureResult=StructureResult)  # TYPE_CHECKING-only
     members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
     hints = typing.get_type_hints(UnitDesign, localns=lazy)
     for name in members:

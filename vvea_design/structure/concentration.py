@@ -126,11 +126,11 @@ def evaluate_kt(coefficients, x1, x2, x1_range, x2_range):
     Parameters
     ----------
     coefficients : sequence of 4 float
-        ``c0 .. c3``.
+        ``c0 .. c3``, dimensionless.
     x1, x2 : float or array
-        Variables.
+        Variables (ratios of lengths), dimensionless.
     x1_range, x2_range : tuple of float
-        Fitted ranges.
+        Fitted ranges, dimensionless.
 
     Returns
     -------

@@ -182,11 +182,11 @@ class RobustIsoparametric(MappingIsoparametric):
         x : ndarray
             Global points, mm, one row of points per cell.
         tind : ndarray, optional
-            The cells (all when None).
+            The cells (indices, dimensionless; all when None).
         newton_max_iters : int
-            Newton steps at most.
+            Newton steps at most (a count).
         newton_tol : float
-            Step size that ends the iteration (reference coordinates).
+            Step size that ends the iteration (reference coordinates, dimensionless).
 
         Returns
         -------
@@ -299,7 +299,7 @@ class AxiProblem:
         Parameters
         ----------
         facets : ndarray of int
-            Boundary facets loaded (indices into ``mesh.facets``).
+            Boundary facets loaded (indices into ``mesh.facets``, dimensionless).
         pressure_MPa, axial_traction_MPa : ndarray
             Per facet, MPa.
 
@@ -365,7 +365,7 @@ def solve_axisymmetric(mesh: MeshTri2, youngs_modulus_MPa: float, poisson: float
     youngs_modulus_MPa, poisson : float
         Isotropic elastic constants (MPa, dimensionless).
     facets : ndarray of int
-        The loaded boundary facets (indices into ``mesh.facets``).
+        The loaded boundary facets (indices into ``mesh.facets``; a count-free list, dimensionless).
     pressure_MPa : ndarray
         Pressure on each of ``facets`` (acts along the inward normal), MPa.
     axial_traction_MPa : ndarray

@@ -60,7 +60,7 @@ class Region:
         Returns
         -------
         ndarray of bool
-            Nodes inside a box and outside every excluded box.
+            Nodes inside a box and outside every excluded box (dimensionless flags).
         """
         def inside(boxes):
             m = np.zeros(nodes_mm.shape[1], dtype=bool)

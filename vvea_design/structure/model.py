@@ -45,12 +45,12 @@ class Bearing:
         mid : ndarray
             ``(2, n)`` facet midpoints, mm.
         normal : ndarray
-            ``(2, n)`` outward unit normals.
+            ``(2, n)`` outward unit normals, dimensionless.
 
         Returns
         -------
         ndarray of bool
-            The facets in the box with the right orientation.
+            The facets in the box with the right orientation (dimensionless flags).
         """
         box = ((mid[0] >= self.r_mm[0] - 1e-6) & (mid[0] <= self.r_mm[1] + 1e-6)
                & (mid[1] >= self.z_mm[0] - 1e-6) & (mid[1] <= self.z_mm[1] + 1e-6))

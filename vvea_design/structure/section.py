@@ -80,7 +80,13 @@ class MeridianSection:
         return _Path(outline_polygon(self.face)).contains_points(pts)
 
     def bounds_mm(self) -> tuple[float, float, float, float]:
-        """``(r_min, r_max, z_min, z_max)`` of the section, mm."""
+        """The section's bounding box.
+
+        Returns
+        -------
+        tuple of float
+            ``(r_min, r_max, z_min, z_max)``, mm.
+        """
         bb = self.face.bounding_box()
         return float(bb.min.X), float(bb.max.X), float(bb.min.Y), float(bb.max.Y)
 

@@ -146,7 +146,7 @@ class Surroundings:
         Returns
         -------
         ndarray of str
-            ``gap:chamber_2|fluid`` or ``gap:chamber_1|chamber_2``.
+            ``gap:chamber_2|fluid`` or ``gap:chamber_1|chamber_2`` (labels, dimensionless).
         """
         z = np.atleast_1d(np.asarray(z_mm, dtype=float))
         return np.where(z < 0.5 * (self.lay.z_base_top + self.lay.z_cap), _BASE_GAP, _TOP_GAP).astype(object)
@@ -157,7 +157,7 @@ class Surroundings:
         Parameters
         ----------
         media : ndarray of str
-            Labels from :meth:`medium`.
+            Labels from :meth:`medium` (dimensionless).
         case_gauge_MPa : dict of str to float
             Gauge pressure of ``chamber_1``, ``chamber_2`` and ``fluid``, MPa.
 
