@@ -7,7 +7,7 @@ mesh is refined, and its observed order of convergence.
 Part 2, the default design (``cad/design.json``) under its load cases: every wall's peak stress (at the
 grooves, shoulders and edges) and nominal stress (membrane plus bending on its classification line) of the
 governing case, as the mesh is refined by a factor ``f`` (``elements_per_wall = 3 f``, ``elements_per_radius
-= 1.5 f``); the change against the finest mesh, the observed order from the three finest, the extrapolated
+= 3 f``); the change against the finest mesh, the observed order from the three finest, the extrapolated
 value (Richardson) and the error of the main job's mesh (``f = 1``) against it.
 
     python studies/fe_convergence.py            # -> studies/results/fe_convergence/

@@ -136,7 +136,7 @@ def probe_matrix(basis: Basis, points_mm: np.ndarray):
         ``(n, basis.N)``: field values at the points = matrix @ nodal values.
     """
     m = basis.mesh
-    finder = MeshTri1(m.p[:, :m.nvertices], m.t).element_finder()  # straight cells find; the curved mapping maps
+    finder = MeshTri1(np.ascontiguousarray(m.p[:, :m.nvertices]), m.t).element_finder()  # straight cells find; the curved mapping maps
     x = np.asarray(points_mm, dtype=float)
     cells = finder(*x)
     mapping = basis.mapping if isinstance(basis.mapping, RobustIsoparametric) else RobustIsoparametric(m)
@@ -293,7 +293,7 @@ class AxiProblem:
         self.free = np.setdiff1d(np.arange(self.basis.N), self.D)
         self._lu = splu(self.K[self.free][:, self.free].tocsc())
 
-    def load_vector(self, facets, pressure_MPa, axial_traction_MPa) -> np.ndarray:
+    def load_vector(self, facets, pressure_MPa, axial_traction_MPa, traction_box=None) -> np.ndarray:
         """The load vector of pressures (along -n) and axial tractions on boundary facets.
 
         Parameters
@@ -302,6 +302,9 @@ class AxiProblem:
             Boundary facets loaded (indices into ``mesh.facets``, dimensionless).
         pressure_MPa, axial_traction_MPa : ndarray
             Per facet, MPa.
+        traction_box : tuple of float, optional
+            ``(r0, r1, z0, z1)``, mm: the axial traction acts only where the surface is inside it (a bearing
+            face that ends inside a facet), so the loaded area is the box's, whatever the mesh.
 
         Returns
         -------
@@ -312,9 +315,14 @@ class AxiProblem:
         if not facets.size:
             return self.basis.zeros()
         fb = FacetBasis(self.mesh, self.element, mapping=self.mapping, facets=facets, intorder=4)
-        nqp = fb.X.shape[1]
+        nqp = fb.X.shape[-1]
         p = np.repeat(np.asarray(pressure_MPa, dtype=float)[:, None], nqp, axis=1)
         tz = np.repeat(np.asarray(axial_traction_MPa, dtype=float)[:, None], nqp, axis=1)
+        if traction_box is not None:
+            x = np.asarray(fb.global_coordinates())
+            r0, r1, z0, z1 = traction_box
+            tol = 1e-6
+            tz = tz * ((x[0] >= r0 - tol) & (x[0] <= r1 + tol) & (x[1] >= z0 - tol) & (x[1] <= z1 + tol))
         return _boundary_load.assemble(fb, p=p, tz=tz)
 
     def axial_force_N(self, f: np.ndarray) -> float:

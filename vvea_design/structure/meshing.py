@@ -36,7 +36,7 @@ class MeshSpec:
     """
 
     elements_per_wall: float = 3.0
-    elements_per_radius: float = 1.5
+    elements_per_radius: float = 3.0
     growth: float = 0.3
     max_size_mm: float = 2.5
     min_size_mm: float = 0.02

@@ -3,7 +3,8 @@
 The loads are statically right by construction: the pressures on the wetted surface have an axial resultant
 ``F`` (N); the piece's joint takes ``-F`` as a uniform axial traction over its bearing face (:class:`Bearing`:
 the tie-rod nuts' annulus, a retaining ring's seat, a thread's flanks, the rod's section), the face on the
-side that can push the piece the way it must be pushed. One node on a bearing is pinned axially (the only
+side that can push the piece the way it must be pushed (over the face's extent exactly, whatever the mesh:
+the traction is cut off at the bearing's box inside a facet). One node on a bearing is pinned axially (the only
 rigid motion of an axisymmetric body); it carries round-off only (:attr:`CaseSolution.pin_reaction_N`).
 
 Lengths mm, pressures and stresses MPa, forces N.
@@ -37,8 +38,8 @@ class Bearing:
     faces: str = "axial"
     cut: bool = False  #: a cut through the material (the rod's section): no pressure on it
 
-    def select(self, mid: np.ndarray, normal: np.ndarray) -> np.ndarray:
-        """Which boundary facets bear (bool mask).
+    def select(self, mid: np.ndarray, normal: np.ndarray, ends: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+        """Which boundary facets bear (bool mask): those that reach into the box, with the right orientation.
 
         Parameters
         ----------
@@ -46,14 +47,26 @@ class Bearing:
             ``(2, n)`` facet midpoints, mm.
         normal : ndarray
             ``(2, n)`` outward unit normals, dimensionless.
+        ends : tuple of ndarray, optional
+            The facets' end points (``(2, n)`` each, mm): a facet overlapping the box counts (a coarse mesh's
+            facet may straddle the box's edge); without them the midpoint must be inside.
 
         Returns
         -------
         ndarray of bool
             The facets in the box with the right orientation (dimensionless flags).
         """
-        box = ((mid[0] >= self.r_mm[0] - 1e-6) & (mid[0] <= self.r_mm[1] + 1e-6)
-               & (mid[1] >= self.z_mm[0] - 1e-6) & (mid[1] <= self.z_mm[1] + 1e-6))
+        tol = 1e-6
+        if ends is None:
+            lo, hi = mid, mid
+        else:
+            lo, hi = np.minimum(*ends), np.maximum(*ends)
+        box = ((hi[0] >= self.r_mm[0] - tol) & (lo[0] <= self.r_mm[1] + tol)
+               & (hi[1] >= self.z_mm[0] - tol) & (lo[1] <= self.z_mm[1] + tol))
+        if ends is not None:  # a facet touching the box at one end only does not bear
+            overlap_r = np.minimum(hi[0], self.r_mm[1]) - np.maximum(lo[0], self.r_mm[0])
+            overlap_z = np.minimum(hi[1], self.z_mm[1]) - np.maximum(lo[1], self.z_mm[0])
+            box &= (overlap_r > tol) | (overlap_z > tol)
         orient = np.abs(normal[1]) > 0.7 if self.faces == "axial" else np.abs(normal[0]) > 0.3
         return box & orient
 
@@ -143,7 +156,8 @@ class PieceModel:
         self.name, self.section, self.mesh, self.material = name, section, mesh, material
         self.bearings, self.surroundings = tuple(bearings), surroundings
         self.facets, self.mid, self.normal, self.length = boundary_facets(mesh)
-        self.bearing_masks = [b.select(self.mid, self.normal) for b in self.bearings]
+        ends = (mesh.p[:, mesh.facets[0, self.facets]], mesh.p[:, mesh.facets[1, self.facets]])
+        self.bearing_masks = [b.select(self.mid, self.normal, ends) for b in self.bearings]
         for b, m in zip(self.bearings, self.bearing_masks):
             if not m.any():
                 raise ValueError(f"{name}: no boundary face where the joint bears ({b.what}, r {b.r_mm}, z {b.z_mm})")
@@ -216,12 +230,13 @@ class PieceModel:
             for b, m in zip(self.bearings, self.bearing_masks):
                 if b.pushes in (0, need):
                     bearing = b
-                    unit = prob.axial_force_N(prob.load_vector(self.facets[m], np.zeros(m.sum()), np.ones(m.sum())))
+                    box = (*b.r_mm, *b.z_mm)
+                    unit = prob.axial_force_N(prob.load_vector(self.facets[m], np.zeros(m.sum()), np.ones(m.sum()), box))
                     tz = np.where(m, -F / unit, 0.0)
                     break
             if bearing is None:
                 raise ValueError(f"{self.name} ({case.name}): the pressures push it {'up' if F > 0 else 'down'} "
                                  f"with {abs(F):.0f} N and no joint face can take that")
-            f = f + prob.load_vector(self.facets, np.zeros_like(p), tz)
+            f = f + prob.load_vector(self.facets[tz != 0], np.zeros(int((tz != 0).sum())), tz[tz != 0], box)
         sol = prob.solve(f)
         return CaseSolution(case, sol, media, p, bearing, -F if bearing is not None else 0.0, sol.pin_reaction_N)

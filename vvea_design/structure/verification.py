@@ -31,7 +31,7 @@ from .closed_form import annular_plate_moment, lame, plate_clamped, plate_simply
 from .elasticity import AxiProblem, AxiSolution
 from .evaluate import StressLine, linearise
 from .meshing import MeshSpec, mesh_section
-from .model import boundary_facets, nearest_vertex
+from .model import Bearing, boundary_facets, nearest_vertex
 from .section import Corner, MeridianSection, section_from_outline, with_corner_radii
 
 __all__ = ["Comparison", "thick_cylinder", "circular_plate", "annular_plate", "spherical_cavity", "grooved_tube"]
@@ -119,7 +119,7 @@ def circular_plate(kind: str = "simply_supported", radius_mm: float = 40.0, thic
     """A solid circular plate under uniform pressure on its top face against thin-plate theory.
 
     Simply supported: the reaction is a uniform upward traction on a ring of the bottom face under the edge
-    (1 % of the radius wide); clamped: the edge face is held. Pressure on the top face pushes down.
+    (1 % of the radius wide, cut off inside the facets it straddles); clamped: the edge face is held. Pressure on the top face pushes down.
 
     Parameters
     ----------
@@ -151,12 +151,13 @@ def circular_plate(kind: str = "simply_supported", radius_mm: float = 40.0, thic
         f = prob.load_vector(bf[top], np.full(top.sum(), q), np.zeros(top.sum()))
         ref = plate_clamped
     else:
-        ring = (np.abs(mid[1]) < 1e-9) & (mid[0] > 0.99 * a)
-        pin = int(mesh.facets[0, bf[ring][0]])
-        prob = AxiProblem(mesh, E_AL, NU_AL, pin)
+        box = (0.99 * a, a, 0.0, 0.0)
+        ends = (mesh.p[:, mesh.facets[0, bf]], mesh.p[:, mesh.facets[1, bf]])
+        ring = Bearing("ring under the edge", box[:2], box[2:], +1).select(mid, n, ends)
+        prob = AxiProblem(mesh, E_AL, NU_AL, nearest_vertex(mesh, a, 0.0))
         f = prob.load_vector(bf[top], np.full(top.sum(), q), np.zeros(top.sum()))
-        unit = prob.axial_force_N(prob.load_vector(bf[ring], np.zeros(ring.sum()), np.ones(ring.sum())))
-        f = f + prob.load_vector(bf[ring], np.zeros(ring.sum()), np.full(ring.sum(), -prob.axial_force_N(f) / unit))
+        unit = prob.axial_force_N(prob.load_vector(bf[ring], np.zeros(ring.sum()), np.ones(ring.sum()), box))
+        f = f + prob.load_vector(bf[ring], np.zeros(ring.sum()), np.full(ring.sum(), -prob.axial_force_N(f) / unit), box)
         ref = plate_simply_supported
     sol = prob.solve(f)
     r = np.array([0.0, 0.5 * a])
