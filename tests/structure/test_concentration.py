@@ -6,7 +6,10 @@ import numpy as np
 import pytest
 
 from tests.helpers import REPO
-from vvea_design.structure.concentration import FORMAT, KINDS, KtPoint, evaluate_kt, fit_kt, kt_point
+from vvea_design.spring.buildability import PIECE_PARTS
+from vvea_design.spring.concentration import FORMAT as SPRING_FORMAT
+from vvea_design.spring.concentration import concentration_factors
+from vvea_design.structure.concentration import FORMAT, FORMAT_VERSION, KINDS, KtPoint, evaluate_kt, fit_kt, kt_point
 from vvea_design.structure.meshing import MeshSpec
 
 DATA = REPO / "vvea_design" / "spring" / "data" / "stress_concentration.json"
@@ -44,7 +47,12 @@ def test_the_fit_recovers_a_known_law():
 
 def test_the_shipped_data_file_holds_every_kind():
     data = json.loads(DATA.read_text())
-    assert data["format"] == FORMAT and "exp(c0" in data["model"]
+    assert data["format"] == FORMAT == SPRING_FORMAT and data["format_version"] == FORMAT_VERSION == 1
+    assert "exp(c0" in data["model"]
+    concentration_factors.cache_clear()
+    read = concentration_factors()  # the spring side's reader takes it: every piece, each its largest factor
+    assert set(read) == set(PIECE_PARTS) and all(k >= 1.0 for k in read.values())
+    assert read == {p: max(f.values()) for p, f in data["factors"].items()}
     assert set(data["kinds"]) == set(KINDS)
     for kind, d in data["kinds"].items():
         assert d["x1"] == KINDS[kind]["x1"] and d["nominal"] == KINDS[kind]["nominal"]

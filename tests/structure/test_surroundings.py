@@ -5,7 +5,7 @@ import pytest
 
 from tests.cad.cases import OTHERS, REFERENCE
 from vvea_design.cad.layout import Layout
-from vvea_design.structure.loads import P_ATM_MPa, default_load_cases
+from vvea_design.structure.loads import CASE_POSITION, default_load_cases
 from vvea_design.structure.surroundings import Surroundings
 
 
@@ -53,14 +53,16 @@ def test_the_collar_of_annulus_top():
     assert sur.medium(0.5 * (rio + rb), lay.z_free1 - 0.5)[0] == "chamber_2"  # below it
 
 
-def test_default_load_cases_carry_the_designs_peaks(bulkhead):
+def test_default_load_cases_are_the_spring_sides_at_their_positions(bulkhead):
     d = REFERENCE
-    cases = {c.name: c for c in default_load_cases(d, damper_force_N=1000.0)}
-    assert set(cases) == {"gas_peak", "gas_charge", "fluid_relief"}
-    peak = cases["gas_peak"]
-    assert peak.chamber_2_MPa == pytest.approx(d.peak_pressures_MPa()["chamber_2"])
-    assert peak.x_mm == d.fixed.travel_mm and peak.required_safety == d.fixed.wall_safety_factor
-    assert cases["gas_charge"].chamber_1_MPa == pytest.approx(d.p1_MPa)
-    assert cases["fluid_relief"].fluid_MPa - peak.fluid_MPa == pytest.approx(1000.0 / d.A2_mm2)
-    assert peak.gauge_MPa()["chamber_2"] == pytest.approx(peak.chamber_2_MPa - P_ATM_MPa)
-    assert peak.to_dict()["name"] == "gas_peak"
+    cases = {c.name: c for c in default_load_cases(d)}
+    spring = {c.name: c for c in d.load_cases.cases}
+    assert list(cases) == list(spring)
+    for name, c in cases.items():
+        s = spring[name]
+        assert (c.chamber_1_MPa, c.chamber_2_MPa, c.fluid_MPa) == pytest.approx(
+            (float(s.chamber_1_MPa), float(s.chamber_2_MPa), float(s.fluid_MPa)))
+        assert c.required_safety == s.required_safety_factor and c.external_force_N == pytest.approx(float(s.external_force_N))
+        assert c.x_mm == (0.0 if CASE_POSITION[name] == "rest" else d.fixed.travel_mm)
+        assert c.gauge_MPa()["fluid"] == c.fluid_MPa and c.to_dict()["name"] == name
+    assert cases["gas_full_stroke"].chamber_2_MPa == pytest.approx(d.peak_pressures_MPa()["chamber_2"])

@@ -16,13 +16,13 @@ Units: mm, MPa, N.
 
 from .check import CRITERIA, CaseCheck, PieceCheck, StructureResult, WallCheck, check_structure
 from .elasticity import AxiProblem, AxiSolution, solve_axisymmetric, tresca, von_mises
-from .loads import DEFAULT_DAMPER_FORCE_N, P_ATM_MPa, LoadCase, default_load_cases
+from .loads import CASE_POSITION, LoadCase, default_load_cases
 from .meshing import MeshSpec, mesh_section
 from .section import DEFAULT_CORNER_RADIUS_MM, MeridianSection, section_from_outline, section_of_solid
 
 __all__ = [
     "check_structure", "StructureResult", "WallCheck", "CaseCheck", "PieceCheck", "CRITERIA",
-    "LoadCase", "default_load_cases", "P_ATM_MPa", "DEFAULT_DAMPER_FORCE_N",
+    "LoadCase", "default_load_cases", "CASE_POSITION",
     "MeshSpec", "mesh_section", "MeridianSection", "section_of_solid", "section_from_outline",
     "DEFAULT_CORNER_RADIUS_MM", "AxiProblem", "AxiSolution", "solve_axisymmetric", "von_mises", "tresca",
 ]

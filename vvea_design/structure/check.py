@@ -45,6 +45,12 @@ class CaseCheck:
     nominal: Nominal | None  #: the most stressed stress-classification line (None: the wall has none)
     safety: float  #: yield over the peak (the check's criterion)
     nominal_safety: float  #: yield over the nominal membrane plus bending (nan: no line)
+    sizing_stress_MPa: float = math.nan  #: the spring sizing's stress of the wall in this case (nan: none)
+
+    @property
+    def peak_over_sizing(self) -> float:
+        """FE peak over the sizing's closed-form stress (the concentration the sizing must learn; nan: none)."""
+        return self.peak.tresca_MPa / self.sizing_stress_MPa if self.sizing_stress_MPa > 0 else math.nan
 
     @property
     def passes(self) -> bool:
@@ -61,7 +67,8 @@ class CaseCheck:
         """
         n = self.nominal
         return {"case": self.case, "required_safety": self.required_safety, "safety": self.safety,
-                "passes": self.passes, "nominal_safety": self.nominal_safety,
+                "passes": self.passes, "nominal_safety": _num(self.nominal_safety),
+                "sizing_stress_MPa": _num(self.sizing_stress_MPa), "peak_over_sizing": _num(self.peak_over_sizing),
                 "peak_von_mises_MPa": self.peak.von_mises_MPa, "peak_tresca_MPa": self.peak.tresca_MPa,
                 "peak_r_mm": self.peak.r_mm, "peak_z_mm": self.peak.z_mm, "feature": self.peak.feature,
                 "corner_radius_mm": _num(self.peak.corner_radius_mm),
@@ -105,6 +112,12 @@ class WallCheck:
         peak = g.peak.tresca_MPa if self.criterion == "tresca" else g.peak.von_mises_MPa
         return peak / nom if nom > 0 else math.nan
 
+    @property
+    def peak_over_sizing(self) -> float:
+        """The largest FE peak (Tresca) over the spring sizing's stress of the same case (nan: no sizing)."""
+        vals = [c.peak_over_sizing for c in self.cases if math.isfinite(c.peak_over_sizing)]
+        return max(vals) if vals else math.nan
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready content.
 
@@ -123,6 +136,7 @@ class WallCheck:
                 "location": {"r_mm": g.peak.r_mm, "z_mm": g.peak.z_mm, "feature": g.peak.feature,
                              "corner_radius_mm": _num(g.peak.corner_radius_mm)},
                 "nominal_safety": _num(g.nominal_safety), "concentration": _num(self.concentration),
+                "peak_over_sizing": _num(self.peak_over_sizing),
                 "cases": [c.to_dict() for c in self.cases]}
 
 
@@ -142,6 +156,8 @@ class PieceCheck:
     joint: str  #: how its axial load reaches its joint
     reactions_N: dict[str, float]  #: the joint's axial reaction per case, N
     figure: str | None = None  #: stress-field PNG (None: not drawn)
+    bearings: dict[str, str] = field(default_factory=dict)  #: the joint face each case's reaction went to
+    not_drawn: tuple[str, ...] = ()  #: joint faces the section does not have (replaced by the next listed)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready content.
@@ -155,7 +171,7 @@ class PieceCheck:
                 "section_angle_deg": _num(self.section_angle_deg), "volume_fraction": _num(self.volume_fraction),
                 "elements": self.elements, "nodes": self.nodes, "element_size_mm": self.element_size_mm,
                 "corners": self.corners, "joint": self.joint, "reactions_N": dict(self.reactions_N),
-                "figure": self.figure}
+                "bearings": dict(self.bearings), "not_drawn": list(self.not_drawn), "figure": self.figure}
 
 
 @dataclass(frozen=True)
@@ -221,7 +237,22 @@ def _num(v: float) -> float | None:
     return None if v is None or (isinstance(v, float) and math.isnan(v)) else float(v)
 
 
-def _check_case(pm: PieceModel, spec: PieceSpec, cs: CaseSolution, criterion: str) -> dict[str, CaseCheck]:
+def _sizing_stresses(design) -> dict[str, dict[str, float]]:
+    """The spring sizing's stress per wall and case (yield over its safety factor per case), MPa."""
+    try:
+        loads = design.piece_loads()
+    except AttributeError:  # a design without the buildability records
+        return {}
+    out = {}
+    for wall, pl in loads.items():
+        mat = get_material(design.fixed.rod_material if wall == "piston_floor" else design.fixed.housing_material)
+        out[wall] = {c: (mat.yield_MPa / sf if sf and math.isfinite(sf) and sf > 0 else math.nan)
+                     for c, sf in pl.safety_factor_per_case.items()}
+    return out
+
+
+def _check_case(pm: PieceModel, spec: PieceSpec, cs: CaseSolution, criterion: str,
+                sizing: dict[str, dict[str, float]]) -> dict[str, CaseCheck]:
     """Each wall of a piece under one solved case."""
     out = {}
     mat = pm.material
@@ -236,7 +267,8 @@ def _check_case(pm: PieceModel, spec: PieceSpec, cs: CaseSolution, criterion: st
         peak = pk.tresca_MPa if criterion == "tresca" else pk.von_mises_MPa
         safety = mat.yield_MPa / peak if peak > 0 else math.inf
         nsafe = (mat.yield_MPa / key(nom) if key(nom) > 0 else math.inf) if nom is not None else math.nan
-        out[reg.wall] = CaseCheck(cs.case.name, cs.case.required_safety, pk, nom, safety, nsafe)
+        out[reg.wall] = CaseCheck(cs.case.name, cs.case.required_safety, pk, nom, safety, nsafe,
+                                  sizing.get(reg.wall, {}).get(cs.case.name, math.nan))
     return out
 
 
@@ -279,16 +311,21 @@ def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, 
     cases = tuple(cases) if cases is not None else default_load_cases(model.design)
     specs = piece_specs(model, corner_radius_mm)
     outlines = {s.part: outline_polygon(s.section.face) for s in specs if s.part != "piston"}
+    sizing = _sizing_stresses(model.design)
     walls: dict[str, dict[str, CaseCheck]] = {}
     wall_piece: dict[str, PieceSpec] = {}
-    pieces = []
-    for i, spec in enumerate(specs):
+    pieces: dict[str, PieceCheck] = {}
+    reactions: dict[str, dict[str, float]] = {}
+    # the end pieces first: the outer tube carries their joints' loads
+    order = sorted(specs, key=lambda sp: sp.part not in ("housing_top_cap", "housing_base"))
+    for i, spec in enumerate(order):
         if progress is not None:
             progress(spec.part, i, len(specs))
         pm = build_piece(spec, model, outlines, mesh)
-        solved = [pm.solve(c) for c in cases]
+        solved = [pm.solve(c, _applied(pm, spec, c, reactions)) for c in cases]
+        reactions[spec.part] = {cs.case.name: cs.reaction_N for cs in solved}
         for cs in solved:
-            for wall, cc in _check_case(pm, spec, cs, criterion).items():
+            for wall, cc in _check_case(pm, spec, cs, criterion, sizing).items():
                 walls.setdefault(wall, {})[cs.case.name] = cc
                 wall_piece[wall] = spec
         fig = None
@@ -297,19 +334,38 @@ def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, 
 
             gov = _governing_solution(spec, solved, walls, criterion)
             fig = str(piece_figure(pm, spec, gov, criterion, Path(out_dir) / f"fe_{spec.part}.png"))
-        pieces.append(PieceCheck(spec.part, spec.title, get_material(spec.material_key).name, spec.section.angle_deg,
-                                 spec.section.volume_fraction, pm.mesh.t.shape[1], pm.mesh.doflocs.shape[1],
-                                 element_size_mm(pm.mesh), len(spec.section.corners), spec.joint,
-                                 {cs.case.name: cs.reaction_N for cs in solved}, fig))
+        pieces[spec.part] = PieceCheck(
+            spec.part, spec.title, get_material(spec.material_key).name, spec.section.angle_deg,
+            spec.section.volume_fraction, pm.mesh.t.shape[1], pm.mesh.doflocs.shape[1], element_size_mm(pm.mesh),
+            len(spec.section.corners), spec.joint, reactions[spec.part], fig,
+            {cs.case.name: ("none (no net axial load)" if cs.bearing is None else cs.bearing.what) for cs in solved},
+            tuple(b.what for b in pm.missing_bearings))
+    pieces = {s.part: pieces[s.part] for s in specs}  # in the specs' order
     checks = []
     for wall, by_case in walls.items():
         spec = wall_piece[wall]
         mat = get_material(spec.material_key)
         checks.append(WallCheck(wall, spec.part, mat.name, mat.yield_MPa, criterion,
                                 tuple(by_case[c.name] for c in cases if c.name in by_case)))
-    notes = _notes(pieces, corner_radius_mm)
-    return StructureResult(tuple(checks), tuple(pieces), cases, mesh, corner_radius_mm, criterion,
+    notes = _notes(list(pieces.values()), corner_radius_mm)
+    return StructureResult(tuple(checks), tuple(pieces.values()), cases, mesh, corner_radius_mm, criterion,
                            time.perf_counter() - t0, notes)
+
+
+def _applied(pm: PieceModel, spec: PieceSpec, case: LoadCase, reactions: dict) -> tuple:
+    """The forces other pieces put on this one in a case: the top cap's joint load (its reaction plus the
+    tendon's pull) on the tube's thread or groove, or a clamp force, N."""
+    out = []
+    for faces, source in spec.applied:
+        face = pm.drawn(faces)
+        if face is None:
+            continue
+        if source == "top_cap":
+            force = abs(reactions.get("housing_top_cap", {}).get(case.name, 0.0)) + max(case.external_force_N, 0.0)
+        else:
+            force = float(source)
+        out.append((face, force))
+    return tuple(out)
 
 
 def _governing_solution(spec: PieceSpec, solved: list[CaseSolution], walls, criterion: str) -> CaseSolution:
@@ -326,8 +382,13 @@ def _governing_solution(spec: PieceSpec, solved: list[CaseSolution], walls, crit
 def _notes(pieces: list[PieceCheck], corner_radius_mm: float) -> tuple[str, ...]:
     out = [f"internal corners drawn sharp are modelled with R{corner_radius_mm:g} (a turning tool's least nose "
            "radius): the drawing should state it",
-           "joints: none drawn yet; tie rods assumed (their nuts' load smeared over the rim annulus); pressure "
-           "enters the unsealed cylindrical fits of the joints (the higher of the spaces they separate)"]
+           "pressure enters the cylindrical fits of the joints up to their seal (the higher of the spaces they "
+           "separate); the tendon's pull on the top cap's eye is carried by its joint (in the tube's end load), "
+           "not applied to the cap (no eye is drawn)"]
+    for p in pieces:
+        if p.not_drawn:
+            out.append(f"{p.piece}: joint face(s) not in the drawn section, the next listed used instead: "
+                       + "; ".join(p.not_drawn))
     for p in pieces:
         if not math.isnan(p.volume_fraction) and p.volume_fraction < 0.995:
             out.append(f"{p.piece}: its non-axisymmetric holes (valve bores, ports) take "

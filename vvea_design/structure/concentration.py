@@ -38,10 +38,12 @@ from .meshing import MeshSpec, mesh_section
 from .model import boundary_facets, nearest_vertex
 from .section import section_from_outline, with_corner_radii
 
-__all__ = ["KINDS", "FORMAT", "KtPoint", "KtFit", "kt_point", "fit_kt", "write_factors", "evaluate_kt"]
+__all__ = ["KINDS", "FORMAT", "FORMAT_VERSION", "KtPoint", "KtFit", "kt_point", "fit_kt", "write_factors", "evaluate_kt"]
 
-#: Identifier of the data file's format (readers check it).
-FORMAT = "vvea-stress-concentration/1"
+#: Identifier of the data file's format and its version (the spring side's reader,
+#: :mod:`vvea_design.spring.concentration`, checks both).
+FORMAT = "vvea-stress-concentration"
+FORMAT_VERSION = 1
 
 #: Feature kinds: what they are, their variables ``x1``, ``x2`` and the nominal stress their factor is over.
 KINDS: dict[str, dict[str, str]] = {
@@ -351,10 +353,13 @@ def fit_kt(points: list[KtPoint], criterion: str) -> KtFit:
 
 
 def write_factors(path: str | Path, points: dict[str, list[KtPoint]], fits: dict[str, dict[str, KtFit]],
-                  provenance: dict) -> Path:
-    """Write the data file the spring sizing reads (format :data:`FORMAT`).
+                  provenance: dict, piece_factors: dict[str, dict[str, float]] | None = None,
+                  pieces_source: str = "") -> Path:
+    """Write the data file the spring sizing reads (format :data:`FORMAT`, version :data:`FORMAT_VERSION`).
 
-    The file holds, per kind: what it is, its variables, the nominal stress the factor multiplies, the model
+    ``factors`` (what :mod:`vvea_design.spring.concentration` reads): per pressure-bearing piece, per feature,
+    the FE peak over the sizing's closed-form stress (>= 1; the sizing takes each piece's largest). ``kinds``:
+    per feature kind, what it is, its variables, the nominal stress the factor multiplies, the model
     ``ln Kt = c0 + c1 ln x1 + c2 ln x2 + c3 ln x1 ln x2`` with the coefficients per criterion (``tresca``,
     ``von_mises``), the fitted ranges (evaluate with the variables clamped into them), the fit's largest
     error, and the FE points.
@@ -369,16 +374,29 @@ def write_factors(path: str | Path, points: dict[str, list[KtPoint]], fits: dict
         Per kind, per criterion.
     provenance : dict
         How the points were made (mesh, corner radii, command).
+    piece_factors : dict of str to dict of str to float, optional
+        Piece -> feature -> factor (dimensionless, clipped to >= 1); None: neutral 1.0 for every piece.
+    pieces_source : str
+        How the piece factors were found (the units checked).
 
     Returns
     -------
     Path
         ``path``.
     """
-    out = {"format": FORMAT,
-           "description": ("Stress-concentration factors of the unit's features, fitted from axisymmetric FE "
-                           "(vvea_design.structure.concentration). peak = Kt x nominal, "
-                           "Kt = exp(c0 + c1 ln x1 + c2 ln x2 + c3 ln x1 ln x2) "
+    neutral = {"base": {"plate": 1.0}, "bulkhead": {"plate": 1.0}, "collar": {"root": 1.0},
+               "inner_tube": {"wall": 1.0}, "outer_tube": {"wall": 1.0}, "piston_floor": {"root": 1.0},
+               "top_cap": {"plate": 1.0}}
+    factors = {k: dict(v) for k, v in neutral.items()}
+    for piece, feats in (piece_factors or {}).items():
+        factors[piece] = {f: round(max(1.0, float(v)), 4) for f, v in feats.items()}
+    out = {"format": FORMAT, "format_version": FORMAT_VERSION,
+           "source": pieces_source or "neutral piece factors (1.0); feature kinds fitted from FE",
+           "factors": factors,
+           "description": ("Stress-concentration factors. factors: per piece and feature, the FE peak (Tresca) over "
+                           "the spring sizing's closed-form stress of the same load case (>= 1). kinds: per feature "
+                           "kind, fitted from axisymmetric FE (vvea_design.structure.concentration): peak = Kt x "
+                           "nominal, Kt = exp(c0 + c1 ln x1 + c2 ln x2 + c3 ln x1 ln x2) "
                            "with x1, x2 clamped into their fitted ranges; to stay on the safe side of the fit, multiply by "
                            "(1 + max_relative_error). The nominal stress of each "
                            "kind is stated with it."),

@@ -157,10 +157,12 @@ class PieceModel:
         self.bearings, self.surroundings = tuple(bearings), surroundings
         self.facets, self.mid, self.normal, self.length = boundary_facets(mesh)
         ends = (mesh.p[:, mesh.facets[0, self.facets]], mesh.p[:, mesh.facets[1, self.facets]])
-        self.bearing_masks = [b.select(self.mid, self.normal, ends) for b in self.bearings]
-        for b, m in zip(self.bearings, self.bearing_masks):
-            if not m.any():
-                raise ValueError(f"{name}: no boundary face where the joint bears ({b.what}, r {b.r_mm}, z {b.z_mm})")
+        masks = [b.select(self.mid, self.normal, ends) for b in self.bearings]
+        #: the joint faces the drawn section does not have (e.g. a thread the CAD does not draw yet): not used
+        self.missing_bearings = tuple(b for b, m in zip(self.bearings, masks) if not m.any())
+        self.bearings = tuple(b for b, m in zip(self.bearings, masks) if m.any())
+        self.bearing_masks = [m for m in masks if m.any()]
+        self._ends = ends
         self.problem = AxiProblem(mesh, material.youngs_modulus_MPa, material.poisson, self._pin_node())
         self._probe_eps = min(0.02, 0.1 * float(np.median(self.length)))
 
@@ -196,13 +198,41 @@ class PieceModel:
         media[radial] = sur.joint_gap(p[1][radial])
         return media
 
-    def solve(self, case: LoadCase) -> CaseSolution:
+    def drawn(self, faces) -> Bearing | None:
+        """The first of some joint faces the section has (None: none of them).
+
+        Parameters
+        ----------
+        faces : sequence of Bearing
+            Joint faces in order of preference.
+
+        Returns
+        -------
+        Bearing or None
+            The first that selects a boundary facet.
+        """
+        return next((b for b in faces if b.select(self.mid, self.normal, self._ends).any()), None)
+
+    def _traction(self, b: Bearing, force_N: float) -> np.ndarray:
+        """Load vector of an axial force spread uniformly over a bearing face (cut off at its box), N."""
+        m = b.select(self.mid, self.normal, self._ends)
+        if not m.any():
+            raise ValueError(f"{self.name}: no boundary face for {b.what} (r {b.r_mm}, z {b.z_mm})")
+        box = (*b.r_mm, *b.z_mm)
+        prob = self.problem
+        unit = prob.axial_force_N(prob.load_vector(self.facets[m], np.zeros(m.sum()), np.ones(m.sum()), box))
+        return prob.load_vector(self.facets[m], np.zeros(m.sum()), np.full(m.sum(), force_N / unit), box)
+
+    def solve(self, case: LoadCase, applied: tuple = ()) -> CaseSolution:
         """Solve the piece under a load case: the pressures on its surface, the reaction at its joint.
 
         Parameters
         ----------
         case : LoadCase
-            Pressures (absolute, MPa) and the piston's displacement (mm).
+            Pressures (MPa) and the piston's displacement (mm).
+        applied : tuple of (Bearing, float)
+            Axial forces other pieces put on this one through a joint face (a tube's thread carrying the end
+            piece's load), N (> 0 up); the reaction balances them with the pressures.
 
         Returns
         -------
@@ -212,7 +242,7 @@ class PieceModel:
         Raises
         ------
         ValueError
-            If the pressures push the piece along the axis and none of its joint faces can push back.
+            If the loads push the piece along the axis and none of its joint faces can push back.
         """
         sur = self.surroundings(case.x_mm)
         media = self.media(case.x_mm)
@@ -222,21 +252,18 @@ class PieceModel:
                 p = np.where(m, 0.0, p)
         prob = self.problem
         f = prob.load_vector(self.facets, p, np.zeros_like(p))
+        for b, force in applied:
+            if force:
+                f = f + self._traction(b, force)
         F = prob.axial_force_N(f)
-        bearing, tz = None, np.zeros_like(p)
+        bearing = None
         scale = max(1.0, float(np.abs(f).sum()))
         if abs(F) > 1e-9 * scale:
             need = -1 if F > 0 else 1  # the joint must push the opposite way
-            for b, m in zip(self.bearings, self.bearing_masks):
-                if b.pushes in (0, need):
-                    bearing = b
-                    box = (*b.r_mm, *b.z_mm)
-                    unit = prob.axial_force_N(prob.load_vector(self.facets[m], np.zeros(m.sum()), np.ones(m.sum()), box))
-                    tz = np.where(m, -F / unit, 0.0)
-                    break
+            bearing = next((b for b in self.bearings if b.pushes in (0, need)), None)
             if bearing is None:
-                raise ValueError(f"{self.name} ({case.name}): the pressures push it {'up' if F > 0 else 'down'} "
+                raise ValueError(f"{self.name} ({case.name}): the loads push it {'up' if F > 0 else 'down'} "
                                  f"with {abs(F):.0f} N and no joint face can take that")
-            f = f + prob.load_vector(self.facets[tz != 0], np.zeros(int((tz != 0).sum())), tz[tz != 0], box)
+            f = f + self._traction(bearing, -F)
         sol = prob.solve(f)
         return CaseSolution(case, sol, media, p, bearing, -F if bearing is not None else 0.0, sol.pin_reaction_N)

@@ -6,14 +6,24 @@ Pieces (CAD part -> the design's walls in it): ``housing_outer_tube`` -> ``outer
 ``housing_top_cap`` -> ``top_cap``; ``housing_base`` -> ``base``; ``piston`` -> ``piston_floor`` (a cupped
 piston) or ``piston``, with a stub of its rod.
 
-How the axial end load reaches the joint. The drawn housing has no joint yet (the spring side chooses
-threads, tie rods or retaining rings); until it does, the joints are taken as tie rods outside the tubes'
-bores, their nuts' load smeared over the rim annulus over the outer tube's wall: the top cap is pushed up by
-the pressure under it and held down at that annulus of its top face, the base likewise from below, each
-then a plate supported at the outer bore, as the sizing assumes; the tubes carry no axial pressure load
-(tie rods: open ends). The inner tube's net axial load (its bulkhead's or collar's pressure difference)
-goes to the end that can push back (the base under it, the cap over it). The piston's goes into its rod:
-the rod stub is cut 1.5 rod diameters below the piston and its section takes the reaction.
+How the axial end load reaches the joint (the design's joint, :meth:`~vvea_design.spring.design.Design.joints`):
+
+* ``thread`` (ISO 261 fine thread): the end piece's load goes through its spigot's thread into the outer
+  tube's, smeared over the engaged length next to the tube's end (an axial traction on the cylindrical faces
+  of the thread zone); the outer tube carries the top cap's load (plus the tendon's pull on the cap's eye) from
+  its top thread to its bottom one: a closed-ended tube.
+* ``ring_top`` (DIN 472): the top cap bears on the ring over the ring's seat on its top face at the bore; the
+  tube takes it at the ring's groove.
+* ``tie_rods`` (ISO 898-1 rods, ISO 4032 nuts): each nut's load is smeared over an annulus of the rod circle
+  (a nut's width across flats) on the cap's top face and the base's underside; the tubes carry no pressure end
+  load but the rods' clamp force (the largest preload, VDI 2230-1).
+
+A joint face the drawn section does not have (the CAD does not draw the thread yet) is replaced by the next
+one listed: for the end pieces their rim over the tube wall (as if tie rods held them: a plate supported at
+the outer bore, the sizing's model), for the tube its end faces. The result names the face each case used.
+The inner tube only bears (seats) on the base and under the cap: its net axial load (its bulkhead's or
+collar's pressure difference) goes to the end that can push back. The piston's goes into its rod: the rod
+stub is cut 1.5 rod diameters below the piston and its section takes the reaction.
 
 Lengths mm, pressures MPa.
 """
@@ -55,6 +65,10 @@ class PieceSpec:
     bearings: tuple[Bearing, ...]
     regions: tuple[Region, ...]
     joint: str  #: how the axial load reaches the joint (for the report)
+    #: forces other pieces put on it through a joint face: (faces, source), the first of the faces the section has,
+    #: source ``"top_cap"`` (the top cap's joint reaction plus the tendon's pull) or a force in N (a clamp force),
+    #: > 0 up
+    applied: tuple = ()
 
 
 def _chord(poly: np.ndarray, fixed: float, lo: float, hi: float, vertical: bool, hint: float) -> tuple[float, float]:
@@ -93,6 +107,47 @@ def _plate_line(poly, what: str, r_c: float, z0: float, z1: float, a_mm: float, 
                       f"simply supported plate a = {a_mm:.2f} mm, t = {t_mm:.2f} mm: radial stress at r = {r_c:.2f} mm")
 
 
+def _joints(design) -> dict:
+    """The design's joint record holding each end piece (``top_cap``, ``base``; None: no joint records)."""
+    out: dict = {}
+    try:
+        records = design.joints()
+    except AttributeError:  # a design without joints (before the buildability rules)
+        return out
+    for j in records:
+        if j.kind in ("thread", "ring_top"):
+            out[j.joint] = j
+        elif j.kind == "tie_rods":
+            out["top_cap"] = out["base"] = j
+    return out
+
+
+def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
+    """Where an end piece (``top_cap`` or ``base``) takes its reaction, in order of preference."""
+    rb, R = lay.outer_bore_radius_mm, lay.outer_radius_mm
+    top = end == "top_cap"
+    z_face = lay.z_top if top else 0.0
+    push = -1 if top else +1
+    out = []
+    if joint is not None and joint.kind == "thread":
+        zone = joint.runout_mm + joint.engagement_length_mm
+        zr = (lay.z_cap - zone, lay.z_cap) if top else (lay.z_base_top, lay.z_base_top + zone)
+        out.append(Bearing(f"{joint.designation} thread on its spigot, smeared over {joint.engagement_length_mm:.1f} "
+                           "mm of engagement", (joint.minor_diameter_mm / 2 - 0.5, joint.major_diameter_mm / 2 + 0.5),
+                           zr, push, faces="radial"))
+    elif joint is not None and joint.kind == "ring_top" and top:
+        seat = joint.groove_diameter_mm - joint.bore_mm  # the ring's seat: about twice the groove's depth
+        out.append(Bearing(f"{joint.designation} retaining ring on its top face at the bore",
+                           (joint.bore_mm / 2 - seat, joint.bore_mm / 2), (z_face, z_face), push))
+    elif joint is not None and joint.kind == "tie_rods":
+        rc, s = joint.rod_circle_radius_mm, joint.nut_width_across_flats_mm
+        out.append(Bearing(f"{joint.designation}: the nuts on the rod circle r = {rc:.1f} mm (smeared ring)",
+                           (rc - s / 2, min(rc + s / 2, R)), (z_face, z_face), push))
+    out.append(Bearing(("its top face" if top else "its underside") + " over the tube wall (a plate held at the outer "
+                       "bore: the joint's own face is not drawn)", (rb, R), (z_face, z_face), push))
+    return tuple(out)
+
+
 def _section(model: CadModel, part: str, corner_radius_mm: float, z_range=None) -> MeridianSection:
     return with_corner_radii(section_of_solid(model.solids[part], part, z_range_mm=z_range), corner_radius_mm)
 
@@ -103,11 +158,31 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
     line = StressLine("mid-length, through the wall", (rb, zm), (R, zm),
                       lambda p, x: float(lame(rb, rb, R, p["chamber_2"])["s_tt"]),
                       "Lamé, chamber-2 pressure in the bore: hoop stress at the bore")
-    bearings = (Bearing("its bottom end on the base", (rb, R), (z0, z0), +1),
-                Bearing("its top end under the top cap", (rb, R), (zc, zc), -1))
-    return PieceSpec("housing_outer_tube", "outer tube", model.design.fixed.housing_material, sec, bearings,
-                     (Region("outer_tube", ((0, R + 1, -1e9, 1e9),), (line,)),),
-                     "tie rods (assumed): open ends, no axial pressure load")
+    joints = _joints(model.design)
+    top, base = joints.get("top_cap"), joints.get("base")
+    top_end = Bearing("its top end", (rb, R), (zc, zc), 0)
+    bottom_end = Bearing("its bottom end on the base", (rb, R), (z0, z0), 0)
+    bearings, applied, how = [], (), "its ends bear on base and top cap"
+    if top is not None and top.kind in ("thread", "ring_top"):
+        if top.kind == "thread":
+            zone = top.runout_mm + top.engagement_length_mm
+            band = (top.minor_diameter_mm / 2 - 0.5, top.major_diameter_mm / 2 + 0.5)
+            applied = (((Bearing(f"the top cap's {top.designation} thread", band, (zc - zone, zc), 0, faces="radial"),
+                         top_end), "top_cap"),)
+        else:
+            applied = (((Bearing(f"the {top.designation} ring's groove", (rb, 0.5 * top.groove_diameter_mm + 0.1),
+                                 (zc, zc + 10.0), 0), top_end), "top_cap"),)
+        how = "closed-ended: it carries the top cap's load (and the tendon's pull) to the base's joint"
+    if base is not None and base.kind == "thread":
+        zone = base.runout_mm + base.engagement_length_mm
+        band = (base.minor_diameter_mm / 2 - 0.5, base.major_diameter_mm / 2 + 0.5)
+        bearings.append(Bearing(f"the base's {base.designation} thread", band, (z0, z0 + zone), 0, faces="radial"))
+    bearings.append(bottom_end)
+    if top is not None and top.kind == "tie_rods":
+        applied = (((top_end,), -float(top.preload_max_N)),)
+        how = f"clamped by the tie rods' preload ({top.preload_max_N:.0f} N, VDI 2230-1 F_Mzul), no pressure end load"
+    return PieceSpec("housing_outer_tube", "outer tube", model.design.fixed.housing_material, sec, tuple(bearings),
+                     (Region("outer_tube", ((0, R + 1, -1e9, 1e9),), (line,)),), how, applied)
 
 
 def _inner_tube(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceSpec:
@@ -163,10 +238,11 @@ def _top_cap(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceS
     r_c = _full_chord_r(poly, 0.3, rb, zc, zt)
     line = _plate_line(poly, "centre, through the cap", r_c, zc, zt, rb, d.top_cap_mm, nu,
                        lambda p: max(p["chamber_1"], p["chamber_2"]))
-    bearings = (Bearing("tie-rod nuts on its top face over the tube wall (assumed; smeared ring)", (rb, R), (zt, zt), -1),)
+    joint = _joints(d).get("top_cap")
+    bearings = _end_bearings(lay, joint, "top_cap")
     return PieceSpec("housing_top_cap", "top cap", d.fixed.housing_material, sec, bearings,
                      (Region("top_cap", ((0, R + 1, -1e9, 1e9),), (line,)),),
-                     "tie rods (assumed): the nuts hold its rim; a plate supported at the outer bore")
+                     f"{'no joint record' if joint is None else joint.designation}: {bearings[0].what}")
 
 
 def _base(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceSpec:
@@ -176,10 +252,11 @@ def _base(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceSpec
     r_c = _full_chord_r(poly, lay.rod_radius_mm + lay.rod_seal.depth_mm + 0.3, rb, 0.0, z0)
     line = _plate_line(poly, "near the rod bore, through the base", r_c, 0.0, z0, rb, d.base_mm, nu,
                        lambda p: max(p["chamber_2"], p["fluid"]))
-    bearings = (Bearing("tie-rod nuts under its rim over the tube wall (assumed; smeared ring)", (rb, R), (0.0, 0.0), +1),)
+    joint = _joints(d).get("base")
+    bearings = _end_bearings(lay, joint, "base")
     return PieceSpec("housing_base", "base", d.fixed.housing_material, sec, bearings,
                      (Region("base", ((0, R + 1, -1e9, 1e9),), (line,)),),
-                     "tie rods (assumed): the nuts hold its rim; a plate supported at the outer bore")
+                     f"{'no joint record' if joint is None else joint.designation}: {bearings[0].what}")
 
 
 def _piston(model: CadModel, lay: Layout, corner_radius_mm: float) -> PieceSpec:
