@@ -186,6 +186,7 @@ class StructureResult:
     criterion: str
     seconds: float
     notes: tuple[str, ...] = field(default=())
+    cpu_seconds: float = math.nan  #: CPU time of the check (this process), s
 
     @property
     def passes(self) -> bool:
@@ -230,7 +231,8 @@ class StructureResult:
                 "mesh": {"elements_per_wall": self.mesh.elements_per_wall,
                          "elements_per_radius": self.mesh.elements_per_radius, "growth": self.mesh.growth,
                          "max_size_mm": self.mesh.max_size_mm},
-                "corner_radius_mm": self.corner_radius_mm, "seconds": self.seconds, "notes": list(self.notes)}
+                "corner_radius_mm": self.corner_radius_mm, "seconds": self.seconds,
+                "cpu_seconds": _num(self.cpu_seconds), "notes": list(self.notes)}
 
 
 def _num(v: float) -> float | None:
@@ -307,7 +309,7 @@ def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, 
     """
     if criterion not in CRITERIA:
         raise ValueError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     cases = tuple(cases) if cases is not None else default_load_cases(model.design)
     specs = piece_specs(model, corner_radius_mm)
     outlines = {s.part: outline_polygon(s.section.face) for s in specs if s.part != "piston"}
@@ -349,7 +351,7 @@ def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, 
                                 tuple(by_case[c.name] for c in cases if c.name in by_case)))
     notes = _notes(list(pieces.values()), corner_radius_mm)
     return StructureResult(tuple(checks), tuple(pieces.values()), cases, mesh, corner_radius_mm, criterion,
-                           time.perf_counter() - t0, notes)
+                           time.perf_counter() - t0, notes, time.process_time() - c0)
 
 
 def _applied(pm: PieceModel, spec: PieceSpec, case: LoadCase, reactions: dict) -> tuple:
