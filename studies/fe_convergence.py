@@ -4,11 +4,13 @@ Part 1, the verification cases (Lamé's thick cylinder, the simply supported and
 floor's annular plate, Goodier's spherical cavity for a peak): the FE's error against the exact value as the
 mesh is refined, and its observed order of convergence.
 
-Part 2, the default design (``cad/design.json``) under its load cases: every wall's peak stress (at the
-grooves, shoulders and edges) and nominal stress (membrane plus bending on its classification line) of the
-governing case, as the mesh is refined by a factor ``f`` (``elements_per_wall = 3 f``, ``elements_per_radius
-= 3 f``); the change against the finest mesh, the observed order from the three finest, the extrapolated
-value (Richardson) and the error of the main job's mesh (``f = 1``) against it.
+Part 2, the defaults' optimum (``studies/results/fe_units/defaults/design.json``, written by
+``studies/fe_units.py``; ``cad/design.json`` without it, or ``--design``) under its load cases: every wall's
+peak stress (at the grooves, shoulders and edges) and nominal stress (membrane plus bending on its
+classification line) of the case governing on the finest mesh, as the mesh is refined by a factor ``f``
+(``elements_per_wall = 3 f``, ``elements_per_radius = 3 f``); the change against the finest mesh, the observed
+order from the three finest, the extrapolated value (Richardson) and the error of the main job's mesh
+(``f = 1``) against both.
 
     python studies/fe_convergence.py            # -> studies/results/fe_convergence/
     python studies/fe_convergence.py --quick    # three levels, part 1 only (a smoke run)
@@ -35,6 +37,8 @@ from vvea_design.structure.meshing import MeshSpec  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "studies" / "results" / "fe_convergence"
 FACTORS = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)
+#: The design of part 2: the defaults' buildable optimum (written by studies/fe_units.py; else cad/design.json).
+DESIGN = ROOT / "studies" / "results" / "fe_units" / "defaults" / "design.json"
 QUICK_FACTORS = (0.5, 1.0, 2.0)
 
 
@@ -106,48 +110,51 @@ def _error_order(errs, factors) -> float:
     return float(-np.polyfit(np.log(f), np.log(e), 1)[0])
 
 
-def part2(factors) -> dict:
-    """The default design's walls: governing peak and nominal against refinement."""
+def part2(factors, design_path: Path) -> dict:
+    """A design's walls: the peak and nominal of the case governing on the finest mesh, against refinement."""
     from vvea_design.cad import build_cad
     from vvea_design.spring.design_file import load_design
     from vvea_design.structure.check import check_structure
 
-    design = load_design(ROOT / "cad" / "design.json")
+    design = load_design(design_path)
     model = build_cad(design)
     levels = []
-    with progress_bar("FE convergence: the default design", len(factors)) as advance:
+    with progress_bar("FE convergence: the design's pieces", len(factors)) as advance:
         for f in factors:
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             res = check_structure(model, mesh=spec_of(f))
-            levels.append({"factor": f, "seconds": time.perf_counter() - t,
+            levels.append({"factor": f, "seconds": time.perf_counter() - t, "cpu_seconds": time.process_time() - c,
                            "elements": {p.piece: p.elements for p in res.pieces},
                            "walls": {w.wall: _wall_numbers(w) for w in res.walls}})
             advance()
     walls = {}
-    for wall in levels[-1]["walls"]:
-        entry = {}
+    i1 = list(factors).index(1.0)
+    for wall, finest in levels[-1]["walls"].items():
+        case = finest["case"]  # one case through every level (the governing one may switch on coarse meshes)
+        entry = {"case": case, "feature": finest["by_case"][case]["feature"]}
         for q in ("peak_MPa", "nominal_MPa"):
-            vals = [lv["walls"][wall][q] for lv in levels]
+            vals = [lv["walls"][wall]["by_case"][case][q] for lv in levels]
             if any(v is None for v in vals):
                 continue
             p = observed_order(vals, factors)
             ext = richardson(vals, factors, p)
-            i1 = list(factors).index(1.0)
             entry[q] = {"values": vals, "order": p, "extrapolated": ext,
+                        "main_job_vs_finest": vals[i1] / vals[-1] - 1,
                         "main_job_error": abs(vals[i1] - ext) / abs(ext),
                         "finest_change": abs(vals[-1] - vals[-2]) / abs(vals[-1])}
-        entry["case"] = levels[-1]["walls"][wall]["case"]
-        entry["feature"] = levels[-1]["walls"][wall]["feature"]
         walls[wall] = entry
-    return {"design": "cad/design.json", "levels": levels, "walls": walls}
+    return {"design": str(design_path.relative_to(ROOT)) if design_path.is_relative_to(ROOT) else str(design_path),
+            "levels": levels, "walls": walls}
 
 
 def _wall_numbers(w) -> dict:
-    g = w.governing
-    nom = None if g.nominal is None else (g.nominal.membrane_bending_tresca_MPa if w.criterion == "tresca"
-                                          else g.nominal.membrane_bending_von_mises_MPa)
-    return {"case": g.case, "feature": g.peak.feature,
-            "peak_MPa": g.peak.tresca_MPa if w.criterion == "tresca" else g.peak.von_mises_MPa, "nominal_MPa": nom}
+    def nums(c):
+        nom = None if c.nominal is None else (c.nominal.membrane_bending_tresca_MPa if w.criterion == "tresca"
+                                              else c.nominal.membrane_bending_von_mises_MPa)
+        return {"feature": c.peak.feature, "nominal_MPa": nom,
+                "peak_MPa": c.peak.tresca_MPa if w.criterion == "tresca" else c.peak.von_mises_MPa}
+
+    return {"case": w.governing.case, **nums(w.governing), "by_case": {c.case: nums(c) for c in w.cases}}
 
 
 def figure(p1: dict, p2: dict | None, path: Path) -> Path:
@@ -168,20 +175,24 @@ def figure(p1: dict, p2: dict | None, path: Path) -> Path:
     ax.legend(fontsize=8)
     if p2:
         ax = np.atleast_1d(axes)[1]
+        colours: dict = {}
         for wall, d in p2["walls"].items():
             for q, ls in (("peak_MPa", "-"), ("nominal_MPa", "--")):
                 if q not in d:
                     continue
                 v = np.asarray(d[q]["values"])
                 f = [lv["factor"] for lv in p2["levels"]]
-                ax.plot(f, 100 * (v / d[q]["extrapolated"] - 1), ls, marker="o", ms=4,
-                        label=f"{wall} {q.split('_')[0]} ({d['feature']})" if q == "peak_MPa" else f"{wall} nominal")
+                line = ax.plot(f, 100 * (v / v[-1] - 1), ls, marker="o" if q == "peak_MPa" else ".", ms=4,
+                               color=colours.get(wall), label=f"{wall}: peak at the {d['feature']} ({d['case']})"
+                               if q == "peak_MPa" else None)[0]
+                colours[wall] = line.get_color()
         ax.axvline(1.0, color="grey", ls=":", lw=1)
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xscale("log")
         ax.set_xlabel("mesh refinement factor f")
-        ax.set_ylabel("stress / extrapolated − 1 (%)")
-        ax.set_title("default design: governing peak (solid) and nominal (dashed)")
+        ax.set_ylabel("stress / finest mesh's − 1 (%)")
+        ax.set_title(f"{p2['design']}: each wall's governing case,\n"
+                     "peak (solid) and nominal membrane + bending (dashed)", fontsize=10)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, ncols=2)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -193,12 +204,14 @@ def main(argv=None) -> int:
     """Run both parts (part 1 only with ``--quick``), write the JSON and the figure."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--design", type=Path, default=DESIGN,
+                    help="the design whose pieces are refined (default: the defaults' optimum of studies/fe_units.py)")
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
     factors = QUICK_FACTORS if args.quick else FACTORS
     t0 = time.perf_counter()
     p1 = part1(factors)
-    p2 = None if args.quick else part2(factors)
+    p2 = None if args.quick else part2(factors, args.design if args.design.exists() else ROOT / "cad" / "design.json")
     out = args.out / ("quick" if args.quick else "")
     out.mkdir(parents=True, exist_ok=True)
     (out / "convergence.json").write_text(json.dumps({"factors": factors, "closed_form_cases": p1,
@@ -211,7 +224,8 @@ def main(argv=None) -> int:
     if p2:
         for wall, d in p2["walls"].items():
             pk = d.get("peak_MPa", {})
-            print(f"{wall:12s} peak order {pk.get('order', math.nan):.2f}, main-job error "
+            print(f"{wall:12s} peak order {pk.get('order', math.nan):.2f}, main job vs finest "
+                  f"{100 * pk.get('main_job_vs_finest', math.nan):+.2f} %, vs extrapolated "
                   f"{100 * pk.get('main_job_error', math.nan):.2f} %")
     print(f"-> {out}")
     return 0

@@ -9,7 +9,8 @@ piston) or ``piston``, with a stub of its rod.
 How the axial end load reaches the joint (the design's joint, :meth:`~vvea_design.spring.design.Design.joints`):
 
 * ``thread`` (ISO 261 fine thread): the end piece's load goes through its spigot's thread into the outer
-  tube's, smeared over the engaged length next to the tube's end (an axial traction on the cylindrical faces
+  tube's, smeared over the engaged length next to the tube's end, clear of the run-out at the spigot's
+  shoulder (DIN 76-1: no full thread there) (an axial traction on the cylindrical faces
   of the thread zone); the outer tube carries the top cap's load (plus the tendon's pull on the cap's eye) from
   its top thread to its bottom one: a closed-ended tube.
 * ``ring_top`` (DIN 472): the top cap bears on the ring over the ring's seat on its top face at the bore; the
@@ -131,7 +132,9 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     out = []
     if joint is not None and joint.kind == "thread":
         zone = joint.runout_mm + joint.engagement_length_mm
-        zr = (lay.z_cap - zone, lay.z_cap) if top else (lay.z_base_top, lay.z_base_top + zone)
+        # the engaged flanks, clear of the run-out at the spigot's shoulder (DIN 76-1: no full thread there)
+        ro = joint.runout_mm
+        zr = (lay.z_cap - zone, lay.z_cap - ro) if top else (lay.z_base_top + ro, lay.z_base_top + zone)
         out.append(Bearing(f"{joint.designation} thread on its spigot, smeared over {joint.engagement_length_mm:.1f} "
                            "mm of engagement", (joint.minor_diameter_mm / 2 - 0.5, joint.major_diameter_mm / 2 + 0.5),
                            zr, push, faces="radial"))
@@ -167,7 +170,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
         if top.kind == "thread":
             zone = top.runout_mm + top.engagement_length_mm
             band = (top.minor_diameter_mm / 2 - 0.5, top.major_diameter_mm / 2 + 0.5)
-            applied = (((Bearing(f"the top cap's {top.designation} thread", band, (zc - zone, zc), 0, faces="radial"),
+            applied = (((Bearing(f"the top cap's {top.designation} thread", band, (zc - zone, zc - top.runout_mm),
+                                 0, faces="radial"),
                          top_end), "top_cap"),)
         else:
             applied = (((Bearing(f"the {top.designation} ring's groove", (rb, 0.5 * top.groove_diameter_mm + 0.1),
@@ -176,7 +180,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
     if base is not None and base.kind == "thread":
         zone = base.runout_mm + base.engagement_length_mm
         band = (base.minor_diameter_mm / 2 - 0.5, base.major_diameter_mm / 2 + 0.5)
-        bearings.append(Bearing(f"the base's {base.designation} thread", band, (z0, z0 + zone), 0, faces="radial"))
+        bearings.append(Bearing(f"the base's {base.designation} thread", band, (z0 + base.runout_mm, z0 + zone), 0,
+                                faces="radial"))
     bearings.append(bottom_end)
     if top is not None and top.kind == "tie_rods":
         applied = (((top_end,), -float(top.preload_max_N)),)

@@ -82,9 +82,12 @@ def structure_section(result: "StructureResult | None") -> Section | None:
     if result is None:
         return None
     crit = _crit(result)
-    failing = [w.wall for w in result.walls if not w.passes]
+    failing = [w for w in result.walls if not w.passes]
     text = (f"every wall keeps its required factor on yield ({crit}, peak stress)" if not failing else
-            f"{', '.join(failing)} below the required factor on yield ({crit}, peak stress)")
+            "below the required factor on yield (" + crit + ", peak stress): " + "; ".join(
+                f"{w.wall} {w.governing.safety:.2f} against {w.governing.required_safety:.2f} "
+                f"({100 * (w.governing.safety / w.governing.required_safety - 1):+.0f} %, {w.governing.case}, "
+                f"at the {w.governing.peak.feature})" for w in failing))
     body = verdict(result.passes, text)
     body += paragraph(
         "Axisymmetric linear-elastic FE (scikit-fem, quadratic triangles meshed by gmsh) of each machined piece's "
@@ -103,5 +106,6 @@ def structure_section(result: "StructureResult | None") -> Section | None:
         if p.figure and Path(p.figure).exists():
             body += image(p.figure, f"{p.title}: {crit} stress under its governing case, the peak of each wall "
                                     "marked; right, the close-up at the highest peak with the mesh. MPa, mm.")
-    body += paragraph(f"FE time {result.seconds:.1f} s.", "note")
+    cpu = result.cpu_seconds
+    body += paragraph(f"FE time {result.seconds:.1f} s" + ("" if cpu != cpu else f" (CPU {cpu:.1f} s)") + ".", "note")
     return Section("Strength (FE)", body, anchor="strength")
