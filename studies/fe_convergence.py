@@ -14,6 +14,7 @@ order from the three finest, the extrapolated value (Richardson) and the error o
 
     python studies/fe_convergence.py            # -> studies/results/fe_convergence/
     python studies/fe_convergence.py --quick    # three levels, part 1 only (a smoke run)
+    python studies/fe_convergence.py --replot   # the figure again from convergence.json
 """
 
 from __future__ import annotations
@@ -194,7 +195,7 @@ def figure(p1: dict, p2: dict | None, path: Path) -> Path:
         ax.set_title(f"{p2['design']}: each wall's governing case,\n"
                      "peak (solid) and nominal membrane + bending (dashed)", fontsize=10)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7, ncols=2)
+        ax.legend(fontsize=7, ncols=2, loc="upper center", bbox_to_anchor=(0.5, -0.16))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, metadata={"Software": "vvea-design"})
     return path
@@ -207,7 +208,12 @@ def main(argv=None) -> int:
     ap.add_argument("--design", type=Path, default=DESIGN,
                     help="the design whose pieces are refined (default: the defaults' optimum of studies/fe_units.py)")
     ap.add_argument("--out", type=Path, default=OUT)
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from convergence.json (no FE)")
     args = ap.parse_args(argv)
+    if args.replot:
+        d = json.loads((args.out / "convergence.json").read_text())
+        print(figure(d["closed_form_cases"], d["default_design"], args.out / "convergence.png"))
+        return 0
     factors = QUICK_FACTORS if args.quick else FACTORS
     t0 = time.perf_counter()
     p1 = part1(factors)

@@ -8,6 +8,8 @@ the required one, and the margin (safety / required - 1: negative fails by that 
     python studies/fe_units.py            # -> studies/results/fe_units/{units.json, units.md, <unit>/fe_*.png}
     python studies/fe_units.py defaults   # one unit
     python studies/fe_units.py --reuse    # the FE again on the designs of a previous run
+    python studies/fe_units.py --radii defaults paper_tight   # the verdict if the sharp roots were drawn R0.5 / R1
+        # -> studies/results/fe_units/corner_radii.json
 """
 
 from __future__ import annotations
@@ -56,6 +58,25 @@ def check_unit(name: str, req: Requirements, out: Path, reuse: bool = False) -> 
             "fe_cpu_seconds": fe.cpu_seconds, "seconds": time.perf_counter() - t, "walls": rows}
 
 
+def corner_radii(names: list[str], out: Path, radii=(0.2, 0.5, 1.0)) -> dict:
+    """Each wall's safety factor (governing case, feature, place) with the corners the CAD draws sharp taken
+    at each radius (mm): what rounding the roots on the drawing would buy."""
+    from vvea_design.cad import build_cad
+    from vvea_design.spring.design_file import load_design
+
+    res = {}
+    for name in names:
+        model = build_cad(load_design(out / name / "design.json"))
+        for r in radii:
+            fe = check_structure(model, corner_radius_mm=r)
+            res[f"{name} R{r}"] = {w.wall: (round(w.governing.safety, 2), w.governing.case, w.governing.peak.feature,
+                                           round(w.governing.peak.r_mm, 1), round(w.governing.peak.z_mm, 1))
+                                   for w in fe.walls}
+            print(name, r, res[f"{name} R{r}"], flush=True)
+    (out / "corner_radii.json").write_text(json.dumps(res, indent=1) + "\n")
+    return res
+
+
 def table(results: list[dict]) -> str:
     """A Markdown table of every unit's walls."""
     lines = ["| unit | wall | governing case | FE peak (Tresca) MPa | feature at (r, z) mm | safety | required | "
@@ -75,7 +96,11 @@ def main(argv=None) -> int:
     ap.add_argument("names", nargs="*", help="units to check (default: all)")
     ap.add_argument("--out", type=Path, default=OUT)
     ap.add_argument("--reuse", action="store_true", help="check the designs of a previous run (no optimisation)")
+    ap.add_argument("--radii", action="store_true", help="the named units' verdict against the corner radius")
     args = ap.parse_args(argv)
+    if args.radii:
+        corner_radii(args.names or ["defaults", "paper_tight"], args.out)
+        return 0
     todo = {k: v for k, v in units().items() if not args.names or k in args.names}
     args.out.mkdir(parents=True, exist_ok=True)
     path = args.out / "units.json"
