@@ -77,8 +77,10 @@ class UnitDesign:
 
     @property
     def passes(self) -> bool:
-        """Every constraint met and the bladder check passed."""
-        return bool(self.optimisation.evaluation.feasible and self.bladder.passes)
+        """Every constraint met, the bladder check passed and every pressure-bearing piece keeps its required
+        factor in the FE (when the CAD was made)."""
+        return bool(self.optimisation.evaluation.feasible and self.bladder.passes
+                    and (self.structure is None or self.structure.passes))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (no arrays of the CAD meshes).
