@@ -175,8 +175,8 @@ def annular_plate(piston_radius_mm: float = 40.0, pocket_radius_mm: float = 36.0
                   thickness_mm: float = 2.0, pressure_MPa: float = 1.0,
                   spec: MeshSpec = MeshSpec()) -> tuple[list[Comparison], AxiSolution]:
     """The piston pocket's floor as the sizing models it: an annular plate clamped at the rod, free at the
-    pocket wall, the pressure on ``b .. a`` and the rim's share ``q (rp^2 - a^2) / (2 a)`` as a line load at
-    ``a``; the bending stress linearised through the thickness against ``6 M_r / t^2`` of thin-plate theory
+    pocket wall, the pressure between ``b`` and ``a`` and the rim's share ``q (rp^2 - a^2) / (2 a)`` as a line load
+    at ``a``; the bending stress linearised through the thickness against ``6 M_r / t^2`` of thin-plate theory
     (:func:`~.closed_form.annular_plate_moment`): at the rod (the sizing's ``K``; the clamp's three-dimensional
     stress state puts the FE a few per cent below it there) and one and two thicknesses away from it, and at
     mid-span (within the thin-plate error).
