@@ -12,6 +12,8 @@ cd "$(dirname "$0")/.."
 
 PYTHON="${PYTHON:-python3}"
 APT_PACKAGES=(libgl1 libegl1 libegl-mesa0 libgl1-mesa-dri libx11-6 libxrender1)
+# the gmsh wheel's libgmsh.so (the FE's meshes) links its GUI libraries even when run headless (readelf -d)
+APT_PACKAGES+=(libglu1-mesa libxcursor1 libxfixes3 libxext6 libxft2 libfontconfig1 libxinerama1 libgomp1 zlib1g)
 if [ "${1:-}" = "test" ]; then
   APT_PACKAGES+=(chromium fonts-dejavu-core)  # headless browser for the report.html test
 fi

@@ -3,7 +3,8 @@
 :func:`design_unit` runs the jobs of :mod:`vvea_design.jobs` in order, each into its part of the unit
 folder::
 
-    requirements -> optimise (design.json) -> spring curve (spring/) -> CAD set (cad/) -> bladder check
+    requirements -> optimise (design.json) -> spring curve (spring/) -> CAD set (cad/) -> FE of the
+    pressure-bearing pieces (structure/) -> bladder check
     with the requirements' silicone (bladder/) -> actuator parameters and the design's actuator study
     (actuator/) -> report.html
 
@@ -30,6 +31,7 @@ from .jobs.bladder import check_bladder
 from .jobs.cad import build_cad
 from .jobs.common import OptionError, PathLike, check_out, folder, moved, requirements_of
 from .jobs.spring import force_plot_path, optimise, spring_report, write_spring_files
+from .jobs.structure import check_structure
 from .jobs.studies import design_study_settings, run_design_study
 from .spring.curve import SpringCurve, spring_curve
 from .spring.optimise import Infeasible, OptimisationResult
@@ -40,12 +42,13 @@ if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them
     from .cad.manifest import CadManifest
     from .report.bom import BillOfMaterials
     from .report.drawing import DrawingSet
+    from .structure.check import StructureResult
 
 __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_spring_files", "STEPS",
            "Infeasible"]
 
 #: The steps of :func:`design_unit` in order (the names its ``progress`` callback receives).
-STEPS = ("optimise", "spring", "cad", "bladder", "actuator", "actuator_study", "report")
+STEPS = ("optimise", "spring", "cad", "structure", "bladder", "actuator", "actuator_study", "report")
 
 
 @dataclass(frozen=True)
@@ -70,11 +73,14 @@ class UnitDesign:
     seed: int  #: seed of the optimiser
     version: str  #: vvea-design version that made it
     spec_path: str | None = None  #: requirements file (None: the built-in defaults)
+    structure: StructureResult | None = None  #: FE check of the pressure-bearing pieces (None: no CAD)
 
     @property
     def passes(self) -> bool:
-        """Every constraint met and the bladder check passed."""
-        return bool(self.optimisation.evaluation.feasible and self.bladder.passes)
+        """Every constraint met, the bladder check passed and every pressure-bearing piece keeps its required
+        factor in the FE (when the CAD was made)."""
+        return bool(self.optimisation.evaluation.feasible and self.bladder.passes
+                    and (self.structure is None or self.structure.passes))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (no arrays of the CAD meshes).
@@ -101,6 +107,7 @@ class UnitDesign:
             "actuator": asdict(self.actuator),
             "bom": None if self.bom is None else self.bom.to_dict(),
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
+            "structure": None if self.structure is None else self.structure.to_dict(),
             "actuator_study": None if study is None else {
                 "comparisons": [c.to_dict() for c in study.comparisons],
                 "settings": [s.to_dict() for s in study.settings],
@@ -158,15 +165,15 @@ def design_unit(
         requirements TOML file, or None for the paper's unit.
     out : path-like
         Folder for everything, written whole or not at all: ``design.json``, ``design_force.png``,
-        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``bladder/``, ``actuator/``, ``unit.json``,
-        ``report.html``.
+        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``structure/`` (the FE's stress pictures),
+        ``bladder/``, ``actuator/``, ``unit.json``, ``report.html``.
     seed : int
         Seed of the optimiser's global search (same seed, same design).
     renders : bool
         Make the CAD PNG renders (off-screen pyvista).
     cad : bool
-        Build and export the CAD set, its drawings and bill of materials (False skips them and the
-        3-D view of the report).
+        Build and export the CAD set, its drawings and bill of materials, and check its pressure-bearing
+        pieces by FE (False skips them, the FE and the 3-D view of the report).
     actuator_study : bool
         Run the design's own actuator study (rest-to-rest against VVEA, SEA, LWR and the torque step,
         :func:`vvea_design.jobs.studies.run_design_study`) into ``actuator/``.
@@ -239,6 +246,11 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
                                 progress=False)
             files["cad"], files["drawings_pdf"] = out / "cad", cad_set.drawings.pdf
             files["bom_csv"] = out / "cad" / "bom.csv"
+    structure = None
+    with step("structure"):
+        if cad_set is not None:
+            structure = check_structure(cad_set, out=out / "structure")
+            files["structure"] = out / "structure"
     with step("bladder"):
         bl = check_bladder(res.design, material=req.bladder_material, elements=bladder_elements,
                            out=out / "bladder", progress=False)
@@ -256,7 +268,7 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
                       bom=None if cad_set is None else cad_set.bom,
                       drawings=None if cad_set is None else cad_set.drawings, actuator_study=ds, out_dir=out,
                       files=dict(files), seconds=dict(step.seconds), seed=seed, version=__version__,
-                      spec_path=spec_path)
+                      spec_path=spec_path, structure=structure)
     with step("report"):
         if report:
             from .report.html import unit_report
@@ -284,14 +296,18 @@ def _relocated(unit: UnitDesign, old: Path, new: Path) -> UnitDesign:
     """``unit`` with the paths it holds moved from the temporary folder ``old`` into ``new``."""
     if old == new:
         return unit
-    drawings, study = unit.drawings, unit.actuator_study
+    drawings, study, structure = unit.drawings, unit.actuator_study, unit.structure
+    if structure is not None:
+        structure = replace(structure, pieces=tuple(
+            replace(p, figure=None if p.figure is None else str(moved(Path(p.figure), old, new)))
+            for p in structure.pieces))
     if drawings is not None:
         drawings = replace(drawings, svg=tuple(moved(Path(p), old, new) for p in drawings.svg),
                            pdf=moved(Path(drawings.pdf), old, new))
     if study is not None:
         study = replace(study, files=type(study.files)(*(None if p is None else moved(Path(p), old, new)
                                                          for p in asdict(study.files).values())))
-    return replace(unit, out_dir=new, drawings=drawings, actuator_study=study,
+    return replace(unit, out_dir=new, drawings=drawings, actuator_study=study, structure=structure,
                    files={k: moved(Path(v), old, new) for k, v in unit.files.items()})
 
 

@@ -258,7 +258,7 @@ FLOORS = {
     "palette": 0,
     "spring": 1, "bladder": 1,
     "cad": 2, "identification": 2, "actuator": 2, "schema": 2, "testing": 2,
-    "report": 3,
+    "report": 3, "structure": 3,  # the FE of the pieces: reads cad, the report and the jobs read it
     "jobs": 4,  # one function per command, over the wings and the report; the pipeline composes them
     "pipeline": 5,
     "cli": 6,
@@ -455,9 +455,10 @@ def test_the_unit_report_reads_only_what_the_pipeline_result_has():
     from vvea_design.cad.manifest import CadManifest
     from vvea_design.report.bom import BillOfMaterials
     from vvea_design.report.drawing import DrawingSet
+    from vvea_design.structure.check import StructureResult
 
     lazy = dict(DesignStudy=DesignStudy, BillOfMaterials=BillOfMaterials, DrawingSet=DrawingSet,
-                CadManifest=CadManifest)  # TYPE_CHECKING-only
+                CadManifest=CadManifest, StructureResult=StructureResult)  # TYPE_CHECKING-only
     members = {n for n, v in vars(html.UnitResult).items() if isinstance(v, property)}
     hints = typing.get_type_hints(UnitDesign, localns=lazy)
     for name in members:

@@ -57,8 +57,13 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     unit = json.loads((out / "unit.json").read_text())
     assert unit["spec"] == str(spec) and unit["seed"] == 0 and unit["version"]
     assert set(unit["seconds"]) == set(STEPS)
+    fe = unit["structure"]  # every pressure-bearing piece's FE: peak, safety factor and governing case per wall
+    assert {"outer_tube", "inner_tube", "top_cap", "base"} <= set(fe["walls"]) and fe["cpu_seconds"] > 0
+    for w in fe["walls"].values():
+        assert w["safety"] == pytest.approx(w["yield_MPa"] / w["peak_tresca_MPa"]) and w["governing_case"]
+    assert all((out / p["figure"]).is_file() for p in fe["pieces"].values())
     assert unit["passes"] == (all(m >= -1e-9 for m in unit["constraint_margins"].values())
-                              and unit["bladder"]["passes"])
+                              and unit["bladder"]["passes"] and fe["passes"])
     design = json.loads((out / "design.json").read_text())
     # the paper's hand-tuned 1.86 % is a unit sized for the gas alone; the inner_tube unit that holds together
     # (joints, the damper's loads, drawn tolerances: docs/layout.md, the cost of buildability) pays about 0.4 pp
@@ -141,8 +146,8 @@ def test_design_unit_names_no_temporary_folder(ecoflex_run):
 def test_design_streams_results_to_stdout_and_progress_to_stderr(ecoflex_run):
     res, out, _ = ecoflex_run
     assert "constraints (margin > 0 = satisfied)" in res.stdout
-    assert "[1/7] optimise" in res.stderr and "done" in res.stderr
-    assert "[1/7]" not in res.stdout
+    assert f"[1/{len(STEPS)}] optimise" in res.stderr and "done" in res.stderr
+    assert f"[1/{len(STEPS)}]" not in res.stdout
 
 
 @pytest.mark.xdist_group("design_run")
@@ -179,7 +184,8 @@ def test_design_unit_from_python_is_the_command(ecoflex_run, tmp_path):
     assert f"strain bound {100 * unit.bladder.strain_bound:.2f} %" in res.stdout
     # the result names the folder it landed in, not the temporary one it was written in
     assert unit.out_dir == mine and unit.files["design"] == mine / "design.json"
-    assert all(Path(p).is_file() for k, p in unit.files.items() if k != "cad")
+    assert all(Path(p).is_file() for k, p in unit.files.items() if k not in ("cad", "structure"))
+    assert all(Path(p.figure).is_file() and Path(p.figure).parent == mine / "structure" for p in unit.structure.pieces)
     assert unit.drawings.pdf.is_file() and unit.actuator_study.files.results_csv.is_file()
     assert not [p for p in tmp_path.iterdir() if "vvea-tmp" in p.name]
 

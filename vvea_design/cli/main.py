@@ -228,6 +228,11 @@ def design(
     stdout.print(f"bladder ({bl.silicone.name}): strain bound {100 * bl.strain_bound:.2f} % vs allowable "
                  f"{100 * bl.allowable_strain:.2f} %, radial room {'ok' if bl.passes_room else 'touches'} -> "
                  f"{'PASSES' if bl.passes else 'FAILS'}")
+    fe = unit.structure
+    if fe is not None:
+        stdout.print(f"strength (FE, {fe.criterion} peak / yield): " + ", ".join(
+            f"{w.wall} {w.governing.safety:.2f} (>= {w.governing.required_safety:g}, {w.governing.case})"
+            for w in fe.walls) + f" -> {'PASSES' if fe.passes else 'FAILS'}", markup=False, highlight=False)
     a = unit.actuator
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")

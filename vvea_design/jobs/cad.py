@@ -7,7 +7,7 @@ for its ``cad/`` folder. The CAD kernel (build123d) is imported when the job run
 from __future__ import annotations
 
 import tempfile
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -34,6 +34,8 @@ class CadSet:
     drawings: DrawingSet | None  #: the dimensioned sheets (None: not drawn, or nothing written)
     bom: BillOfMaterials | None  #: the bill of materials (None: not asked for)
     out_dir: Path | None  #: the folder written (None: nothing kept)
+    #: the CAD model the set was written from (its solids; the FE job meshes its pieces), not in ``to_dict()``
+    model: Any = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready.
@@ -106,7 +108,7 @@ def build_cad(design: Design | PathLike, *, out: PathLike | None = None, renders
 
         with tempfile.TemporaryDirectory() as tmp:
             manifest = write_cad(d, tmp, renders=renders, show_progress=progress, model=model)
-        return CadSet(manifest, None, bill_of_materials(model, silicone) if drawings else None, None)
+        return CadSet(manifest, None, bill_of_materials(model, silicone) if drawings else None, None, model)
     sheets = bom = None
     with folder(out, "cad") as tmp:  # the CAD set, drawings and BOM land whole, or the old ones stay
         manifest = write_cad(d, tmp, renders=renders, show_progress=progress, model=model)
@@ -119,4 +121,4 @@ def build_cad(design: Design | PathLike, *, out: PathLike | None = None, renders
     if sheets is not None:
         sheets = replace(sheets, svg=tuple(moved(Path(p), tmp, Path(out)) for p in sheets.svg),
                          pdf=moved(Path(sheets.pdf), tmp, Path(out)))
-    return CadSet(manifest, sheets, bom, Path(out))
+    return CadSet(manifest, sheets, bom, Path(out), model)

@@ -29,6 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ...spring.requirements import Requirements
     from ..bom import BillOfMaterials
     from ..drawing import DrawingSet
+    from ...structure.check import StructureResult
 
 __all__ = ["UnitResult", "unit_report", "MAX_INLINE_DRAWINGS_BYTES"]
 
@@ -73,6 +74,10 @@ class UnitResult(Protocol):
     @property
     def drawings(self) -> DrawingSet | None:
         """Dimensioned drawings (None: no CAD)."""
+
+    @property
+    def structure(self) -> StructureResult | None:
+        """FE check of the pressure-bearing pieces (None: no CAD)."""
 
     @property
     def actuator_study(self) -> DesignStudy | None:
@@ -470,7 +475,9 @@ def unit_report(unit: UnitResult) -> HtmlReport:
         sections.append(sec)
     sections.append(_bladder_section(unit))
     sections.append(_actuator_section(unit))
-    for extra in (_drawings_section(unit), _bom_section(unit)):
+    from .structure import structure_section
+
+    for extra in (structure_section(unit.structure), _drawings_section(unit), _bom_section(unit)):
         if extra is not None:
             sections.append(extra)
     sections += [_files_section(unit), _provenance_section(unit)]
