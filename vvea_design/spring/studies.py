@@ -99,7 +99,7 @@ def _pareto_point(args) -> ParetoPoint:
     return ParetoPoint(
         swept, value, ev.feasible, ev.linearity_error, ev.linearity_isothermal, ev.linearity_adiabatic, ev.objective,
         ev.mass_g, ev.design.layout, ev.details["mean_stiffness"]["value"],
-        ",".join(ev.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9]),
+        ",".join(r.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9]),
         {n: float(getattr(ev.design, n)) for n in names})
 
 
@@ -164,10 +164,10 @@ def pareto_front(
     jobs = []
     for v in values:
         kw = {field_name: float(v)}
-        if axis == "outer_diameter":
+        if axis == "outer_diameter":  # the swept envelope: its default range follows; a pinned one is widened
             b = dict(req.bounds)
-            lo, hi = b.get("outer_diameter_mm", (25.0, 59.5))
-            b["outer_diameter_mm"] = (min(lo, 0.5 * float(v)), max(hi, float(v)))
+            lo = min(b.get("outer_diameter_mm", (25.0,))[0], 0.5 * float(v))
+            b["outer_diameter_mm"] = (lo, max(b.get("outer_diameter_mm", (lo, float(v)))[1], float(v)))
             kw["bounds"] = b
         jobs.append((replace(req, **kw), seed, popsize, maxiter, field_name, float(v)))
     return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
