@@ -58,21 +58,27 @@ class Limit:
         Returns
         -------
         str or None
-            ``"must be a number"``, ``"must be a whole number"``, ``"must be finite"`` or the range it
-            leaves with :attr:`why`; None when ``value`` is a real number in range.
+            ``"must be a number"``, ``"must be a whole number >= 2 and <= 401 points per axis"`` (for 2.5) or
+            ``"must be >= 0.01 and <= 20 MPa"`` (the range it leaves); None when ``value`` is a real number
+            in range.
         """
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
             return "must be a number"
         v = float(value)
-        if not math.isfinite(v):
-            return f"must be a finite number ({self._range()})"
+        if not math.isfinite(v) or v < self.low or (self.open_low and v == self.low) or v > self.high:
+            return f"must be {self.range_text()}"
         if self.integer and v != int(v):
-            return f"must be a whole number ({self._range()})"
-        if v < self.low or (self.open_low and v == self.low) or v > self.high:
-            return f"is outside {self._range()}: {self.why}"
+            return f"must be a whole number {self.range_text()}"
         return None
 
-    def _range(self) -> str:
+    def range_text(self) -> str:
+        """``">= 0.01 and <= 20 MPa"``: the accepted range with its unit.
+
+        Returns
+        -------
+        str
+            The range as a message shows it.
+        """
         u = f" {self.unit}" if self.unit else ""
         lo = f"> {show(self.low)}" if self.open_low else f">= {show(self.low)}"
         return f"{lo} and <= {show(self.high)}{u}"
@@ -99,12 +105,16 @@ class Limit:
         Raises
         ------
         error
-            ``value`` is not a finite real number in range.
+            ``value`` is not a finite real number in range: ``"--n must be >= 2 and <= 401 points per axis,
+            got 100000 (a map of n x n designs: ...)"``.
         """
         why = self.problem(value)
         if why is not None:
-            unit = f" {self.unit}" if self.unit and isinstance(value, numbers.Real) and not isinstance(value, bool) else ""
-            raise error(f"{label} = {show(value)}{unit} {why}" + (f"; {hint}" if hint else ""))
+            real = isinstance(value, numbers.Real) and not isinstance(value, bool)
+            unit = f" {self.unit}" if self.unit and real and self.unit.split()[0] in ("MPa", "mm", "m", "g", "N/mm",
+                                                                                      "deg", "N", "kg", "s", "mm/s") else ""
+            raise error(f"{label} {why}, got {show(value)}{unit}" + (f" ({self.why})" if real else "")
+                        + (f"; {hint}" if hint else ""))
         return value
 
 
@@ -137,7 +147,7 @@ LIMITS: dict[str, Limit] = {
     # sizes a user can ask for (memory and time) -------------------------------------------------------
     "map_points": Limit(2, 401, "points per axis", "a map of n x n designs: 401 x 401 = 160,801 evaluations is "
                         "already minutes and hundreds of MB", integer=True),
-    "bladder_elements": Limit(8, 4000, "elements", "the bladder FE converges long before 4000 elements along "
+    "bladder_elements": Limit(4, 4000, "elements", "the bladder FE converges long before 4000 elements along "
                               "the meridian (96 is the default)", integer=True),
     "mesh_intervals": Limit(4, 4096, "intervals", "a collocation mesh beyond 4096 intervals takes hours and "
                             "gigabytes per solve (64 is the default)", integer=True),

@@ -107,10 +107,7 @@ class Design:
         if not abs(self.setpoint_x0_mm) < f.travel_mm:
             raise DesignError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
                               f"(|x0| < travel_mm = {show(f.travel_mm)})")
-        if self.piston_diameter_mm >= self.outer_diameter_mm:
-            raise DesignError(f"piston_diameter_mm ({show(self.piston_diameter_mm)}) does not fit in "
-                              f"outer_diameter_mm ({show(self.outer_diameter_mm)}): the piston runs inside the "
-                              "inner tube, the bladder and the outer tube")
+
         if self.piston_diameter_mm <= f.rod_diameter_mm:
             raise DesignError(
                 f"piston_diameter_mm ({self.piston_diameter_mm:g}) must exceed the rod diameter "

@@ -28,6 +28,7 @@ The evaluation of a design against them (margins, feasibility) is the optimisati
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -36,6 +37,7 @@ from typing import Any
 from .layouts import COMMON_BOUNDS, LAYOUTS, get_layout, layout_variables
 from .parameters import DesignError, FixedParameters
 from ..materials.silicones import allowable_strain, get_silicone
+from ..inputs import decode_text, read_input_bytes
 from ..messages import show
 from ..plausibility import LIMITS
 
@@ -471,29 +473,26 @@ def load_requirements(path: str | Path | None) -> Requirements:
     Raises
     ------
     SpecError
-        If the file does not exist, cannot be read, is not UTF-8 (names line and column) or not
-        valid TOML, or a value is wrong (:meth:`Requirements.from_dict`).
+        If the file does not exist, is not a regular file (a folder, a FIFO, a device), is larger
+        than 1 MiB, cannot be read, is not UTF-8 (UTF-16 is named; otherwise line and column) or not
+        valid TOML, holds a number of hundreds of digits, or a value is wrong
+        (:meth:`Requirements.from_dict`).
     """
     if path is None:
         return Requirements()
     path = Path(path)
-    if not path.is_file():
-        raise SpecError(f"requirements file {str(path)!r} does not exist")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise SpecError(f"{path}: cannot be read ({exc.strerror})") from None
-    try:
-        text = raw.decode("utf-8-sig")  # a byte-order mark (some Windows editors) is not an error
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        col = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise SpecError(
-            f"{path}: not UTF-8 text: byte 0x{raw[exc.start]:02x} at line {line}, column {col} (byte offset "
-            f"{exc.start}) cannot be decoded; TOML files are UTF-8 — save it as UTF-8 (e.g. `iconv -f latin1 -t utf-8`)"
-        ) from None
+    raw = read_input_bytes(path, "requirements file", SpecError)
+    text = decode_text(raw, path, "requirements file", SpecError, "TOML")
+    long = re.search(r"[0-9_]{400,}", text)
+    if long:  # Python refuses to convert integers of more than 4300 digits (a ValueError inside tomllib)
+        line = text.count("\n", 0, long.start()) + 1
+        key = re.match(r"\s*([A-Za-z0-9_.\"-]+)\s*=", text.splitlines()[line - 1])
+        raise SpecError(f"{path}: line {line}: {key.group(1) + ': ' if key else ''}a number of {len(long.group())} "
+                        "digits; no requirement needs more than a handful")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        raise SpecError(f"{path}: not valid TOML: {exc}") from None
+    except (ValueError, RecursionError) as exc:  # an absurd literal tomllib cannot convert
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     return Requirements.from_dict(data, source=str(path))

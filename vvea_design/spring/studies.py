@@ -14,6 +14,7 @@ Each returns a typed result (a frozen dataclass with ``to_dict()``). The search 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -21,6 +22,7 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution
 
 from ..parallel import parallel_map
+from ..plausibility import check_count
 from .design import Design
 from .layouts import LAYOUTS
 from .optimise import _best_polish, _polish, _RowMemo, _starts, optimise
@@ -156,20 +158,29 @@ def pareto_front(
     Raises
     ------
     ValueError
-        If ``axis`` is not one of :data:`PARETO_AXES`.
+        If ``axis`` is not one of :data:`PARETO_AXES`, a value is not a finite number its requirement
+        can take, or there are more than 500 values.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
     field_name = PARETO_AXES[axis][0]
+    values = list(values)
+    check_count("pareto_points", len(values), "the number of values", ValueError)
     jobs = []
-    for v in values:
+    for i, v in enumerate(values):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ValueError(f"values[{i}] = {v!r}: each value of {field_name} must be a finite number")
         kw = {field_name: float(v)}
         if axis == "outer_diameter":  # the swept envelope: its default range follows; a pinned one is widened
             b = dict(req.bounds)
             lo = min(b.get("outer_diameter_mm", (25.0,))[0], 0.5 * float(v))
             b["outer_diameter_mm"] = (lo, max(b.get("outer_diameter_mm", (lo, float(v)))[1], float(v)))
             kw["bounds"] = b
-        jobs.append((replace(req, **kw), seed, popsize, maxiter, field_name, float(v)))
+        try:
+            point = replace(req, **kw)
+        except ValueError as exc:  # SpecError: a value no requirement can take
+            raise ValueError(f"values[{i}] = {v:g}: {exc}") from None
+        jobs.append((point, seed, popsize, maxiter, field_name, float(v)))
     return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
                         description=f"Pareto front over {axis}", progress=progress)
 
@@ -289,7 +300,8 @@ def linearity_map(
         if v not in names:
             raise ValueError(f"unknown design variable {v!r} of the {design.layout!r} layout; choose from {list(names)}")
     if var_x == var_y:
-        raise ValueError("the two map variables must differ")
+        raise ValueError(f"the two map variables must differ, got {var_x!r} twice")
+    n = check_count("map_points", n, "n", ValueError)
     bounds = dict(zip(names, req.search_bounds(design.layout)))
 
     def around(var):  # default range: ±40 % around the design, inside the search bounds
