@@ -290,6 +290,8 @@ def recordings_from_frame(
     line_numbers
         File line of every row (overrides ``line_offset``; blank lines in a
         CSV shift them).
+    notes
+        Remarks about how the file was read, kept in :attr:`Recordings.notes`.
     units, negate, reference
         As for :func:`read_recordings`: columns' units to convert, columns to negate, and the unit the
         scale of the columns is checked against (None: the paper's Fig. 5 unit).

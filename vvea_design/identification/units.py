@@ -291,37 +291,39 @@ def _time_and_speed(d, e, F, names, source, ref, given, notes):
         return None
     v_med = float(np.median(est[ok]))
     time_free = "time_s" not in given
-    slow = LIMITS["bench_speed_mm_s"].low * 50
+    speed = LIMITS["bench_speed_mm_s"]
+    odd_speed = not (50 * speed.low <= v_med <= speed.high)  # the motion itself is implausibly slow or fast
     if "speed_mm_s" in d.columns and "speed_mm_s" not in given:
         with np.errstate(divide="ignore", invalid="ignore"):
             r = d["speed_mm_s"].to_numpy(float)[np.r_[0, np.cumsum(e["n"])[:-1]]] / est
         r = r[ok & np.isfinite(r) & (r > 0)]
-        R = float(np.median(r)) if r.size else float("nan")
+        R = float(np.median(r)) if r.size else float("nan")  # label / motion
         if math.isfinite(R) and abs(math.log(R)) > math.log(3.0):
-            if time_free and 300 < R < 3000 and v_med < slow:
-                return _time_message(source, e, v_med, "ms")
-            unit = likely_unit("speed", R, tolerance=1.5)
-            if unit:
-                f = unit_factor("speed", unit)
+            t_unit = likely_unit("time", R, tolerance=1.5) if time_free else None
+            s_unit = likely_unit("speed", R, tolerance=1.5)
+            if t_unit and (odd_speed or not s_unit):
+                return _time_message(source, e, v_med, t_unit, f"the speed_mm_s labels are {show(R)} times that")
+            if s_unit:
+                f = unit_factor("speed", s_unit)
                 return (f"{source}: column speed_mm_s is {show(R)} times the speed of the motion (displacement over "
-                        f"time, median {show(v_med)} mm/s): it looks like {unit_label(unit)}: x {show(f)} makes it "
-                        "agree; " + _override("speed_mm_s", unit))
+                        f"time, median {show(v_med)} mm/s): it looks like {unit_label(s_unit)}: x {show(f)} makes it "
+                        "agree; " + _override("speed_mm_s", s_unit))
             notes.append(f"{source}: the speed_mm_s labels are {show(R)} times the speed of the motion (median "
                          f"{show(v_med)} mm/s); they are labels only (the velocity comes from time_s and "
                          "displacement_mm)")
     if time_free:
         dur = float(np.median(e["duration"]))
-        if dur > LIMITS["experiment_duration_s"].high or (float(np.max(est[ok])) < slow and dur > 3600):
-            return _time_message(source, e, v_med, "ms")
+        if dur > LIMITS["experiment_duration_s"].high or (float(np.max(est[ok])) < 50 * speed.low and dur > 3600):
+            return _time_message(source, e, v_med, "ms", "far longer and slower than a bench cycle")
     return None
 
 
-def _time_message(source, e, v_med, unit) -> str:
+def _time_message(source, e, v_med, unit, why) -> str:
     f = unit_factor("time", unit)
     dur = float(np.median(e["duration"]))
     return (f"{source}: column time_s makes a median cycle of {show(dur)} s ({show(dur / 3600)} h) with the piston at "
-            f"{show(v_med)} mm/s, far longer and slower than a bench cycle; it looks like {unit_label(unit)}: x {show(f)} gives {show(dur * f)} s at "
-            f"{show(v_med / f)} mm/s; " + _override("time_s", unit))
+            f"{show(v_med)} mm/s, {why}; it looks like {unit_label(unit)}: "
+            f"x {show(f)} gives {show(dur * f)} s at {show(v_med / f)} mm/s; " + _override("time_s", unit))
 
 
 def _force(d, e, F, names, source, ref, given, notes):
