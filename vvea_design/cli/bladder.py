@@ -65,6 +65,7 @@ def bladder(
     """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
     from ..bladder.check import BladderError, write_bladder_report
     from .common import fail, load_design_or_exit
+    from .numbers import check_number
     from .outputs import check_out, out_dir
     from ..progress import console
     from ..materials.silicones import CRITERIA, SILICONES
@@ -75,6 +76,14 @@ def bladder(
         fail(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
     if elements < 8:
         fail(f"--elements must be >= 8, got {elements}")
+    check_number("bladder_elements", elements, "--elements")
+    if allowable is not None:
+        from ..materials.silicones import allowable_strain
+
+        try:
+            allowable_strain(material, allowable)
+        except ValueError as exc:
+            fail(f"--allowable: {exc}")
     check_out(out)
     design = load_design_or_exit(design_json)
     try:

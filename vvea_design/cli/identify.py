@@ -10,43 +10,62 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from .common import fail
-from .outputs import check_out, out_dir
+from .common import fail, load_design_or_exit
+from .numbers import check_seed
+from .outputs import check_inputs_kept, check_out, out_dir
 from ..progress import console, progress_bar
 from ..progress import out as stdout
 
 __all__ = ["register"]
 
 
-def _read(file: Path):
+def _read(file: Path, units: dict, negate: list[str], design=None):
+    """The recordings, checked against the unit on the bench (``design``, else the paper's Fig. 5 unit)."""
     from ..identification.recordings import RecordingsError, read_recordings
 
     try:
         with progress_bar(f"reading {file.name} (velocity from the motion profile)", total=None):
-            return read_recordings(file)
+            return read_recordings(file, units=units, negate=negate, reference=design)
     except RecordingsError as exc:
         fail(str(exc))
 
 
 def _reference(design: Path | None):
-    """The unit's gas spring from ``--design``, or the paper's Fig. 5 unit (said on stdout)."""
+    """The unit's design from ``--design`` (rebuilt and checked), or None: the paper's Fig. 5 unit (said on stderr)."""
     from ..identification.fit_data import REFERENCE_NOTE
-    from ..spring.design_file import DesignFileError, spring_from_json
-    from ..spring.paper import PAPER_FIG5
 
     if design is None:
         typer.echo(f"note: {REFERENCE_NOTE}", err=True)
-        return PAPER_FIG5
-    try:
-        ref = spring_from_json(design)
-    except DesignFileError as exc:
-        fail(str(exc))
+        return None
+    d = load_design_or_exit(design)
+    ref = d.gas_spring
     typer.echo(
         f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, "
         f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm",
         err=True,
     )
-    return ref
+    return d
+
+
+def _units(force: str | None, displacement: str | None, time: str | None, pressure: str | None,
+           valve: str | None, speed: str | None) -> dict:
+    """The columns given a unit on the command line (the others keep the format's)."""
+    given = {"force_N": force, "displacement_mm": displacement, "time_s": time, "p2_MPa": pressure,
+             "valve_deg": valve, "speed_mm_s": speed}
+    return {k: v for k, v in given.items() if v is not None}
+
+
+_UNIT_HELP = "unit the {} column was recorded in ({}; default {}): converted, and its scale not questioned"
+FORCE_UNIT = typer.Option(None, "--force-unit", help=_UNIT_HELP.format("force_N", "N, kN, daN, mN, lbf", "N"))
+DISPLACEMENT_UNIT = typer.Option(None, "--displacement-unit",
+                                 help=_UNIT_HELP.format("displacement_mm", "mm, m, cm, um, in", "mm"))
+TIME_UNIT = typer.Option(None, "--time-unit", help=_UNIT_HELP.format("time_s", "s, ms, us, min", "s"))
+PRESSURE_UNIT = typer.Option(None, "--pressure-unit",
+                             help=_UNIT_HELP.format("p2_MPa", "MPa, bar, kPa, Pa, psi", "MPa"))
+VALVE_UNIT = typer.Option(None, "--valve-unit", help=_UNIT_HELP.format("valve_deg", "deg, rad", "deg"))
+SPEED_UNIT = typer.Option(None, "--speed-unit", help=_UNIT_HELP.format("speed_mm_s", "mm/s, m/s, mm/min", "mm/s"))
+NEGATE = typer.Option(None, "--negate", help="a column recorded with the opposite sign (force_N: compression "
+                                             "positive; displacement_mm: x < 0 extending); repeat for both")
 
 
 _DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 and travel shape the gas terms); default: the paper's Fig. 5 unit"
@@ -56,13 +75,18 @@ def identify_cmd(
     file: Path = typer.Argument(..., help="recordings file (CSV or Parquet, shared/specs/recordings.md)"),
     out: Path = typer.Option(Path("identification"), "--out", "-o", help="output folder"),
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
+    force_unit: str = FORCE_UNIT, displacement_unit: str = DISPLACEMENT_UNIT, time_unit: str = TIME_UNIT,
+    pressure_unit: str = PRESSURE_UNIT, valve_unit: str = VALVE_UNIT, speed_unit: str = SPEED_UNIT,
+    negate: list[str] = NEGATE,
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
 
     check_out(out)
-    _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
-    rec = _read(file)
+    check_inputs_kept([out], (file, design))
+    units = _units(force_unit, displacement_unit, time_unit, pressure_unit, valve_unit, speed_unit)
+    unit = _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
+    rec = _read(file, units, negate or [], unit)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
         summary = write_identification(rec, tmp).to_dict()
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
@@ -94,6 +118,9 @@ def diagnose_cmd(
     seed: int = typer.Option(0, help="seed of the held-out and cross-validation splits"),
     learner: bool = typer.Option(True, "--learner/--no-learner", help="run the flexible-learner check for leftover structure"),
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
+    force_unit: str = FORCE_UNIT, displacement_unit: str = DISPLACEMENT_UNIT, time_unit: str = TIME_UNIT,
+    pressure_unit: str = PRESSURE_UNIT, valve_unit: str = VALVE_UNIT, speed_unit: str = SPEED_UNIT,
+    negate: list[str] = NEGATE,
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
     from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
@@ -102,8 +129,12 @@ def diagnose_cmd(
 
     matplotlib.use("Agg")  # the command draws into files
     check_out(out)
-    reference = _reference(design)
-    rec = _read(file)
+    check_inputs_kept([out], (file, design))
+    check_seed(seed)
+    units = _units(force_unit, displacement_unit, time_unit, pressure_unit, valve_unit, speed_unit)
+    unit = _reference(design)
+    reference = None if unit is None else unit.gas_spring
+    rec = _read(file, units, negate or [], unit)
     msgs = []
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 

@@ -18,14 +18,18 @@ from rich.table import Table
 
 from .common import fail as _fail
 from .common import load_design_or_exit
-from .outputs import check_out, out_dir, out_files
+from .errors import VveaGroup, set_debug, strip_debug
+from .outputs import check_inputs_kept, check_out, out_dir, out_files
+from .numbers import check_number, check_seed
 from ..messages import show_margin
 from ..progress import console
 from ..progress import out as stdout
 
 app = typer.Typer(
+    cls=VveaGroup,  # every command: one-line errors, the documented exit codes, --debug for traces (cli/errors.py)
     add_completion=False,
     no_args_is_help=True,
+    pretty_exceptions_enable=False,
     help="vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.",
 )
 
@@ -44,14 +48,20 @@ def _version(value: bool) -> None:
 def _root(
     version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
                                  help="print the version and exit"),
+    debug: bool = typer.Option(False, "--debug", help="show the full trace of an unexpected error"),
 ) -> None:
-    """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator."""
+    """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.
+
+    Exit codes: 0 done, 1 a check failed (or an internal error), 2 bad input, 3 infeasible requirements,
+    4 a computation failed, 130 interrupted, 143 terminated.
+    """
     import matplotlib
 
+    set_debug(debug)
     matplotlib.use("Agg")  # the command line draws off-screen; the library never selects a backend
 
 
-def _print_evaluation(ev, title: str) -> None:
+def _print_evaluation(ev, title: str, bounds=()) -> None:
     perf = ev.performance()
     t = Table(title=title, show_header=True)
     t.add_column("quantity")
@@ -77,6 +87,9 @@ def _print_evaluation(ev, title: str) -> None:
         rel = "<=" if d["kind"] == "max" else ">="
         c.add_row(name, f"{show_margin(d['value'])} {d['unit']}", f"{rel} {float(d['limit']):.4g}",
                   f"[{style}]{show_margin(m, '+.4f')}[/]")  # round-off of a binding constraint reads 0
+    for b in bounds:  # a search bound the optimum sits on limits it like a constraint
+        c.add_row(f"{b['name']} [search bound]", f"{b['value']:.6g}",
+                  f"{'<=' if b['end'] == 'high' else '>='} {b['bound']:.6g}", "[yellow]0[/]")
     stdout.print(c)
 
 
@@ -89,6 +102,8 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     png = out.with_name(out.stem + "_force.png")
     check_out(out, "file")
     check_out(png, "file")
+    check_inputs_kept((out, png), (spec,))
+    check_seed(seed)
     try:
         req = load_requirements(spec)
     except SpecError as exc:
@@ -103,7 +118,7 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
     try:
         res = optimise(req, seed=seed, bladder_strain_fn=strain_fn)
     except Infeasible as exc:
-        _print_evaluation(exc.result.evaluation, "least-violating design")
+        _print_evaluation(exc.result.evaluation, "least-violating design", exc.result.binding_bounds)
         _fail(str(exc), code=3)
     except NoBuildableDesign as exc:
         _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
@@ -113,11 +128,21 @@ def _optimise_to(spec: Optional[Path], seed: int, out: Path):
                                 title=f"optimised design ({res.layout} layout): linearity "
                                       f"{100 * res.evaluation.linearity_error:.2f} %"),
                     tmp_png)
-    _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
+    _print_evaluation(res.evaluation, f"optimised design (seed {seed})", res.binding_bounds)
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
-                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
+                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.binding()) or 'none'}")
+    _say_bounds(res.binding_bounds)
     console.print(f"wrote {out} and {png}")
     return res, req
+
+
+def _say_bounds(bounds) -> None:
+    """One line per search bound the optimum sits on: it limits the design; say how to lift it."""
+    for b in bounds:
+        console.print(f"note: {b['variable']} = {b['value']:.6g} sits on the {b['end']} end of its search bound "
+                      f"({b['bound']:.6g}): the bound limits the optimum like a constraint; widen [bounds] "
+                      f"{b['variable']} in the requirements file (or leave it out: the default follows the envelope)",
+                      soft_wrap=True, markup=False, highlight=False)
 
 
 @app.command()
@@ -136,18 +161,21 @@ def spring(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="folder for spring.csv and spring.png (default: beside the design)"),
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
 ) -> None:
-    """Force curve, stiffness and linearity of a design (from its parameters alone)."""
+    """Force curve, stiffness and linearity of a design (rebuilt from its decision variables)."""
     from ..pipeline import write_spring_files
-    from ..spring.design_file import DesignFileError, spring_from_json
 
     check_out(out or design.parent)
-    try:
-        gs = spring_from_json(design)
-    except DesignFileError as exc:
-        _fail(str(exc))
+    if p2 is not None and p2 <= 0:
+        _fail(f"--p2 must be > 0 MPa, got {p2}")
+    check_number("charge_MPa", p2, "--p2")
+    d = load_design_or_exit(design)  # rebuilt from its decision variables: never the file's stale copies
+    gs = d.gas_spring
     if p2 is not None:
-        if p2 <= 0:
-            _fail(f"--p2 must be > 0 MPa, got {p2}")
+        sf = min(d.wall_safety_factors().values())
+        if p2 > d.p2_MPa * sf:
+            _fail(f"--p2 = {p2:g} MPa: the walls of {design} yield above {d.p2_MPa * sf:.3g} MPa (they are sized for "
+                  f"p2 = {d.p2_MPa:g} MPa at a safety factor of {sf:.3g}); recharge at most to that, or optimise a "
+                  "design for the higher charge (max_charge_MPa)")
         gs = gs.with_pressures(p2)
     out = out or design.parent
     with out_dir(out, "spring") as tmp:
@@ -203,11 +231,22 @@ def pareto(
     if not vals:
         _fail("--values is empty")
     check_out(out)
+    check_seed(seed)
     try:
         req = load_requirements(spec)
     except SpecError as exc:
         _fail(str(exc))
-    rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
+    if scheduler is not None:
+        from ..parallel import SchedulerUnreachable, check_scheduler
+
+        try:
+            check_scheduler(scheduler)
+        except SchedulerUnreachable as exc:
+            _fail(f"--scheduler: {exc}")
+    try:
+        rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
+    except ValueError as exc:  # a value its requirement cannot take (the library names which)
+        _fail(f"--values: {exc}")
     with out_dir(out, "pareto") as tmp:
         csv_path, png = (out / Path(f).name for f in save_pareto(rows, axis, tmp))
     field = PARETO_AXES[axis][0]
@@ -233,6 +272,7 @@ def map_(
     from ..spring.plots import plot_linearity_map, save_figure
 
     check_out(out)
+    check_number("map_points", n, "--n")
     try:
         d = load_design_or_exit(design)
         req = load_requirements_from_design(design)
@@ -279,6 +319,9 @@ def design(
     from ..spring.requirements import SpecError, load_requirements
 
     check_out(out)
+    check_inputs_kept([out], (spec,))
+    check_seed(seed)
+    check_number("workers", workers, "--workers")
     try:
         req = load_requirements(spec)
     except SpecError as exc:
@@ -347,11 +390,12 @@ for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
 
 
 def main() -> None:
-    """Run the ``vvea`` command (the console-script entry point); Ctrl-C exits 130 with a message."""
+    """Run the ``vvea`` command (the console-script entry point); exit codes and messages: :mod:`.errors`."""
+    argv = strip_debug(sys.argv[1:])  # --debug anywhere on the line
     try:
-        app()
-    except KeyboardInterrupt:  # pragma: no cover
-        console.print("interrupted")
+        app(args=argv, prog_name="vvea")
+    except KeyboardInterrupt:  # pragma: no cover - outside a command (while parsing)
+        console.print("interrupted (Ctrl-C)")
         sys.exit(130)
 
 

@@ -11,10 +11,28 @@ import contextlib
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..outputs import OutputError, check_output_dir, check_output_file, output_dir, output_files
+from ..outputs import OutputError, check_not_input, check_output_dir, check_output_file, output_dir, output_files
 from .common import fail
 
-__all__ = ["check_out", "out_dir", "out_files"]
+__all__ = ["check_out", "out_dir", "out_files", "check_inputs_kept"]
+
+
+def check_inputs_kept(outputs, inputs, option: str = "--out") -> None:
+    """Exit 2 (naming both) when an output file would be one of the inputs, before any work.
+
+    Parameters
+    ----------
+    outputs : iterable of Path
+        The files the command writes.
+    inputs : iterable of Path or None
+        The files it reads (None skipped).
+    option : str
+        The option named in the message.
+    """
+    try:
+        check_not_input(outputs, inputs, option)
+    except OutputError as exc:
+        fail(str(exc))
 
 
 def check_out(path: Path, kind: str = "dir", option: str = "--out") -> None:

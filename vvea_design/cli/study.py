@@ -12,6 +12,8 @@ from typing import Optional
 
 import typer
 
+from .errors import INTERRUPT_REPORTED
+
 __all__ = ["register", "study_app"]
 
 study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (paper §5) and safety (§6).",
@@ -34,11 +36,38 @@ def _grid(spec: str):
 
 
 def _check_mesh_n(option: str, n: int, allow_off: bool = False) -> None:
+    from ..plausibility import LIMITS
+
     if n == 0 or (allow_off and n == -1):
         return
     if n < 4 or n % 4:
         off = ", -1 = none" if allow_off else ""
         raise typer.BadParameter(f"{option} must be a multiple of 4 (>= 4; 0 = study default{off}), got {n}")
+    why = LIMITS["mesh_intervals"].problem(n)
+    if why:
+        raise typer.BadParameter(f"{option} {why}, got {n} ({LIMITS['mesh_intervals'].why})")
+
+
+def _check_limit(key: str, value, option: str) -> None:
+    """typer's Invalid value (exit 2) naming ``option`` unless ``value`` lies in the toolkit's range."""
+    from ..plausibility import LIMITS, PlausibilityError
+
+    if value is None:
+        return
+    try:
+        LIMITS[key].check(value, option, PlausibilityError)
+    except PlausibilityError as exc:
+        raise typer.BadParameter(str(exc)) from None
+
+
+def _failed_solves(count: int, total: int, what: str, where: Path) -> None:
+    """Exit 4 after the results are written when a solve failed: a failed solve never exits 0."""
+    if count:
+        from ..progress import print_error
+
+        print_error(f"{count} of {total} {what} failed to solve (see the status column); the results in {where} "
+                    "are written but incomplete")
+        raise typer.Exit(4)
 
 
 def _cases_saved(out: Path) -> int:
@@ -98,8 +127,24 @@ def rest_to_rest(
     _check_mesh_n("--fine-mesh-n", fine_mesh_n, allow_off=True)
     if workers is not None and workers < 1:
         raise typer.BadParameter(f"--workers must be >= 1, got {workers}")
+    _check_limit("workers", workers, "--workers")
     if design is None and (pulley_radius_m is not None or p2_mpa is not None):
         raise typer.BadParameter("--pulley-radius-m and --p2-mpa apply to --design only")
+    for option, g in (("--gamma-min-deg", gamma_min_deg), ("--gamma-max-deg", gamma_max_deg)):
+        _check_limit("valve_deg", g, option)
+    if gamma_min_deg > gamma_max_deg:
+        raise typer.BadParameter(f"--gamma-min-deg ({gamma_min_deg:g}) must not exceed --gamma-max-deg "
+                                 f"({gamma_max_deg:g})" + ("" if design is not None else
+                                                            "; they apply to --design only"))
+    _check_limit("pulley_radius_m", pulley_radius_m, "--pulley-radius-m")
+    _check_limit("charge_MPa", p2_mpa, "--p2-mpa")
+    if scheduler is not None:
+        from ..parallel import SchedulerUnreachable, check_scheduler
+
+        try:
+            check_scheduler(scheduler)
+        except SchedulerUnreachable as exc:
+            raise typer.BadParameter(f"--scheduler: {exc}") from None
     grid_spec = _grid(grid)
     settings = list(PAPER_SETTINGS.values())
     if design is not None:
@@ -121,9 +166,10 @@ def rest_to_rest(
         raise typer.BadParameter(str(exc)) from exc
     except (KeyboardInterrupt, Terminated) as exc:
         code = 130 if isinstance(exc, KeyboardInterrupt) else 143
-        console.print(f"\n[bold yellow]interrupted[/]: {_cases_saved(out)} finished case(s) are saved in "
-                      f"{out / 'results.csv'}. Run the same command again to resume the sweep "
-                      f"(add --restart to start over).", soft_wrap=True)
+        console.print(f"\n[bold yellow]{'interrupted' if code == 130 else 'terminated'}[/]: {_cases_saved(out)} "
+                      f"finished case(s) are saved in {out / 'results.csv'}. Run the same command again to resume "
+                      f"the sweep (add --restart to start over).", soft_wrap=True)
+        INTERRUPT_REPORTED["done"] = True
         raise typer.Exit(code) from None
     from ..outputs import output_files
     from ..report.html import folder_report, recorded_text
@@ -136,6 +182,8 @@ def rest_to_rest(
                       ).write(tmp_report)
     console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
                   f"{out / 'trajectory.png'}, {out / 'report.html'}")
+    fails = summary.statistics.solver_failures
+    _failed_solves(int(fails.get("count", 0)), summary.run.ocps, "optimal-control problems", out)
 
 
 def _print_summary(summary, console) -> None:
@@ -193,10 +241,13 @@ def safety(
     check_out(out)
     if mesh_n < 4:
         raise typer.BadParameter(f"--mesh-n must be >= 4 intervals, got {mesh_n}")
+    _check_limit("mesh_intervals", mesh_n, "--mesh-n")
     if not (math.isfinite(tau_ref_nm) and tau_ref_nm != 0):
         raise typer.BadParameter(f"--tau-ref-nm must be a non-zero torque in N m, got {tau_ref_nm}")
+    _check_limit("torque_step_Nm", abs(tau_ref_nm), "|--tau-ref-nm|")
     if not (math.isfinite(link_inertia_kgm2) and link_inertia_kgm2 > 0):
         raise typer.BadParameter(f"--link-inertia-kgm2 must be > 0, got {link_inertia_kgm2}")
+    _check_limit("link_inertia_kgm2", link_inertia_kgm2, "--link-inertia-kgm2")
     from rich.table import Table
 
     from ..report.html import recorded_text, write_folder_report
@@ -219,6 +270,7 @@ def safety(
     typer.echo(text)
     console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
                   f"{out / 'report.html'}")
+    _failed_solves(sum(1 for c in s.cases if not c.success), len(s.cases), "torque-step cases", out)
 
 
 def register(app: typer.Typer) -> None:
