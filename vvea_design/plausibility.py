@@ -129,7 +129,6 @@ LIMITS: dict[str, Limit] = {
     "wall_safety_factor": Limit(1.0, 20.0, "", "below 1 the walls are designed to yield; above 20 no wall this "
                                 "thin can be sized"),
     "mass_g": Limit(1e-3, 1e6, "g", "a unit weighs between a milligram and a tonne"),
-    "stiffness_N_per_mm": Limit(1e-3, 1e6, "N/mm", "a gas spring of this kind is between 0.001 and 1e6 N/mm"),
     "strain_fraction": Limit(0.0, 10.0, "", "a strain is a fraction (0.25 = 25 %); no silicone stretches "
                              "beyond 1000 %", open_low=True),
     "linearity_fraction": Limit(0.0, 1.0, "", "a linearity error is a fraction of the force span "

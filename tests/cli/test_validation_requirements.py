@@ -18,7 +18,6 @@ ABSURD = [  # (campaign A case, key, value, words)
     ("req-10", "travel_mm", 1e6, ("travel_mm",)),
     ("req-12", "min_wall_safety_factor", 1e6, ("min_wall_safety_factor", "<= 20")),
     ("req-13", "min_wall_safety_factor", 0.1, ("min_wall_safety_factor", "yield")),
-    ("req-11", "min_mean_stiffness_N_per_mm", 1e9, ("min_mean_stiffness_N_per_mm",)),
 ]
 
 
@@ -37,6 +36,7 @@ def test_an_absurd_requirement_is_refused_naming_it(tmp_path, case, key, value, 
 def test_every_numeric_requirement_has_a_plausible_range():
     numeric = [f for f, t in Requirements.__annotations__.items() if "float" in str(t) and "tuple" not in str(t)]
     limited = set(REQUIREMENT_LIMITS) | {"setpoint_x0_mm", "min_gas_fraction_at_full_stroke", "n_polytropic",
+                                         "min_mean_stiffness_N_per_mm",  # a target: unreachable = infeasible (3)
                                          "max_bladder_strain", "max_linearity_adiabatic"}
     assert set(numeric) <= limited, set(numeric) - limited
     assert all(k in LIMITS for k in REQUIREMENT_LIMITS.values())
