@@ -129,7 +129,7 @@ def _signals() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    from ..parallel import Terminated
+    from ..jobs.studies import Terminated
 
     def on_term(signum, frame):
         raise Terminated(f"received signal {signum}")
@@ -179,7 +179,19 @@ def guarded() -> Iterator[None]:
 class VveaGroup(TyperGroup):
     """The ``vvea`` app's group: every command runs :func:`guarded`."""
 
-    def invoke(self, ctx):  # noqa: D102 - click's hook
+    def invoke(self, ctx):
+        """Run the command of ``ctx`` inside :func:`guarded` (click's hook).
+
+        Parameters
+        ----------
+        ctx : click.Context
+            The parsed command line.
+
+        Returns
+        -------
+        Any
+            What the command returns.
+        """
         with guarded():
             return super().invoke(ctx)
 

@@ -265,6 +265,24 @@ def _where(source: str, idx: int, line_offset: int, lines=None) -> str:
     return f"{source}: line {idx + line_offset}" if line_offset else f"{source}: row {idx}"
 
 
+def _numeric_columns(d: pd.DataFrame, source: str, line_offset: int, line_numbers) -> None:
+    """The numeric columns of ``d`` as floats (in place); a non-numeric, empty or infinite cell names its line."""
+    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
+    for c in cols:
+        num = _to_numeric(d[c])
+        bad = num.isna() & d[c].notna()
+        if bad.any():
+            i = int(np.flatnonzero(bad.to_numpy())[0])
+            raise RecordingsError(
+                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
+            )
+        nan = num.isna() | ~np.isfinite(num.astype(float))
+        if nan.any():
+            i = int(np.flatnonzero(nan.to_numpy())[0])
+            raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column {c} is NaN/empty or infinite")
+        d[c] = num.astype(float)
+
+
 def recordings_from_frame(
     frame: pd.DataFrame,
     source: str = "<frame>",
@@ -327,20 +345,7 @@ def recordings_from_frame(
         i = int(np.flatnonzero(bad_id.to_numpy())[0])
         raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column experiment is empty (NaN)")
     d["experiment"] = d["experiment"].astype(str)
-    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
-    for c in cols:
-        num = _to_numeric(d[c])
-        bad = num.isna() & d[c].notna()
-        if bad.any():
-            i = int(np.flatnonzero(bad.to_numpy())[0])
-            raise RecordingsError(
-                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
-            )
-        nan = num.isna() | ~np.isfinite(num.astype(float))
-        if nan.any():
-            i = int(np.flatnonzero(nan.to_numpy())[0])
-            raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column {c} is NaN/empty or infinite")
-        d[c] = num.astype(float)
+    _numeric_columns(d, source, line_offset, line_numbers)
     given = apply_units(d, units, negate, source, RecordingsError)
 
     exp = d["experiment"].to_numpy()

@@ -30,8 +30,8 @@ from .problem import constraint_names, design_from_vector, evaluate_design, eval
 from .records import Record
 from .requirements import Requirements
 
-__all__ = ["PARETO_AXES", "ParetoPoint", "pareto_front", "save_pareto", "LinearityMap", "linearity_map",
-           "GasVolumeBound", "gas_volume_bound", "GasCapacity", "gas_capacity"]
+__all__ = ["PARETO_AXES", "ParetoPoint", "pareto_front", "check_pareto_values", "save_pareto", "LinearityMap",
+           "linearity_map", "GasVolumeBound", "gas_volume_bound", "GasCapacity", "gas_capacity"]
 
 
 # ---------------------------------------------------------------------------
@@ -161,12 +161,41 @@ def pareto_front(
         If ``axis`` is not one of :data:`PARETO_AXES`, a value is not a finite number its requirement
         can take, or there are more than 500 values.
     """
+    field_name = PARETO_AXES[axis][0] if axis in PARETO_AXES else ""
+    jobs = [(point, seed, popsize, maxiter, field_name, v) for point, v in check_pareto_values(req, axis, values)]
+    return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
+                        description=f"Pareto front over {axis}", progress=progress)
+
+
+def check_pareto_values(req: Requirements, axis: str, values) -> list[tuple[Requirements, float]]:
+    """The requirements of each point of a Pareto front, checked before any optimisation.
+
+    Parameters
+    ----------
+    req : Requirements
+        The other requirements, held fixed.
+    axis : str
+        The swept requirement, a key of :data:`PARETO_AXES`.
+    values : sequence of float
+        Values of the swept requirement, in its field's unit (N/mm, mm, g or fraction).
+
+    Returns
+    -------
+    list of (Requirements, float)
+        One ``(requirements, value)`` per value, in order (a swept envelope widens a default diameter bound).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), or
+        more than 500 values.
+    """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
     field_name = PARETO_AXES[axis][0]
     values = list(values)
     check_count("pareto_points", len(values), "the number of values", ValueError)
-    jobs = []
+    points = []
     for i, v in enumerate(values):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             raise ValueError(f"values[{i}] = {v!r}: each value of {field_name} must be a finite number")
@@ -177,12 +206,10 @@ def pareto_front(
             b["outer_diameter_mm"] = (lo, max(b.get("outer_diameter_mm", (lo, float(v)))[1], float(v)))
             kw["bounds"] = b
         try:
-            point = replace(req, **kw)
+            points.append((replace(req, **kw), float(v)))
         except ValueError as exc:  # SpecError: a value no requirement can take
             raise ValueError(f"values[{i}] = {v:g}: {exc}") from None
-        jobs.append((point, seed, popsize, maxiter, field_name, float(v)))
-    return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
-                        description=f"Pareto front over {axis}", progress=progress)
+    return points
 
 
 def save_pareto(rows: list, axis: str, out_dir, title: str = "") -> tuple:
