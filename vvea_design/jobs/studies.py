@@ -240,6 +240,8 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
     """
     grid_spec = _grid(grid)
     _check_mapping(pulley_radius_m, p2_MPa, gamma_min_deg, gamma_max_deg)
+    check_option("mesh_intervals", mesh_n, "mesh_n")
+    check_option("mesh_intervals", None if fine_mesh_n == "auto" else fine_mesh_n, "fine_mesh_n")
     check_option("workers", workers, "workers")
     check_scheduler_option(scheduler)
     mapping = {k: v for k, v in dict(pulley_radius_m=pulley_radius_m, p2_MPa=p2_MPa, gamma_min_deg=gamma_min_deg,
@@ -370,6 +372,7 @@ def run_safety(out: PathLike | None = None, *, mesh_n: int | None = None, tau_re
     M_kgm2 = safety.PAPER_LINK_INERTIA_KGM2 if M_kgm2 is None else M_kgm2
     if mesh_n < 4:
         raise OptionError("mesh_n", f"must be >= 4 intervals, got {mesh_n}", "{option} {reason}")
+    check_option("mesh_intervals", mesh_n, "mesh_n")
     if not (math.isfinite(tau_ref_Nm) and tau_ref_Nm != 0):
         raise OptionError("tau_ref_Nm", f"must be a non-zero torque in N m, got {tau_ref_Nm}", "{option} {reason}")
     if not (math.isfinite(M_kgm2) and M_kgm2 > 0):
