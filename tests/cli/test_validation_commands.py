@@ -328,3 +328,14 @@ def test_property_the_job_and_the_library_agree_on_a_charge(p2, option):
 
     assert check_option(option, p2, "p2_MPa") == p2
     assert LIMITS[option].problem(p2) is None
+
+
+def test_vvea_optimise_on_70_by_160_mm_reaches_0_879_percent_without_a_bounds_edit(tmp_path):
+    """req-01 (issue item 1): `vvea optimise --spec req.toml` on a 70 x 160 mm, 120 N/mm spec, no [bounds]."""
+    req = tmp_path / "req.toml"
+    req.write_text("max_outer_diameter_mm = 70.0\nmax_housing_length_mm = 160.0\nmin_mean_stiffness_N_per_mm = 120.0\n")
+    code, text = _run("optimise", "--spec", req, "-o", tmp_path / "d.json")
+    assert code == 0, text
+    perf = json.loads((tmp_path / "d.json").read_text())["performance"]
+    assert perf["linearity_error"] <= 0.00880, perf["linearity_error"]
+    assert "search bound" not in text  # the default bounds follow the envelope: nothing but it binds the diameter
