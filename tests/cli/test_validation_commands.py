@@ -339,3 +339,30 @@ def test_vvea_optimise_on_70_by_160_mm_reaches_0_879_percent_without_a_bounds_ed
     perf = json.loads((tmp_path / "d.json").read_text())["performance"]
     assert perf["linearity_error"] <= 0.00880, perf["linearity_error"]
     assert "search bound" not in text  # the default bounds follow the envelope: nothing but it binds the diameter
+
+
+def test_a_failed_solve_never_exits_0(tmp_path, monkeypatch):
+    """cli-27 (issue item 4): a study whose solves failed writes its results and exits 4, naming the count."""
+    from types import SimpleNamespace
+
+    from vvea_design.jobs import studies
+
+    def sweep(out, **kw):
+        return SimpleNamespace(summary_text="Table 5 ...", files={"results_csv": out / "results.csv"},
+                               solver_failures=1, summary=SimpleNamespace(run=SimpleNamespace(ocps=5)))
+
+    monkeypatch.setattr(studies, "run_rest_to_rest", sweep)
+    _refused(["study", "rest-to-rest", "-o", tmp_path / "st", "--grid", "0.5:1.0", "--mesh-n", "16"],
+             ("1 of 5", "failed to solve"), code=4)
+
+
+def test_a_pareto_point_on_a_larger_envelope_searches_all_of_it():
+    """req-36: the Pareto sweep's points keep the bounds that follow the envelope (70 mm, not 59.5 mm)."""
+    from vvea_design.spring.requirements import Requirements
+    from vvea_design.spring.studies import check_pareto_values
+
+    req = Requirements(max_outer_diameter_mm=70.0, max_housing_length_mm=160.0)
+    (point, value), = check_pareto_values(req, "stiffness", [120.0])
+    bounds = dict(zip(point.decision_variables("inner_tube"), point.search_bounds("inner_tube")))
+    assert value == 120.0 and point.min_mean_stiffness_N_per_mm == 120.0
+    assert bounds["outer_diameter_mm"][1] == pytest.approx(70.0)
