@@ -366,3 +366,14 @@ def test_a_pareto_point_on_a_larger_envelope_searches_all_of_it():
     bounds = dict(zip(point.decision_variables("inner_tube"), point.search_bounds("inner_tube")))
     assert value == 120.0 and point.min_mean_stiffness_N_per_mm == 120.0
     assert bounds["outer_diameter_mm"][1] == pytest.approx(70.0)
+
+
+def test_the_throttle_range_check_keeps_the_actuators_name():
+    """The valve-angle check of the design mapping must not rename the design's actuator (it is the setting
+    ``design`` of every study)."""
+    from vvea_design.actuator.model import actuator_from_spring
+    from vvea_design.spring.paper import PAPER_FIG5
+
+    assert actuator_from_spring(PAPER_FIG5, name="design").name == "design"
+    with pytest.raises(ValueError, match="gamma_max_deg"):
+        actuator_from_spring(PAPER_FIG5, name="design", gamma_max_deg=1100.0)
