@@ -129,6 +129,8 @@ LIMITS: dict[str, Limit] = {
     "wall_safety_factor": Limit(1.0, 20.0, "", "below 1 the walls are designed to yield; above 20 no wall this "
                                 "thin can be sized"),
     "mass_g": Limit(1e-3, 1e6, "g", "a unit weighs between a milligram and a tonne"),
+    "linear_damping_N_s_per_mm": Limit(1e-4, 1e4, "N s/mm", "a spring-damper unit's linear damping lies between "
+                                       "1e-4 N s/mm (a free piston) and 1e4 N s/mm (a closed valve)"),
     "strain_fraction": Limit(0.0, 10.0, "", "a strain is a fraction (0.25 = 25 %); no silicone stretches "
                              "beyond 1000 %", open_low=True),
     "linearity_fraction": Limit(0.0, 1.0, "", "a linearity error is a fraction of the force span "

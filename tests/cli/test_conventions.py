@@ -37,7 +37,9 @@ def test_results_on_stdout_logs_on_stderr_and_no_wrapping(tmp_path):
 
 def test_tables_go_to_stdout_unwrapped(tmp_path):
     res = _vvea("check", DEFAULT_DESIGN, "--max-linearity", "0.016")
-    assert res.returncode == 0 and res.stdout.startswith("OK") and res.stderr == ""
+    assert res.returncode == 0 and res.stdout.startswith("OK")
+    # stderr: at most the toolkit's notes (the reference file predates the buildability rules), never a trace
+    assert all(line.startswith("note: ") for line in res.stderr.splitlines()), res.stderr
     assert len(res.stdout.strip().splitlines()) == 1
 
 

@@ -331,9 +331,13 @@ def test_property_the_job_and_the_library_agree_on_a_charge(p2, option):
 
 
 def test_vvea_optimise_on_70_by_160_mm_reaches_0_879_percent_without_a_bounds_edit(tmp_path):
-    """req-01 (issue item 1): `vvea optimise --spec req.toml` on a 70 x 160 mm, 120 N/mm spec, no [bounds]."""
+    """req-01 (issue item 1): `vvea optimise --spec req.toml` on a 70 x 160 mm, 120 N/mm spec, no [bounds].
+
+    Under the gas-only sizing rules (the rules the 0.879 % was measured with); the buildability rules cost
+    linearity on this envelope (docs/layout.md), the bounds follow the envelope all the same."""
     req = tmp_path / "req.toml"
-    req.write_text("max_outer_diameter_mm = 70.0\nmax_housing_length_mm = 160.0\nmin_mean_stiffness_N_per_mm = 120.0\n")
+    req.write_text("max_outer_diameter_mm = 70.0\nmax_housing_length_mm = 160.0\nmin_mean_stiffness_N_per_mm = 120.0\n"
+                   "[fixed]\nsizing_rules = \"gas_only\"\n")
     code, text = _run("optimise", "--spec", req, "-o", tmp_path / "d.json")
     assert code == 0, text
     perf = json.loads((tmp_path / "d.json").read_text())["performance"]

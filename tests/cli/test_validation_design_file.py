@@ -24,6 +24,8 @@ from vvea_design.spring.requirements import Requirements
 from vvea_design.testing import check_linearity
 
 BASE = json.loads((REPO / "cad" / "design.json").read_text())
+#: the reference file predates the buildability rules; stated, it loads without the legacy note
+BASE["fixed"].setdefault("sizing_rules", "gas_only")
 
 
 def _area(d: float) -> float:

@@ -73,7 +73,7 @@ from ..inputs import decode_text, parse_json, read_input_bytes
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
            "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate",
-           "CHECKED_PERFORMANCE", "StaleDerivedValues", "stale_derived_values"]
+           "CHECKED_PERFORMANCE", "LegacyDesignFile", "StaleDerivedValues", "stale_derived_values"]
 
 FORMAT = "vvea-design"
 FORMAT_VERSION = 1
@@ -369,7 +369,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             warnings.warn(f"{src}: written before the buildability rules (no fixed.sizing_rules): loaded with "
                           "sizing_rules = 'gas_only', the rules it was made with (walls for the gas peak at nominal "
                           "size, no joints, no damper loads); re-optimise it for a unit a workshop can build",
-                          UserWarning, stacklevel=3)
+                          LegacyDesignFile, stacklevel=3)
         fixed = FixedParameters.from_dict(fixed_data)
         design = Design(
             **{k: p[k] for k in DECISION_VARIABLES},
@@ -418,6 +418,10 @@ def _disagreements(stored: Any, derived: Any, where: str) -> list[str]:
     if not math.isfinite(stored) or not math.isclose(stored, derived, rel_tol=1e-6, abs_tol=1e-9):
         return [f"{where} = {stored:.6g} (rebuilt: {float(derived):.6g})"]
     return []
+
+
+class LegacyDesignFile(UserWarning):
+    """A design file written before the buildability rules: re-derived under the gas-only rules it was made with."""
 
 
 class StaleDerivedValues(UserWarning):

@@ -164,6 +164,7 @@ REQUIREMENT_LIMITS: dict[str, str] = {
     "max_charge_MPa": "charge_MPa",
     "min_wall_safety_factor": "wall_safety_factor",
     "max_mass_g": "mass_g",
+    "max_parasitic_damping_N_s_per_mm": "linear_damping_N_s_per_mm",
 }
 
 
