@@ -306,8 +306,9 @@ def test_annulus_top_collar_slots_and_ports(built):
         assert z[1] == pytest.approx(lay.z_free1, abs=1e-3)  # the top clamp is the cap's spigot
         return
     need = d.minimum_walls_mm()["collar"]
-    # top face, cap underside, collar top, collar underside (the clamp), base top, underside
-    np.testing.assert_allclose(z, [lay.z_top, lay.z_cap, lay.z_collar1, lay.z_free1, lay.z_base_top, 0.0], atol=1e-3)
+    # top face, cap underside, collar top, collar underside (the clamp), the base spigot's top (issue 23: the base
+    # rises into the outer tube there, holding its static seal and the cuff's outer wall), underside
+    np.testing.assert_allclose(z, [lay.z_top, lay.z_cap, lay.z_collar1, lay.z_free1, lay.z_free0, 0.0], atol=1e-3)
     assert lay.z_cap - lay.z_collar1 == pytest.approx(d.top_annulus_length_mm, rel=1e-12)
     assert lay.z_collar1 - lay.z_free1 == pytest.approx(d.fixed.bladder_clamp_mm + d.collar_mm, rel=1e-12)
     assert d.collar_mm >= need - 1e-9
@@ -318,12 +319,13 @@ def test_annulus_top_collar_slots_and_ports(built):
     for ang, first in ((a0, lay.r_bore), (a0 + math.pi / lay.cad.cross_slots, lay.r_piston)):
         h = _hits(housing, (0.0, 0.0, zs), (math.cos(ang), math.sin(ang), 0.0))
         assert h[0] == pytest.approx(first, abs=0.02)
-    # chamber-2 port: upwards along its axis the housing is open from the underside to the collar, and the
-    # support ring has a hole there
+    # chamber-2 port: upwards along its axis the housing is open from the underside to the collar (through the
+    # base and its spigot); the support ring ends inside the bladder's bead, clear of the port (issue 23)
     up = _hits(housing, (0.0, lay.r_port2, -50.0), (0.0, 0.0, 1.0)) - 50.0
     assert up[0] == pytest.approx(lay.z_free1, abs=1e-3)
     assert len(_hits(ring_mesh, (0.0, lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
-    assert len(_hits(ring_mesh, (0.0, -lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 2
+    assert len(_hits(ring_mesh, (0.0, -lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
+    assert ring_mesh.bounds[1][1] == pytest.approx(lay.r_base_spigot, abs=0.05)
 
 
 def test_annulus_top_slot_room_is_checked():

@@ -17,10 +17,17 @@ from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design, DesignError
-from .seals import Gland, SealError, piston_gland, rod_gland
+from .seals import Gland, LeadIn, SealError, piston_gland, rod_gland, static_male_gland
 
 #: Axial land on each side of the collar's seal groove (annulus_top), mm.
 COLLAR_SEAL_LAND_MM = 0.75
+#: Shortest axial land between a static seal groove and the end of its spigot, mm.
+SPIGOT_LAND_MM = 0.5
+#: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm.
+LEAD_IN_GAP_MM = 0.3
+#: Where the chamfer-angle room for a lead-in stops: the piston's lower ring must never run onto the inner tube's
+#: bottom chamfer at full stroke (axial gap, mm).
+PISTON_LEAD_IN_GAP_MM = 0.3
 
 __all__ = ["CadParameters", "Layout", "CadError", "DEPRECATED_NAMES"]
 
@@ -54,9 +61,12 @@ class CadParameters:
     oring_cross_section_mm: float = 1.78  #: O-ring series of the piston and rod seals (ISO 3601-1: 1.78 or 2.62)
     rod_thread_core_mm: float = 4.2  #: tapped hole (M5 core) in the rod end for the bottom eye
     rod_thread_depth_mm: float = 10.0  #: depth of that tapped hole
-    fill_port_mm: float = 2.0  #: gas fill-port drilling through the top cap
-    fill_port_counterbore_mm: float = 4.2  #: M5 core counterbore of the fill ports (where it fits)
-    fill_port_counterbore_depth_mm: float = 4.0  #: its depth from the top face
+    fill_port_mm: float = 2.0  #: gas fill-port drilling (largest; shrinks to fit between bladder and seal)
+    fill_port_counterbore_mm: float = 4.2  #: tap drill of the charging valves' M5x0.8 thread (ISO 261)
+    fill_port_counterbore_depth_mm: float = 4.0  #: depth of that tapped hole from the face
+    valve_spot_face_mm: float = 9.0  #: flat seat of a charging valve's seal around its M5 hole (diameter)
+    plug_bore_mm: float = 3.0  #: bore of the expander plug that closes a cross port at the outside
+    plug_depth_mm: float = 3.0  #: its depth from the outside
     throttle_bore_mm: float = 6.0  #: rotary throttle valve bore (radial, in the base)
     relief_bore_mm: float = 5.0  #: spring-ball relief valve bore (radial, opposite the throttle)
     relief_seat_mm: float = 2.5  #: relief valve seat drilling
@@ -198,25 +208,105 @@ class Layout:
         except SealError as exc:
             raise CadError(f"fixed.rod_diameter_mm: {exc}") from None
 
+    def _static_seal(self, kind: str, where: str, field: str) -> Gland:
+        """A static male gland against the outer-tube bore (``kind`` names it), or a CadError naming ``field``."""
+        try:
+            g = static_male_gland(2 * self.outer_bore_radius_mm, self.cad.oring_cross_section_mm, kind)
+        except SealError as exc:
+            raise CadError(f"{field} (the {where} to the Ø{2 * self.outer_bore_radius_mm:.2f} mm bore): {exc}") \
+                from None
+        return replace(g, where=where)
+
     @cached_property
     def collar_seal(self) -> Gland | None:
         """Static seal of the ``annulus_top`` collar to the outer-tube bore (it separates chamber 1's annulus
-        from chamber 2): a male gland in the collar plate's rim, sized by the piston's (dynamic) gland rules,
-        conservative for a static seal; ``None`` in the other layouts."""
+        from chamber 2): a male static gland (radial squeeze, ISO 3601 static table) in the collar plate's rim;
+        ``None`` in the other layouts."""
         if not self.has_top_annulus:
             return None
-        try:
-            g = piston_gland(2 * self.outer_bore_radius_mm, self.cad.oring_cross_section_mm)
-        except SealError as exc:
-            raise CadError(f"outer_diameter_mm (the collar's seal to the Ø{2 * self.outer_bore_radius_mm:.2f} mm bore): {exc}") \
-                from None
-        return replace(g, kind="collar")
+        return self._static_seal("collar", "collar to outer-tube bore (static)", "outer_diameter_mm")
 
     @property
     def z_collar_seal(self) -> tuple[float, float]:
         """Axial extent of the collar's seal groove, centred in the collar plate (``annulus_top``), mm."""
         zc, w = self.z_collar1 - 0.5 * self.design.collar_mm, self.collar_seal.width_mm
         return zc - 0.5 * w, zc + 0.5 * w
+
+    @cached_property
+    def cap_seal(self) -> Gland | None:
+        """Static seal of the top cap to the outer-tube bore: a male static gland in the top bladder clamp (the
+        cap's spigot in the bore); ``None`` in ``annulus_top``, whose plain cap has no spigot (open point: its
+        joint to the outer tube needs the joint's footprint)."""
+        if self.has_top_annulus:
+            return None
+        return self._static_seal("cap", "top cap spigot to outer-tube bore (static)", "outer_diameter_mm")
+
+    @cached_property
+    def base_seal(self) -> Gland:
+        """Static seal of the base to the outer-tube bore: a male static gland in the base's spigot (the ring
+        that rises into the outer tube around the support ring and forms the outer wall of the bladder's lower
+        cuff groove)."""
+        return self._static_seal("base", "base spigot to outer-tube bore (static)", "outer_diameter_mm")
+
+    @property
+    def r_base_spigot(self) -> float:
+        """Inner radius of the base spigot where it holds the lower cuff's bead (the bead's outer radius), mm."""
+        return self.bladder_outer_radius_mm + self.bead_mm
+
+    @property
+    def z_base_seal(self) -> tuple[float, float]:
+        """Axial extent of the base seal's groove: at the top of the spigot (land :data:`SPIGOT_LAND_MM`), so the
+        outer tube's lead-in chamfer below it stays clear of the installed ring, mm."""
+        top = self.z_free0 - SPIGOT_LAND_MM
+        return top - self.base_seal.width_mm, top
+
+    @property
+    def z_cap_seal(self) -> tuple[float, float]:
+        """Axial extent of the cap seal's groove: at the bottom of the cap's spigot (land :data:`SPIGOT_LAND_MM`),
+        so the outer tube's top lead-in chamfer above it stays clear of the installed ring, mm."""
+        lo = self.z_free1 + SPIGOT_LAND_MM
+        return lo, lo + self.cap_seal.width_mm
+
+    @cached_property
+    def lead_in_piston(self) -> LeadIn:
+        """Lead-in chamfer at the inner tube's bottom bore end: the piston's rings enter the bore there (every
+        layout: in ``bulkhead`` the top is closed). Short enough that the lower ring never runs onto it at full
+        stroke (ISO 3601-2: 15-20 deg, radial depth over the ring's protrusion)."""
+        d, w = self.design, self.piston_seal.width_mm
+        room = d.fluid_column_mm - d.fixed.travel_mm + 0.27 * d.fixed.piston_height_mm - w / 2 - PISTON_LEAD_IN_GAP_MM
+        try:
+            return self.piston_seal.lead_in(room)
+        except SealError as exc:
+            raise CadError(f"fixed.fluid_clearance_mm: {exc}") from None
+
+    @cached_property
+    def lead_in_rod(self) -> LeadIn:
+        """Lead-in chamfer at the rod's end: it passes the rod seal in the base on assembly."""
+        return self.rod_seal.lead_in(self.cad.rod_thread_depth_mm)
+
+    @cached_property
+    def lead_in_outer_bottom(self) -> LeadIn:
+        """Lead-in chamfer at the outer tube's bottom bore end: the base seal's ring (and in ``annulus_top`` the
+        collar's) enters the bore there. It ends :data:`LEAD_IN_GAP_MM` below the base seal's groove."""
+        room = self.z_base_seal[0] - self.z_base_top - LEAD_IN_GAP_MM
+        rings = [self.base_seal] + ([self.collar_seal] if self.has_top_annulus else [])
+        ring = max(rings, key=lambda g: g.protrusion_mm + g.oring.cross_section_tolerance_mm)
+        try:
+            return ring.lead_in(room)
+        except SealError as exc:
+            raise CadError(f"fixed.bladder_clamp_mm (the base spigot): {exc}") from None
+
+    @cached_property
+    def lead_in_outer_top(self) -> LeadIn | None:
+        """Lead-in chamfer at the outer tube's top bore end: the cap seal's ring enters the bore there
+        (``None`` without a cap seal). It ends :data:`LEAD_IN_GAP_MM` above the cap seal's groove."""
+        if self.cap_seal is None:
+            return None
+        room = self.z_cap - self.z_cap_seal[1] - LEAD_IN_GAP_MM
+        try:
+            return self.cap_seal.lead_in(room)
+        except SealError as exc:
+            raise CadError(f"fixed.bladder_clamp_mm (the top cap's spigot): {exc}") from None
 
     @property
     def z_rod_seal(self) -> tuple[float, float]:
@@ -245,15 +335,54 @@ class Layout:
         """Radius of the support-ring channels (fluid side, inside the bladder)."""
         return 0.5 * (self.inner_tube_outer_radius_mm + self.bladder_inner_radius_mm - self.bead_mm)
 
+    @property
+    def _seal_root_near_port2(self) -> float:
+        """Radius of the seal groove's root beside the chamber-2 port: the cap's spigot, or in ``annulus_top``
+        the base's spigot (the port runs through it), mm."""
+        g = self.base_seal if self.has_top_annulus else self.cap_seal
+        return g.groove_diameter_mm / 2
+
     @cached_property
     def fill_port_d(self) -> float:
-        return min(self.cad.fill_port_mm, 0.6 * (self.outer_bore_radius_mm - self.bladder_outer_radius_mm - self.bead_mm))
+        """Diameter of the chamber-2 port through the spigot, between the bladder's bead and the seal groove, mm."""
+        return min(self.cad.fill_port_mm, 0.6 * (self._seal_root_near_port2 - self.r_base_spigot))
+
+    @property
+    def _valve2_limit(self) -> float:
+        """Largest radius of the chamber-2 valve whose spot face stays 0.8 mm inside the outer diameter, mm."""
+        return self.outer_radius_mm - 0.5 * self.cad.valve_spot_face_mm - 0.8
 
     @property
     def r_port2(self) -> float:
-        """Chamber-2 fill port radius (gas side, outside the bladder bead; through the top clamp, or in
-        ``annulus_top`` through the base and the support ring)."""
-        return 0.5 * (self.bladder_outer_radius_mm + self.bead_mm + self.outer_bore_radius_mm)
+        """Chamber-2 port radius: through the top clamp (or in ``annulus_top`` through the base and its spigot),
+        midway between the bladder's bead and the root of the spigot's seal groove -- or further in, under the
+        valve, when the valve's spot face does not fit over the midpoint but the port still clears the bead."""
+        mid = 0.5 * (self.r_base_spigot + self._seal_root_near_port2)
+        lim = self._valve2_limit
+        if self.has_bulkhead or mid <= lim:
+            return mid
+        if lim >= self.r_base_spigot + self.fill_port_d / 2 + 0.3:
+            return lim
+        return mid
+
+    @property
+    def y_valve2(self) -> float:
+        """Where the chamber-2 charging valve sits (+y, on the top face; in ``annulus_top`` on the base's
+        underside): over the riser (``bulkhead``), else over the port where its spot face fits, else inboard,
+        joined to the port by a cross port drilled from the outside and plugged, mm."""
+        if self.has_bulkhead:
+            return self.y_cross_riser
+        return min(self.r_port2, self._valve2_limit)
+
+    @property
+    def has_cross_port(self) -> bool:
+        """The chamber-2 valve is not over its port: a cross port joins them (and in ``bulkhead`` the riser)."""
+        return self.has_bulkhead or self.y_valve2 < self.r_port2 - 1e-9
+
+    @property
+    def y_port1(self) -> float:
+        """Where the chamber-1 charging valve sits (+y on the top face; 0 in ``bulkhead``: the fill tube's bore)."""
+        return 0.0 if self.has_bulkhead else self.r_port1
 
     @property
     def r_port1(self) -> float:
@@ -366,13 +495,17 @@ class Layout:
 
     @property
     def cross_port_d(self) -> float:
-        """Diameter of the top cap's cross port from the space above the bulkhead to the chamber-2 port."""
+        """Diameter of the cross port (and the riser) that joins the chamber-2 valve to its port, mm."""
         return min(self.fill_port_d, 1.5)
 
     @property
     def z_cross_port(self) -> float:
-        """Axis height of that cross port (inside the top cap)."""
-        return self.z_cap + 0.5 * (self.z_top - self.z_cap - self.cad.fill_port_counterbore_depth_mm)
+        """Axis height of the cross port: in the top cap between the joint face and the valves' tapped holes,
+        centred on the plug's bore; in ``annulus_top`` in the base above the valve's tapped hole."""
+        c = self.cad
+        if self.has_top_annulus:
+            return c.fill_port_counterbore_depth_mm + 0.3 + 0.5 * c.plug_bore_mm
+        return 0.5 * (self.z_cap + SPIGOT_LAND_MM + self.z_top - c.fill_port_counterbore_depth_mm - 0.3)
 
     @property
     def y_cross_riser(self) -> float:
@@ -529,8 +662,6 @@ class Layout:
                     or self.y_cross_riser + self.cross_port_d / 2 > self.piston_radius_mm - 0.5:
                 raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
                                "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
-            if self.z_cross_port - self.cross_port_d / 2 < self.z_cap + 0.8:
-                raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
             if self.fill_tube_outer_radius_mm >= 0.5 * self.piston_radius_mm:
                 raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
         if self.has_top_annulus:
@@ -544,3 +675,47 @@ class Layout:
                 raise CadError("the collar and the chamber-1 annulus leave the bladder no free length")
         if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
             raise CadError("bladder free length too short for its cuffs")
+        self._check_seals_and_ports()
+
+    def _check_seals_and_ports(self) -> None:
+        """Raise :class:`CadError` if a static seal, a lead-in chamfer, a charging valve, the cross port or its
+        plug does not fit (names the field to change)."""
+        f, c = self.design.fixed, self.cad
+        wall = 0.4  # least metal between two features, mm
+        seals = [(self.base_seal, self.z_base_seal, self.z_base_top, self.z_free0, "base spigot")]
+        if self.cap_seal is not None:
+            seals.append((self.cap_seal, self.z_cap_seal, self.z_free1, self.z_cap, "top cap's spigot"))
+        for g, (g0, g1), lo, hi, name in seals:
+            if g0 < lo + SPIGOT_LAND_MM - 1e-9 or g1 > hi - SPIGOT_LAND_MM + 1e-9:
+                raise CadError(f"fixed.bladder_clamp_mm = {f.bladder_clamp_mm:g} mm: the {name} ({hi - lo:.2f} mm) "
+                               f"cannot hold the {g.width_mm:g} mm groove of O-ring {g.oring.code} with "
+                               f"{SPIGOT_LAND_MM:g} mm lands")
+            if g.groove_diameter_mm / 2 - self.r_base_spigot < 2 * wall + 0.5:
+                raise CadError(f"outer_diameter_mm: the {name}'s seal groove (root Ø{g.groove_diameter_mm:.2f}) leaves no "
+                               f"room for the chamber-2 port beside the bladder's bead (Ø{2 * self.r_base_spigot:.2f})")
+        _ = self.lead_in_piston, self.lead_in_rod, self.lead_in_outer_bottom, self.lead_in_outer_top
+        R, spot = self.outer_radius_mm, 0.5 * c.valve_spot_face_mm
+        if not self.has_top_annulus:
+            # the two valves on the top face (+y): chamber 1 (axis or r_port1) and chamber 2 (y_valve2)
+            if self.y_valve2 - spot < self.y_port1 + spot + 0.5 - 1e-9:
+                raise CadError(f"cad.valve_spot_face_mm = {c.valve_spot_face_mm:g} mm: the two charging valves' seats "
+                               f"overlap on the top face (at y = {self.y_port1:.2f} and {self.y_valve2:.2f} mm)")
+        if self.has_cross_port:
+            if self.r_port2 - self.fill_port_d / 2 < self.y_valve2 - self.cross_port_d / 2 - 1e-9:
+                raise CadError(f"cad.valve_spot_face_mm = {c.valve_spot_face_mm:g} mm: the chamber-2 valve "
+                               f"(y = {self.y_valve2:.2f}) and its port (r = {self.r_port2:.2f}) overlap")
+            plug_in = R - c.plug_depth_mm
+            if plug_in < self.r_port2 + self.fill_port_d / 2 + wall - 1e-9:
+                raise CadError(f"cad.plug_depth_mm = {c.plug_depth_mm:g} mm: the cross port's plug bore reaches the "
+                               f"chamber-2 port (at r = {self.r_port2:.2f} mm)")
+            zc, rp = self.z_cross_port, 0.5 * c.plug_bore_mm
+            if self.has_top_annulus:
+                lo_ok, hi_ok = zc - rp >= c.fill_port_counterbore_depth_mm, zc + rp <= self.z_base_top - 1.0
+                where = f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm)"
+            else:
+                lo_ok = zc - rp >= self.z_cap + SPIGOT_LAND_MM - 1e-9
+                hi_ok = zc + rp <= self.z_top - c.fill_port_counterbore_depth_mm - 0.3 + 1e-9
+                where = f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g})"
+            if not (lo_ok and hi_ok):
+                raise CadError(f"{where} is too thin for the chamber-2 cross port's plug (Ø{c.plug_bore_mm:g}, "
+                               f"cad.plug_bore_mm) beside the valves' tapped holes")
