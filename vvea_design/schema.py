@@ -31,6 +31,10 @@ from .spring.parameters import FixedParameters
 from .spring.design_file import (DESIGN_PARAMETER_KEYS, FORMAT, FORMAT_VERSION, OPTIONAL_FIXED_KEYS,
                                  OPTIONAL_PARAMETER_KEYS)
 from .spring.gas_spring import GasSpring
+from .spring.hydraulics import OILS
+from .spring.joints import JOINTS, PROPERTY_CLASSES
+from .spring.parameters import SIZING_RULES
+from .spring.tolerances import GENERAL_CLASSES, IT_GRADES
 from .spring.requirements import DEFAULT_BOUNDS, Requirements
 
 __all__ = ["requirements_schema", "design_schema", "SCHEMAS", "shipped_schema", "write_schemas"]
@@ -101,6 +105,12 @@ def fixed_schema(all_required: bool = False) -> dict[str, Any]:
     props = _dataclass_properties(FixedParameters)
     for name in _MATERIAL_FIELDS:
         props[name]["enum"] = sorted(STRUCTURAL)
+    props["sizing_rules"]["enum"] = list(SIZING_RULES)
+    props["oil"]["enum"] = sorted(OILS)
+    props["tie_rod_property_class"]["enum"] = sorted(PROPERTY_CLASSES)
+    props["thickness_tolerance_class"]["enum"] = list(GENERAL_CLASSES)
+    for name in ("bore_tolerance_grade", "outside_tolerance_grade"):
+        props[name]["enum"] = list(IT_GRADES)
     out = {"type": "object", "description": FixedParameters.__doc__.strip(), "properties": props,
            "additionalProperties": False}
     if all_required:
@@ -143,6 +153,8 @@ def design_schema() -> dict[str, Any]:
     params = {k: {"type": "number", **({"description": gs_notes[k]} if k in gs_notes else {})}
               for k in DESIGN_PARAMETER_KEYS + OPTIONAL_PARAMETER_KEYS}
     params["layout"] = {"type": "string", "enum": list(LAYOUTS), "description": "layout variant (docs/layout.md)"}
+    params["joint"] = {"type": "string", "enum": list(JOINTS),
+                       "description": "what holds the end pieces to the outer tube (docs/layout.md)"}
     spec = requirements_schema()
     spec = {k: v for k, v in spec.items() if k not in ("$schema", "$id", "title")}
     number_map = {"type": "object", "additionalProperties": {"type": ["number", "null"]}}
@@ -166,6 +178,14 @@ def design_schema() -> dict[str, Any]:
                 "properties": {"kind": {"enum": ["min", "max"]}, "unit": {"type": "string"}}}},
             "spec": spec,
             "optimiser": {"type": "object", "description": "seed, evaluations, seconds, binding constraints"},
+            "structure": {"type": "object", "required": ["sizing_rules", "joint", "load_cases", "pieces", "tolerances"],
+                          "description": "load cases (MPa, N), every pressure-bearing piece's governing case and "
+                                         "safety factor, the drawn tolerances (mm); derived, for reading"},
+            "joints": {"type": "array", "items": {"type": "object", "required": ["joint", "kind"]},
+                       "description": "the joints (thread, ring, tie rods) and seats with their sizes (mm), loads (N) "
+                                      "and safety factors; derived, for reading"},
+            "hydraulics": {"type": "object", "required": ["D_min_N_s_per_mm", "D_max_N_s_per_mm"],
+                           "description": "the damper: oil, restrictions, damping range (N s/mm); derived, for reading"},
         },
         "additionalProperties": False,
     }

@@ -5,9 +5,18 @@ from dataclasses import replace
 
 import pytest
 
+from tests.spring.rules import GAS_ONLY, gas_only_defaults
+
 from vvea_design.spring.design import Design, DesignError, FixedParameters
 
-REF = Design(35.18, 59.5, 47107.0, 99735.0)
+REF = Design(35.18, 59.5, 47107.0, 99735.0, fixed=GAS_ONLY)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _gas_only_rules():
+    """These tests are the gas-only rules' (tests/spring/rules.py): every FixedParameters() here defaults to them."""
+    with gas_only_defaults():
+        yield
 
 
 def test_areas_follow_the_layout():
@@ -130,7 +139,7 @@ def test_legacy_fixed_wall_keys_become_minimums():
     assert f.min_outer_wall_mm == 2.0 and f.min_base_mm == 15.0
 
 
-BULK = Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0)
+BULK = Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0, fixed=GAS_ONLY)
 
 
 def test_bulkhead_layout_places_every_volume():
@@ -155,7 +164,7 @@ def test_bulkhead_layout_places_every_volume():
     assert d.V2_capacity_mm3 > today.V2_capacity_mm3 - 1.0 or d.housing_length_mm < today.housing_length_mm + 30
 
 
-ANN = Design(34.0, 59.5, 52000.0, 80000.0, layout="annulus_top", V1_annulus_mm3=9000.0)
+ANN = Design(34.0, 59.5, 52000.0, 80000.0, layout="annulus_top", V1_annulus_mm3=9000.0, fixed=GAS_ONLY)
 
 
 def test_annulus_top_layout_places_every_volume():
@@ -283,7 +292,7 @@ def test_volume_budget_accounts_for_every_mm3_of_the_envelope(layout):
 
 
 # ------------------------------------------------------------------ piston pocket (issue 12)
-POCKET = FixedParameters(piston_pocket=True)
+POCKET = FixedParameters(piston_pocket=True, sizing_rules="gas_only")
 
 
 @pytest.mark.parametrize("base", [REF, BULK, ANN], ids=["inner_tube", "bulkhead", "annulus_top"])

@@ -5,10 +5,19 @@ import json
 import numpy as np
 import pytest
 
+from tests.spring.rules import GAS_ONLY, gas_only_defaults
+
 from vvea_design.spring.optimise import Infeasible, OptimisationResult, optimise
 from vvea_design.spring.studies import linearity_map, pareto_front
 from vvea_design.spring.requirements import Requirements
 from tests.helpers import REPO
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _gas_only_rules():
+    """These tests are the gas-only rules' (tests/spring/rules.py): every FixedParameters() here defaults to them."""
+    with gas_only_defaults():
+        yield
 
 
 @pytest.fixture(scope="module")

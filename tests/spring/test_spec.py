@@ -77,20 +77,24 @@ def test_missing_file(tmp_path):
         load_requirements(tmp_path / "nope.toml")
 
 
-def test_margins_have_signs_and_details():
-    d = Design(34.5, 59.5, 41500.0, 80000.0)
-    ev = evaluate_design(d, Requirements())
+@pytest.mark.parametrize("rules", ["gas_only", "buildable"])
+def test_margins_have_signs_and_details(rules):
+    fixed = FixedParameters(sizing_rules=rules)
+    # a design feasible under each rules' requirements (the buildable one: a thread joint, shorter gas columns)
+    d = (Design(34.5, 59.5, 41500.0, 80000.0, fixed=fixed) if rules == "gas_only"
+         else Design(32.5, 59.3, 30000.0, 70000.0, layout="bulkhead", V2_top_mm3=500.0, fixed=fixed))
+    ev = evaluate_design(d, Requirements(fixed=fixed))
     assert ev.feasible
-    assert list(ev.margins) == constraint_names(Requirements())
+    assert list(ev.margins) == constraint_names(Requirements(fixed=fixed), d.layout)
     assert ev.margins["housing_length"] == pytest.approx(1 - d.housing_length_mm / 132.5)
-    tight = evaluate_design(d, Requirements(min_mean_stiffness_N_per_mm=200.0))
+    tight = evaluate_design(d, Requirements(min_mean_stiffness_N_per_mm=200.0, fixed=fixed))
     assert not tight.feasible and tight.margins["mean_stiffness"] < 0
     assert tight.details["mean_stiffness"]["unit"] == "N/mm"
-    heavy = evaluate_design(d, Requirements(max_mass_g=100.0))
+    heavy = evaluate_design(d, Requirements(max_mass_g=100.0, fixed=fixed))
     assert heavy.margins["mass"] < 0
-    assert list(heavy.margins) == constraint_names(Requirements(max_mass_g=100.0))
+    assert list(heavy.margins) == constraint_names(Requirements(max_mass_g=100.0, fixed=fixed), d.layout)
     with pytest.raises(ValueError, match="bladder_strain"):
-        evaluate_design(d, Requirements(max_bladder_strain=0.3))
+        evaluate_design(d, Requirements(max_bladder_strain=0.3, fixed=fixed))
 
 
 def test_example_requirements_file_is_the_defaults():

@@ -7,13 +7,22 @@ import csv
 import numpy as np
 import pytest
 
+from tests.spring.rules import GAS_ONLY, gas_only_defaults
+
 from tests.helpers import REPO
 from vvea_design.spring.design import Design
 from vvea_design.spring.requirements import Requirements
 from vvea_design.spring.studies import (GasCapacity, GasVolumeBound, LinearityMap, ParetoPoint, gas_capacity,
                                         gas_volume_bound, linearity_map, save_pareto)
 
-BULK = Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0)
+BULK = Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0, fixed=GAS_ONLY)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _gas_only_rules():
+    """These tests are the gas-only rules' (tests/spring/rules.py): every FixedParameters() here defaults to them."""
+    with gas_only_defaults():
+        yield
 
 
 def test_a_pareto_point_is_the_csv_row():

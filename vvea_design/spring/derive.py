@@ -22,7 +22,9 @@ import numpy as np
 
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array, Pressures, Section
+from .hydraulics import hydraulic_path, linear_damping_N_s_per_mm
 from .layouts import DECISION_VARIABLES, LayoutStack, LayoutVariant, get_layout
+from .masses import part_masses_g
 from .parameters import DesignError, FixedParameters
 
 __all__ = ["Derived", "Stack", "derive", "peak_pressures", "size_walls", "wall_stresses", "part_masses",
@@ -40,6 +42,10 @@ class Stack:
     bladder_free_length_mm: Array  #: bladder between its two clamps
     rod_length_mm: Array  #: rod from the piston's underside to its end outside the base at x = 0
     layout: LayoutStack  #: what the layout added or took (its quantities among them)
+
+
+#: Fields of :class:`Derived` that hold objects (records, nested results), kept as they are by :meth:`Derived.item`.
+_OBJECT_FIELDS = {"load_cases", "section", "check", "governing", "hydraulic_path"}
 
 
 @dataclass(frozen=True)
@@ -105,6 +111,18 @@ class Derived:
     inner_tube_buckling_MPa: Array | None = None  #: elastic buckling pressure of the inner tube
     masses_g: dict[str, Array] | None = None  #: mass of each part
     mass_g: Array | None = None  #: their sum
+    joint: str = "thread"  #: the joint choice (:data:`~vvea_design.spring.joints.JOINTS`)
+    sizing_rules: str = "buildable"  #: ``fixed.sizing_rules``
+    #: the buildability rules' results (None under ``gas_only``): the load cases, the sized section (with the
+    #: joint's sizing), every piece's check per case, the governing case per piece, the damper's flow path
+    load_cases: Any = None
+    section: Any = None
+    check: Any = None
+    governing: Any = None
+    hydraulic_path: Any = None
+    required_safety_factors: dict[str, Array] | None = None  #: per piece, what its governing case asks
+    joint_utilisation: Array | None = None  #: the joint's worst check over its limit (<= 1 met)
+    parasitic_damping_N_s_per_mm: Array | None = None  #: D_min: the damping with the throttle fully open, N s/mm
 
     def to_dict(self) -> dict[str, Any]:
         """Every field by name (the dictionaries as dictionaries).
@@ -126,7 +144,7 @@ class Derived:
             Floats (``buildable`` a bool, ``layout`` a str), dictionaries of floats; units unchanged.
         """
         def one(name, v):
-            if v is None or isinstance(v, str):
+            if v is None or isinstance(v, str) or name in _OBJECT_FIELDS:
                 return v
             if isinstance(v, dict):
                 return {k: float(x) for k, x in v.items()}
@@ -276,8 +294,9 @@ def size_walls(piston_diameter_mm, outer_diameter_mm, A1_mm2, A2_mm2, pressures:
     return replace(sec, walls_mm={**walls, **own, **pocket})
 
 
-def _size_piston_floor(ri, dP, f: FixedParameters):
-    """Whether each piston has a pocket, its radius (a harmless one where none) and the floor, mm."""
+def _size_piston_floor(ri, dP, f: FixedParameters, sized=None):
+    """Whether each piston has a pocket, its radius (a harmless one where none) and the floor, mm (``sized`` adds
+    the floor's tolerance to what the load needs: the buildability rules)."""
     mat_p = get_material(f.rod_material)
     sa_p = mat_p.yield_MPa / f.wall_safety_factor
     b_rod = f.rod_diameter_mm / 2
@@ -287,9 +306,25 @@ def _size_piston_floor(ri, dP, f: FixedParameters):
     k_floor = piston_floor_moment(ri, r_pk_s, b_rod, mat_p.poisson)
     q_floor = ri**2 - b_rod**2  # root shear per unit pressure x 2 b_rod
     t_fl_req = np.fmax(np.sqrt(6 * k_floor * dP / sa_p), 3 * dP * q_floor / (2 * b_rod * sa_p))
+    if sized is not None:
+        t_fl_req = sized(t_fl_req)
     t_fl = np.where(has_pk, np.fmin(np.fmax(f.min_piston_floor_mm, t_fl_req), f.piston_height_mm),
                     f.piston_height_mm)
+    if sized is not None:  # the buildability rules: also the room the floor leaves (< 0: capped at the height)
+        return has_pk, r_pk_s, t_fl, np.where(has_pk, f.piston_height_mm - t_fl_req, np.inf)
     return has_pk, r_pk_s, t_fl
+
+
+def _floor_stress(sec: Section, dP, f: FixedParameters):
+    """The piston floor's peak stress at a pressure ``dP`` across it, MPa: the larger of ``6 M / t^2`` at the rod
+    and Tresca's ``2 x 1.5 Q / t``, the floor at its least-material thickness (0 without a pocket)."""
+    mat_p = get_material(f.rod_material)
+    b_rod = f.rod_diameter_mm / 2
+    ri, has_pk = sec.piston_radius_mm, sec.has_piston_pocket
+    t_fl = sec.least_material_thickness_mm(sec.piston_floor_mm)
+    k_floor = piston_floor_moment(ri, np.where(has_pk, sec.piston_pocket_radius_mm, 2 * b_rod), b_rod, mat_p.poisson)
+    q_floor = ri**2 - b_rod**2
+    return np.where(has_pk, np.fmax(6 * k_floor * dP / t_fl**2, 3 * dP * q_floor / (2 * b_rod * t_fl)), 0.0)
 
 
 def _axial_stack(sec: Section, lay_stack: LayoutStack, V1, fixed: FixedParameters) -> Stack:
@@ -308,7 +343,8 @@ def _axial_stack(sec: Section, lay_stack: LayoutStack, V1, fixed: FixedParameter
         L = L_in - 2 * f.bladder_clamp_mm
         for v in lay_stack.bladder_length_taken_mm:
             L = L - v
-    return Stack(L1, np.full_like(L1, fluid_col), L_in, w["top_cap"] + L_in + w["base"], L,
+    extra = 0.0 if sec.joint is None else sec.joint.top_extra_mm  # a retaining ring's groove and land above the cap
+    return Stack(L1, np.full_like(L1, fluid_col), L_in, w["top_cap"] + L_in + w["base"] + extra, L,
                  np.full_like(L1, fluid_col) + w["base"] + f.travel_mm + 10.0, lay_stack)
 
 
@@ -476,20 +512,61 @@ def _variables(variables, lay: LayoutVariant) -> dict[str, np.ndarray]:
     return out
 
 
-def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="inner_tube", *,
+def _mass_geometry(sec: Section, stack: Stack, bl: dict, quantities: dict, f: FixedParameters) -> dict:
+    """The geometry :func:`~vvea_design.spring.masses.part_volumes_mm3` reads (arrays, mm, mm³)."""
+    w = sec.walls_mm
+    z = np.zeros_like(stack.inner_length_mm)
+    return {"ro": sec.outer_radius_mm, "rb": sec.outer_bore_radius_mm, "rp": sec.piston_radius_mm,
+            "rio": sec.inner_tube_outer_radius_mm, "rbi": bl["bladder_inner_radius_mm"],
+            "rbo": bl["bladder_outer_radius_mm"], "base": w["base"], "L_in": stack.inner_length_mm,
+            "cap": stack.housing_length_mm - stack.inner_length_mm - w["base"], "clamp": f.bladder_clamp_mm,
+            "rod_length": stack.rod_length_mm, "pocket_r": sec.piston_pocket_radius_mm,
+            "pocket_depth": f.piston_height_mm - sec.piston_floor_mm, "bulkhead": w.get("bulkhead", z),
+            "top_space": quantities.get("top_space_length_mm", z), "collar": w.get("collar", z),
+            "top_annulus": quantities.get("top_annulus_length_mm", z),
+            "cross_slot_volume": quantities.get("cross_slot_volume_mm3", z), "L_free": stack.bladder_free_length_mm,
+            "base_own": w["base"] if sec.base_own_mm is None else sec.base_own_mm}
+
+
+def _buildable_checks(sec: Section, loads, f: FixedParameters, lay: LayoutVariant) -> dict:
+    """Every piece's check per case, its governing case, and the stresses / safety factors / limits it reports."""
+    from .sizing import check_section, governing
+
+    chk = check_section(sec, loads, f, lay, _floor_stress)
+    gov = governing(chk)
+    return {"check": chk, "governing": gov, "stresses": {k: g[1] for k, g in gov.items()},
+            "safety": {k: g[2] for k, g in gov.items()}, "required": {k: g[3] for k, g in gov.items()},
+            "buckling": chk["buckling_MPa"]}
+
+
+def _section(dp, Do, A1, A2, pr: Pressures, p2_MPa, f: FixedParameters, lay: LayoutVariant, joint: str):
+    """The sized cross-section by ``fixed.sizing_rules`` and, under the buildability rules, the load cases."""
+    if f.sizing_rules == "gas_only":
+        return size_walls(dp, Do, A1, A2, pr, f, lay), None
+    from .loads import load_cases
+    from .sizing import size_section
+
+    loads = load_cases(pr, p2_MPa, A1, A2, f)
+    return size_section(dp, Do, A1, A2, loads, f, lay, joint, _size_piston_floor), loads
+
+
+def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="inner_tube", *, joint: str = "thread",
            stresses: bool = True, masses: bool = True) -> Derived:
     """Every derived quantity of a design, from its decision variables (arrays broadcast).
 
     The single source of the geometry, strength and mass formulas: :class:`~vvea_design.spring.design.Design`
     reads its properties from it, and the optimiser evaluates a whole population with it in one call. The
-    steps: :func:`peak_pressures`, :func:`size_walls`, the layout's stack
+    steps: :func:`peak_pressures`, the cross-section (under ``fixed.sizing_rules = "buildable"``: the load cases
+    of :mod:`~vvea_design.spring.loads`, every piece sized at its least-material condition and the joint,
+    :mod:`~vvea_design.spring.sizing`; under ``"gas_only"``: :func:`size_walls`), the layout's stack
     (:meth:`~vvea_design.spring.layouts.base.LayoutVariant.stack`), the axial stack, the bladder, the
-    layout's rooms, then optionally :func:`wall_stresses` and :func:`part_masses`.
+    layout's rooms, the damper's flow path and its parasitic damping (:mod:`~vvea_design.spring.hydraulics`),
+    then optionally the pieces' checks and the parts' masses (:mod:`~vvea_design.spring.masses`; under
+    ``"gas_only"`` :func:`wall_stresses` and :func:`part_masses`).
 
     With ``fixed.piston_pocket`` (every layout) chamber-1 gas also fills a coaxial pocket bored into the
-    piston crown, radius ``dp/2 - fixed.piston_pocket_wall_mm``, depth the piston height minus its floor
-    (:func:`size_walls`); its gas is part of V1: the bore column above the piston shrinks by ``pocket / A1``.
-    The fluid under the piston is taken at chamber-2 pressure (the throttle's pressure drop is not modelled).
+    piston crown, radius ``dp/2 - fixed.piston_pocket_wall_mm``, depth the piston height minus its floor;
+    its gas is part of V1: the bore column above the piston shrinks by ``pocket / A1``.
 
     Parameters
     ----------
@@ -505,6 +582,8 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
         Everything the optimiser does not change (walls' minimums, safety factor, bladder, materials).
     layout : str or LayoutVariant
         The layout variant (a name of :data:`~vvea_design.spring.layouts.LAYOUTS`).
+    joint : str
+        The joint (:data:`~vvea_design.spring.joints.JOINTS`; ignored under ``sizing_rules = "gas_only"``).
     stresses, masses : bool
         Also the drawn walls' stresses, safety factors and the inner tube's buckling pressure, and the
         masses; the optimiser's search leaves out what its constraints do not read (every other value is
@@ -514,8 +593,8 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
     -------
     Derived
         Areas (mm²), charges and peak pressures (MPa), sized walls and radii (mm), lengths (mm), volumes
-        (mm³), bladder clearances (mm), stresses (MPa) and safety factors (dimensionless), masses (g) and
-        ``buildable``; arrays broadcast like the inputs.
+        (mm³), bladder clearances (mm), stresses (MPa) and safety factors (dimensionless), masses (g), the
+        parasitic damping (N s/mm) and ``buildable``; arrays broadcast like the inputs.
 
     Raises
     ------
@@ -529,16 +608,29 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
     A1 = math.pi / 4 * dp**2
     A2 = math.pi / 4 * (dp**2 - f.rod_diameter_mm**2)
     pr = peak_pressures(A1, A2, V1, V2, p2_MPa, setpoint_x0_mm, f)
-    sec = size_walls(dp, Do, A1, A2, pr, f, lay)
+    sec, loads = _section(dp, Do, A1, A2, pr, p2_MPa, f, lay, joint)
     stack = _axial_stack(sec, lay.stack(sec, v, f), V1, f)
     fill = v.get("bladder_cast_fill", f.bladder_cast_fill)
     bl = _bladder(sec, stack, V2, fill, f)
     quantities = {**stack.layout.quantities, **lay.rooms(stack, f)}
-    st = safety = buckling = m = None
+    buildable_rules = loads is not None
+    base_own = sec.base_own_mm if buildable_rules else sec.walls_mm["base"]
+    with np.errstate(all="ignore"):
+        path = hydraulic_path(A2, sec.piston_radius_mm, sec.inner_tube_outer_radius_mm, bl["bladder_inner_radius_mm"],
+                              sec.outer_bore_radius_mm, bl["bladder_outer_radius_mm"], base_own, sec.walls_mm["base"], f)
+        d_min = linear_damping_N_s_per_mm(path, 1.0)
+    st = safety = buckling = m = checks = None
     if stresses:
-        st, safety, buckling = wall_stresses(sec, pr, f, lay)
+        if buildable_rules:
+            checks = _buildable_checks(sec, loads, f, lay)
+            st, safety, buckling = checks["stresses"], checks["safety"], checks["buckling"]
+        else:
+            st, safety, buckling = wall_stresses(sec, pr, f, lay)
     if masses:
-        m = part_masses(sec, stack, bl["bladder_mid_radius_mm"], bl["fluid_volume_mm3"], f, lay)
+        if buildable_rules:
+            m = part_masses_g(_mass_geometry(sec, stack, bl, quantities, f), f, lay, sec.joint, bl["fluid_volume_mm3"])
+        else:
+            m = part_masses(sec, stack, bl["bladder_mid_radius_mm"], bl["fluid_volume_mm3"], f, lay)
     rio, rb, L1, L = sec.inner_tube_outer_radius_mm, sec.outer_bore_radius_mm, stack.chamber1_length_mm, \
         stack.bladder_free_length_mm
     # what cannot be drawn at all (Design raises DesignError for these)
@@ -547,11 +639,12 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
                      & (L1 > 0) & (V2 > bl["displaced_volume_mm3"]) & (bl["bladder_gas_volume_cast_mm3"] > 0)
                      & (L > 0) & stack.layout.buildable & (bl["V2_annulus_mm3"] > 0) & np.isfinite(pr.p1_MPa))
     P2 = pr.peak_chamber_2_MPa
+    cap_value = P2 if loads is None else _capacity_pressure(loads, lay)
     return Derived(
         layout=lay.name, piston_diameter_mm=dp, outer_diameter_mm=Do, V1_mm3=V1, V2_mm3=V2, A1_mm2=A1, A2_mm2=A2,
         p1_MPa=pr.p1_MPa, peak_chamber_1_MPa=pr.p1_MPa * (1 + 0 * P2), peak_chamber_2_MPa=P2,
         chamber_difference_MPa=pr.chamber_difference_MPa, inner_tube_net_pressure_MPa=pr.inner_tube_net_pressure_MPa,
-        wall_capacity_value_MPa=P2, wall_capacity_limit_MPa=np.full_like(P2, sec.allowable_MPa / 2),
+        wall_capacity_value_MPa=cap_value, wall_capacity_limit_MPa=np.full_like(P2, sec.allowable_MPa / 2),
         walls_mm=sec.walls_mm, outer_bore_radius_mm=rb, inner_tube_outer_radius_mm=rio, annulus_gap_mm=rb - rio,
         piston_floor_mm=sec.piston_floor_mm, piston_pocket_radius_mm=sec.piston_pocket_radius_mm,
         piston_pocket_depth_mm=(f.piston_height_mm - sec.piston_floor_mm) * np.ones_like(sec.piston_radius_mm),
@@ -560,4 +653,18 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
         housing_length_mm=stack.housing_length_mm, bladder_free_length_mm=L, rod_length_mm=stack.rod_length_mm,
         **bl, buildable=buildable, layout_quantities=quantities, inner_tube_cut_mm3=stack.layout.inner_tube_cut_mm3,
         stresses_MPa=st, safety_factors=safety,
-        inner_tube_buckling_MPa=buckling, masses_g=m, mass_g=None if m is None else sum(m.values()))
+        inner_tube_buckling_MPa=buckling, masses_g=m, mass_g=None if m is None else sum(m.values()),
+        joint=joint, sizing_rules=f.sizing_rules, load_cases=loads, section=sec,
+        check=None if checks is None else checks["check"], governing=None if checks is None else checks["governing"],
+        hydraulic_path=path, required_safety_factors=None if checks is None else checks["required"],
+        joint_utilisation=None if sec.joint is None else sec.joint.utilisation, parasitic_damping_N_s_per_mm=d_min)
+
+
+def _capacity_pressure(loads, lay: LayoutVariant):
+    """The buildability rules' ``wall_capacity`` value: the larger effective pressure of the outer tube and the
+    inner tube, times its stress-concentration factor (each carries at most half the allowable stress), MPa."""
+    from .concentration import concentration_factor
+    from .sizing import _inner_tube_pressure, outer_tube_pressure
+
+    return np.fmax(loads.effective(lambda c: outer_tube_pressure(c, lay)) * concentration_factor("outer_tube"),
+                   loads.effective(_inner_tube_pressure) * concentration_factor("inner_tube"))

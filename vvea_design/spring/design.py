@@ -44,6 +44,7 @@ import numpy as np
 from ..messages import show
 from .derive import Derived, derive
 from .gas_spring import GasSpring, setpoint_p1_MPa
+from .joints import JOINTS
 from .layouts import DECISION_VARIABLES, LAYOUTS, BudgetShare, LayoutVariant, get_layout, layout_variables
 from .parameters import DesignError, FixedParameters
 
@@ -89,6 +90,7 @@ class Design:
     layout: str = "inner_tube"  #: a key of :data:`~vvea_design.spring.layouts.LAYOUTS`
     V2_top_mm3: float = 0.0  #: chamber-2 gas above the bulkhead (``bulkhead`` layout only)
     V1_annulus_mm3: float = 0.0  #: chamber-1 gas in the annulus above the collar (``annulus_top`` only; part of V1)
+    joint: str = "thread"  #: what holds the end pieces to the outer tube (:data:`~vvea_design.spring.joints.JOINTS`)
 
     def __post_init__(self) -> None:
         f = self.fixed
@@ -98,6 +100,8 @@ class Design:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise DesignError(f"{name} must be a positive number, got {show(v)}")
         self._check_layout_variables(lay)
+        if self.joint not in JOINTS:
+            raise DesignError(f"joint must be one of {list(JOINTS)}, got {show(self.joint)}")
         if not isinstance(self.p2_MPa, (int, float)) or not math.isfinite(self.p2_MPa) or self.p2_MPa <= 0:
             raise DesignError(f"p2_MPa must be > 0, got {show(self.p2_MPa)}")
         if not isinstance(self.setpoint_x0_mm, (int, float)) or not math.isfinite(self.setpoint_x0_mm):
@@ -159,7 +163,8 @@ class Design:
     @cached_property
     def derived(self) -> Derived:
         """Every derived quantity of this design as Python numbers (:func:`~vvea_design.spring.derive.derive`)."""
-        return derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, self.fixed, self.layout).item()
+        return derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, self.fixed, self.layout,
+                      joint=self.joint).item()
 
     @property
     def _g(self) -> dict:
@@ -586,6 +591,77 @@ class Design:
         walls = derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, f, self.layout, stresses=False,
                        masses=False).walls_mm
         return {w: (float(walls[w]) if np.isfinite(walls[w]) else math.inf) for w in self.walls_mm()}
+
+    # ------------------------------------------------------------ buildability
+    @cached_property
+    def buildability(self):
+        """The buildability records (:func:`~vvea_design.spring.buildability.buildability`): the load cases, every
+        pressure-bearing piece's governing case and safety factor, the joints, the drawn tolerances, the damper."""
+        from .buildability import buildability
+
+        return buildability(self)
+
+    @property
+    def load_cases(self):
+        """The load cases (:class:`~vvea_design.spring.loads.Loads`): each face's pressure (MPa), the external force (N)."""
+        return self.buildability.loads
+
+    def piece_loads(self) -> dict:
+        """Every pressure-bearing piece under its load cases.
+
+        Returns
+        -------
+        dict of str to PieceLoad
+            Piece -> its governing case, stress (MPa) and safety factor (dimensionless), per case too.
+        """
+        return dict(self.buildability.pieces)
+
+    def joints(self) -> tuple:
+        """The joints' records: thread, ring or tie rods per end, and the inner tube's seats.
+
+        Returns
+        -------
+        tuple
+            :class:`~vvea_design.spring.joints.ThreadJoint`, ``RingJoint``, ``TieRodJoint``, ``SeatJoint`` (mm, N).
+        """
+        return self.buildability.joints
+
+    def drawn_tolerances(self) -> tuple:
+        """The drawn tolerances of the sized walls (what the sizing took at the least-material condition).
+
+        Returns
+        -------
+        tuple of DrawnTolerance
+            Feature, part, nominal and deviations, least-material size (mm), standard.
+        """
+        return self.buildability.tolerances
+
+    @property
+    def hydraulics(self):
+        """The built unit's damper (:class:`~vvea_design.spring.hydraulics.Hydraulics`): oil, restrictions, D_min, D_max."""
+        return self.buildability.hydraulics
+
+    @property
+    def parasitic_damping_N_s_per_mm(self) -> float:
+        """``D_min``: the damping of the fully open throttle, the flow path's own (the paper's identification), N s/mm."""
+        return self.derived.parasitic_damping_N_s_per_mm
+
+    @property
+    def joint_utilisation(self) -> float | None:
+        """The joint's worst check over its limit (<= 1 met; None under the gas-only rules), dimensionless."""
+        return self.derived.joint_utilisation
+
+    def damping_range_N_s_per_mm(self) -> tuple[float, float]:
+        """The built unit's damping range: ``D_min`` (throttle open, the parasitic damping) and ``D_max``
+        (closed, capped by the relief valve), the paper's least-squares damping over its identification speeds.
+
+        Returns
+        -------
+        tuple of float
+            ``(D_min, D_max)``, N s/mm.
+        """
+        h = self.hydraulics
+        return h.D_min_N_s_per_mm, h.D_max_N_s_per_mm
 
     # ------------------------------------------------------------------- mass
     def mass_breakdown_g(self) -> dict[str, float]:

@@ -22,7 +22,13 @@ Layout (``format_version`` 1)::
       "constraint_details": {name: {value, limit, unit, kind}},
       "spec":        {the requirements used},
       "optimiser":   {seed, evaluations, seconds, ...}       (optional)
+      "structure":   {sizing_rules, joint, load_cases, pieces, tolerances},
+      "joints":      [the joint records: thread / ring / tie rods, the seats],
+      "hydraulics":  {oil, restrictions, D_min_N_s_per_mm, D_max_N_s_per_mm, ...}
     }
+
+(``parameters.joint``: the joint choice, ``thread`` when absent; ``structure``, ``joints`` and ``hydraulics``
+are derived from the decision variables and ``fixed`` on load, like ``geometry``: written for reading.)
 
 The force curve is reproducible from ``parameters`` alone with paper eq. 5
 (see :func:`spring_from_json`). :func:`load_design` rebuilds the frozen
@@ -43,6 +49,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any
@@ -65,12 +72,20 @@ PARAMETER_KEYS = ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3",
 DESIGN_PARAMETER_KEYS = PARAMETER_KEYS + ("setpoint_x0_mm", "layout", "V2_top_mm3")
 #: Parameters and fixed fields added after format_version 1 was first written: optional (their defaults are
 #: the layouts that do not use them), so older files still load.
-OPTIONAL_PARAMETER_KEYS = ("V1_annulus_mm3",)
+OPTIONAL_PARAMETER_KEYS = ("V1_annulus_mm3", "joint")
+#: Fixed fields added with the buildability rules: a file without ``sizing_rules`` predates them and loads under
+#: ``sizing_rules = "gas_only"`` (the rules it was made with, so its design is unchanged), with a notice.
+BUILDABILITY_FIXED_KEYS = ("sizing_rules", "relief_force_N", "max_motor_torque_Nm", "pulley_radius_mm",
+                           "proof_pressure_factor", "proof_safety_factor", "bore_tolerance_grade",
+                           "outside_tolerance_grade", "thickness_tolerance_class", "tie_rod_property_class",
+                           "joint_seal_cross_section_mm", "seal_land_mm", "throttle_bore_mm", "relief_bore_mm",
+                           "relief_seat_mm", "fluid_channel_mm", "ring_channel_mm", "ring_channels", "oil",
+                           "oil_temperature_C")
 OPTIONAL_FIXED_KEYS = ("min_collar_mm", "cross_slot_mm", "cross_slot_fraction", "piston_pocket", "piston_pocket_wall_mm",
-                       "min_piston_floor_mm")
+                       "min_piston_floor_mm") + BUILDABILITY_FIXED_KEYS
 #: Every top-level key a design JSON may hold; anything else is an error (a typo or a foreign file).
 TOP_LEVEL_KEYS = ("format", "format_version", "parameters", "fixed", "geometry", "performance", "constraints",
-                  "constraint_details", "spec", "optimiser")
+                  "constraint_details", "spec", "optimiser", "structure", "joints", "hydraulics")
 
 
 class DesignFileError(ValueError):
@@ -131,6 +146,7 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
             "layout": d.layout,
             "V2_top_mm3": d.V2_top_mm3,
             "V1_annulus_mm3": d.V1_annulus_mm3,
+            "joint": d.joint,
         },
         "fixed": d.fixed.to_dict(),
         "geometry": d.geometry_summary(),
@@ -144,6 +160,7 @@ def design_to_dict(evaluation: Evaluation, req: Requirements, optimiser: dict | 
         "constraints": evaluation.margins,
         "constraint_details": evaluation.details,
         "spec": req.to_dict(),
+        **d.buildability.to_dict(),
     }
     if optimiser:
         out["optimiser"] = optimiser
@@ -343,7 +360,14 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
     _check_geometry_complete(data, src)
     p = data["parameters"]
     try:
-        fixed = FixedParameters.from_dict(data["fixed"])
+        fixed_data = dict(data["fixed"])
+        if "sizing_rules" not in fixed_data:  # written before the buildability rules: re-derived under its own rules
+            fixed_data["sizing_rules"] = "gas_only"
+            warnings.warn(f"{src}: written before the buildability rules (no fixed.sizing_rules): loaded with "
+                          "sizing_rules = 'gas_only', the rules it was made with (walls for the gas peak at nominal "
+                          "size, no joints, no damper loads); re-optimise it for a unit a workshop can build",
+                          UserWarning, stacklevel=3)
+        fixed = FixedParameters.from_dict(fixed_data)
         design = Design(
             **{k: p[k] for k in DECISION_VARIABLES},
             p2_MPa=p["p2_MPa"],
@@ -352,6 +376,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             layout=p["layout"],
             V2_top_mm3=p["V2_top_mm3"],
             V1_annulus_mm3=p.get("V1_annulus_mm3", 0.0),
+            joint=p.get("joint", "thread"),
         )
     except (DesignError, TypeError) as exc:
         raise DesignFileError(f"{src}: {exc}") from None

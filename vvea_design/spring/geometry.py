@@ -63,6 +63,82 @@ class Section:
     piston_pocket_radius_mm: Array  #: radius of the pocket (0 without one)
     piston_pocket_volume_mm3: Array  #: chamber-1 gas in the pocket (0 without one)
     has_piston_pocket: Array  #: bool: a pocket is bored (``fixed.piston_pocket`` and room beside the rod)
+    #: the buildability rules (``fixed.sizing_rules = "buildable"``; None under ``"gas_only"``): the ISO 2768-1
+    #: class of the sized thicknesses, the ISO 286-1 grades of the bores (H) and outsides (h)
+    thickness_tolerance_class: str | None = None
+    bore_grade: int | None = None
+    outside_grade: int | None = None
+    outer_tube_outer_radius_mm: Array = None  #: the outer tube's outside radius (inside the rod circle for tie rods)
+    joint: Any = None  #: the joint's sizing (:class:`~vvea_design.spring.joints.JointSizing`), None under gas_only
+    base_own_mm: Array = None  #: the base below its joint zone (valves, channels, rod seal), mm
+    piston_floor_room_mm: Array = None  #: piston height less the floor its load needs (< 0: the floor is capped), mm
+
+    def sized_thickness_mm(self, required_mm: Array) -> Array:
+        """A sized thickness's nominal: what its load needs at the least-material condition plus the tolerance, mm.
+
+        Parameters
+        ----------
+        required_mm : float or array
+            Thickness the load needs, mm.
+
+        Returns
+        -------
+        ndarray
+            ``required + allowance`` (ISO 2768-1, :func:`~vvea_design.spring.tolerances.thickness_allowance_mm`);
+            ``required`` itself under the gas-only rules, mm.
+        """
+        if self.thickness_tolerance_class is None:
+            return required_mm
+        from .tolerances import thickness_allowance_mm
+
+        return required_mm + thickness_allowance_mm(required_mm, self.thickness_tolerance_class)
+
+    def least_material_thickness_mm(self, nominal_mm: Array) -> Array:
+        """A drawn thickness at its least-material condition (nominal less its ISO 2768-1 deviation), mm.
+
+        Parameters
+        ----------
+        nominal_mm : float or array
+            Nominal thickness, mm.
+
+        Returns
+        -------
+        ndarray
+            ``nominal - deviation``; ``nominal`` under the gas-only rules, mm.
+        """
+        if self.thickness_tolerance_class is None:
+            return nominal_mm
+        from .tolerances import general_tolerance_mm
+
+        return nominal_mm - general_tolerance_mm(nominal_mm, self.thickness_tolerance_class)
+
+    @property
+    def piston_bore_lmc_radius_mm(self) -> Array:
+        """Inner-tube bore radius at its least-material condition (H tolerance), mm (nominal under gas-only)."""
+        if self.bore_grade is None:
+            return self.piston_radius_mm
+        from .tolerances import it_tolerance_mm
+
+        return self.piston_radius_mm + it_tolerance_mm(2 * self.piston_radius_mm, self.bore_grade) / 2
+
+    @property
+    def outer_bore_lmc_radius_mm(self) -> Array:
+        """Outer-tube bore radius at its least-material condition (H tolerance), mm (nominal under gas-only)."""
+        if self.bore_grade is None:
+            return self.outer_bore_radius_mm
+        from .tolerances import it_tolerance_mm
+
+        return self.outer_bore_radius_mm + it_tolerance_mm(2 * self.outer_bore_radius_mm, self.bore_grade) / 2
+
+    @property
+    def inner_tube_outer_lmc_radius_mm(self) -> Array:
+        """Inner tube's outside radius at its least-material condition (h tolerance), mm (nominal under gas-only)."""
+        if self.outside_grade is None:
+            return self.inner_tube_outer_radius_mm
+        from .tolerances import it_tolerance_mm
+
+        return self.inner_tube_outer_radius_mm - it_tolerance_mm(2 * self.inner_tube_outer_radius_mm,
+                                                                 self.outside_grade) / 2
 
     @property
     def annulus_area_mm2(self) -> Array:

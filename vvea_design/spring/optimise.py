@@ -79,6 +79,7 @@ class LayoutSearch:
     message: str
     decision_vector: tuple[float, ...]
     worst_margin: float  #: smallest constraint margin of its best design
+    joint: str = "thread"  #: the joint searched with the layout
 
     def to_dict(self) -> dict:
         """JSON-ready content of this search.
@@ -164,6 +165,7 @@ class OptimisationResult:
             "message": self.de_message,
             "polished": self.polished,
             "layout": self.layout,
+            "joint": self.design.joint,
             "binding_constraints": self.evaluation.binding(),
             "searches": [s.to_dict() for s in self.searches],
             "bladder_strain_fe": self.bladder_strain_fe,
@@ -180,7 +182,7 @@ class OptimisationResult:
             content (:meth:`Evaluation.to_dict`) and ``optimiser`` (:meth:`summary`).
         """
         d = self.design
-        return {"layout": d.layout,
+        return {"layout": d.layout, "joint": d.joint,
                 "decision_variables": {n: float(getattr(d, n)) for n in d.variant.decision_variables},
                 **self.evaluation.to_dict(), "optimiser": self.summary()}
 
@@ -235,8 +237,8 @@ class _Population:
     asked). ``count`` counts every design asked for.
     """
 
-    def __init__(self, req: Requirements, layout: str, strain_fn=None):
-        self.req, self.layout, self.strain_fn = req, layout, strain_fn
+    def __init__(self, req: Requirements, layout: str, strain_fn=None, joint: str = "thread"):
+        self.req, self.layout, self.strain_fn, self.joint = req, layout, strain_fn, joint
         self.count = 0
         self._key: bytes | None = None
         self._count_key: bytes | None = None
@@ -249,7 +251,8 @@ class _Population:
             self._objmemo = {}
 
     def _evaluate(self, XS: np.ndarray, remember: bool = True):
-        obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True)
+        obj, mar, _, ext = evaluate_population(XS, self.req, self.layout, self.strain_fn, extremes=True,
+                                               joint=self.joint)
         if remember and self._objmemo is not None:
             self._objmemo.update(zip([row.tobytes() for row in XS], obj))
         return obj, mar, ext
@@ -298,8 +301,8 @@ class _Population:
 
 
 def _search(req: Requirements, layout: str, seed: int, popsize: int, maxiter: int, tol: float,
-            strain_fn, advance, n_starts: int = 8) -> tuple[np.ndarray, LayoutSearch, "_Population"]:
-    prob = _Population(req, layout, strain_fn)
+            strain_fn, advance, n_starts: int = 8, joint: str = "thread") -> tuple[np.ndarray, LayoutSearch, "_Population"]:
+    prob = _Population(req, layout, strain_fn, joint)
     bounds = req.search_bounds(layout)
     t0 = time.perf_counter()
     gens = 0
@@ -322,7 +325,7 @@ def _search(req: Requirements, layout: str, seed: int, popsize: int, maxiter: in
     obj, mar = prob(x)
     return x, LayoutSearch(layout, float(obj[0]), bool(np.all(mar[:, 0] >= -1e-9)), prob.count, gens,
                            time.perf_counter() - t0, str(de.message), tuple(float(v) for v in x),
-                           float(mar[:, 0].min())), prob
+                           float(mar[:, 0].min()), joint), prob
 
 
 def _starts(prob, de, bounds, n_starts: int) -> list[np.ndarray]:
@@ -342,6 +345,11 @@ def _starts(prob, de, bounds, n_starts: int) -> list[np.ndarray]:
             if len(starts) >= n_starts:
                 break
     return starts
+
+
+def _search_rank(info: LayoutSearch) -> tuple:
+    """A search's rank: feasible first, then the lowest objective (or the smallest violation)."""
+    return (0, info.objective) if info.feasible else (1, -info.worst_margin)
 
 
 def _best_polish(prob, starts, bounds) -> tuple[np.ndarray, bool]:
@@ -384,7 +392,8 @@ def optimise(
     tol : float
         Differential-evolution convergence tolerance, relative, dimensionless.
     polish : bool
-        Run an SLSQP polish from the best point of each layout.
+        Run an SLSQP polish from the best points of each layout's best joint (the joints are searched for each
+        layout: ``req.joints`` under the buildability rules).
     progress : bool
         Show a progress bar on stderr (one step per generation and layout).
     bladder_strain_fn : callable or None
@@ -429,17 +438,22 @@ def optimise(
         surrogate = population_strain
     t0 = time.perf_counter()
     found = []
-    with progress_bar("optimising linearity", total=maxiter * len(layouts), enabled=progress) as advance:
+    choices = [(lay, joint) for lay in layouts for joint in req.joint_choices]
+    with progress_bar("optimising linearity", total=maxiter * len(choices), enabled=progress) as advance:
+        for lay, joint in choices:
+            x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance, joint=joint)
+            found.append([lay, x, info, prob, False])
+    if polish:  # each layout's best joint after the global search is polished (the others keep their search's)
         for lay in layouts:
-            x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance)
-            polished = False
-            if polish:
-                x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
-                mar = prob.constraints(x)
-                info = replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
-                               decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
-                               evaluations=prob.count)
-            found.append((lay, x, info, prob, polished))
+            item = min((it for it in found if it[0] == lay), key=lambda it: _search_rank(it[2]))
+            _, x, info, prob, _ = item
+            x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
+            mar = prob.constraints(x)
+            item[1:] = [x, replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
+                                   decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
+                                   evaluations=prob.count), prob, polished]
+    found = [tuple(it) for it in found]
+
     # best layout: feasible first, then the lowest objective (or the least violation)
     def rank(item):
         lay, x, info, prob, _ = item
@@ -447,20 +461,22 @@ def optimise(
         worst = float(mar[:, 0].min())
         return (0, float(obj[0])) if worst >= -1e-9 else (1, -worst)
 
-    found.sort(key=rank)
+    order = {id(item): i for i, item in enumerate(found)}
+    searches = tuple(item[2] for item in found)
+    found.sort(key=lambda item: (rank(item), order[id(item)]))
     lay, best_x, info, prob, polished = found[0]
+    joint = prob.joint
     try:  # every point the search tried may be unbuildable: name why and the bounds (issue 11 item 8)
-        design_from_vector(best_x, req, lay)
+        design_from_vector(best_x, req, lay, joint)
     except DesignError as exc:
         raise NoBuildableDesign(_unbuildable_message(req, best_x, lay, layouts, exc)) from None
     strain_fe = strain_sur = None
     if req.max_bladder_strain is not None:
         best_x, strain_fe, strain_sur, extra = _fe_correct(req, lay, best_x, bladder_strain_fn, prob)
         polished = polished or extra
-    design = design_from_vector(best_x, req, lay)
+    design = design_from_vector(best_x, req, lay, joint)
     ev = evaluate_design(design, req, bladder_strain=strain_fe)
     seconds = time.perf_counter() - t0
-    searches = tuple(item[2] for item in sorted(found, key=lambda it: layouts.index(it[0])))
     result = OptimisationResult(ev, seed, sum(item[3].count for item in found), seconds,
                                 sum(s.generations for s in searches), info.message, polished, searches,
                                 strain_fe, strain_sur)
@@ -572,9 +588,9 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
     i_fill = req.decision_variables(layout).index("bladder_cast_fill") if req.optimise_cast_fill else None
     seen: list[tuple[float, float]] = []  # (fill, log(FE / surrogate))
     for _ in range(rounds):
-        design = design_from_vector(x, req, layout)
+        design = design_from_vector(x, req, layout, prob.joint)
         fe = float(fe_fn(design))
-        sur = float(np.ravel(population_strain(*_g_cols(x, req, layout)))[0])
+        sur = float(np.ravel(population_strain(*_g_cols(x, req, layout, prob.joint)))[0])
         if fe <= limit * (1 + 1e-9):
             obj = float(evaluate_design(design, req, bladder_strain=fe).objective)
             if best is None or obj < best[0]:
@@ -597,7 +613,7 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
 
         corrected.reads_bladder_geometry_only = True
 
-        p2 = _Population(req, layout, corrected)
+        p2 = _Population(req, layout, corrected, prob.joint)
         x_new, ok = _polish(p2, x, req.search_bounds(layout))
         prob.count += p2.count
         if not ok:
@@ -608,6 +624,6 @@ def _fe_correct(req: Requirements, layout: str, x: np.ndarray, fe_fn, prob: _Pop
     return best[1], best[2], best[3], improved
 
 
-def _g_cols(x, req, layout):
+def _g_cols(x, req, layout, joint="thread"):
     cols = {name: np.atleast_1d(float(v)) for name, v in zip(req.decision_variables(layout), x)}
-    return derive(cols, np.full(1, req.max_charge_MPa), req.setpoint_x0_mm, req.fixed, layout), cols
+    return derive(cols, np.full(1, req.max_charge_MPa), req.setpoint_x0_mm, req.fixed, layout, joint=joint), cols

@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, fields
 from ..messages import show
 from ..materials.structural import get_material
 
-__all__ = ["FixedParameters", "DesignError", "CHANNEL_GAP_MM"]
+__all__ = ["FixedParameters", "DesignError", "CHANNEL_GAP_MM", "SIZING_RULES"]
 
 #: Radial room the cast bladder must leave to the inner tube for the support ring's fluid channels, mm: the CAD
 #: draws them (>= 0.5 mm) beside the cuff's sealing bead when the gap is >= 10/9 mm (``cad.layout``); with a margin.
@@ -22,6 +22,10 @@ _LEGACY_FIXED = {"outer_wall_mm": "min_outer_wall_mm", "inner_tube_wall_mm": "mi
                  "top_cap_mm": "min_top_cap_mm", "base_mm": "min_base_mm"}
 
 _NONNEGATIVE = {"dead_volume_1_mm3", "dead_volume_2_mm3", "servo_and_valve_mass_g", "bladder_min_gap_mm"}
+#: Fields that may take any finite value.
+_ANY_SIGN = {"oil_temperature_C"}
+#: The values of ``sizing_rules``.
+SIZING_RULES = ("buildable", "gas_only")
 
 
 class DesignError(ValueError):
@@ -65,16 +69,47 @@ class FixedParameters:
     support_ring_material: str = "pa12-sls"
     servo_and_valve_mass_g: float = 40.0  #: servo (BMS-390DMH class), valve core, fittings
     n_polytropic: float = 1.0  #: 1 isothermal (paper) ... 1.4 adiabatic
+    #: "buildable": every piece sized for its load cases (gas, damper, proof) at the least-material condition of
+    #: its drawn tolerance, the joints and their room, the damper's hydraulics, one mass (docs/layout.md);
+    #: "gas_only": the rules before (walls at nominal for the gas peak, no joints, no damper loads)
+    sizing_rules: str = "buildable"
+    #: the relief (blow-off) valve opens at this damping force on the piston, N: its pressure drop is this over A2
+    relief_force_N: float = 2500.0
+    max_motor_torque_Nm: float = 100.0  #: |tau_m| limit of the actuator's motor (paper eq. 13), N m
+    #: tendon-pulley radius of the actuator mapping (the actuator's PAPER_PULLEY_RADIUS_M), mm
+    pulley_radius_mm: float = 63.88
+    proof_pressure_factor: float = 1.5  #: proof test at this multiple of each face's highest working pressure (ISO 10100)
+    proof_safety_factor: float = 1.05  #: on yield at the proof pressure (EN 13445-3 test condition: f_test = R_p0.2/1.05)
+    bore_tolerance_grade: int = 8  #: ISO 286-1 IT grade of the tube bores (H): their least-material size is nominal + IT
+    outside_tolerance_grade: int = 9  #: ISO 286-1 IT grade of the tubes' outside diameters (h)
+    thickness_tolerance_class: str = "f"  #: ISO 2768-1 class of the sized axial thicknesses (caps, base, bulkhead, collar, floor)
+    tie_rod_property_class: str = "10.9"  #: ISO 898-1 property class of the tie rods (``tie_rods`` joint)
+    joint_seal_cross_section_mm: float = 1.78  #: ISO 3601-1 cross-section of the joints' static O-rings
+    seal_land_mm: float = 0.75  #: axial land each side of a static O-ring groove
+    throttle_bore_mm: float = 6.0  #: rotary throttle valve bore in the base (largest; shrinks to fit the base)
+    relief_bore_mm: float = 5.0  #: spring-ball relief valve bore (largest; at most the throttle bore)
+    relief_seat_mm: float = 2.5  #: relief valve seat drilling
+    fluid_channel_mm: float = 3.0  #: the base's vertical fluid channels (largest; shrinks to fit beside the rod)
+    ring_channel_mm: float = 2.0  #: the support ring's axial fluid channels (largest; shrinks to fit inside the bladder)
+    ring_channels: int = 6  #: number of support-ring channels
+    oil: str = "iso-vg-32"  #: the hydraulic oil (a key of ``spring.hydraulics.OILS``)
+    oil_temperature_C: float = 20.0  #: temperature the damping is evaluated at (the oil's viscosity), °C
 
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
             if f.type in ("bool", bool) and not isinstance(v, bool):
                 raise DesignError(f"fixed.{f.name} must be true or false, got {show(v)}")
+            if f.type in ("str", str) and not isinstance(v, str):
+                raise DesignError(f"fixed.{f.name} must be a string, got {show(v)}")
+            if f.type in ("int", int) and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
+                raise DesignError(f"fixed.{f.name} must be a whole number >= 1, got {show(v)}")
             if f.type in ("float", float):
                 if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                     raise DesignError(f"fixed.{f.name} must be a finite number, got {show(v)}")
-                if f.name in _NONNEGATIVE:
+                if f.name in _ANY_SIGN:
+                    pass
+                elif f.name in _NONNEGATIVE:
                     if v < 0:
                         raise DesignError(f"fixed.{f.name} must be >= 0, got {show(v)}")
                 elif v <= 0 and f.name != "bladder_cast_fill":
@@ -89,11 +124,40 @@ class FixedParameters:
             raise DesignError(f"fixed.cross_slot_fraction must be in (0, 1), got {show(self.cross_slot_fraction)}")
         if self.fill_tube_bore_mm >= self.fill_tube_outer_mm:
             raise DesignError("fixed.fill_tube_bore_mm must be smaller than fixed.fill_tube_outer_mm")
+        self._check_buildability_fields()
         for key in ("housing_material", "rod_material", "support_ring_material"):
             try:
                 get_material(getattr(self, key))
             except ValueError as exc:
                 raise DesignError(f"fixed.{key}: {exc}") from None
+
+    def _check_buildability_fields(self) -> None:
+        """The choices of the buildability rules name known standards' classes and grades."""
+        from .tolerances import GENERAL_CLASSES, IT_GRADES
+
+        if self.sizing_rules not in SIZING_RULES:
+            raise DesignError(f"fixed.sizing_rules must be one of {list(SIZING_RULES)}, got {show(self.sizing_rules)}")
+        for key in ("bore_tolerance_grade", "outside_tolerance_grade"):
+            if getattr(self, key) not in IT_GRADES:
+                raise DesignError(f"fixed.{key} must be an ISO 286-1 IT grade in {list(IT_GRADES)}, "
+                                  f"got {show(getattr(self, key))}")
+        if self.thickness_tolerance_class not in GENERAL_CLASSES:
+            raise DesignError(f"fixed.thickness_tolerance_class must be an ISO 2768-1 class in {list(GENERAL_CLASSES)}, "
+                              f"got {show(self.thickness_tolerance_class)}")
+        if self.proof_safety_factor < 1.0 or self.proof_pressure_factor < 1.0:
+            raise DesignError("fixed.proof_pressure_factor and fixed.proof_safety_factor must be >= 1")
+        if not -20.0 <= self.oil_temperature_C <= 100.0:
+            raise DesignError(f"fixed.oil_temperature_C must be in [-20, 100] °C, got {show(self.oil_temperature_C)}")
+        if self.relief_seat_mm >= self.relief_bore_mm:
+            raise DesignError("fixed.relief_seat_mm must be smaller than fixed.relief_bore_mm")
+        from .hydraulics import OILS
+        from .joints import PROPERTY_CLASSES
+
+        if self.oil not in OILS:
+            raise DesignError(f"fixed.oil must be one of {sorted(OILS)}, got {show(self.oil)}")
+        if self.tie_rod_property_class not in PROPERTY_CLASSES:
+            raise DesignError(f"fixed.tie_rod_property_class must be an ISO 898-1 class in {sorted(PROPERTY_CLASSES)}, "
+                              f"got {show(self.tie_rod_property_class)}")
 
     def to_dict(self) -> dict:
         """JSON-ready content.

@@ -111,7 +111,7 @@ class Evaluation:
                 "constraint_details": {k: dict(v) for k, v in self.details.items()}}
 
 
-def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Design:
+def design_from_vector(v, req: Requirements, layout: str = "inner_tube", joint: str = "thread") -> Design:
     """A design of ``layout`` from its decision vector, charged to the highest allowed pressure.
 
     Parameters
@@ -124,6 +124,8 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     layout : str
         Layout variant, a name of :data:`vvea_design.spring.layouts.LAYOUTS` (``"inner_tube"``,
         ``"bulkhead"`` or ``"annulus_top"``).
+    joint : str
+        The joint (:data:`~vvea_design.spring.joints.JOINTS`).
 
     Returns
     -------
@@ -139,7 +141,8 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     fixed = req.fixed
     if "bladder_cast_fill" in kw:
         fixed = replace(fixed, bladder_cast_fill=min(max(kw.pop("bladder_cast_fill"), 0.0), 1.0))
-    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout)
+    return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout,
+                  joint=joint)
 
 
 def _exponents(req: Requirements, report: bool = True) -> list[float]:
@@ -194,9 +197,17 @@ def _details(g: Derived, perf: dict, req: Requirements, values: dict, layout: La
         "wall_capacity": {"value": g.wall_capacity_value_MPa, "limit": g.wall_capacity_limit_MPa, "unit": "MPa", "kind": "max"},
         **layout.constraint_details(g),
     }
+    if req.buildable:
+        d["joint_capacity"] = {"value": g.joint_utilisation, "limit": 1.0, "unit": "-", "kind": "max"}
+        if req.fixed.piston_pocket:
+            d["piston_floor_room"] = {"value": g.section.piston_floor_room_mm, "limit": 0.0, "unit": "mm", "kind": "min",
+                                      "scale": 1.0}
+        if req.max_parasitic_damping_N_s_per_mm is not None:
+            d["parasitic_damping"] = {"value": g.parasitic_damping_N_s_per_mm,
+                                      "limit": req.max_parasitic_damping_N_s_per_mm, "unit": "N s/mm", "kind": "max"}
     for wall in () if search else _walls(layout, req.fixed):
-        d[f"wall_safety_{wall}"] = {"value": g.safety_factors[wall], "limit": req.min_wall_safety_factor, "unit": "-",
-                                    "kind": "min"}
+        limit = g.required_safety_factors[wall] if req.buildable else req.min_wall_safety_factor
+        d[f"wall_safety_{wall}"] = {"value": g.safety_factors[wall], "limit": limit, "unit": "-", "kind": "min"}
     if req.max_mass_g is not None:
         d["mass"] = {"value": g.mass_g, "limit": req.max_mass_g, "unit": "g", "kind": "max"}
     if req.max_linearity_adiabatic is not None:
@@ -269,7 +280,8 @@ def evaluate_design(design: Design, req: Requirements, bladder_strain: float | N
     )
 
 
-def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain_fn=None, extremes: bool = False):
+def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain_fn=None, extremes: bool = False,
+                        joint: str = "thread"):
     """Objective and constraint margins of many designs at once (what the optimiser calls).
 
     ``X`` has shape ``(S, N)``: ``S`` decision vectors of ``layout`` (its
@@ -303,6 +315,8 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
         ``req.max_bladder_strain`` is set (None then counts as zero strain).
     extremes : bool
         Also return the signed deviations.
+    joint : str
+        The joint (:data:`~vvea_design.spring.joints.JOINTS`; ignored under the gas-only rules).
 
     Returns
     -------
@@ -332,7 +346,7 @@ def evaluate_population(X, req: Requirements, layout: str = "inner_tube", strain
     strained = strain_fn is not None and req.max_bladder_strain is not None
     lean = not strained or getattr(strain_fn, "reads_bladder_geometry_only", False)
     with np.errstate(all="ignore"):
-        g = derive(cols, p2, req.setpoint_x0_mm, req.fixed, lay, stresses=not lean,
+        g = derive(cols, p2, req.setpoint_x0_mm, req.fixed, lay, joint=joint, stresses=not lean,
                    masses=not lean or req.max_mass_g is not None)
         perf = _performance(g.A1_mm2, g.A2_mm2, cols["V1_mm3"], cols["V2_mm3"], g.p1_MPa, p2, req, report=False)
         strain = strain_fn(g, cols) if strained else None
@@ -389,6 +403,12 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
              "wall_capacity"]
     names += get_layout(layout).own_constraints
+    if req.buildable:
+        names.append("joint_capacity")
+        if req.fixed.piston_pocket:
+            names.append("piston_floor_room")
+        if req.max_parasitic_damping_N_s_per_mm is not None:
+            names.append("parasitic_damping")
     if search:
         names.remove("charge_p2")
     else:

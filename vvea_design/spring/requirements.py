@@ -87,7 +87,7 @@ REPORTED_N = {"isothermal": 1.0, "adiabatic": 1.4}
 
 
 #: Requirements that may be absent (``None``: no limit).
-_OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic")
+_OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic", "max_parasitic_damping_N_s_per_mm")
 #: Top-level requirements that FixedParameters also carries (kept equal to the top level).
 _TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
 
@@ -117,6 +117,13 @@ class Requirements:
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead", "annulus_top")  #: layout variants the optimiser chooses between
     optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
+    #: joints the optimiser chooses between (thread: both ends screwed into the outer tube; ring_top: a DIN 472
+    #: ring holds the top cap; tie_rods: rods outside the tube clamp both ends); with fixed.sizing_rules = "buildable"
+    joints: tuple[str, ...] = ("thread", "ring_top", "tie_rods")
+    #: the damping of the fully open throttle (the flow path's parasitic damping, the paper's identification) may
+    #: not exceed this, N s/mm: 1.5 is the paper's actuator study's D_min = 12.1 N m s/rad through the mapping
+    #: D = 2 r^2 L with its pulley radius 63.9 mm (null: no limit; with fixed.sizing_rules = "buildable")
+    max_parasitic_damping_N_s_per_mm: float | None = 1.5
     bounds: dict[str, tuple[float, float]] = field(default_factory=default_bounds)
     fixed: FixedParameters = field(default_factory=FixedParameters)
 
@@ -156,6 +163,14 @@ class Requirements:
         if not lays or any(not isinstance(v, str) or v not in LAYOUTS for v in lays):
             raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {show(self.layouts)}")
         object.__setattr__(self, "layouts", lays)
+        from .joints import JOINTS
+
+        js = tuple(self.joints) if isinstance(self.joints, (list, tuple)) else ()
+        if not js or any(not isinstance(v, str) or v not in JOINTS for v in js):
+            raise SpecError(f"joints must be a non-empty list of {list(JOINTS)}, got {show(self.joints)}")
+        object.__setattr__(self, "joints", js)
+        if self.max_parasitic_damping_N_s_per_mm is not None and not (self.max_parasitic_damping_N_s_per_mm > 0):
+            raise SpecError(f"max_parasitic_damping_N_s_per_mm must be > 0, got {show(self.max_parasitic_damping_N_s_per_mm)}")
         defaults, zero_low = default_bounds(), _zero_low()
         known_vars = set(defaults)
         unknown = set(self.bounds) - known_vars
@@ -192,6 +207,18 @@ class Requirements:
                 f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
                 f"+ travel + fluid clearance already take {min_len:.1f} mm"
             )
+
+    @property
+    def buildable(self) -> bool:
+        """True when the buildability rules apply (``fixed.sizing_rules = "buildable"``): joints, damper loads,
+        tolerances, the hydraulics' constraint."""
+        return self.fixed.sizing_rules == "buildable"
+
+    @property
+    def joint_choices(self) -> tuple[str, ...]:
+        """The joints the optimiser tries: :attr:`joints` under the buildability rules; the gas-only rules have none
+        (``("thread",)``, which they ignore)."""
+        return self.joints if self.buildable else ("thread",)
 
     @property
     def objective_exponents(self) -> tuple[float, ...]:
@@ -264,6 +291,7 @@ class Requirements:
         d = asdict(self)
         d["bounds"] = {k: list(v) for k, v in self.bounds.items()}
         d["layouts"] = list(self.layouts)
+        d["joints"] = list(self.joints)
         if self.objective_n is not None:
             d["objective_n"] = list(self.objective_n)
         return d
@@ -338,7 +366,7 @@ class Requirements:
                 if not isinstance(value, str):
                     raise SpecError(f"{source}: {key} must be a string, got {show(value)}")
                 kwargs[key] = value
-            elif key in ("layouts", "objective_n"):
+            elif key in ("layouts", "objective_n", "joints"):
                 if value is not None and not isinstance(value, (list, tuple)):
                     raise SpecError(f"{source}: {key} must be a list, got {show(value)}")
                 kwargs[key] = value

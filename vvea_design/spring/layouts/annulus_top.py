@@ -24,7 +24,7 @@ __all__ = ["AnnulusTop"]
 
 def _collar_moment(section: Section, pressures: Pressures) -> Array:
     """Root moment per unit circumference of the collar ring, N·mm/mm."""
-    rb, rio = section.outer_bore_radius_mm, section.inner_tube_outer_radius_mm
+    rb, rio = section.outer_bore_lmc_radius_mm, section.inner_tube_outer_lmc_radius_mm
     return pressures.chamber_difference_MPa / rio * ((rb**3 - rio**3) / 3 - rio * (rb**2 - rio**2) / 2)
 
 
@@ -63,7 +63,7 @@ class AnnulusTop(LayoutVariant):
             ``collar`` -> thickness, mm.
         """
         m = _collar_moment(section, pressures)
-        return {"collar": np.fmax(fixed.min_collar_mm, np.sqrt(6 * m / section.allowable_MPa))}
+        return {"collar": np.fmax(fixed.min_collar_mm, section.sized_thickness_mm(np.sqrt(6 * m / section.allowable_MPa)))}
 
     def stack(self, section: Section, variables: dict[str, Array], fixed: FixedParameters) -> LayoutStack:
         """The annulus above the collar and the slots hold chamber-1 gas; collar and annulus take bladder length.
@@ -129,7 +129,8 @@ class AnnulusTop(LayoutVariant):
         dict of str to ndarray
             ``collar`` -> peak stress, MPa.
         """
-        return {"collar": 6 * _collar_moment(section, pressures) / section.walls_mm["collar"]**2}
+        t = section.least_material_thickness_mm(section.walls_mm["collar"])
+        return {"collar": 6 * _collar_moment(section, pressures) / t**2}
 
     def part_masses(self, section: Section, quantities: dict[str, Array], fixed: FixedParameters,
                     density_g_per_mm3: float) -> dict[str, Array]:

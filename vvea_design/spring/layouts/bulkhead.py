@@ -42,14 +42,15 @@ class Bulkhead(LayoutVariant):
     chamber2_note = " and V2_top_mm3"
 
     def size_walls(self, section: Section, pressures: Pressures, fixed: FixedParameters) -> dict[str, Array]:
-        """The bulkhead: a simply supported plate over the bore, ``t = sqrt(k p r^2 / s_allow)``.
+        """The bulkhead: a simply supported plate over the bore, ``t = sqrt(k p r^2 / s_allow)`` (the bore and the
+        thickness at their least-material condition under the buildability rules).
 
         Parameters
         ----------
         section : Section
             The cross-section with the shared walls sized (mm).
-        pressures : Pressures
-            Its pressure is the largest chamber-2 minus chamber-1 pressure, MPa.
+        pressures : Pressures or Loads
+            Its pressure is the largest chamber-2 minus chamber-1 pressure (``chamber_difference_MPa``), MPa.
         fixed : FixedParameters
             ``min_bulkhead_mm`` is its least thickness.
 
@@ -59,8 +60,8 @@ class Bulkhead(LayoutVariant):
             ``bulkhead`` -> thickness, mm.
         """
         s = section
-        t = np.sqrt(s.plate_factor * pressures.chamber_difference_MPa * s.piston_radius_mm**2 / s.allowable_MPa)
-        return {"bulkhead": np.fmax(fixed.min_bulkhead_mm, t)}
+        t = np.sqrt(s.plate_factor * pressures.chamber_difference_MPa * s.piston_bore_lmc_radius_mm**2 / s.allowable_MPa)
+        return {"bulkhead": np.fmax(fixed.min_bulkhead_mm, s.sized_thickness_mm(t))}
 
     def stack(self, section: Section, variables: dict[str, Array], fixed: FixedParameters) -> LayoutStack:
         """The bulkhead and the chamber-2 space above it lengthen the inner tube; the fill tube's bore is V1.
@@ -107,8 +108,8 @@ class Bulkhead(LayoutVariant):
             ``bulkhead`` -> peak stress, MPa.
         """
         s = section
-        return {"bulkhead": s.plate_factor * pressures.chamber_difference_MPa * s.piston_radius_mm**2
-                / s.walls_mm["bulkhead"]**2}
+        return {"bulkhead": s.plate_factor * pressures.chamber_difference_MPa * s.piston_bore_lmc_radius_mm**2
+                / s.least_material_thickness_mm(s.walls_mm["bulkhead"])**2}
 
     def part_masses(self, section: Section, quantities: dict[str, Array], fixed: FixedParameters,
                     density_g_per_mm3: float) -> dict[str, Array]:
