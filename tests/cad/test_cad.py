@@ -18,7 +18,7 @@ import pytest
 import trimesh
 
 
-from tests.cad.cases import DESIGNS, REFERENCE, SLOW  # noqa: E402
+from tests.cad.cases import DESIGNS, GAS_ONLY, REFERENCE, SLOW  # noqa: E402
 
 import vvea_design.cad as cadpkg  # noqa: E402
 from vvea_design.cad import (  # noqa: E402
@@ -325,7 +325,7 @@ def test_annulus_top_collar_slots_and_ports(built):
     assert up[0] == pytest.approx(lay.z_free1, abs=1e-3)
     assert len(_hits(ring_mesh, (0.0, lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
     assert len(_hits(ring_mesh, (0.0, -lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
-    assert ring_mesh.bounds[1][1] == pytest.approx(lay.r_base_spigot, abs=0.05)
+    assert ring_mesh.bounds[1][1] == pytest.approx(lay.r_bladder_out, abs=0.05)  # out to the cuff's outer face
 
 
 def test_annulus_top_slot_room_is_checked():
@@ -486,7 +486,8 @@ def test_invalid_design_raises_before_geometry(monkeypatch, tmp_path):
     monkeypatch.setattr(build123d.Solid, "make_box", boom)
     out = tmp_path / "never"
     with pytest.raises(CadError, match="fixed.min_base_mm"):
-        write_cad(Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(min_base_mm=8.0)), out, renders=False)
+        write_cad(Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(min_base_mm=8.0, sizing_rules="gas_only")),
+                  out, renders=False)
     with pytest.raises(CadError, match="cad.mould_shrinkage"):
         CadParameters(mould_shrinkage=-0.1)
     with pytest.raises(CadError, match="cad.vents"):
@@ -535,7 +536,7 @@ def test_random_drawable_designs():
         from hypothesis import assume
 
         try:
-            fx = FixedParameters(piston_pocket=pocket)  # issue 12: the cupped piston too
+            fx = FixedParameters(piston_pocket=pocket, sizing_rules="gas_only")  # issue 12: the cupped piston too
             probe = Design(dp, D, V1, 1.0e5, fixed=fx)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
             d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), fixed=fx)
@@ -570,10 +571,10 @@ def test_random_drawable_annulus_top_designs():
            v2=st.floats(0.0, 1.0))
     def check(dp, D, V1, a, v2):
         try:
-            probe = Design(dp, D, V1, 1.0e5, layout="annulus_top", V1_annulus_mm3=a * V1)
+            probe = Design(dp, D, V1, 1.0e5, layout="annulus_top", V1_annulus_mm3=a * V1, fixed=GAS_ONLY)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
             d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), layout="annulus_top",
-                       V1_annulus_mm3=a * V1)
+                       V1_annulus_mm3=a * V1, fixed=GAS_ONLY)
             Layout(d)
         except (DesignError, CadError):
             assume(False)

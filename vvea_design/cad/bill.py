@@ -203,7 +203,7 @@ def relief_ball(ctx: BomContext) -> tuple[BomLine, ...]:
         One ``bought`` line, ISO 3290-1 ball, diameter in mm.
     """
     lay = ctx.layout
-    seat = lay.cad.relief_seat_mm
+    seat = lay.relief_seat_d
     return (BomLine(part="relief_ball", description="relief valve ball", category="bought", material="steel 100Cr6",
                     standard="ISO 3290-1 grade G10", size=f"Ø{relief_ball_mm(lay):g} mm (seat Ø{seat:g})",
                     quantity=1, unit_volume_mm3=None, unit_mass_g=None, in_unit=True,
@@ -223,7 +223,7 @@ def relief_ball_mm(lay: Layout) -> float:
     float
         Ball diameter, mm.
     """
-    return min(lay.relief_d, 1.2 * lay.cad.relief_seat_mm)
+    return min(lay.relief_d, 1.2 * lay.relief_seat_d)
 
 
 def relief_spring_and_screw(ctx: BomContext) -> tuple[BomLine, ...]:
@@ -242,7 +242,7 @@ def relief_spring_and_screw(ctx: BomContext) -> tuple[BomLine, ...]:
     from .features import relief_thread, relief_thread_depth
 
     lay = ctx.layout
-    seat = min(lay.cad.relief_seat_mm, lay.relief_d)
+    seat = lay.relief_seat_d
     thread = relief_thread(lay).split("-")[0]
     area = math.pi * (seat / 2) ** 2
     return (BomLine(part="relief_spring", description="relief valve spring (helical compression)", category="bought",

@@ -86,7 +86,7 @@ def support_ring(lay: Layout) -> Solid:
     """Printed support ring: fills the annulus between the inner tube and the base's spigot over the lower clamp
     length (out to the cuff's outer face, so it passes the spigot's bore on assembly), holds the bladder's lower
     cuff from inside and below (the spigot, metal, is the cuff groove's outer wall: the outer bead seals gas from
-    fluid in its internal groove), and passes the fluid through ``cad.ring_channels`` axial channels (inside the
+    fluid in its internal groove), and passes the fluid through ``fixed.ring_channels`` axial channels (inside the
     bladder) fed by an annular collector groove in its underside (over the base channels).
 
     Parameters
@@ -105,8 +105,8 @@ def support_ring(lay: Layout) -> Solid:
     body = ring(lay.r_inner_tube, ro, z0, z1)
     rc, dc = lay.r_ring_channel, lay.ring_channel_d
     tools = [bladder(lay), ring(rc - 0.6 * dc, rc + 0.6 * dc, z0 - 1.0, z0 + _collector_depth(lay))]
-    for k in range(c.ring_channels):
-        a = 2 * math.pi * k / c.ring_channels
+    for k in range(lay.ring_channels):
+        a = 2 * math.pi * k / lay.ring_channels
         tools.append(cylinder(dc / 2, z0 - 1.0, z1 + 1.0, x=rc * math.cos(a), y=rc * math.sin(a)))
     return cut(body, *tools)
 
@@ -137,7 +137,7 @@ def support_ring_volume_mm3(lay: Layout) -> float:
     v = math.pi * (ro**2 - lay.r_inner_tube**2) * h
     v -= math.pi * (ro**2 - ri**2) * (lay.z_free0 - lay.z_bladder0)
     v -= math.pi * (ri**2 - (ri - e) ** 2) * lb  # the inner bead (the outer one sits in the base spigot)
-    v -= lay.cad.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
+    v -= lay.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
     v -= math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
     return v
 

@@ -456,7 +456,7 @@ def _valve_features(lay: Layout) -> list[Feature]:
     """The base's valve bores (throttle +x, relief -x with seat and adjusting thread), channels, servo screws."""
     c = lay.cad
     R, z0, zv = lay.r_outer, lay.z_base_top, lay.z_valve
-    td, rd, seat = lay.throttle_d, lay.relief_d, min(c.relief_seat_mm, lay.relief_d)
+    td, rd, seat = lay.throttle_d, lay.relief_d, lay.relief_seat_d
     x_in = lay.x_valve_inner
     x_b = lay.r_ring_channel - lay.ring_channel_d / 2 - 0.5
     thread = relief_thread(lay)

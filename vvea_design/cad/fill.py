@@ -63,12 +63,12 @@ def oil_fill_mm3(lay: Layout) -> dict[str, float]:
     bladder = math.pi * (lay.r_bore**2 - lay.r_inner_tube**2) * free \
         - math.pi * (lay.r_bladder_out**2 - lay.r_bladder_in**2) * free - d.V2_annulus_mm3
     h, hg, dc, rc = lay.z_free0 - z0, _collector_depth(lay), lay.ring_channel_d, lay.r_ring_channel
-    ring = c.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg) + math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
+    ring = lay.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg) + math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
     ch, rch = lay.base_channel_d / 2, min(lay.base_channel_d, lay.ring_channel_d) / 2
     channels = 2 * math.pi * (ch**2 + rch**2) * (z0 - zv)  # from the valve axis up (half the bore's cross-section
     # below the axis is the bore's own)
     x_b = lay.r_ring_channel - lay.ring_channel_d / 2 - 0.5
-    seat = min(c.relief_seat_mm, lay.relief_d) / 2
+    seat = lay.relief_seat_d / 2
     spring_len = max(lay.r_outer - relief_thread_depth(lay) - x_b, 0.0)
     relief = math.pi * seat**2 * (x_b - lay.x_valve_inner) + math.pi * (lay.relief_d / 2) ** 2 * spring_len
     li = lay.lead_in_piston

@@ -17,10 +17,15 @@ from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design, DesignError
-from .seals import Gland, LeadIn, SealError, piston_gland, rod_gland, static_male_gland
+from .joints import JointGeometry, joint_geometry
+from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, static_male_gland
 
 #: Axial land on each side of the collar's seal groove (annulus_top), mm.
 COLLAR_SEAL_LAND_MM = 0.75
+#: The damper's sizes the design owns (``fixed.*``): :class:`CadParameters` keeps them only as aliases of the
+#: defaults; the CAD draws the design's values.
+HYDRAULIC_FIELDS = ("throttle_bore_mm", "relief_bore_mm", "relief_seat_mm", "fluid_channel_mm", "ring_channel_mm",
+                    "ring_channels")
 #: Shortest axial land between a static seal groove and the end of its spigot, mm.
 SPIGOT_LAND_MM = 0.5
 #: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm.
@@ -67,14 +72,14 @@ class CadParameters:
     valve_spot_face_mm: float = 9.0  #: flat seat of a charging valve's seal around its M5 hole (diameter)
     plug_bore_mm: float = 3.0  #: bore of the expander plug that closes a cross port at the outside
     plug_depth_mm: float = 3.0  #: its depth from the outside
-    throttle_bore_mm: float = 6.0  #: rotary throttle valve bore (radial, in the base)
-    relief_bore_mm: float = 5.0  #: spring-ball relief valve bore (radial, opposite the throttle)
-    relief_seat_mm: float = 2.5  #: relief valve seat drilling
-    fluid_channel_mm: float = 3.0  #: vertical fluid channels in the base (largest; shrinks to fit)
+    throttle_bore_mm: float = 6.0  #: deprecated: the design's ``fixed.throttle_bore_mm`` is drawn
+    relief_bore_mm: float = 5.0  #: deprecated: the design's ``fixed.relief_bore_mm`` is drawn
+    relief_seat_mm: float = 2.5  #: deprecated: the design's ``fixed.relief_seat_mm`` is drawn
+    fluid_channel_mm: float = 3.0  #: deprecated: the design's ``fixed.fluid_channel_mm`` is drawn
     servo_screw_core_mm: float = 2.5  #: M3 core of the two servo-mount screws
     servo_screw_depth_mm: float = 6.0  #: their depth
-    ring_channel_mm: float = 2.0  #: axial fluid channels of the support ring (largest; shrinks to fit)
-    ring_channels: int = 6  #: number of support-ring channels
+    ring_channel_mm: float = 2.0  #: deprecated: the design's ``fixed.ring_channel_mm`` is drawn
+    ring_channels: int = 6  #: deprecated: the design's ``fixed.ring_channels`` is drawn
     clamp_groove_fraction: float = 0.6  #: bladder cuff depth as a fraction of ``fixed.bladder_clamp_mm``
     bead_height_mm: float = 0.4  #: radial height of the sealing beads (largest; shrinks to fit)
     bead_length_mm: float = 1.5  #: axial length of a sealing bead
@@ -154,6 +159,11 @@ class Layout:
             raise CadError(f"design must be a vvea_design.spring.design.Design, got {type(self.design).__name__}")
         if not isinstance(self.cad, CadParameters):
             raise CadError(f"cad must be CadParameters, got {type(self.cad).__name__}")
+        for name in HYDRAULIC_FIELDS:  # the damper's sizes are the design's (fixed.*): the CAD draws those
+            mine, theirs = getattr(self.cad, name), getattr(self.design.fixed, name)
+            if mine != theirs and mine != getattr(CadParameters, name):
+                raise CadError(f"cad.{name} = {mine!r} differs from the design's fixed.{name} = {theirs!r}: the CAD "
+                               f"draws the design's (its hydraulics are sized with it); set fixed.{name} instead")
         self.check()
 
     # ----------------------------------------------------------- radii (the design's quantities, its names)
@@ -232,20 +242,55 @@ class Layout:
         zc, w = self.z_collar1 - 0.5 * self.design.collar_mm, self.collar_seal.width_mm
         return zc - 0.5 * w, zc + 0.5 * w
 
+    @property
+    def z_rod_seal(self) -> tuple[float, float]:
+        """Axial extent of the rod seal groove in the base (from the underside), mm."""
+        return 1.5, 1.5 + self.rod_seal.width_mm
+
+    @cached_property
+    def joint(self) -> JointGeometry:
+        """The housing's joint as drawn (:func:`~vvea_design.cad.joints.joint_geometry`; ``kind = "none"`` for a
+        design sized by the gas-only rules)."""
+        return joint_geometry(self.design, self.z_cap, self.z_top)
+
+    @property
+    def has_joint(self) -> bool:
+        """The design sized a joint (threads, a retaining ring or tie rods) and the CAD draws it."""
+        return self.joint.kind != "none"
+
+    @property
+    def cap_seal_bore_mm(self) -> float:
+        """Diameter the top cap's static O-ring seals on: the outer bore, or (``ring_top``) the counterbore of
+        the tube's top end that holds the cap plug, mm."""
+        ring = self.joint.ring
+        return ring.bore_mm if ring is not None else 2 * self.outer_bore_radius_mm
+
     @cached_property
     def cap_seal(self) -> Gland | None:
-        """Static seal of the top cap to the outer-tube bore: a male static gland in the top bladder clamp (the
-        cap's spigot in the bore); ``None`` in ``annulus_top``, whose plain cap has no spigot (open point: its
-        joint to the outer tube needs the joint's footprint)."""
+        """Static seal of the top cap to the outer tube: a male static gland in the cap's joint seal zone (the
+        design's joint), or without a joint in the top bladder clamp (the cap's spigot in the bore); ``None`` for
+        the gas-only ``annulus_top``, whose plain cap has no spigot (an open path, the leak audit says so)."""
+        if self.has_joint:
+            try:
+                g = static_male_gland(self.cap_seal_bore_mm, self.design.fixed.joint_seal_cross_section_mm, "cap")
+            except SealError as exc:
+                raise CadError(f"fixed.joint_seal_cross_section_mm (the top cap's seal): {exc}") from None
+            return replace(g, where="top cap to outer tube, in the joint's seal zone (static)")
         if self.has_top_annulus:
             return None
         return self._static_seal("cap", "top cap spigot to outer-tube bore (static)", "outer_diameter_mm")
 
     @cached_property
     def base_seal(self) -> Gland:
-        """Static seal of the base to the outer-tube bore: a male static gland in the base's spigot (the ring
-        that rises into the outer tube around the support ring and forms the outer wall of the bladder's lower
-        cuff groove)."""
+        """Static seal of the base to the outer-tube bore: a male static gland in the base's joint seal zone,
+        or without a joint in the base's spigot (which rises into the outer tube around the support ring)."""
+        if self.has_joint:
+            try:
+                g = static_male_gland(2 * self.outer_bore_radius_mm, self.design.fixed.joint_seal_cross_section_mm,
+                                      "base")
+            except SealError as exc:
+                raise CadError(f"fixed.joint_seal_cross_section_mm (the base's seal): {exc}") from None
+            return replace(g, where="base to outer tube, in the joint's seal zone (static)")
         return self._static_seal("base", "base spigot to outer-tube bore (static)", "outer_diameter_mm")
 
     @property
@@ -255,17 +300,25 @@ class Layout:
 
     @property
     def z_base_seal(self) -> tuple[float, float]:
-        """Axial extent of the base seal's groove: at the top of the spigot (land :data:`SPIGOT_LAND_MM`), so the
-        outer tube's lead-in chamfer below it stays clear of the installed ring, mm."""
+        """Axial extent of the base seal's groove: centred in the joint's seal zone, or without a joint at the top
+        of the CAD's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's lead-in below it stays clear, mm."""
+        w = self.base_seal.width_mm
+        if self.has_joint:
+            zc = 0.5 * sum(self.joint.base_seal)
+            return zc - 0.5 * w, zc + 0.5 * w
         top = self.z_free0 - SPIGOT_LAND_MM
-        return top - self.base_seal.width_mm, top
+        return top - w, top
 
     @property
     def z_cap_seal(self) -> tuple[float, float]:
-        """Axial extent of the cap seal's groove: at the bottom of the cap's spigot (land :data:`SPIGOT_LAND_MM`),
-        so the outer tube's top lead-in chamfer above it stays clear of the installed ring, mm."""
+        """Axial extent of the cap seal's groove: centred in the joint's seal zone, or without a joint at the bottom
+        of the cap's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's top lead-in above it stays clear, mm."""
+        w = self.cap_seal.width_mm
+        if self.has_joint:
+            zc = 0.5 * sum(self.joint.cap_seal)
+            return zc - 0.5 * w, zc + 0.5 * w
         lo = self.z_free1 + SPIGOT_LAND_MM
-        return lo, lo + self.cap_seal.width_mm
+        return lo, lo + w
 
     @cached_property
     def lead_in_piston(self) -> LeadIn:
@@ -284,34 +337,56 @@ class Layout:
         """Lead-in chamfer at the rod's end: it passes the rod seal in the base on assembly."""
         return self.rod_seal.lead_in(self.cad.rod_thread_depth_mm)
 
-    @cached_property
-    def lead_in_outer_bottom(self) -> LeadIn:
-        """Lead-in chamfer at the outer tube's bottom bore end: the base seal's ring (and in ``annulus_top`` the
-        collar's) enters the bore there. It ends :data:`LEAD_IN_GAP_MM` below the base seal's groove."""
-        room = self.z_base_seal[0] - self.z_base_top - LEAD_IN_GAP_MM
-        rings = [self.base_seal] + ([self.collar_seal] if self.has_top_annulus else [])
+    @property
+    def z_lead_in_bottom(self) -> float:
+        """Where the outer tube's bottom lead-in starts: the tube's bottom end, or behind a threaded end the step
+        from the thread to the bore (the O-ring passes the thread first), mm."""
+        t = self.joint.base_thread
+        return t.thread[1] if t is not None else self.joint.z_tube_bottom
+
+    @property
+    def z_lead_in_top(self) -> float:
+        """Where the outer tube's top lead-in starts (its top end, or the step behind its top thread), mm."""
+        t = self.joint.cap_thread
+        return t.thread[0] if t is not None else self.joint.z_tube_top
+
+    def _tube_lead_in(self, rings: list[Gland], room: float, where: str) -> LeadIn:
+        """A lead-in for the rings passing an end of the outer tube, in ``room`` mm; without room (a joint's seal
+        zone that leaves none) the 20 deg chamfer the rings need, reaching over the ring: the assembly check and
+        the leak audit then report it."""
         ring = max(rings, key=lambda g: g.protrusion_mm + g.oring.cross_section_tolerance_mm)
         try:
             return ring.lead_in(room)
         except SealError as exc:
-            raise CadError(f"fixed.bladder_clamp_mm (the base spigot): {exc}") from None
+            if self.has_joint:
+                depth = round(ring.protrusion_mm + ring.oring.cross_section_tolerance_mm + 0.1, 2)
+                return LeadIn(20.0, round(depth / math.tan(math.radians(20.0)), 2), depth)
+            raise CadError(f"fixed.bladder_clamp_mm ({where}): {exc}") from None
+
+    @cached_property
+    def lead_in_outer_bottom(self) -> LeadIn:
+        """Lead-in chamfer at the outer tube's bottom bore end: the base seal's ring (and in ``annulus_top`` the
+        collar's) enters the bore there. It ends :data:`LEAD_IN_GAP_MM` below the base seal's groove."""
+        room = self.z_base_seal[0] - self.z_lead_in_bottom - LEAD_IN_GAP_MM
+        rings = [self.base_seal] + ([self.collar_seal] if self.has_top_annulus else [])
+        return self._tube_lead_in(rings, room, "the base spigot")
 
     @cached_property
     def lead_in_outer_top(self) -> LeadIn | None:
-        """Lead-in chamfer at the outer tube's top bore end: the cap seal's ring enters the bore there
-        (``None`` without a cap seal). It ends :data:`LEAD_IN_GAP_MM` above the cap seal's groove."""
-        if self.cap_seal is None:
+        """Lead-in chamfer at the outer tube's top bore end: the cap seal's ring enters the bore there (``None``
+        without a cap seal, and for ``ring_top``: its plug's ring enters the counterbore, see
+        :attr:`lead_in_counterbore`). It ends :data:`LEAD_IN_GAP_MM` above the cap seal's groove."""
+        if self.cap_seal is None or self.joint.ring is not None:
             return None
-        room = self.z_cap - self.z_cap_seal[1] - LEAD_IN_GAP_MM
-        try:
-            return self.cap_seal.lead_in(room)
-        except SealError as exc:
-            raise CadError(f"fixed.bladder_clamp_mm (the top cap's spigot): {exc}") from None
+        room = self.z_lead_in_top - self.z_cap_seal[1] - LEAD_IN_GAP_MM
+        return self._tube_lead_in([self.cap_seal], room, "the top cap's spigot")
 
-    @property
-    def z_rod_seal(self) -> tuple[float, float]:
-        """Axial extent of the rod seal groove in the base (from the underside), mm."""
-        return 1.5, 1.5 + self.rod_seal.width_mm
+    @cached_property
+    def lead_in_counterbore(self) -> LeadIn | None:
+        """``ring_top``: the lead-in at the mouth of the tube's top counterbore, where the cap plug's ring enters."""
+        if self.joint.ring is None:
+            return None
+        return self.cap_seal.lead_in(self.z_top - self.joint.ring.groove[1])
 
     @cached_property
     def bead_mm(self) -> float:
@@ -325,10 +400,17 @@ class Layout:
         """Inner radius of the chamber-2 gas domain at x = 0 (equal-volume straight sleeve)."""
         return self.design.bladder_equivalent_outer_radius_mm(0.0)
 
+    @property
+    def ring_channels(self) -> int:
+        """Number of the support ring's axial fluid channels: ``fixed.ring_channels``."""
+        return int(self.design.fixed.ring_channels)
+
     @cached_property
     def ring_channel_d(self) -> float:
-        """Support-ring channel diameter, sized to the gap inside the bladder bead."""
-        return min(self.cad.ring_channel_mm, 0.6 * (self.bladder_inner_radius_mm - self.bead_mm - self.inner_tube_outer_radius_mm))
+        """Support-ring channel diameter: ``fixed.ring_channel_mm``, shrunk to the gap inside the bladder bead
+        (the rule :mod:`vvea_design.spring.hydraulics` prices), mm."""
+        return min(self.design.fixed.ring_channel_mm,
+                   0.6 * (self.bladder_inner_radius_mm - self.bead_mm - self.inner_tube_outer_radius_mm))
 
     @property
     def r_ring_channel(self) -> float:
@@ -391,20 +473,35 @@ class Layout:
 
     @cached_property
     def base_channel_d(self) -> float:
-        return min(self.cad.fluid_channel_mm, 0.5 * (self.piston_radius_mm - self.rod_radius_mm))
+        return min(self.design.fixed.fluid_channel_mm, 0.5 * (self.piston_radius_mm - self.rod_radius_mm))
 
     @property
     def r_channel_a(self) -> float:
         """Base channel from the fluid column (inside the inner tube, outside the rod)."""
         return 0.5 * (self.rod_radius_mm + self.piston_radius_mm)
 
+    @property
+    def base_own_mm(self) -> float:
+        """The base's own part, below its joint zone (the whole base under the gas-only rules): it holds the
+        valve bores, mm."""
+        if self.design.fixed.sizing_rules == "gas_only":
+            return self.design.base_mm
+        return float(self.design.derived.section.base_own_mm)
+
     @cached_property
     def throttle_d(self) -> float:
-        return min(self.cad.throttle_bore_mm, self.design.base_mm - 8.0)
+        """Rotary throttle bore: ``fixed.throttle_bore_mm``, shrunk to the base's own part (8 mm less), mm."""
+        return min(self.design.fixed.throttle_bore_mm, self.base_own_mm - 8.0)
 
     @cached_property
     def relief_d(self) -> float:
-        return min(self.cad.relief_bore_mm, self.throttle_d)
+        """Relief valve bore: ``fixed.relief_bore_mm``, at most the throttle bore, mm."""
+        return min(self.design.fixed.relief_bore_mm, self.throttle_d)
+
+    @property
+    def relief_seat_d(self) -> float:
+        """Relief valve seat drilling: ``fixed.relief_seat_mm``, at most the relief bore, mm."""
+        return min(self.design.fixed.relief_seat_mm, self.relief_d)
 
     @property
     def x_valve_inner(self) -> float:
@@ -424,6 +521,13 @@ class Layout:
     @property
     def z_top(self) -> float:
         return self.design.housing_length_mm
+
+    @property
+    def z_cap_face(self) -> float:
+        """The top cap's outside face, where its charging valves sit: the housing's top, or (``ring_top``) the
+        plug's top inside the tube's counterbore, mm."""
+        ring = self.joint.ring
+        return ring.plug[1] if ring is not None else self.z_top
 
     def z_piston_bottom(self, x_mm: float = 0.0) -> float:
         """Piston underside at displacement ``x_mm`` (x > 0 moves it down).
@@ -505,7 +609,7 @@ class Layout:
         c = self.cad
         if self.has_top_annulus:
             return c.fill_port_counterbore_depth_mm + 0.3 + 0.5 * c.plug_bore_mm
-        return 0.5 * (self.z_cap + SPIGOT_LAND_MM + self.z_top - c.fill_port_counterbore_depth_mm - 0.3)
+        return 0.5 * (self.z_cap + SPIGOT_LAND_MM + self.z_cap_face - c.fill_port_counterbore_depth_mm - 0.3)
 
     @property
     def y_cross_riser(self) -> float:
@@ -587,7 +691,7 @@ class Layout:
     @property
     def z_valve(self) -> float:
         """Axis height of the radial throttle and relief bores in the base."""
-        return self.design.base_mm - 2.0 - self.throttle_d / 2
+        return self.base_own_mm - 2.0 - self.throttle_d / 2
 
     # ----------------------------------------------------------- deprecated names
     # The CAD's modules and the drawings read these until they move to the names above (one vocabulary:
@@ -607,115 +711,7 @@ class Layout:
 
     # ----------------------------------------------------------- checks
     def check(self) -> None:
-        """Raise :class:`CadError` if a feature does not fit."""
-        f, c = self.design.fixed, self.cad
-        if self.design.base_mm < 11.0:
-            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) is too thin "
-                           f"for the valve bores and rod seal; needs >= 11 mm")
-        if self.design.top_cap_mm <= c.fill_port_counterbore_depth_mm:
-            raise CadError(f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g}) "
-                           f"must exceed cad.fill_port_counterbore_depth_mm")
-        ps = self.piston_seal
-        if f.piston_height_mm < 2.5 * ps.width_mm:
-            raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
-                           f"{ps.width_mm:g} mm ({ps.oring.name}); use >= {2.5 * ps.width_mm:g} mm or a smaller "
-                           f"cad.oring_cross_section_mm")
-        if ps.depth_mm >= 0.5 * (self.piston_radius_mm - self.rod_radius_mm):
-            raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
-                           f"than half the piston's radial land")
-        if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
-            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) has no room "
-                           f"for the rod seal groove below the valve bores")
-        if self.has_top_annulus:
-            need = self.collar_seal.width_mm + 2 * COLLAR_SEAL_LAND_MM
-            if self.design.collar_mm < need - 1e-9:
-                raise CadError(f"the collar plate ({self.design.collar_mm:g} mm; fixed.min_collar_mm = "
-                               f"{f.min_collar_mm:g}) cannot hold its static seal to the outer bore: the groove "
-                               f"for O-ring {self.collar_seal.oring.name} is {self.collar_seal.width_mm:g} mm wide "
-                               f"and needs {COLLAR_SEAL_LAND_MM:g} mm lands, so >= {need:g} mm")
-        if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
-            raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
-                           f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")
-        if self.bladder_inner_radius_mm - self.inner_tube_outer_radius_mm <= 0.2:
-            raise CadError(f"the cast bladder (inner radius {self.bladder_inner_radius_mm:.2f} mm) touches the inner tube "
-                           f"(outer radius {self.inner_tube_outer_radius_mm:.2f} mm): V2_mm3 too large for outer_diameter_mm")
-        if self.outer_bore_radius_mm - self.bladder_outer_radius_mm <= 0.2:
-            raise CadError(f"the cast bladder (outer radius {self.bladder_outer_radius_mm:.2f} mm) touches the outer tube bore "
-                           f"({self.outer_bore_radius_mm:.2f} mm): V2_mm3 too small")
-        if self.ring_channel_d < 0.5:
-            raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
-        if self.fill_port_d < 0.5:
-            raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
-        if self.x_valve_inner >= self.r_channel_a - self.base_channel_d / 2:
-            raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
-        if self.has_piston_pocket:
-            root_wall = ps.groove_diameter_mm / 2 - self.piston_pocket_radius_mm
-            if root_wall < c.min_pocket_root_wall_mm - 1e-9:
-                raise CadError(f"fixed.piston_pocket_wall_mm = {f.piston_pocket_wall_mm:g} mm leaves {root_wall:.2f} mm "
-                               f"between the piston pocket and the seal groove's root ({ps.depth_mm:g} mm deep, "
-                               f"{ps.oring.name}); needs >= cad.min_pocket_root_wall_mm = {c.min_pocket_root_wall_mm:g} "
-                               f"mm: use fixed.piston_pocket_wall_mm >= {ps.depth_mm + c.min_pocket_root_wall_mm:g}")
-        if self.design.fluid_column_mm - f.travel_mm < 0.5:
-            raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
-        if self.has_bulkhead:
-            if self.y_cross_riser - self.cross_port_d / 2 < self.fill_tube_outer_radius_mm + 0.5 \
-                    or self.y_cross_riser + self.cross_port_d / 2 > self.piston_radius_mm - 0.5:
-                raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
-                               "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
-            if self.fill_tube_outer_radius_mm >= 0.5 * self.piston_radius_mm:
-                raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
-        if self.has_top_annulus:
-            d = self.design
-            if d.cross_slot_room_mm < 0:
-                raise CadError(f"no room for the cross slots ({f.cross_slot_mm:g} mm, fixed.cross_slot_mm) below the top "
-                               f"cap: the chamber-1 annulus is {d.top_annulus_length_mm:.2f} mm and the column above the "
-                               f"piston {d.chamber1_length_mm:.2f} mm long; each needs >= {f.cross_slot_mm + 1:g} mm "
-                               f"(increase V1_annulus_mm3 or V1_mm3)")
-            if self.z_free1 - self.cuff < self.z_free0 + self.cuff:
-                raise CadError("the collar and the chamber-1 annulus leave the bladder no free length")
-        if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
-            raise CadError("bladder free length too short for its cuffs")
-        self._check_seals_and_ports()
+        """Raise :class:`CadError` if a feature does not fit (:func:`~vvea_design.cad.layout_checks.check_layout`)."""
+        from .layout_checks import check_layout
 
-    def _check_seals_and_ports(self) -> None:
-        """Raise :class:`CadError` if a static seal, a lead-in chamfer, a charging valve, the cross port or its
-        plug does not fit (names the field to change)."""
-        f, c = self.design.fixed, self.cad
-        wall = 0.4  # least metal between two features, mm
-        seals = [(self.base_seal, self.z_base_seal, self.z_base_top, self.z_free0, "base spigot")]
-        if self.cap_seal is not None:
-            seals.append((self.cap_seal, self.z_cap_seal, self.z_free1, self.z_cap, "top cap's spigot"))
-        for g, (g0, g1), lo, hi, name in seals:
-            if g0 < lo + SPIGOT_LAND_MM - 1e-9 or g1 > hi - SPIGOT_LAND_MM + 1e-9:
-                raise CadError(f"fixed.bladder_clamp_mm = {f.bladder_clamp_mm:g} mm: the {name} ({hi - lo:.2f} mm) "
-                               f"cannot hold the {g.width_mm:g} mm groove of O-ring {g.oring.code} with "
-                               f"{SPIGOT_LAND_MM:g} mm lands")
-            if g.groove_diameter_mm / 2 - self.r_base_spigot < 2 * wall + 0.5:
-                raise CadError(f"outer_diameter_mm: the {name}'s seal groove (root Ø{g.groove_diameter_mm:.2f}) leaves no "
-                               f"room for the chamber-2 port beside the bladder's bead (Ø{2 * self.r_base_spigot:.2f})")
-        _ = self.lead_in_piston, self.lead_in_rod, self.lead_in_outer_bottom, self.lead_in_outer_top
-        R, spot = self.outer_radius_mm, 0.5 * c.valve_spot_face_mm
-        if not self.has_top_annulus:
-            # the two valves on the top face (+y): chamber 1 (axis or r_port1) and chamber 2 (y_valve2)
-            if self.y_valve2 - spot < self.y_port1 + spot + 0.5 - 1e-9:
-                raise CadError(f"cad.valve_spot_face_mm = {c.valve_spot_face_mm:g} mm: the two charging valves' seats "
-                               f"overlap on the top face (at y = {self.y_port1:.2f} and {self.y_valve2:.2f} mm)")
-        if self.has_cross_port:
-            if self.r_port2 - self.fill_port_d / 2 < self.y_valve2 - self.cross_port_d / 2 - 1e-9:
-                raise CadError(f"cad.valve_spot_face_mm = {c.valve_spot_face_mm:g} mm: the chamber-2 valve "
-                               f"(y = {self.y_valve2:.2f}) and its port (r = {self.r_port2:.2f}) overlap")
-            plug_in = R - c.plug_depth_mm
-            if plug_in < self.r_port2 + self.fill_port_d / 2 + wall - 1e-9:
-                raise CadError(f"cad.plug_depth_mm = {c.plug_depth_mm:g} mm: the cross port's plug bore reaches the "
-                               f"chamber-2 port (at r = {self.r_port2:.2f} mm)")
-            zc, rp = self.z_cross_port, 0.5 * c.plug_bore_mm
-            if self.has_top_annulus:
-                lo_ok, hi_ok = zc - rp >= c.fill_port_counterbore_depth_mm, zc + rp <= self.z_base_top - 1.0
-                where = f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm)"
-            else:
-                lo_ok = zc - rp >= self.z_cap + SPIGOT_LAND_MM - 1e-9
-                hi_ok = zc + rp <= self.z_top - c.fill_port_counterbore_depth_mm - 0.3 + 1e-9
-                where = f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g})"
-            if not (lo_ok and hi_ok):
-                raise CadError(f"{where} is too thin for the chamber-2 cross port's plug (Ø{c.plug_bore_mm:g}, "
-                               f"cad.plug_bore_mm) beside the valves' tapped holes")
+        check_layout(self)

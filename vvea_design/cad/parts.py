@@ -110,18 +110,21 @@ def housing(lay: Layout) -> Solid:
         The united housing in the assembly frame, mm.
     """
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
-    body = fuse(
-        ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
-        ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
-        cylinder(lay.r_outer, z1, zt),  # top cap
-        ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1),  # top bladder clamp (annulus_top: collar)
-        cylinder(lay.r_outer, 0.0, z0),  # base
-        revolved(base_spigot_profile(lay)),  # base spigot (static seal, outer wall of the lower cuff groove)
-    )
+    inner = [ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
+             ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1),  # top bladder clamp (annulus_top: collar)
+             revolved(base_spigot_profile(lay))]  # base spigot (outer wall of the lower cuff groove)
+    if lay.has_joint:  # the design's joint: threaded or counterbored tube ends, the end pieces' spigots
+        from .housing_joints import joint_bodies, joint_tools
+
+        body = fuse(*joint_bodies(lay), *inner)
+    else:  # the gas-only rules: the tubes butt on the base and the cap
+        joint_tools = None
+        body = fuse(ring(lay.r_bore, lay.r_outer, z0, z1), cylinder(lay.r_outer, z1, zt), cylinder(lay.r_outer, 0.0, z0),
+                    *inner)
     if lay.has_bulkhead:  # bulkhead web and the chamber-1 fill tube (part of the inner tube)
         body = fuse(body, cylinder(lay.r_piston + 0.01, lay.z_bulkhead0, lay.z_bulkhead1),
                     ring(lay.r_fill_tube_bore, lay.r_fill_tube_out, lay.z_bulkhead1 - 0.01, z1 + 0.01))
-    return cut(body, *_top_tools(lay), *_base_tools(lay))
+    return cut(body, *_top_tools(lay), *_base_tools(lay), *(joint_tools(lay) if joint_tools else ()))
 
 
 def _top_tools(lay: Layout) -> list[Solid]:
@@ -130,14 +133,20 @@ def _top_tools(lay: Layout) -> list[Solid]:
     layout the fill tube's bore (bulkhead), the chamber-2 riser, cross port and plug bore, or the slots and the
     collar's seal groove (annulus_top), mm. In cutting order."""
     c = lay.cad
-    z1, zt = lay.z_cap, lay.z_top
+    z1, zt = lay.z_cap, lay.z_cap_face
     tools: list[Solid] = [_bladder(lay)]  # top clamp groove = the bladder's upper cuff (exact fit)
     tap = c.fill_port_counterbore_mm / 2  # the valves' M5 tap drill
     tap_z = zt - c.fill_port_counterbore_depth_mm
     if lay.cap_seal is not None:  # the cap's static seal to the outer bore, and the tube's lead-in above it
-        tools.append(ring(lay.cap_seal.groove_diameter_mm / 2, lay.r_bore, *lay.z_cap_seal))
-        li = lay.lead_in_outer_top
-        tools.append(_lead_in_tool(lay.r_bore, z1, li.depth_mm, li.length_mm, outward=True, upward=False))
+        tools.append(ring(lay.cap_seal.groove_diameter_mm / 2, lay.cap_seal_bore_mm / 2, *lay.z_cap_seal))
+        if lay.lead_in_counterbore is not None:  # ring_top: the plug's ring enters the tube's counterbore
+            li = lay.lead_in_counterbore
+            tools.append(_lead_in_tool(lay.cap_seal_bore_mm / 2, lay.z_top, li.depth_mm, li.length_mm, outward=True,
+                                       upward=False))
+        else:
+            li = lay.lead_in_outer_top
+            tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_top, li.depth_mm, li.length_mm, outward=True,
+                                       upward=False))
     # chamber 1: the fill tube's bore on the axis (bulkhead) or a port over the piston; its valve's tapped hole
     if lay.has_bulkhead:
         tools.append(cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0 - 0.01, zt + 1))
@@ -190,7 +199,8 @@ def _base_tools(lay: Layout) -> list[Solid]:
     # the base spigot's static seal; the outer tube's lead-in over it and the inner tube's for the piston's rings
     tools.append(ring(lay.base_seal.groove_diameter_mm / 2, lay.r_bore, *lay.z_base_seal))
     li = lay.lead_in_outer_bottom
-    tools.append(_lead_in_tool(lay.r_bore, z0, li.depth_mm, li.length_mm, outward=True, upward=True))
+    tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_bottom, li.depth_mm, li.length_mm, outward=True,
+                               upward=True))
     li = lay.lead_in_piston
     tools.append(_lead_in_tool(lay.r_piston, z0, li.depth_mm, li.length_mm, outward=True, upward=True))
     zv = lay.z_valve
@@ -205,7 +215,7 @@ def _base_tools(lay: Layout) -> list[Solid]:
     # relief valve: stepped radial bore along -x (seat drilling reaches the fluid-column channel)
     x_b = lay.r_ring_channel - lay.ring_channel_d / 2 - 0.5
     tools.append(bar(lay.relief_d / 2, (-(lay.r_outer + 1), 0, zv), (1, 0, 0), lay.r_outer + 1 - x_b))
-    tools.append(bar(min(c.relief_seat_mm, lay.relief_d) / 2, (-x_b - 0.01, 0, zv), (1, 0, 0),
+    tools.append(bar(lay.relief_seat_d / 2, (-x_b - 0.01, 0, zv), (1, 0, 0),
                      x_b - lay.x_valve_inner + 0.01))
     # vertical channels: fluid column <-> valves <-> support ring, both valves
     ch = lay.base_channel_d / 2
@@ -253,16 +263,23 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
     h = united if united is not None else housing(lay)
     big = lay.r_outer + 1.0
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
-    regions = {
-        "housing_base": fuse(cylinder(big, -1.0, z0), ring(lay.r_bladder_out - 1e-3, lay.r_bore, z0, lay.z_free0)),
-        "housing_outer_tube": ring(lay.r_bore, big, z0, z1),
-        "housing_inner_tube": cylinder(lay.r_inner_tube, z0, z1),
-        "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
-    }
-    if lay.has_top_annulus:  # the collar is part of the inner tube; the top cap is a plain cap
+    if lay.has_joint:  # cut along the joint: the tube over the end pieces' spigots
+        from .housing_joints import joint_regions
+
+        regions = joint_regions(lay, big)
+    else:
+        regions = {
+            "housing_base": fuse(cylinder(big, -1.0, z0), ring(lay.r_bladder_out - 1e-3, lay.r_bore, z0, lay.z_free0)),
+            "housing_outer_tube": ring(lay.r_bore, big, z0, z1),
+            "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
+        }
+        if lay.has_top_annulus:  # the top cap is a plain cap
+            regions["housing_top_cap"] = cylinder(big, z1, zt + 1.0)
+    regions["housing_inner_tube"] = cylinder(lay.r_inner_tube, z0, z1)
+    if lay.has_top_annulus:  # the collar is part of the inner tube
         regions["housing_inner_tube"] = fuse(cylinder(lay.r_inner_tube, z0, z1),
                                              ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1))
-        regions["housing_top_cap"] = cylinder(big, z1, zt + 1.0)
+    regions = {k: regions[k] for k in ("housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap")}
     from ._shapes import single_solid
 
     return {name: single_solid(h.intersect(region)) for name, region in regions.items()}

@@ -80,7 +80,7 @@ class RingCrossing:
         dict
             ``step``, ``ring``, ``part``, ``edges`` and ``ok``.
         """
-        return {"step": self.step, "ring": self.ring, "part": self.part, "edges": list(self.edges), "ok": self.ok}
+        return {"step": self.step, "ring": self.ring, "part": self.part, "edges": list(self.edges), "ok": bool(self.ok)}
 
 
 @dataclass(frozen=True)
@@ -347,7 +347,7 @@ def _crossing(step: AssemblyStep, kind: str, gland: Gland, counter: str, zgs, ri
                     ok = False
                 else:
                     ang = math.degrees(math.atan2(r1 - r0, z_b - z_a))
-                    good = 15.0 - 0.05 <= ang <= 20.0 + 0.05 and r0 <= lo_r + 1e-6 and r1 >= hi_r - 1e-6
+                    good = bool(15.0 - 0.05 <= ang <= 20.0 + 0.05 and r0 <= lo_r + 1e-6 and r1 >= hi_r - 1e-6)
                     key = f"{'lead-in' if good else 'chamfer too short or steep'} {z_b - z_a:.2f} x {ang:.1f}° " \
                           f"(radial {r1 - r0:.2f} over a band of {hi_r - lo_r:.2f})"
                     ok &= good

@@ -83,7 +83,7 @@ def _unit_leaders(lay: Layout) -> list[Leader]:
                "left"),
         Leader((-lay.r_inner_tube + 0.5 * d.inner_tube_wall_mm, zm - 20),
                f"inner tube wall {d.inner_tube_wall_mm:.2f}", "left"),
-        Leader((-(lay.r_outer - 1.0), lay.z_valve), f"relief valve bore Ø{lay.relief_d:g}, seat Ø{c.relief_seat_mm:g}",
+        Leader((-(lay.r_outer - 1.0), lay.z_valve), f"relief valve bore Ø{lay.relief_d:g}, seat Ø{lay.relief_seat_d:g}",
                "left"),
         Leader((-lay.r_ring_channel, zb0 - 1.0), f"fluid channels Ø{lay.ring_channel_d:.2f} / "
                                                  f"Ø{lay.base_channel_d:.2f}", "left"),
