@@ -27,7 +27,7 @@ def design_json(tmp_path_factory):
     from vvea_design.spring.problem import evaluate_design
     from vvea_design.spring.requirements import Requirements
 
-    req = Requirements()
+    req = Requirements(fixed=REFERENCE.fixed)  # the reference was sized by the gas-only rules (its fixed says so)
     path = tmp_path_factory.mktemp("cli") / "design.json"
     return save_design(path, evaluate_design(REFERENCE, req), req)
 

@@ -10,7 +10,7 @@ built from), not from the sheet; each is checked against the solid both ways:
 and found on the part's sheet: its annotation's text gives its size and its tolerance (or the general
 tolerance ISO 2768-m the sheet states), its dimensions' anchors lie on the drawn outline. For every machined
 part of every layout: bulkhead (the reference, the bladder cast near x = 0, the cupped piston), inner_tube and
-annulus_top.
+annulus_top, and every joint the buildability rules size (thread, ring_top, tie_rods).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from __future__ import annotations
 import pytest
 from build123d import Vector
 
-from tests.cad.cases import DESIGNS, POCKET, REFERENCE, SLOW
+from tests.cad.cases import DESIGNS, JOINTS, POCKET, REFERENCE, SLOW
 from vvea_design.cad import PARTS, build_cad
 from vvea_design.cad.drafting import Dim, Leader
 from vvea_design.cad.features import GENERAL, Feature, missing_edges, sheet_plane, unexplained_edges
@@ -28,7 +28,7 @@ from vvea_design.report.drawing import check_anchors, sheet_specs
 #: One design per layout (and the cupped piston): the part lists differ per layout.
 CASES = {"reference": REFERENCE, "cast_fill_free": DESIGNS["cast_fill_free"],
          "annulus_top_short": DESIGNS["annulus_top_short"], "inner_tube_k50": SLOW["pareto_k50"],
-         "cupped_piston": POCKET}
+         "cupped_piston": POCKET, **JOINTS}
 DRAWN = [p for p in PARTS if p.drawing is not None]
 
 

@@ -23,154 +23,19 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .drafting import Dim, Leader, fit_tolerance
+from .drafting import Dim, Leader
+from .feature_base import (DETAIL_KEYS, FEATURE_KINDS, GENERAL, GROOVE_WIDTH_TOL, SEAL_BORE_FIT, SPIGOT_FIT,
+                           THREAD_CLASS, TUBE_OD_FIT, Feature, feature_texts, sheet_plane)
+from .feature_base import fit_text as _fit
+from .feature_base import groove_feature as _groove_feature
+from .feature_base import lead_in_feature as _lead_in_feature
+from .feature_base import symmetric as _sym
+from .joint_features import base_joint_features, outer_tube_joint_features, top_cap_joint_features
 from .layout import Layout
-from .seals import Gland, LeadIn
 
 __all__ = ["Feature", "FEATURE_KINDS", "DETAIL_KEYS", "GENERAL", "GROOVE_WIDTH_TOL", "THREAD_CLASS", "outer_tube_features",
            "inner_tube_features", "top_cap_features", "base_features", "piston_features", "sheet_plane",
            "feature_texts", "unexplained_edges", "missing_edges"]
-
-#: What a feature is.
-FEATURE_KINDS = ("length", "diameter", "groove", "hole", "thread", "chamfer", "slot", "radius")
-#: The general tolerance (ISO 2768-m) of a feature without its own.
-GENERAL = "ISO 2768-m"
-#: Width tolerance of an O-ring groove (bd_warehouse's gland width tolerance), mm.
-GROOVE_WIDTH_TOL = "+0.13/0"
-#: Tolerance class of the internal threads (ISO 965-1).
-THREAD_CLASS = "6H"
-#: Drawn tolerances of the housing's diameters (ISO 286): the tubes' outside diameters, the bores the O-rings seal
-#: on (H8) and the spigots that enter them (g7: the largest clearance stays under the gland's extrusion gap).
-TUBE_OD_FIT, SEAL_BORE_FIT, SPIGOT_FIT = "h9", "H8", "g7"
-#: The features whose dimension a part's sheet draws in its detail view instead of the main view.
-DETAIL_KEYS = frozenset({"groove_width"})
-
-Point = tuple[float, float]
-
-
-@dataclass(frozen=True)
-class Feature:
-    """One feature of a machined part (model mm): what it is, its size and tolerance as the sheet writes them,
-    the annotation that gives it, the section edges it makes and a point of the material it removes."""
-
-    key: str  #: unique within the part
-    kind: str  #: one of :data:`FEATURE_KINDS`
-    title: str  #: human name
-    size: str  #: the size as written on the sheet, e.g. ``Ø35.42``, ``2.41``, ``M5x0.8``
-    tolerance: str  #: the tolerance as written (fit, deviation, thread class) or :data:`GENERAL`
-    show: Dim | Leader | str  #: how the sheet gives it: a dimension, a leader note or a numbered note
-    u_edges: tuple[float, ...] = ()  #: signed u of the vertical section edges it makes (sheet plane), mm
-    z_edges: tuple[float, ...] = ()  #: z of the horizontal section edges it makes, mm
-    slants: tuple[tuple[Point, Point], ...] = ()  #: the slanted section edges (chamfers) it makes, end points, mm
-    probe: tuple[float, float, float] | None = None  #: a point (x, y, z) in the material it removes, mm
-    finish: str = ""  #: surface roughness, e.g. ``Ra 0.4``
-    standard: str = ""  #: the standard behind it
-
-    def __post_init__(self) -> None:
-        if self.kind not in FEATURE_KINDS:
-            raise ValueError(f"feature {self.key!r}: kind must be one of {FEATURE_KINDS}, got {self.kind!r}")
-        if not self.size or not self.tolerance:
-            raise ValueError(f"feature {self.key!r}: size and tolerance are required")
-
-    @property
-    def text(self) -> str:
-        """The text of its annotation (the dimension's label, the leader's or the note's text)."""
-        if isinstance(self.show, Dim):
-            return self.show.label()
-        if isinstance(self.show, Leader):
-            return self.show.text
-        return self.show
-
-    def to_dict(self) -> dict:
-        """JSON-ready summary (the manifest's feature list).
-
-        Returns
-        -------
-        dict
-            ``key``, ``kind``, ``title``, ``size``, ``tolerance``, ``finish``, ``standard``.
-        """
-        return {"key": self.key, "kind": self.kind, "title": self.title, "size": self.size,
-                "tolerance": self.tolerance, "finish": self.finish, "standard": self.standard}
-
-
-def feature_texts(features) -> list[str]:
-    """The annotation texts of ``features`` (for a sheet's search).
-
-    Parameters
-    ----------
-    features : iterable of Feature
-        The features.
-
-    Returns
-    -------
-    list of str
-        Each feature's :attr:`Feature.text`.
-    """
-    return [f.text for f in features]
-
-
-def sheet_plane(part: str) -> str:
-    """The section plane a part's sheet shows: the port plane (x = 0) for the top cap, else the valve plane.
-
-    Parameters
-    ----------
-    part : str
-        Part name.
-
-    Returns
-    -------
-    str
-        ``"yz"`` or ``"xz"``.
-    """
-    return "yz" if part == "housing_top_cap" else "xz"
-
-
-# ----------------------------------------------------------------------------------------------- helpers
-def _fit(d_mm: float, fit: str) -> tuple[str, str]:
-    return f"Ø{d_mm:.2f}", fit_tolerance(d_mm, fit)
-
-
-def _sym(*r: float) -> tuple[float, ...]:
-    return tuple(v for x in r for v in (-x, x))
-
-
-def _lead_in_feature(key: str, title: str, li: LeadIn, r: float, z: float, outward: bool, upward: bool,
-                     side: str, gland: Gland) -> Feature:
-    """A lead-in chamfer on the circular edge (r, z): slanted edges on both halves, a leader note."""
-    rr = r + li.depth_mm if outward else r - li.depth_mm
-    zz = z + li.length_mm if upward else z - li.length_mm
-    slants = (((rr, z), (r, zz)), ((-rr, z), (-r, zz)))
-    size = f"{li.length_mm:.2f} x {li.angle_deg:g}°"
-    tol = "15°...20°, length min."
-    txt = (f"{title}: lead-in {size} ({tol}; radial {li.depth_mm:.2f} > O-ring {gland.oring.code} protrusion), "
-           "ISO 3601-2")
-    at = (0.5 * (r + rr), 0.5 * (z + zz))
-    return Feature(key, "chamfer", title, size, tol, Leader(at if side == "right" else (-at[0], at[1]), txt, side),
-                   slants=slants, standard="ISO 3601-2")
-
-
-def _groove_feature(key: str, g: Gland, z0: float, z1: float, ref_z: float, ref: str, side: str,
-                    u_sign: float = 1.0) -> list[Feature]:
-    """An O-ring groove (root or outer diameter with its fit, width, position from a reference face) and its
-    root radius, as one leader each."""
-    d = g.groove_diameter_mm
-    r_s = g.sliding_diameter_mm / 2
-    size, tol = _fit(d, g.groove_fit)
-    pos = f"{min(abs(z0 - ref_z), abs(z1 - ref_z)):.2f} from {ref}"
-    txt = (f"groove {size} {tol} x {g.width_mm:.2f} {GROOVE_WIDTH_TOL}, {pos}; O-ring {g.oring.code} "
-           f"({g.oring.name}), {g.finish_text}")
-    r_mid = 0.5 * (d / 2 + r_s)
-    at = (u_sign * r_mid, 0.5 * (z0 + z1))
-    probe = (u_sign * r_mid, 0.0, 0.5 * (z0 + z1))
-    rad = g.radius_range_mm
-    return [Feature(key, "groove", f"O-ring groove ({g.where or g.kind})", size, tol, Leader(at, txt, side),
-                    u_edges=_sym(d / 2), z_edges=(z0, z1), probe=probe, finish=g.finish_text,
-                    standard="ISO 3601-2 (bd_warehouse gland data)"),
-            Feature(f"{key}_radius", "radius", "groove root radius", f"R{g.radius_mm:.2f}",
-                    f"R{rad[0]:.2f}...{rad[1]:.2f}", f"{key.replace('_', ' ')}: root radius R{g.radius_mm:.2f} "
-                    f"(R{rad[0]:.2f}...{rad[1]:.2f}), edges of the groove opening 0.1...0.2 rounded, burr-free",
-                    standard="ISO 3601-2")]
-
 
 def _cuff_groove(lay: Layout, z_open: float, side: str, key: str) -> Feature:
     """The groove that holds the bladder's upper cuff, opening downwards at ``z_open``: inner/outer walls at the
@@ -212,6 +77,8 @@ def outer_tube_features(lay: Layout) -> tuple[Feature, ...]:
     tuple of Feature
         In sheet order.
     """
+    if lay.has_joint:  # threaded or counterbored ends (the design's joint)
+        return outer_tube_joint_features(lay)
     R, rb, z0, z1 = lay.r_outer, lay.r_bore, lay.z_base_top, lay.z_cap
     lo, hi = lay.lead_in_outer_bottom, lay.lead_in_outer_top
     od, od_tol = _fit(2 * R, TUBE_OD_FIT)
@@ -317,7 +184,7 @@ def top_cap_features(lay: Layout) -> tuple[Feature, ...]:
         In sheet order (section in the port plane x = 0, u = y).
     """
     c = lay.cad
-    R, z1, zt = lay.r_outer, lay.z_cap, lay.z_top
+    R, z1, zt = lay.r_outer, lay.z_cap, lay.z_cap_face
     tap, tap_d = c.fill_port_counterbore_mm, c.fill_port_counterbore_depth_mm
     f = [Feature("thickness", "length", "thickness", f"{zt - z1:.2f}", GENERAL, Dim("z", (-R, z1), (-R, zt), "left"),
                  z_edges=(z1, zt)),
@@ -337,10 +204,11 @@ def top_cap_features(lay: Layout) -> tuple[Feature, ...]:
               Feature("port1_position", "length", "chamber-1 port position", f"{rp1:.2f}", GENERAL,
                       Dim("u", (0.0, zt), (rp1, zt), "top", f"{rp1:.2f} (port 1 axis)", on_axis=True))]
     f.append(_tapped("valve1_thread", lay.y_port1, zt, tap_d, tap, lay, "right", "chamber-1 charging valve"))
-    if lay.has_top_annulus:
-        return tuple(f)
-    f += _clamp_features(lay)
-    f += _chamber2_features(lay, "right")
+    if not lay.has_top_annulus:
+        f += _clamp_features(lay)
+        f += _chamber2_features(lay, "right")
+    if lay.has_joint:  # the shoulder above the tube, the spigot's thread (or the ring's plug), the rods' holes
+        return top_cap_joint_features(lay, tuple(f))
     return tuple(f)
 
 
@@ -363,7 +231,7 @@ def _chamber2_features(lay: Layout, side: str) -> list[Feature]:
     """The chamber-2 port through the top clamp, its valve's hole (the riser in ``bulkhead``), the cross port from
     the outside and its plug bore; or a straight port under the valve."""
     c = lay.cad
-    R, z1, zt, zf1 = lay.r_outer, lay.z_cap, lay.z_top, lay.z_free1
+    R, z1, zt, zf1 = lay.r_outer, lay.z_cap, lay.z_cap_face, lay.z_free1
     dp, rp2, tap, tap_d = lay.fill_port_d, lay.r_port2, c.fill_port_counterbore_mm, c.fill_port_counterbore_depth_mm
     f = [Feature("port2_position", "length", "chamber-2 port position", f"{rp2:.2f}", GENERAL,
                  Dim("u", (0.0, zf1), (rp2, zf1), "bottom", f"{rp2:.2f} (port 2 axis)", on_axis=True))]
@@ -449,6 +317,8 @@ def base_features(lay: Layout) -> tuple[Feature, ...]:
     f += _valve_features(lay)
     if lay.has_top_annulus:
         f += _base_port_notes(lay)
+    if lay.has_joint:  # the own part's shoulder, the spigot's thread and run-out, the rods' holes
+        return base_joint_features(lay, tuple(f))
     return tuple(f)
 
 

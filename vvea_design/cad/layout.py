@@ -16,18 +16,16 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
-from ..spring.design import Design, DesignError
+from ..spring.design import Design
+from .errors import CadError
 from .joints import JointGeometry, joint_geometry
+from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
 from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, static_male_gland
 
-#: Axial land on each side of the collar's seal groove (annulus_top), mm.
-COLLAR_SEAL_LAND_MM = 0.75
 #: The damper's sizes the design owns (``fixed.*``): :class:`CadParameters` keeps them only as aliases of the
 #: defaults; the CAD draws the design's values.
 HYDRAULIC_FIELDS = ("throttle_bore_mm", "relief_bore_mm", "relief_seat_mm", "fluid_channel_mm", "ring_channel_mm",
                     "ring_channels")
-#: Shortest axial land between a static seal groove and the end of its spigot, mm.
-SPIGOT_LAND_MM = 0.5
 #: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm.
 LEAD_IN_GAP_MM = 0.3
 #: Where the chamfer-angle room for a lead-in stops: the piston's lower ring must never run onto the inner tube's
@@ -49,10 +47,6 @@ DEPRECATED_NAMES = {"r_outer": "outer_radius_mm", "r_bore": "outer_bore_radius_m
 def _deprecated(name: str) -> property:
     """A read-only alias of the property ``name`` (a deprecated old name)."""
     return property(lambda self: getattr(self, name), doc=f"Deprecated: :attr:`{name}`.")
-
-
-class CadError(DesignError):
-    """A design or a CAD parameter that cannot be drawn (names the field)."""
 
 
 @dataclass(frozen=True)
@@ -613,8 +607,11 @@ class Layout:
 
     @property
     def y_cross_riser(self) -> float:
-        """Where the riser from the space above the bulkhead meets the cross port (+y)."""
-        return 0.5 * (self.fill_tube_outer_radius_mm + self.piston_radius_mm)
+        """Where the riser from the space above the bulkhead meets the cross port (+y): midway between the fill
+        tube and the piston bore, or further out where the chamber-2 valve over it would touch the chamber-1
+        valve's spot face on the axis (0.5 mm between the two), mm."""
+        mid = 0.5 * (self.fill_tube_outer_radius_mm + self.piston_radius_mm)
+        return max(mid, self.cad.valve_spot_face_mm + 0.5)
 
     # ----------------------------------------------------------- annulus_top layout
     @property
@@ -712,6 +709,4 @@ class Layout:
     # ----------------------------------------------------------- checks
     def check(self) -> None:
         """Raise :class:`CadError` if a feature does not fit (:func:`~vvea_design.cad.layout_checks.check_layout`)."""
-        from .layout_checks import check_layout
-
         check_layout(self)

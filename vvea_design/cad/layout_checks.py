@@ -4,9 +4,19 @@ bladder cuffs); each failure raises :class:`~vvea_design.cad.layout.CadError` na
 
 from __future__ import annotations
 
-from .layout import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, CadError, Layout
+from typing import TYPE_CHECKING
 
-__all__ = ["check_layout"]
+from .errors import CadError
+
+if TYPE_CHECKING:  # the layout imports this module: its type only for the annotations
+    from vvea_design.cad.layout import Layout
+
+__all__ = ["check_layout", "COLLAR_SEAL_LAND_MM", "SPIGOT_LAND_MM"]
+
+#: Axial land on each side of the collar's seal groove (annulus_top), mm.
+COLLAR_SEAL_LAND_MM = 0.75
+#: Shortest axial land between a static seal groove and the end of its spigot, mm.
+SPIGOT_LAND_MM = 0.5
 
 
 def check_layout(lay: Layout) -> None:
