@@ -27,7 +27,7 @@ from .layout import Layout
 from .seals import COMPOUND, ORING_STANDARD, Gland
 
 __all__ = ["BomLine", "BomContext", "SECTIONS", "BOUGHT_ITEMS", "bought_items", "glands", "o_rings",
-           "servo_and_valve", "servo_screws", "relief_ball", "relief_ball_mm", "relief_spring_and_screw",
+           "housing_joint", "servo_and_valve", "servo_screws", "relief_ball", "relief_ball_mm", "relief_spring_and_screw",
            "proof_pressure_MPa", "fill_valves", "cross_port_plug", "hydraulic_fluid", "gas_charge",
            "TIGHTENING_TORQUE_NM"]
 
@@ -376,10 +376,69 @@ def gas_charge(ctx: BomContext) -> tuple[BomLine, ...]:
     return tuple(out)
 
 
+def _joint_check(rec) -> str:
+    """The joint's load case, end load and least safety factor, for its BOM note."""
+    sf = min(rec.safety_factors.values()) if rec.safety_factors else float("nan")
+    return (f"sized for {rec.end_load_N:.0f} N ({rec.governing_case}); least safety factor {sf:.2f} "
+            f"(required {rec.required_safety_factor:.2f})")
+
+
+def housing_joint(ctx: BomContext) -> tuple[BomLine, ...]:
+    """The housing's joint (the design's, drawn by the CAD): each thread (cut on both parts, no separate item),
+    the DIN 472 retaining ring, or the tie rods with their nuts, property class and tightening torque.
+
+    Parameters
+    ----------
+    ctx : BomContext
+        The design (its joint records; none under the gas-only rules).
+
+    Returns
+    -------
+    tuple of BomLine
+        ``bought`` lines with their standards (mass g, torque N m); empty without a joint.
+    """
+    if not ctx.layout.has_joint:
+        return ()
+    out = []
+    for rec in ctx.design.joints():
+        if rec.kind == "thread":
+            where = "base" if rec.joint == "base" else "top cap"
+            out.append(BomLine(part=f"thread_{rec.joint}", description=f"threaded joint, {where} into the outer tube "
+                               "(cut on both parts, no separate item)", category="bought", material="-",
+                               standard=rec.standard, size=f"{rec.designation}, engaged {rec.engagement_length_mm:.2f}",
+                               quantity=1, unit_volume_mm3=None, unit_mass_g=None, in_unit=True,
+                               note=f"screw home to the shoulder, O-ring greased; medium-strength anaerobic thread "
+                                    f"locker; {_joint_check(rec)}"))
+        elif rec.kind == "ring_top":
+            out.append(BomLine(part="retaining_ring", description="internal retaining ring, top cap in the outer tube",
+                               category="bought", material="spring steel C75S (DIN 472), phosphated",
+                               standard=rec.standard, size=rec.designation, quantity=1, unit_volume_mm3=None,
+                               unit_mass_g=rec.mass_g, in_unit=True,
+                               note=f"fit with circlip pliers into the groove above the cap plug; {_joint_check(rec)}"))
+        elif rec.kind == "tie_rods":
+            rho = 7.85e-3  # steel, g/mm³
+            d, s, m = rec.nominal_diameter_mm, rec.nut_width_across_flats_mm, rec.nut_height_mm
+            rod_g = math.pi / 4 * d**2 * rec.rod_length_mm * rho
+            nut_g = (math.sqrt(3) / 2 * s**2 - math.pi / 4 * d**2) * m * rho
+            size = f"M{d:g}x{rec.pitch_mm:g} x {rec.rod_length_mm:.0f}"
+            out += [BomLine(part="tie_rods", description="tie rods (threaded rods) clamping the end pieces",
+                            category="bought", material=f"steel, property class {rec.property_class} (ISO 898-1)",
+                            standard="DIN 976-1; ISO 898-1", size=size, quantity=int(rec.count), unit_volume_mm3=None,
+                            unit_mass_g=rod_g, in_unit=True, torque_Nm=rec.tightening_torque_Nm,
+                            note=f"preload {rec.preload_min_N:.0f}...{rec.preload_max_N:.0f} N (VDI 2230-1); "
+                                 f"tighten crosswise in steps; {_joint_check(rec)}"),
+                    BomLine(part="tie_rod_nuts", description="hexagon nuts of the tie rods", category="bought",
+                            material="steel, property class 10 (ISO 898-2)", standard="ISO 4032",
+                            size=f"M{d:g} (s {s:g}, m {m:g})", quantity=2 * int(rec.count), unit_volume_mm3=None,
+                            unit_mass_g=nut_g, in_unit=True, torque_Nm=rec.tightening_torque_Nm,
+                            note="washers under the nuts on aluminium (ISO 7089, 300 HV)")]
+    return tuple(out)
+
+
 #: The BOM hooks of the items the CAD has seats for but does not model, in bill order.
 BOUGHT_ITEMS: tuple[Callable[[BomContext], tuple[BomLine, ...]], ...] = (
-    o_rings, servo_and_valve, servo_screws, relief_ball, relief_spring_and_screw, fill_valves, cross_port_plug,
-    hydraulic_fluid, gas_charge)
+    o_rings, housing_joint, servo_and_valve, servo_screws, relief_ball, relief_spring_and_screw, fill_valves,
+    cross_port_plug, hydraulic_fluid, gas_charge)
 
 
 def bought_items() -> tuple[Callable[[BomContext], tuple[BomLine, ...]], ...]:

@@ -21,9 +21,8 @@ or :data:`GENERAL` (ISO 2768-m, in the sheet's notes).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
-from .drafting import Dim, Leader
+from .drafting import Dim, Leader, fit_tolerance
 from .feature_base import (DETAIL_KEYS, FEATURE_KINDS, GENERAL, GROOVE_WIDTH_TOL, SEAL_BORE_FIT, SPIGOT_FIT,
                            THREAD_CLASS, TUBE_OD_FIT, Feature, feature_texts, sheet_plane)
 from .feature_base import fit_text as _fit
