@@ -77,8 +77,8 @@ def test_the_joint_is_in_the_bill_with_its_standard(name):
 
 def test_the_joint_pieces_are_the_designs_closed_form():
     """One mass with the joint drawn: the tubes and the top cap agree with the design's closed form within 0.5 %.
-    The base does not yet (the CAD draws the support ring's collector and the ring-side base channel as the gas-only
-    rules do, the design's buildable closed form the hydraulics' wider collector): its gap is pinned here so a
+    The base does not yet: the closed form lacks the base's spigot around the support ring (the lower cuff's outer
+    wall) and its seal groove (tests/spring/test_masses.py ``CAD_GAP``, an open point); its gap is pinned here so a
     change shows."""
     from vvea_design.cad import build_cad
 

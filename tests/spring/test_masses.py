@@ -4,8 +4,8 @@ listed beside them.
 
 A gas-only design is drawn with its pieces split by planes: the closed form is compared in that drawing
 (``spec = "today"``). A buildable design is drawn with its joint (threads, run-outs, the ring's plug and groove, the
-tie rods' holes): the closed form with the joint's zones (:func:`part_masses_g`) is compared, the base and the
-support ring apart (:data:`JOINT_GAP`, an open point)."""
+tie rods' holes): the closed form with the joint's zones (:func:`part_masses_g`) is compared, the parts of
+:data:`CAD_GAP` apart (an open point)."""
 
 import math
 from dataclasses import replace
@@ -54,11 +54,14 @@ def _today(design: Design) -> dict:
                                                      design.fixed, design.variant, "today").items()}
 
 
-#: Parts whose CAD volume does not yet follow the buildable closed form when the CAD draws the joint: the CAD draws
-#: the support ring's collector and the base's ring-side channel as under the gas-only rules, the closed form the
-#: hydraulics' collector across the annulus (open point between the CAD and the spring side; see
-#: tests/cad/test_joints.py).
-JOINT_GAP = ("housing_base", "support_ring")
+#: Parts whose CAD volume does not yet follow the closed form (open point between the CAD and the spring side, to
+#: close at integration): the CAD (issue 23) draws the base's spigot around the support ring (the lower cuff's outer
+#: wall, with the base's static seal), the static seal grooves of the cap and the base and the tubes' lead-ins, which
+#: the closed form does not have yet; with the joint drawn, the base's spigot and the support ring's collector
+#: (the closed form prices the hydraulics' collector across the annulus). Measured: gas-only bulkhead support ring
+#: -70 %, base +9 %, top cap -2 %, outer tube -0.65 %; buildable ring_top base +6.4 %, support ring -73 %.
+CAD_GAP = {"gas_only": ("housing_base", "support_ring", "housing_top_cap", "housing_outer_tube"),
+           "buildable": ("housing_base", "support_ring")}
 
 
 def _with_joint(design: Design) -> dict:
@@ -86,7 +89,7 @@ def _compare(design: Design, parts=None):
     for part, v in closed.items():
         if parts is not None and part not in parts:
             continue
-        if parts is None and buildable and part in JOINT_GAP:
+        if parts is None and part in CAD_GAP[design.fixed.sizing_rules]:
             continue
         assert v == pytest.approx(cad[part], rel=5e-3), part
     return closed
@@ -103,10 +106,12 @@ def test_closed_form_volumes_are_the_cads_part_by_part_slow(label):
     _compare(SLOW[label])
 
 
-@pytest.mark.xfail(strict=True, reason="open point: with the joint drawn, the base and the support ring's collector "
-                                       "are not yet drawn as the buildable closed form prices them")
-def test_closed_form_volumes_of_the_base_and_support_ring_with_the_joint():
-    _compare(DRAWN["inner_tube, buildable, ring"], parts=JOINT_GAP)
+@pytest.mark.xfail(strict=True, reason="open point (CAD_GAP): the base's spigot, the static seals' grooves and "
+                                       "lead-ins and the support ring's collector are not yet in the closed form")
+@pytest.mark.parametrize("label", list(DRAWN))
+def test_closed_form_volumes_of_the_parts_the_seals_changed(label):
+    d = DRAWN[label]
+    _compare(d, parts=CAD_GAP[d.fixed.sizing_rules])
 
 
 def test_each_part_in_its_own_material_and_the_sum_is_the_mass():
