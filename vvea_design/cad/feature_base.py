@@ -201,7 +201,7 @@ def groove_feature(key: str, g: Gland, z0: float, z1: float, ref_z: float, ref: 
     side : str
         Side of the sheet the leader's text goes to.
     u_sign : float
-        +1: the leader on the right half, -1: on the left.
+        +1: the leader on the right half, -1: on the left (dimensionless).
 
     Returns
     -------

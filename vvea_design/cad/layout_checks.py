@@ -4,12 +4,9 @@ bladder cuffs); each failure raises :class:`~vvea_design.cad.layout.CadError` na
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from .errors import CadError
 
-if TYPE_CHECKING:  # the layout imports this module: its type only for the annotations
-    from vvea_design.cad.layout import Layout
+# ``Layout`` (vvea_design.cad.layout, which imports this module) appears in the annotations only, unevaluated.
 
 __all__ = ["check_layout", "COLLAR_SEAL_LAND_MM", "SPIGOT_LAND_MM"]
 
