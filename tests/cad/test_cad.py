@@ -18,7 +18,7 @@ import pytest
 import trimesh
 
 
-from tests.cad.cases import DESIGNS, REFERENCE, SLOW  # noqa: E402
+from tests.cad.cases import DESIGNS, GAS_ONLY, REFERENCE, SLOW  # noqa: E402
 
 import vvea_design.cad as cadpkg  # noqa: E402
 from vvea_design.cad import (  # noqa: E402
@@ -306,8 +306,9 @@ def test_annulus_top_collar_slots_and_ports(built):
         assert z[1] == pytest.approx(lay.z_free1, abs=1e-3)  # the top clamp is the cap's spigot
         return
     need = d.minimum_walls_mm()["collar"]
-    # top face, cap underside, collar top, collar underside (the clamp), base top, underside
-    np.testing.assert_allclose(z, [lay.z_top, lay.z_cap, lay.z_collar1, lay.z_free1, lay.z_base_top, 0.0], atol=1e-3)
+    # top face, cap underside, collar top, collar underside (the clamp), the base spigot's top (issue 23: the base
+    # rises into the outer tube there, holding its static seal and the cuff's outer wall), underside
+    np.testing.assert_allclose(z, [lay.z_top, lay.z_cap, lay.z_collar1, lay.z_free1, lay.z_free0, 0.0], atol=1e-3)
     assert lay.z_cap - lay.z_collar1 == pytest.approx(d.top_annulus_length_mm, rel=1e-12)
     assert lay.z_collar1 - lay.z_free1 == pytest.approx(d.fixed.bladder_clamp_mm + d.collar_mm, rel=1e-12)
     assert d.collar_mm >= need - 1e-9
@@ -318,12 +319,13 @@ def test_annulus_top_collar_slots_and_ports(built):
     for ang, first in ((a0, lay.r_bore), (a0 + math.pi / lay.cad.cross_slots, lay.r_piston)):
         h = _hits(housing, (0.0, 0.0, zs), (math.cos(ang), math.sin(ang), 0.0))
         assert h[0] == pytest.approx(first, abs=0.02)
-    # chamber-2 port: upwards along its axis the housing is open from the underside to the collar, and the
-    # support ring has a hole there
+    # chamber-2 port: upwards along its axis the housing is open from the underside to the collar (through the
+    # base and its spigot); the support ring ends inside the bladder's bead, clear of the port (issue 23)
     up = _hits(housing, (0.0, lay.r_port2, -50.0), (0.0, 0.0, 1.0)) - 50.0
     assert up[0] == pytest.approx(lay.z_free1, abs=1e-3)
     assert len(_hits(ring_mesh, (0.0, lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
-    assert len(_hits(ring_mesh, (0.0, -lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 2
+    assert len(_hits(ring_mesh, (0.0, -lay.r_port2, -50.0), (0.0, 0.0, 1.0))) == 0
+    assert ring_mesh.bounds[1][1] == pytest.approx(lay.r_bladder_out, abs=0.05)  # out to the cuff's outer face
 
 
 def test_annulus_top_slot_room_is_checked():
@@ -484,7 +486,8 @@ def test_invalid_design_raises_before_geometry(monkeypatch, tmp_path):
     monkeypatch.setattr(build123d.Solid, "make_box", boom)
     out = tmp_path / "never"
     with pytest.raises(CadError, match="fixed.min_base_mm"):
-        write_cad(Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(min_base_mm=8.0)), out, renders=False)
+        write_cad(Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(min_base_mm=8.0, sizing_rules="gas_only")),
+                  out, renders=False)
     with pytest.raises(CadError, match="cad.mould_shrinkage"):
         CadParameters(mould_shrinkage=-0.1)
     with pytest.raises(CadError, match="cad.vents"):
@@ -533,7 +536,7 @@ def test_random_drawable_designs():
         from hypothesis import assume
 
         try:
-            fx = FixedParameters(piston_pocket=pocket)  # issue 12: the cupped piston too
+            fx = FixedParameters(piston_pocket=pocket, sizing_rules="gas_only")  # issue 12: the cupped piston too
             probe = Design(dp, D, V1, 1.0e5, fixed=fx)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
             d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), fixed=fx)
@@ -568,10 +571,10 @@ def test_random_drawable_annulus_top_designs():
            v2=st.floats(0.0, 1.0))
     def check(dp, D, V1, a, v2):
         try:
-            probe = Design(dp, D, V1, 1.0e5, layout="annulus_top", V1_annulus_mm3=a * V1)
+            probe = Design(dp, D, V1, 1.0e5, layout="annulus_top", V1_annulus_mm3=a * V1, fixed=GAS_ONLY)
             lo = probe.displaced_volume_mm3 * 1.05 + 1.0
             d = Design(dp, D, V1, lo + v2 * max(probe.V2_capacity_mm3 - lo, 0.0), layout="annulus_top",
-                       V1_annulus_mm3=a * V1)
+                       V1_annulus_mm3=a * V1, fixed=GAS_ONLY)
             Layout(d)
         except (DesignError, CadError):
             assume(False)

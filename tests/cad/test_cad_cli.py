@@ -27,7 +27,7 @@ def design_json(tmp_path_factory):
     from vvea_design.spring.problem import evaluate_design
     from vvea_design.spring.requirements import Requirements
 
-    req = Requirements()
+    req = Requirements(fixed=REFERENCE.fixed)  # the reference was sized by the gas-only rules (its fixed says so)
     path = tmp_path_factory.mktemp("cli") / "design.json"
     return save_design(path, evaluate_design(REFERENCE, req), req)
 
@@ -43,7 +43,8 @@ def test_cad_command_writes_the_set(reference_cad_run):
     assert (out / "assembly.step").is_file()
     assert (out / "gas_chamber_1.stl").is_file() and (out / "gas_chamber_2.stl").is_file()
     assert manifest["measured"]["chamber_1_volume_mm3"]["cad"] == pytest.approx(REFERENCE.V1_mm3, rel=0.01)
-    assert "CAD vs design" in output and "drawings: 6 sheets (unit_section, " in output and "bom.csv" in output
+    assert "CAD vs design" in output and "drawings: 7 sheets (unit_section, " in output and "bom.csv" in output
+    assert "assembly_order)" in output
     assert f"wrote {len(manifest['files'])} files" in output
 
 

@@ -26,7 +26,9 @@ ABS_BBOX = 1e-3  # mm
 
 def _design(args: dict) -> Design:
     args = dict(args)
-    fixed = FixedParameters(**args.pop("fixed", {}))
+    fx = dict(args.pop("fixed", {}))
+    fx.setdefault("sizing_rules", "gas_only")  # cases stored before the buildability rules were sized by the gas-only
+    fixed = FixedParameters(**fx)
     return Design(**args, fixed=fixed)
 
 

@@ -60,7 +60,7 @@ def test_drawings_and_bom_are_current(fresh):
 
     _, _, out = fresh
     made = sorted(out.glob("drawing_*.svg")) + [out / "bom.csv", out / "bom.json"]
-    assert len(made) == 8
+    assert len(made) == 9  # 7 sheets (the assembly order included), bom.csv, bom.json
     for path in made:
         committed = CAD / path.name
         assert committed.is_file(), f"cad/{path.name} missing; {REGEN}"

@@ -74,8 +74,12 @@ def test_fits_iso286():
     assert fit_deviations_um(34.37, "f7") == (-25.0, -50.0)
     assert fit_deviations_um(8.0, "H8") == (22.0, 0.0)
     assert fit_deviations_um(8.0, "f7") == (-13.0, -28.0)
-    with pytest.raises(ValueError, match="H8"):
-        fit_deviations_um(8.0, "g6")
+    with pytest.raises(ValueError, match="ISO 286"):
+        fit_deviations_um(8.0, "k6")
+    # the fits the housing's seals add (issue 23): static seal bores H8 with g7 spigots, tubes h9, plug bores H11
+    assert fit_deviations_um(56.32, "g7") == (-10.0, -40.0)
+    assert fit_deviations_um(59.5, "h9") == (0.0, -74.0)
+    assert fit_deviations_um(3.0, "H11") == (60.0, 0.0)
     with pytest.raises(ValueError, match="outside"):
         fit_deviations_um(500.0, "H8")
 

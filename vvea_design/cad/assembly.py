@@ -22,6 +22,7 @@ from .layout import CadParameters, Layout
 from .mould import Mould, box
 from .parts import piston_faces_mm2
 from .registry import MOULD_MATERIAL, PARTS, SILICONE, PartContext, all_parts, get_part, parts_in
+from .sequence import AssemblyCheck, check_assembly
 
 __all__ = ["CadModel", "MouldVoid", "build_cad", "assembly", "interference_mm3", "mould_void", "part_materials",
            "SILICONE", "MOULD_MATERIAL", "COLOURS"]
@@ -62,6 +63,7 @@ class CadModel:
     at_travel: dict[str, Solid]
     mould: Mould
     closed_form_mm3: dict[str, float] = field(default_factory=dict)
+    _assembly: AssemblyCheck | None = field(default=None, repr=False, compare=False)
 
     def group(self, *groups: str) -> dict[str, Solid]:
         """The solids of the given part groups (x = 0), in table order.
@@ -158,6 +160,19 @@ class CadModel:
             The table's parts whose ``files`` include ``"step"`` (x = 0), mm.
         """
         return {p.name: self.solids[p.name] for p in all_parts() if "step" in p.files}
+
+    def assembly_check(self) -> AssemblyCheck:
+        """The assembly order checked on this model's parts (:func:`~vvea_design.cad.sequence.check_assembly`),
+        computed once per model.
+
+        Returns
+        -------
+        AssemblyCheck
+            Per step: the swept overlap (mm) and the O-rings' crossings.
+        """
+        if self._assembly is None:
+            self._assembly = check_assembly(self.solids, self.layout)
+        return self._assembly
 
     def measured(self) -> dict[str, float]:
         """CAD-measured chamber volumes and piston areas at x = 0.

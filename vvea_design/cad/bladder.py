@@ -83,12 +83,11 @@ def bladder_volume_mm3(lay: Layout) -> float:
 
 
 def support_ring(lay: Layout) -> Solid:
-    """Printed support ring: fills the annulus over the lower clamp length, holds the
-    bladder's lower cuff in its groove, and passes the fluid through
-    ``cad.ring_channels`` axial channels (inside the bladder) fed by an annular
-    collector groove in its underside (over the base channels). In the
-    ``annulus_top`` layout the chamber-2 port from the base runs through it
-    outside the bladder's bead.
+    """Printed support ring: fills the annulus between the inner tube and the base's spigot over the lower clamp
+    length (out to the cuff's outer face, so it passes the spigot's bore on assembly), holds the bladder's lower
+    cuff from inside and below (the spigot, metal, is the cuff groove's outer wall: the outer bead seals gas from
+    fluid in its internal groove), and passes the fluid through ``fixed.ring_channels`` axial channels (inside the
+    bladder) fed by an annular collector groove in its underside (over the base channels).
 
     Parameters
     ----------
@@ -102,14 +101,13 @@ def support_ring(lay: Layout) -> Solid:
     """
     c = lay.cad
     z0, z1 = lay.z_base_top, lay.z_free0
-    body = ring(lay.r_inner_tube, lay.r_bore, z0, z1)
+    ro = lay.r_bladder_out
+    body = ring(lay.r_inner_tube, ro, z0, z1)
     rc, dc = lay.r_ring_channel, lay.ring_channel_d
     tools = [bladder(lay), ring(rc - 0.6 * dc, rc + 0.6 * dc, z0 - 1.0, z0 + _collector_depth(lay))]
-    for k in range(c.ring_channels):
-        a = 2 * math.pi * k / c.ring_channels
+    for k in range(lay.ring_channels):
+        a = 2 * math.pi * k / lay.ring_channels
         tools.append(cylinder(dc / 2, z0 - 1.0, z1 + 1.0, x=rc * math.cos(a), y=rc * math.sin(a)))
-    if lay.has_top_annulus:  # the chamber-2 port from the base continues through the ring, outside the bead
-        tools.append(cylinder(lay.fill_port_d / 2, z0 - 1.0, z1 + 1.0, y=lay.r_port2))
     return cut(body, *tools)
 
 
@@ -119,9 +117,9 @@ def _collector_depth(lay: Layout) -> float:
 
 
 def support_ring_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of :func:`support_ring`, mm³: the annulus minus the bladder's
-    lower cuff (sleeve + bead), the axial channels above the collector groove and the
-    groove (the channels lie inside the groove's annulus).
+    """Closed-form volume of :func:`support_ring`, mm³: the annulus out to the cuff's outer face minus the
+    bladder's lower cuff (sleeve + inner bead), the axial channels above the collector groove and the groove (the
+    channels lie inside the groove's annulus).
 
     Parameters
     ----------
@@ -136,13 +134,11 @@ def support_ring_volume_mm3(lay: Layout) -> float:
     h = lay.z_free0 - lay.z_base_top
     ri, ro, e, lb = lay.r_bladder_in, lay.r_bladder_out, lay.bead_mm, lay.bead_length
     rc, dc, hg = lay.r_ring_channel, lay.ring_channel_d, _collector_depth(lay)
-    v = math.pi * (lay.r_bore**2 - lay.r_inner_tube**2) * h
+    v = math.pi * (ro**2 - lay.r_inner_tube**2) * h
     v -= math.pi * (ro**2 - ri**2) * (lay.z_free0 - lay.z_bladder0)
-    v -= math.pi * ((ro + e) ** 2 - ro**2 + ri**2 - (ri - e) ** 2) * lb
-    v -= lay.cad.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
+    v -= math.pi * (ri**2 - (ri - e) ** 2) * lb  # the inner bead (the outer one sits in the base spigot)
+    v -= lay.ring_channels * math.pi * (dc / 2) ** 2 * (h - hg)
     v -= math.pi * ((rc + 0.6 * dc) ** 2 - (rc - 0.6 * dc) ** 2) * hg
-    if lay.has_top_annulus:
-        v -= math.pi * (lay.fill_port_d / 2) ** 2 * h
     return v
 
 

@@ -21,31 +21,37 @@ from dataclasses import dataclass, field
 from build123d import Solid
 
 from .layout import Layout
+from .seals import COMPOUND
 
-__all__ = ["Dim", "Leader", "Detail", "SheetContent", "fit_deviations_um", "fit_text", "general_notes",
+__all__ = ["Dim", "Leader", "Detail", "SheetContent", "fit_deviations_um", "fit_text", "fit_tolerance", "FITS",
+           "general_notes", "part_notes", "Revision", "revision_date", "drawing_number", "FIXED_DATE",
            "radial_extent_mm", "PLANES"]
 
 #: Section planes a sheet can show: ``"xz"`` (the valve plane y = 0, u = x), ``"yz"`` (the fill-port plane
 #: x = 0, u = y) and ``"aligned"`` (section A-A: the left half in the valve plane, the right in the fill-port plane).
 PLANES = ("xz", "yz", "aligned")
 
-# ISO 286-1 standard tolerance grades (µm) and the fundamental deviation of shafts "f" (µm) by nominal size
-# range (over, up to] in mm.
-_ISO286 = (  # (over, up to, IT7, IT8, es of f)
-    (3, 6, 12, 18, -10), (6, 10, 15, 22, -13), (10, 18, 18, 27, -16), (18, 30, 21, 33, -20),
-    (30, 50, 25, 39, -25), (50, 80, 30, 46, -30), (80, 120, 35, 54, -36),
+# ISO 286-1 standard tolerance grades IT6 ... IT11 (µm) and the fundamental deviations es of the shafts "f" and "g"
+# (µm) by nominal size range (over, up to] in mm.
+_ISO286 = (  # (over, up to, IT6, IT7, IT8, IT9, IT10, IT11, es of f, es of g)
+    (0, 3, 6, 10, 14, 25, 40, 60, -6, -2), (3, 6, 8, 12, 18, 30, 48, 75, -10, -4),
+    (6, 10, 9, 15, 22, 36, 58, 90, -13, -5), (10, 18, 11, 18, 27, 43, 70, 110, -16, -6),
+    (18, 30, 13, 21, 33, 52, 84, 130, -20, -7), (30, 50, 16, 25, 39, 62, 100, 160, -25, -9),
+    (50, 80, 19, 30, 46, 74, 120, 190, -30, -10), (80, 120, 22, 35, 54, 87, 140, 220, -36, -12),
 )
+#: The fits :func:`fit_deviations_um` knows: holes H6...H11, shafts h6...h11, f6...f11 and g6...g11 (ISO 286-2).
+FITS = tuple(f"{letter}{grade}" for letter in "Hhfg" for grade in range(6, 12))
 
 
 def fit_deviations_um(nominal_mm: float, fit: str) -> tuple[float, float]:
-    """ISO 286 deviations of an H8 hole or an f7 shaft.
+    """ISO 286 deviations of a hole (H) or a shaft (h, f, g) of tolerance grade 6 ... 11.
 
     Parameters
     ----------
     nominal_mm : float
-        Nominal size, mm (3 ... 120).
+        Nominal size, mm (0 ... 120).
     fit : str
-        ``"H8"`` or ``"f7"``.
+        One of :data:`FITS`, e.g. ``"H8"``, ``"f7"``, ``"h9"``, ``"g7"``.
 
     Returns
     -------
@@ -57,14 +63,17 @@ def fit_deviations_um(nominal_mm: float, fit: str) -> tuple[float, float]:
     ValueError
         For another fit or a size outside the table.
     """
-    for lo, hi, it7, it8, es_f in _ISO286:
+    if fit not in FITS:
+        raise ValueError(f"fit must be one of H6...H11, h6...h11, f6...f11, g6...g11 (ISO 286), got {fit!r}")
+    letter, grade = fit[0], int(fit[1:])
+    for lo, hi, *it, es_f, es_g in _ISO286:
         if lo < nominal_mm <= hi:
-            if fit == "H8":
-                return float(it8), 0.0
-            if fit == "f7":
-                return float(es_f), float(es_f - it7)
-            raise ValueError(f"fit must be 'H8' or 'f7', got {fit!r}")
-    raise ValueError(f"nominal size {nominal_mm:g} mm outside the ISO 286 table (3-120 mm)")
+            t = float(it[grade - 6])
+            if letter == "H":
+                return t, 0.0
+            es = {"h": 0.0, "f": float(es_f), "g": float(es_g)}[letter]
+            return es, es - t
+    raise ValueError(f"nominal size {nominal_mm:g} mm outside the ISO 286 table (0-120 mm)")
 
 
 def fit_text(d_mm: float, fit: str) -> str:
@@ -75,15 +84,33 @@ def fit_text(d_mm: float, fit: str) -> str:
     d_mm : float
         Nominal diameter, mm.
     fit : str
-        ``"H8"`` or ``"f7"``.
+        One of :data:`FITS`.
 
     Returns
     -------
     str
         Diameter (mm, two decimals), fit and its deviations in mm (a zero deviation written ``0``).
     """
+    return f"Ø{d_mm:.2f} {fit_tolerance(d_mm, fit)}"
+
+
+def fit_tolerance(d_mm: float, fit: str) -> str:
+    """The tolerance part of :func:`fit_text`: ``H8 (+0.039/0)``.
+
+    Parameters
+    ----------
+    d_mm : float
+        Nominal diameter, mm.
+    fit : str
+        One of :data:`FITS`.
+
+    Returns
+    -------
+    str
+        The fit and its deviations in mm (a zero deviation written ``0``).
+    """
     up, lo = fit_deviations_um(d_mm, fit)
-    return f"Ø{d_mm:.2f} {fit} ({up / 1000:+.3f}/{lo / 1000:+.3f})".replace("+0.000", "0")
+    return f"{fit} ({up / 1000:+.3f}/{lo / 1000:+.3f})".replace("+0.000", "0").replace("-0.000", "0")
 
 
 @dataclass(frozen=True)
@@ -171,21 +198,99 @@ def general_notes(lay: Layout) -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        Five notes: dimensions and general tolerances; the piston fit; the rod fit and surface finish;
-        the piston seals' grooves; the rod seal's groove (sizes in mm, stretch and squeeze in %).
+        Six notes: dimensions and general tolerances; the piston fit; the rod fit and surface finish;
+        the piston seals' grooves; the rod seal's groove (sizes in mm, stretch and squeeze in %); the static
+        seals and the compound.
     """
     ps, rs = lay.piston_seal, lay.rod_seal
+    static = [g for g in (lay.cap_seal, lay.base_seal, lay.collar_seal) if g is not None]
     return (
-        "All dimensions in mm. General tolerances ISO 2768-m. Break sharp edges 0.2 x 45°.",
+        "All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated.",
         f"Sliding fits ISO 286 H8/f7: piston bore {fit_text(2 * lay.r_piston, 'H8')}, "
         f"piston {fit_text(2 * lay.r_piston, 'f7')};",
         f"rod bore {fit_text(2 * lay.r_rod, 'H8')}, rod {fit_text(2 * lay.r_rod, 'f7')}. "
         "Seal running surfaces Ra 0.4.",
-        f"Piston seals: 2x O-ring {ps.oring.name}; groove Ø{ps.groove_diameter_mm:.2f} h9 x {ps.width_mm:.2f} +0.1 "
+        f"Piston seals: 2x O-ring {ps.oring.name}; groove Ø{ps.groove_diameter_mm:.2f} h9 x {ps.width_mm:.2f} +0.13 "
         f"(stretch {100 * ps.stretch:.1f} %, squeeze {100 * ps.squeeze:.0f} %).",
-        f"Rod seal: O-ring {rs.oring.name}; groove Ø{rs.groove_diameter_mm:.2f} H9 x {rs.width_mm:.2f} +0.1 "
+        f"Rod seal: O-ring {rs.oring.name}; groove Ø{rs.groove_diameter_mm:.2f} H9 x {rs.width_mm:.2f} +0.13 "
         f"(stretch {100 * rs.stretch:.1f} %, squeeze {100 * rs.squeeze:.0f} %).",
+        "Static seals: " + "; ".join(f"{g.kind} O-ring {g.oring.code} (squeeze {100 * g.squeeze:.0f} %)"
+                                     for g in static) + f". Compound {COMPOUND}.",
     )
+
+
+#: The drawings' fixed issue date: the STEP files' header date (:data:`~vvea_design.cad.export.STEP_TIMESTAMP`), so
+#: the files are byte-stable; ``SOURCE_DATE_EPOCH`` (the reproducible-builds variable) sets another one.
+FIXED_DATE = "2000-01-01"
+
+
+@dataclass(frozen=True)
+class Revision:
+    """A drawing set's revision for the title blocks: letter, date (ISO 8601) and a note."""
+
+    letter: str = "A"
+    date: str = ""  #: "" -> :func:`revision_date`
+    note: str = "first issue"
+
+    def __post_init__(self) -> None:
+        if not self.date:
+            object.__setattr__(self, "date", revision_date())
+
+
+def revision_date() -> str:
+    """The revision date: ``SOURCE_DATE_EPOCH`` (seconds since 1970, UTC) when set, else :data:`FIXED_DATE`.
+
+    Returns
+    -------
+    str
+        ``YYYY-MM-DD``.
+
+    Raises
+    ------
+    ValueError
+        If ``SOURCE_DATE_EPOCH`` is set but not an integer (names the variable).
+    """
+    import datetime
+    import os
+
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if not epoch:
+        return FIXED_DATE
+    try:
+        return datetime.datetime.fromtimestamp(int(epoch), tz=datetime.timezone.utc).strftime("%Y-%m-%d")
+    except ValueError:
+        raise ValueError(f"SOURCE_DATE_EPOCH must be whole seconds since 1970, got {epoch!r}") from None
+
+
+def drawing_number(design_id: str, sheet_no: int) -> str:
+    """A sheet's drawing number: ``VVEA-<design id>-<sheet>``, e.g. ``VVEA-1a2b3c4d5e-03``.
+
+    Parameters
+    ----------
+    design_id : str
+        The design's short id (a digest of the design: another design, another number).
+    sheet_no : int
+        The sheet's number in the set, from 1.
+
+    Returns
+    -------
+    str
+        The drawing number.
+    """
+    return f"VVEA-{design_id or 'x'}-{sheet_no:02d}"
+
+
+def part_notes() -> tuple[str, ...]:
+    """The general notes of a part's sheet: units, general tolerances, edges and surface roughness.
+
+    Returns
+    -------
+    tuple of str
+        Two notes (ISO 2768-m, ISO 8015, ISO 13715 edges, Ra 3.2 unless stated).
+    """
+    return ("All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated "
+            "(burr-free).",
+            "Surfaces Ra 3.2 unless stated; sealing surfaces free of scratches across the axis (ISO 3601-2).")
 
 
 def radial_extent_mm(solid: Solid) -> tuple[float, float, float]:

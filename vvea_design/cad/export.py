@@ -29,6 +29,9 @@ import trimesh
 from build123d import Shape, export_step
 
 from .assembly import CadModel, assembly, interference_mm3, mould_void
+from .bill import glands
+from .fill import gas_charges, oil_fill_mm3
+from .leaks import leak_paths
 from .manifest import BBox, CadManifest, Envelope, FileRecord, MeasuredCheck, MouldCheck, PartRecord, WallCheck
 from .mesh import to_mesh
 from .registry import all_parts
@@ -187,13 +190,20 @@ def export_files(model: CadModel, out: Path, advance=None) -> tuple[CadManifest,
     advance()
     walls_min = d.minimum_walls_mm()
     walls_drawn = d.walls_mm()
+    lay = model.layout
+    check = model.assembly_check()
+    seals = tuple({**g.to_dict(), "quantity": n, "where": where} for g, n, where in glands(lay))
+    fill = {"oil_mm3": {k: _r(v) for k, v in oil_fill_mm3(lay).items()},
+            "nitrogen": [{k: (_r(v, 4) if isinstance(v, float) else v) for k, v in g.to_dict().items()}
+                         for g in gas_charges(lay)]}
     manifest = CadManifest(
         design=d, cad_parameters=cad, measured=checks, interference_mm3=inter,
         walls_mm={k: WallCheck(_r(walls_drawn[k]), _r(walls_min[k])) for k in walls_min},
         envelope_mm=Envelope(_r(d.outer_diameter_mm), _r(d.housing_length_mm), files["housing.step"].bbox_mm),
         mould=MouldCheck(cad.mould_shrinkage, _r(void.cavity_volume_mm3), _r(model.parts["bladder"].volume),
                          _r(model.closed_form_mm3["mould_cavity"]), void.sprue_open, void.vents_open),
-        parts=parts, files=files)
+        parts=parts, files=files, seals=seals, leak_paths=tuple(p.to_dict() for p in leak_paths(lay)), fill=fill,
+        assembly=check.to_dict())
     return manifest, meshes
 
 

@@ -16,11 +16,21 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
-from ..spring.design import Design, DesignError
-from .seals import Gland, SealError, piston_gland, rod_gland
+from ..spring.design import Design
+from .errors import CadError
+from .joints import JointGeometry, joint_geometry
+from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
+from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, static_male_gland
 
-#: Axial land on each side of the collar's seal groove (annulus_top), mm.
-COLLAR_SEAL_LAND_MM = 0.75
+#: The damper's sizes the design owns (``fixed.*``): :class:`CadParameters` keeps them only as aliases of the
+#: defaults; the CAD draws the design's values.
+HYDRAULIC_FIELDS = ("throttle_bore_mm", "relief_bore_mm", "relief_seat_mm", "fluid_channel_mm", "ring_channel_mm",
+                    "ring_channels")
+#: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm.
+LEAD_IN_GAP_MM = 0.3
+#: Where the chamfer-angle room for a lead-in stops: the piston's lower ring must never run onto the inner tube's
+#: bottom chamfer at full stroke (axial gap, mm).
+PISTON_LEAD_IN_GAP_MM = 0.3
 
 __all__ = ["CadParameters", "Layout", "CadError", "DEPRECATED_NAMES"]
 
@@ -39,10 +49,6 @@ def _deprecated(name: str) -> property:
     return property(lambda self: getattr(self, name), doc=f"Deprecated: :attr:`{name}`.")
 
 
-class CadError(DesignError):
-    """A design or a CAD parameter that cannot be drawn (names the field)."""
-
-
 @dataclass(frozen=True)
 class CadParameters:
     """Feature sizes the optimiser does not see (mm, except ``shrinkage``).
@@ -54,17 +60,20 @@ class CadParameters:
     oring_cross_section_mm: float = 1.78  #: O-ring series of the piston and rod seals (ISO 3601-1: 1.78 or 2.62)
     rod_thread_core_mm: float = 4.2  #: tapped hole (M5 core) in the rod end for the bottom eye
     rod_thread_depth_mm: float = 10.0  #: depth of that tapped hole
-    fill_port_mm: float = 2.0  #: gas fill-port drilling through the top cap
-    fill_port_counterbore_mm: float = 4.2  #: M5 core counterbore of the fill ports (where it fits)
-    fill_port_counterbore_depth_mm: float = 4.0  #: its depth from the top face
-    throttle_bore_mm: float = 6.0  #: rotary throttle valve bore (radial, in the base)
-    relief_bore_mm: float = 5.0  #: spring-ball relief valve bore (radial, opposite the throttle)
-    relief_seat_mm: float = 2.5  #: relief valve seat drilling
-    fluid_channel_mm: float = 3.0  #: vertical fluid channels in the base (largest; shrinks to fit)
+    fill_port_mm: float = 2.0  #: gas fill-port drilling (largest; shrinks to fit between bladder and seal)
+    fill_port_counterbore_mm: float = 4.2  #: tap drill of the charging valves' M5x0.8 thread (ISO 261)
+    fill_port_counterbore_depth_mm: float = 4.0  #: depth of that tapped hole from the face
+    valve_spot_face_mm: float = 9.0  #: flat seat of a charging valve's seal around its M5 hole (diameter)
+    plug_bore_mm: float = 3.0  #: bore of the expander plug that closes a cross port at the outside
+    plug_depth_mm: float = 3.0  #: its depth from the outside
+    throttle_bore_mm: float = 6.0  #: deprecated: the design's ``fixed.throttle_bore_mm`` is drawn
+    relief_bore_mm: float = 5.0  #: deprecated: the design's ``fixed.relief_bore_mm`` is drawn
+    relief_seat_mm: float = 2.5  #: deprecated: the design's ``fixed.relief_seat_mm`` is drawn
+    fluid_channel_mm: float = 3.0  #: deprecated: the design's ``fixed.fluid_channel_mm`` is drawn
     servo_screw_core_mm: float = 2.5  #: M3 core of the two servo-mount screws
     servo_screw_depth_mm: float = 6.0  #: their depth
-    ring_channel_mm: float = 2.0  #: axial fluid channels of the support ring (largest; shrinks to fit)
-    ring_channels: int = 6  #: number of support-ring channels
+    ring_channel_mm: float = 2.0  #: deprecated: the design's ``fixed.ring_channel_mm`` is drawn
+    ring_channels: int = 6  #: deprecated: the design's ``fixed.ring_channels`` is drawn
     clamp_groove_fraction: float = 0.6  #: bladder cuff depth as a fraction of ``fixed.bladder_clamp_mm``
     bead_height_mm: float = 0.4  #: radial height of the sealing beads (largest; shrinks to fit)
     bead_length_mm: float = 1.5  #: axial length of a sealing bead
@@ -144,6 +153,11 @@ class Layout:
             raise CadError(f"design must be a vvea_design.spring.design.Design, got {type(self.design).__name__}")
         if not isinstance(self.cad, CadParameters):
             raise CadError(f"cad must be CadParameters, got {type(self.cad).__name__}")
+        for name in HYDRAULIC_FIELDS:  # the damper's sizes are the design's (fixed.*): the CAD draws those
+            mine, theirs = getattr(self.cad, name), getattr(self.design.fixed, name)
+            if mine != theirs and mine != getattr(CadParameters, name):
+                raise CadError(f"cad.{name} = {mine!r} differs from the design's fixed.{name} = {theirs!r}: the CAD "
+                               f"draws the design's (its hydraulics are sized with it); set fixed.{name} instead")
         self.check()
 
     # ----------------------------------------------------------- radii (the design's quantities, its names)
@@ -198,19 +212,23 @@ class Layout:
         except SealError as exc:
             raise CadError(f"fixed.rod_diameter_mm: {exc}") from None
 
+    def _static_seal(self, kind: str, where: str, field: str) -> Gland:
+        """A static male gland against the outer-tube bore (``kind`` names it), or a CadError naming ``field``."""
+        try:
+            g = static_male_gland(2 * self.outer_bore_radius_mm, self.cad.oring_cross_section_mm, kind)
+        except SealError as exc:
+            raise CadError(f"{field} (the {where} to the Ø{2 * self.outer_bore_radius_mm:.2f} mm bore): {exc}") \
+                from None
+        return replace(g, where=where)
+
     @cached_property
     def collar_seal(self) -> Gland | None:
         """Static seal of the ``annulus_top`` collar to the outer-tube bore (it separates chamber 1's annulus
-        from chamber 2): a male gland in the collar plate's rim, sized by the piston's (dynamic) gland rules,
-        conservative for a static seal; ``None`` in the other layouts."""
+        from chamber 2): a male static gland (radial squeeze, ISO 3601 static table) in the collar plate's rim;
+        ``None`` in the other layouts."""
         if not self.has_top_annulus:
             return None
-        try:
-            g = piston_gland(2 * self.outer_bore_radius_mm, self.cad.oring_cross_section_mm)
-        except SealError as exc:
-            raise CadError(f"outer_diameter_mm (the collar's seal to the Ø{2 * self.outer_bore_radius_mm:.2f} mm bore): {exc}") \
-                from None
-        return replace(g, kind="collar")
+        return self._static_seal("collar", "collar to outer-tube bore (static)", "outer_diameter_mm")
 
     @property
     def z_collar_seal(self) -> tuple[float, float]:
@@ -224,6 +242,147 @@ class Layout:
         return 1.5, 1.5 + self.rod_seal.width_mm
 
     @cached_property
+    def joint(self) -> JointGeometry:
+        """The housing's joint as drawn (:func:`~vvea_design.cad.joints.joint_geometry`; ``kind = "none"`` for a
+        design sized by the gas-only rules)."""
+        return joint_geometry(self.design, self.z_cap, self.z_top)
+
+    @property
+    def has_joint(self) -> bool:
+        """The design sized a joint (threads, a retaining ring or tie rods) and the CAD draws it."""
+        return self.joint.kind != "none"
+
+    @property
+    def cap_seal_bore_mm(self) -> float:
+        """Diameter the top cap's static O-ring seals on: the outer bore, or (``ring_top``) the counterbore of
+        the tube's top end that holds the cap plug, mm."""
+        ring = self.joint.ring
+        return ring.bore_mm if ring is not None else 2 * self.outer_bore_radius_mm
+
+    @cached_property
+    def cap_seal(self) -> Gland | None:
+        """Static seal of the top cap to the outer tube: a male static gland in the cap's joint seal zone (the
+        design's joint), or without a joint in the top bladder clamp (the cap's spigot in the bore); ``None`` for
+        the gas-only ``annulus_top``, whose plain cap has no spigot (an open path, the leak audit says so)."""
+        if self.has_joint:
+            try:
+                g = static_male_gland(self.cap_seal_bore_mm, self.design.fixed.joint_seal_cross_section_mm, "cap")
+            except SealError as exc:
+                raise CadError(f"fixed.joint_seal_cross_section_mm (the top cap's seal): {exc}") from None
+            return replace(g, where="top cap to outer tube, in the joint's seal zone (static)")
+        if self.has_top_annulus:
+            return None
+        return self._static_seal("cap", "top cap spigot to outer-tube bore (static)", "outer_diameter_mm")
+
+    @cached_property
+    def base_seal(self) -> Gland:
+        """Static seal of the base to the outer-tube bore: a male static gland in the base's joint seal zone,
+        or without a joint in the base's spigot (which rises into the outer tube around the support ring)."""
+        if self.has_joint:
+            try:
+                g = static_male_gland(2 * self.outer_bore_radius_mm, self.design.fixed.joint_seal_cross_section_mm,
+                                      "base")
+            except SealError as exc:
+                raise CadError(f"fixed.joint_seal_cross_section_mm (the base's seal): {exc}") from None
+            return replace(g, where="base to outer tube, in the joint's seal zone (static)")
+        return self._static_seal("base", "base spigot to outer-tube bore (static)", "outer_diameter_mm")
+
+    @property
+    def r_base_spigot(self) -> float:
+        """Inner radius of the base spigot where it holds the lower cuff's bead (the bead's outer radius), mm."""
+        return self.bladder_outer_radius_mm + self.bead_mm
+
+    @property
+    def z_base_seal(self) -> tuple[float, float]:
+        """Axial extent of the base seal's groove: centred in the joint's seal zone, or without a joint at the top
+        of the CAD's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's lead-in below it stays clear, mm."""
+        w = self.base_seal.width_mm
+        if self.has_joint:
+            zc = 0.5 * sum(self.joint.base_seal)
+            return zc - 0.5 * w, zc + 0.5 * w
+        top = self.z_free0 - SPIGOT_LAND_MM
+        return top - w, top
+
+    @property
+    def z_cap_seal(self) -> tuple[float, float]:
+        """Axial extent of the cap seal's groove: centred in the joint's seal zone, or without a joint at the bottom
+        of the cap's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's top lead-in above it stays clear, mm."""
+        w = self.cap_seal.width_mm
+        if self.has_joint:
+            zc = 0.5 * sum(self.joint.cap_seal)
+            return zc - 0.5 * w, zc + 0.5 * w
+        lo = self.z_free1 + SPIGOT_LAND_MM
+        return lo, lo + w
+
+    @cached_property
+    def lead_in_piston(self) -> LeadIn:
+        """Lead-in chamfer at the inner tube's bottom bore end: the piston's rings enter the bore there (every
+        layout: in ``bulkhead`` the top is closed). Short enough that the lower ring never runs onto it at full
+        stroke (ISO 3601-2: 15-20 deg, radial depth over the ring's protrusion)."""
+        d, w = self.design, self.piston_seal.width_mm
+        room = d.fluid_column_mm - d.fixed.travel_mm + 0.27 * d.fixed.piston_height_mm - w / 2 - PISTON_LEAD_IN_GAP_MM
+        try:
+            return self.piston_seal.lead_in(room)
+        except SealError as exc:
+            raise CadError(f"fixed.fluid_clearance_mm: {exc}") from None
+
+    @cached_property
+    def lead_in_rod(self) -> LeadIn:
+        """Lead-in chamfer at the rod's end: it passes the rod seal in the base on assembly."""
+        return self.rod_seal.lead_in(self.cad.rod_thread_depth_mm)
+
+    @property
+    def z_lead_in_bottom(self) -> float:
+        """Where the outer tube's bottom lead-in starts: the tube's bottom end, or behind a threaded end the step
+        from the thread to the bore (the O-ring passes the thread first), mm."""
+        t = self.joint.base_thread
+        return t.thread[1] if t is not None else self.joint.z_tube_bottom
+
+    @property
+    def z_lead_in_top(self) -> float:
+        """Where the outer tube's top lead-in starts (its top end, or the step behind its top thread), mm."""
+        t = self.joint.cap_thread
+        return t.thread[0] if t is not None else self.joint.z_tube_top
+
+    def _tube_lead_in(self, rings: list[Gland], room: float, where: str) -> LeadIn:
+        """A lead-in for the rings passing an end of the outer tube, in ``room`` mm; without room (a joint's seal
+        zone that leaves none) the 20 deg chamfer the rings need, reaching over the ring: the assembly check and
+        the leak audit then report it."""
+        ring = max(rings, key=lambda g: g.protrusion_mm + g.oring.cross_section_tolerance_mm)
+        try:
+            return ring.lead_in(room)
+        except SealError as exc:
+            if self.has_joint:
+                depth = round(ring.protrusion_mm + ring.oring.cross_section_tolerance_mm + 0.1, 2)
+                return LeadIn(20.0, round(depth / math.tan(math.radians(20.0)), 2), depth)
+            raise CadError(f"fixed.bladder_clamp_mm ({where}): {exc}") from None
+
+    @cached_property
+    def lead_in_outer_bottom(self) -> LeadIn:
+        """Lead-in chamfer at the outer tube's bottom bore end: the base seal's ring (and in ``annulus_top`` the
+        collar's) enters the bore there. It ends :data:`LEAD_IN_GAP_MM` below the base seal's groove."""
+        room = self.z_base_seal[0] - self.z_lead_in_bottom - LEAD_IN_GAP_MM
+        rings = [self.base_seal] + ([self.collar_seal] if self.has_top_annulus else [])
+        return self._tube_lead_in(rings, room, "the base spigot")
+
+    @cached_property
+    def lead_in_outer_top(self) -> LeadIn | None:
+        """Lead-in chamfer at the outer tube's top bore end: the cap seal's ring enters the bore there (``None``
+        without a cap seal, and for ``ring_top``: its plug's ring enters the counterbore, see
+        :attr:`lead_in_counterbore`). It ends :data:`LEAD_IN_GAP_MM` above the cap seal's groove."""
+        if self.cap_seal is None or self.joint.ring is not None:
+            return None
+        room = self.z_lead_in_top - self.z_cap_seal[1] - LEAD_IN_GAP_MM
+        return self._tube_lead_in([self.cap_seal], room, "the top cap's spigot")
+
+    @cached_property
+    def lead_in_counterbore(self) -> LeadIn | None:
+        """``ring_top``: the lead-in at the mouth of the tube's top counterbore, where the cap plug's ring enters."""
+        if self.joint.ring is None:
+            return None
+        return self.cap_seal.lead_in(self.z_top - self.joint.ring.groove[1])
+
+    @cached_property
     def bead_mm(self) -> float:
         """Radial height of the sealing beads (shrunk to a quarter of the free gap if needed)."""
         return min(self.cad.bead_height_mm,
@@ -235,25 +394,71 @@ class Layout:
         """Inner radius of the chamber-2 gas domain at x = 0 (equal-volume straight sleeve)."""
         return self.design.bladder_equivalent_outer_radius_mm(0.0)
 
+    @property
+    def ring_channels(self) -> int:
+        """Number of the support ring's axial fluid channels: ``fixed.ring_channels``."""
+        return int(self.design.fixed.ring_channels)
+
     @cached_property
     def ring_channel_d(self) -> float:
-        """Support-ring channel diameter, sized to the gap inside the bladder bead."""
-        return min(self.cad.ring_channel_mm, 0.6 * (self.bladder_inner_radius_mm - self.bead_mm - self.inner_tube_outer_radius_mm))
+        """Support-ring channel diameter: ``fixed.ring_channel_mm``, shrunk to the gap inside the bladder bead
+        (the rule :mod:`vvea_design.spring.hydraulics` prices), mm."""
+        return min(self.design.fixed.ring_channel_mm,
+                   0.6 * (self.bladder_inner_radius_mm - self.bead_mm - self.inner_tube_outer_radius_mm))
 
     @property
     def r_ring_channel(self) -> float:
         """Radius of the support-ring channels (fluid side, inside the bladder)."""
         return 0.5 * (self.inner_tube_outer_radius_mm + self.bladder_inner_radius_mm - self.bead_mm)
 
+    @property
+    def _seal_root_near_port2(self) -> float:
+        """Radius of the seal groove's root beside the chamber-2 port: the cap's spigot, or in ``annulus_top``
+        the base's spigot (the port runs through it), mm."""
+        g = self.base_seal if self.has_top_annulus else self.cap_seal
+        return g.groove_diameter_mm / 2
+
     @cached_property
     def fill_port_d(self) -> float:
-        return min(self.cad.fill_port_mm, 0.6 * (self.outer_bore_radius_mm - self.bladder_outer_radius_mm - self.bead_mm))
+        """Diameter of the chamber-2 port through the spigot, between the bladder's bead and the seal groove, mm."""
+        return min(self.cad.fill_port_mm, 0.6 * (self._seal_root_near_port2 - self.r_base_spigot))
+
+    @property
+    def _valve2_limit(self) -> float:
+        """Largest radius of the chamber-2 valve whose spot face stays 0.8 mm inside the outer diameter, mm."""
+        return self.outer_radius_mm - 0.5 * self.cad.valve_spot_face_mm - 0.8
 
     @property
     def r_port2(self) -> float:
-        """Chamber-2 fill port radius (gas side, outside the bladder bead; through the top clamp, or in
-        ``annulus_top`` through the base and the support ring)."""
-        return 0.5 * (self.bladder_outer_radius_mm + self.bead_mm + self.outer_bore_radius_mm)
+        """Chamber-2 port radius: through the top clamp (or in ``annulus_top`` through the base and its spigot),
+        midway between the bladder's bead and the root of the spigot's seal groove -- or further in, under the
+        valve, when the valve's spot face does not fit over the midpoint but the port still clears the bead."""
+        mid = 0.5 * (self.r_base_spigot + self._seal_root_near_port2)
+        lim = self._valve2_limit
+        if self.has_bulkhead or mid <= lim:
+            return mid
+        if lim >= self.r_base_spigot + self.fill_port_d / 2 + 0.3:
+            return lim
+        return mid
+
+    @property
+    def y_valve2(self) -> float:
+        """Where the chamber-2 charging valve sits (+y, on the top face; in ``annulus_top`` on the base's
+        underside): over the riser (``bulkhead``), else over the port where its spot face fits, else inboard,
+        joined to the port by a cross port drilled from the outside and plugged, mm."""
+        if self.has_bulkhead:
+            return self.y_cross_riser
+        return min(self.r_port2, self._valve2_limit)
+
+    @property
+    def has_cross_port(self) -> bool:
+        """The chamber-2 valve is not over its port: a cross port joins them (and in ``bulkhead`` the riser)."""
+        return self.has_bulkhead or self.y_valve2 < self.r_port2 - 1e-9
+
+    @property
+    def y_port1(self) -> float:
+        """Where the chamber-1 charging valve sits (+y on the top face; 0 in ``bulkhead``: the fill tube's bore)."""
+        return 0.0 if self.has_bulkhead else self.r_port1
 
     @property
     def r_port1(self) -> float:
@@ -262,20 +467,35 @@ class Layout:
 
     @cached_property
     def base_channel_d(self) -> float:
-        return min(self.cad.fluid_channel_mm, 0.5 * (self.piston_radius_mm - self.rod_radius_mm))
+        return min(self.design.fixed.fluid_channel_mm, 0.5 * (self.piston_radius_mm - self.rod_radius_mm))
 
     @property
     def r_channel_a(self) -> float:
         """Base channel from the fluid column (inside the inner tube, outside the rod)."""
         return 0.5 * (self.rod_radius_mm + self.piston_radius_mm)
 
+    @property
+    def base_own_mm(self) -> float:
+        """The base's own part, below its joint zone (the whole base under the gas-only rules): it holds the
+        valve bores, mm."""
+        if self.design.fixed.sizing_rules == "gas_only":
+            return self.design.base_mm
+        return float(self.design.derived.section.base_own_mm)
+
     @cached_property
     def throttle_d(self) -> float:
-        return min(self.cad.throttle_bore_mm, self.design.base_mm - 8.0)
+        """Rotary throttle bore: ``fixed.throttle_bore_mm``, shrunk to the base's own part (8 mm less), mm."""
+        return min(self.design.fixed.throttle_bore_mm, self.base_own_mm - 8.0)
 
     @cached_property
     def relief_d(self) -> float:
-        return min(self.cad.relief_bore_mm, self.throttle_d)
+        """Relief valve bore: ``fixed.relief_bore_mm``, at most the throttle bore, mm."""
+        return min(self.design.fixed.relief_bore_mm, self.throttle_d)
+
+    @property
+    def relief_seat_d(self) -> float:
+        """Relief valve seat drilling: ``fixed.relief_seat_mm``, at most the relief bore, mm."""
+        return min(self.design.fixed.relief_seat_mm, self.relief_d)
 
     @property
     def x_valve_inner(self) -> float:
@@ -295,6 +515,13 @@ class Layout:
     @property
     def z_top(self) -> float:
         return self.design.housing_length_mm
+
+    @property
+    def z_cap_face(self) -> float:
+        """The top cap's outside face, where its charging valves sit: the housing's top, or (``ring_top``) the
+        plug's top inside the tube's counterbore, mm."""
+        ring = self.joint.ring
+        return ring.plug[1] if ring is not None else self.z_top
 
     def z_piston_bottom(self, x_mm: float = 0.0) -> float:
         """Piston underside at displacement ``x_mm`` (x > 0 moves it down).
@@ -366,18 +593,25 @@ class Layout:
 
     @property
     def cross_port_d(self) -> float:
-        """Diameter of the top cap's cross port from the space above the bulkhead to the chamber-2 port."""
+        """Diameter of the cross port (and the riser) that joins the chamber-2 valve to its port, mm."""
         return min(self.fill_port_d, 1.5)
 
     @property
     def z_cross_port(self) -> float:
-        """Axis height of that cross port (inside the top cap)."""
-        return self.z_cap + 0.5 * (self.z_top - self.z_cap - self.cad.fill_port_counterbore_depth_mm)
+        """Axis height of the cross port: in the top cap between the joint face and the valves' tapped holes,
+        centred on the plug's bore; in ``annulus_top`` in the base above the valve's tapped hole."""
+        c = self.cad
+        if self.has_top_annulus:
+            return c.fill_port_counterbore_depth_mm + 0.3 + 0.5 * c.plug_bore_mm
+        return 0.5 * (self.z_cap + SPIGOT_LAND_MM + self.z_cap_face - c.fill_port_counterbore_depth_mm - 0.3)
 
     @property
     def y_cross_riser(self) -> float:
-        """Where the riser from the space above the bulkhead meets the cross port (+y)."""
-        return 0.5 * (self.fill_tube_outer_radius_mm + self.piston_radius_mm)
+        """Where the riser from the space above the bulkhead meets the cross port (+y): midway between the fill
+        tube and the piston bore, or further out where the chamber-2 valve over it would touch the chamber-1
+        valve's spot face on the axis (0.5 mm between the two), mm."""
+        mid = 0.5 * (self.fill_tube_outer_radius_mm + self.piston_radius_mm)
+        return max(mid, self.cad.valve_spot_face_mm + 0.5)
 
     # ----------------------------------------------------------- annulus_top layout
     @property
@@ -454,7 +688,7 @@ class Layout:
     @property
     def z_valve(self) -> float:
         """Axis height of the radial throttle and relief bores in the base."""
-        return self.design.base_mm - 2.0 - self.throttle_d / 2
+        return self.base_own_mm - 2.0 - self.throttle_d / 2
 
     # ----------------------------------------------------------- deprecated names
     # The CAD's modules and the drawings read these until they move to the names above (one vocabulary:
@@ -474,73 +708,5 @@ class Layout:
 
     # ----------------------------------------------------------- checks
     def check(self) -> None:
-        """Raise :class:`CadError` if a feature does not fit."""
-        f, c = self.design.fixed, self.cad
-        if self.design.base_mm < 11.0:
-            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) is too thin "
-                           f"for the valve bores and rod seal; needs >= 11 mm")
-        if self.design.top_cap_mm <= c.fill_port_counterbore_depth_mm:
-            raise CadError(f"the top cap ({self.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g}) "
-                           f"must exceed cad.fill_port_counterbore_depth_mm")
-        ps = self.piston_seal
-        if f.piston_height_mm < 2.5 * ps.width_mm:
-            raise CadError(f"fixed.piston_height_mm = {f.piston_height_mm:g} mm cannot hold two seal grooves of "
-                           f"{ps.width_mm:g} mm ({ps.oring.name}); use >= {2.5 * ps.width_mm:g} mm or a smaller "
-                           f"cad.oring_cross_section_mm")
-        if ps.depth_mm >= 0.5 * (self.piston_radius_mm - self.rod_radius_mm):
-            raise CadError(f"the piston seal groove ({ps.depth_mm:g} mm deep, cad.oring_cross_section_mm) is deeper "
-                           f"than half the piston's radial land")
-        if self.z_rod_seal[1] > self.design.base_mm - 4.0 - self.throttle_d:
-            raise CadError(f"the base ({self.design.base_mm:g} mm; fixed.min_base_mm = {f.min_base_mm:g}) has no room "
-                           f"for the rod seal groove below the valve bores")
-        if self.has_top_annulus:
-            need = self.collar_seal.width_mm + 2 * COLLAR_SEAL_LAND_MM
-            if self.design.collar_mm < need - 1e-9:
-                raise CadError(f"the collar plate ({self.design.collar_mm:g} mm; fixed.min_collar_mm = "
-                               f"{f.min_collar_mm:g}) cannot hold its static seal to the outer bore: the groove "
-                               f"for O-ring {self.collar_seal.oring.name} is {self.collar_seal.width_mm:g} mm wide "
-                               f"and needs {COLLAR_SEAL_LAND_MM:g} mm lands, so >= {need:g} mm")
-        if c.rod_thread_core_mm >= f.rod_diameter_mm - 2.0:
-            raise CadError(f"cad.rod_thread_core_mm = {c.rod_thread_core_mm:g} mm leaves < 1 mm wall in the rod "
-                           f"(fixed.rod_diameter_mm = {f.rod_diameter_mm:g})")
-        if self.bladder_inner_radius_mm - self.inner_tube_outer_radius_mm <= 0.2:
-            raise CadError(f"the cast bladder (inner radius {self.bladder_inner_radius_mm:.2f} mm) touches the inner tube "
-                           f"(outer radius {self.inner_tube_outer_radius_mm:.2f} mm): V2_mm3 too large for outer_diameter_mm")
-        if self.outer_bore_radius_mm - self.bladder_outer_radius_mm <= 0.2:
-            raise CadError(f"the cast bladder (outer radius {self.bladder_outer_radius_mm:.2f} mm) touches the outer tube bore "
-                           f"({self.outer_bore_radius_mm:.2f} mm): V2_mm3 too small")
-        if self.ring_channel_d < 0.5:
-            raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
-        if self.fill_port_d < 0.5:
-            raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
-        if self.x_valve_inner >= self.r_channel_a - self.base_channel_d / 2:
-            raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
-        if self.has_piston_pocket:
-            root_wall = ps.groove_diameter_mm / 2 - self.piston_pocket_radius_mm
-            if root_wall < c.min_pocket_root_wall_mm - 1e-9:
-                raise CadError(f"fixed.piston_pocket_wall_mm = {f.piston_pocket_wall_mm:g} mm leaves {root_wall:.2f} mm "
-                               f"between the piston pocket and the seal groove's root ({ps.depth_mm:g} mm deep, "
-                               f"{ps.oring.name}); needs >= cad.min_pocket_root_wall_mm = {c.min_pocket_root_wall_mm:g} "
-                               f"mm: use fixed.piston_pocket_wall_mm >= {ps.depth_mm + c.min_pocket_root_wall_mm:g}")
-        if self.design.fluid_column_mm - f.travel_mm < 0.5:
-            raise CadError("fixed.fluid_clearance_mm must leave >= 0.5 mm under the piston at full stroke")
-        if self.has_bulkhead:
-            if self.y_cross_riser - self.cross_port_d / 2 < self.fill_tube_outer_radius_mm + 0.5 \
-                    or self.y_cross_riser + self.cross_port_d / 2 > self.piston_radius_mm - 0.5:
-                raise CadError("no room for the chamber-2 riser between the fill tube and the piston bore "
-                               "(fixed.fill_tube_outer_mm too large for piston_diameter_mm)")
-            if self.z_cross_port - self.cross_port_d / 2 < self.z_cap + 0.8:
-                raise CadError("the top cap is too thin for the chamber-2 cross port under the fill-port counterbores")
-            if self.fill_tube_outer_radius_mm >= 0.5 * self.piston_radius_mm:
-                raise CadError("fixed.fill_tube_outer_mm must be below half the piston diameter")
-        if self.has_top_annulus:
-            d = self.design
-            if d.cross_slot_room_mm < 0:
-                raise CadError(f"no room for the cross slots ({f.cross_slot_mm:g} mm, fixed.cross_slot_mm) below the top "
-                               f"cap: the chamber-1 annulus is {d.top_annulus_length_mm:.2f} mm and the column above the "
-                               f"piston {d.chamber1_length_mm:.2f} mm long; each needs >= {f.cross_slot_mm + 1:g} mm "
-                               f"(increase V1_annulus_mm3 or V1_mm3)")
-            if self.z_free1 - self.cuff < self.z_free0 + self.cuff:
-                raise CadError("the collar and the chamber-1 annulus leave the bladder no free length")
-        if self.z_free1 - self.z_free0 <= 4 * self.bead_length:
-            raise CadError("bladder free length too short for its cuffs")
+        """Raise :class:`CadError` if a feature does not fit (:func:`~vvea_design.cad.layout_checks.check_layout`)."""
+        check_layout(self)

@@ -195,8 +195,9 @@ class MouldCheck:
 @dataclass(frozen=True, eq=False)
 class CadManifest:
     """Everything ``write_cad`` wrote and checked: the design and CAD parameters, the CAD-measured chamber
-    volumes and piston areas next to the design's, interference, walls, envelope, mould, every part and
-    every file. ``to_dict()`` is ``manifest.json``."""
+    volumes and piston areas next to the design's, interference, walls, envelope, mould, the seals and leak
+    paths, the oil and gas fill, the assembly check, every part and every file. ``to_dict()`` is
+    ``manifest.json``."""
 
     design: Design  #: the design drawn (mm, mm³)
     cad_parameters: CadParameters  #: the feature sizes drawn with
@@ -209,6 +210,10 @@ class CadManifest:
     files: Mapping[str, FileRecord]  #: by file name
     generator: str = GENERATOR
     frame: str = FRAME
+    seals: tuple[dict, ...] = ()  #: every O-ring gland (:meth:`~vvea_design.cad.seals.Gland.to_dict`, quantity)
+    leak_paths: tuple[dict, ...] = ()  #: every joint and port and its seal (:class:`~vvea_design.cad.leaks.LeakPath`)
+    fill: Mapping[str, object] | None = None  #: the oil fill (mm³) and the nitrogen charges (MPa, mm³, g)
+    assembly: Mapping[str, object] | None = None  #: the assembly order checked (:class:`~vvea_design.cad.sequence.AssemblyCheck`)
 
     def to_dict(self) -> dict:
         """The content of ``manifest.json`` (plain JSON types, units in the keys).
@@ -218,8 +223,11 @@ class CadManifest:
         dict
             ``generator``, ``design``, ``cad_parameters``, ``frame``, ``measured`` (mm³, mm², fractions),
             ``interference_mm3`` (mm³), ``walls_mm`` (mm), ``envelope_mm`` (mm), ``mould`` (mm³),
-            ``parts`` and ``files``, in this order.
+            ``seals``, ``leak_paths``, ``fill``, ``assembly`` (those present), ``parts`` and ``files``, in this
+            order.
         """
+        extra = {"seals": list(self.seals), "leak_paths": list(self.leak_paths), "fill": self.fill,
+                 "assembly": self.assembly}
         return {
             "generator": self.generator,
             "design": json.loads(json.dumps(asdict(self.design))),
@@ -230,6 +238,7 @@ class CadManifest:
             "walls_mm": {k: v.to_dict() for k, v in self.walls_mm.items()},
             "envelope_mm": self.envelope_mm.to_dict(),
             "mould": self.mould.to_dict(),
+            **{k: v for k, v in extra.items() if v},
             "parts": {k: v.to_dict() for k, v in self.parts.items()},
             "files": {k: v.to_dict() for k, v in self.files.items()},
         }

@@ -18,7 +18,60 @@ from ._shapes import bar, cut, cylinder, fuse, revolved, ring
 from .layout import Layout
 from .bladder import bladder as _bladder
 
-__all__ = ["housing", "housing_pieces", "piston", "piston_head", "piston_volume_mm3", "piston_faces_mm2"]
+__all__ = ["housing", "housing_pieces", "piston", "piston_head", "piston_volume_mm3", "piston_faces_mm2",
+           "base_spigot_profile", "lead_in_ring_mm3"]
+
+
+def base_spigot_profile(lay: Layout) -> list[tuple[float, float]]:
+    """Meridian outline (r, z) of the base's spigot: the ring that rises into the outer tube from the base top to
+    the top of the support ring, carries the base's static seal on its outside and is the outer wall of the
+    bladder's lower cuff groove: its bore is the cuff's outer face, with an internal groove the cuff's outer bead
+    snaps into (metal on the gas side); the support ring, no wider than that bore, passes it on assembly, mm.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    list of tuple of float
+        The corners ``(r, z)`` in order, mm (the groove is cut later).
+    """
+    ro, e, za = lay.r_bladder_out, lay.bead_mm, lay.z_bladder0
+    zb = za + lay.bead_length
+    return [(ro, lay.z_base_top), (lay.r_bore, lay.z_base_top), (lay.r_bore, lay.z_free0), (ro, lay.z_free0),
+            (ro, zb), (ro + e, zb), (ro + e, za), (ro, za)]
+
+
+def _lead_in_tool(r: float, z: float, depth: float, length: float, outward: bool, upward: bool) -> Solid:
+    """The ring removed by a lead-in chamfer on the circular edge at radius ``r``, level ``z``: a revolved
+    triangle reaching ``depth`` radially (outwards for a bore, inwards for a shaft) and ``length`` along the
+    axis (upwards or downwards), mm."""
+    rr = r + depth if outward else r - depth
+    zz = z + length if upward else z - length
+    return revolved([(r, z), (rr, z), (r, zz)])
+
+
+def lead_in_ring_mm3(r: float, depth: float, length: float, outward: bool) -> float:
+    """Volume of a lead-in chamfer's ring (Pappus): triangle ``depth`` x ``length`` / 2 at its centroid, mm³.
+
+    Parameters
+    ----------
+    r : float
+        Radius of the chamfered edge (bore or shaft), mm.
+    depth, length : float
+        Radial depth and axial length of the chamfer, mm.
+    outward : bool
+        True for a bore (the chamfer reaches outwards), False for a shaft.
+
+    Returns
+    -------
+    float
+        Volume of material the chamfer removes, mm³.
+    """
+    rc = r + depth / 3 if outward else r - depth / 3
+    return 2 * math.pi * rc * 0.5 * depth * length
 
 
 def housing(lay: Layout) -> Solid:
@@ -57,68 +110,99 @@ def housing(lay: Layout) -> Solid:
         The united housing in the assembly frame, mm.
     """
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
-    body = fuse(
-        ring(lay.r_bore, lay.r_outer, z0, z1),  # outer tube
-        ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
-        cylinder(lay.r_outer, z1, zt),  # top cap
-        ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1),  # top bladder clamp (annulus_top: collar)
-        cylinder(lay.r_outer, 0.0, z0),  # base
-    )
+    inner = [ring(lay.r_piston, lay.r_inner_tube, z0, z1),  # inner tube
+             ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1),  # top bladder clamp (annulus_top: collar)
+             revolved(base_spigot_profile(lay))]  # base spigot (outer wall of the lower cuff groove)
+    if lay.has_joint:  # the design's joint: threaded or counterbored tube ends, the end pieces' spigots
+        from .housing_joints import joint_bodies, joint_tools
+
+        body = fuse(*joint_bodies(lay), *inner)
+    else:  # the gas-only rules: the tubes butt on the base and the cap
+        joint_tools = None
+        body = fuse(ring(lay.r_bore, lay.r_outer, z0, z1), cylinder(lay.r_outer, z1, zt), cylinder(lay.r_outer, 0.0, z0),
+                    *inner)
     if lay.has_bulkhead:  # bulkhead web and the chamber-1 fill tube (part of the inner tube)
         body = fuse(body, cylinder(lay.r_piston + 0.01, lay.z_bulkhead0, lay.z_bulkhead1),
                     ring(lay.r_fill_tube_bore, lay.r_fill_tube_out, lay.z_bulkhead1 - 0.01, z1 + 0.01))
-    return cut(body, *_top_tools(lay), *_base_tools(lay))
+    return cut(body, *_top_tools(lay), *_base_tools(lay), *(joint_tools(lay) if joint_tools else ()))
 
 
 def _top_tools(lay: Layout) -> list[Solid]:
-    """What is cut from the housing's top: the bladder's upper cuff (the clamp's groove), the fill ports with
-    their counterbores, and per layout the fill tube's bore and cross port (bulkhead) or the slots, the collar's
-    seal groove and the chamber-2 port through the base (annulus_top), mm. In cutting order."""
+    """What is cut from the housing's top: the bladder's upper cuff (the clamp's groove), the cap's static seal
+    groove and the outer tube's top lead-in chamfer, the charging ports with the valves' tapped holes, and per
+    layout the fill tube's bore (bulkhead), the chamber-2 riser, cross port and plug bore, or the slots and the
+    collar's seal groove (annulus_top), mm. In cutting order."""
     c = lay.cad
-    z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
-    tools: list[Solid] = []
-    # top clamp groove = the bladder's upper cuff (exact fit)
-    tools.append(_bladder(lay))
-    ports = [(lay.r_port1, z1 - 0.01), (lay.r_port2, lay.z_free1 - 0.01)]
+    z1, zt = lay.z_cap, lay.z_cap_face
+    tools: list[Solid] = [_bladder(lay)]  # top clamp groove = the bladder's upper cuff (exact fit)
+    tap = c.fill_port_counterbore_mm / 2  # the valves' M5 tap drill
+    tap_z = zt - c.fill_port_counterbore_depth_mm
+    if lay.cap_seal is not None:  # the cap's static seal to the outer bore, and the tube's lead-in above it
+        tools.append(ring(lay.cap_seal.groove_diameter_mm / 2, lay.cap_seal_bore_mm / 2, *lay.z_cap_seal))
+        if lay.lead_in_counterbore is not None:  # ring_top: the plug's ring enters the tube's counterbore
+            li = lay.lead_in_counterbore
+            tools.append(_lead_in_tool(lay.cap_seal_bore_mm / 2, lay.z_top, li.depth_mm, li.length_mm, outward=True,
+                                       upward=False))
+        else:
+            li = lay.lead_in_outer_top
+            tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_top, li.depth_mm, li.length_mm, outward=True,
+                                       upward=False))
+    # chamber 1: the fill tube's bore on the axis (bulkhead) or a port over the piston; its valve's tapped hole
     if lay.has_bulkhead:
-        # chamber 1 is charged through the fill tube's bore (on the axis, through bulkhead, tube and cap);
-        # the space above the bulkhead reaches the chamber-2 port through a riser and a cross port in the cap
-        # (drilled from the outside and plugged; the plug is not drawn)
-        ports = [(lay.r_port2, lay.z_free1 - 0.01)]
         tools.append(cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0 - 0.01, zt + 1))
-        tools.append(cylinder(c.fill_port_counterbore_mm / 2, zt - c.fill_port_counterbore_depth_mm, zt + 1))
-        rc = lay.cross_port_d / 2
-        tools.append(cylinder(rc, z1 - 0.01, lay.z_cross_port, y=lay.y_cross_riser))
-        tools.append(bar(rc, (0, lay.y_cross_riser, lay.z_cross_port), (0, 1, 0), lay.r_port2 - lay.y_cross_riser))
-    if lay.has_top_annulus:
-        # chamber 1 only through the top cap; chamber 2 through the base (see below); the slots join the annulus
-        ports = [(lay.r_port1, z1 - 0.01)]
+    else:
+        tools.append(cylinder(lay.fill_port_d / 2, z1 - 0.01, zt + 1, y=lay.r_port1))
+    tools.append(cylinder(tap, tap_z, zt + 1, y=lay.y_port1))
+    if lay.has_top_annulus:  # chamber 2 is charged through the base; the slots join the chamber-1 annulus
         tools.extend(cross_slots(lay, lay.r_piston - 0.01, lay.r_inner_tube + 0.01, 0.01))
-        # the collar's static O-ring groove in its rim (chamber 1's annulus above, chamber 2 below)
         tools.append(ring(lay.collar_seal.groove_diameter_mm / 2, lay.r_bore, *lay.z_collar_seal))
-        tools.append(cylinder(lay.fill_port_d / 2, -1.0, z0 + 0.01, y=lay.r_port2))
-        cb = c.fill_port_counterbore_mm / 2
-        if lay.r_port2 + cb < lay.r_outer - 0.8:
-            tools.append(cylinder(cb, -1.0, c.fill_port_counterbore_depth_mm, y=lay.r_port2))
-    # fill ports (chamber 1 at +y over the piston or on the axis, chamber 2 at +y outside the bladder)
-    for r_port, z_start in ports:
-        tools.append(cylinder(lay.fill_port_d / 2, z_start, zt + 1, y=r_port))
-        cb = c.fill_port_counterbore_mm / 2
-        if r_port + cb < lay.r_outer - 0.8 and (r_port - cb > lay.r_piston + 0.8 or r_port + cb < lay.r_piston - 0.8) \
-                and not (lay.has_bulkhead and r_port > 0 and abs(r_port - lay.y_cross_riser) < cb + 0.8):
-            tools.append(cylinder(cb, zt - c.fill_port_counterbore_depth_mm, zt + 1, y=r_port))
+        return tools
+    tools.extend(_chamber2_tools(lay, lay.z_free1 - 0.01, z1 - 0.01 if lay.has_bulkhead else None, tap_z, zt, +1))
+    return tools
+
+
+def _chamber2_tools(lay: Layout, z_port: float, z_riser: float | None, tap_z: float, z_face: float,
+                    sgn: int) -> list[Solid]:
+    """The chamber-2 port and its valve, mm: straight through to the valve's tapped hole, or a port up (or down)
+    from the gas side to a cross port drilled from the outside along +y, joined to the valve's hole (which in
+    ``bulkhead`` continues to the cap's underside as the riser), the cross port closed by a plug in its bore.
+    ``sgn`` = +1: the valve on the top face ``z_face``; -1: on the base's underside."""
+    c = lay.cad
+    tap, rp = c.fill_port_counterbore_mm / 2, lay.fill_port_d / 2
+    tools: list[Solid] = []
+    if not lay.has_cross_port:  # valve over the port: a straight hole
+        lo, hi = sorted((z_port, z_face + sgn))
+        tools.append(cylinder(rp, lo, hi, y=lay.r_port2))
+        tools.append(cylinder(tap, *sorted((tap_z, z_face + sgn)), y=lay.r_port2))
+        return tools
+    zc, rc = lay.z_cross_port, lay.cross_port_d / 2
+    tools.append(cylinder(rp, *sorted((z_port, zc)), y=lay.r_port2))  # the port, blind to the cross port
+    valve_lo = z_riser if z_riser is not None else zc - sgn * rc  # down to the cross port's far side
+    tools.append(cylinder(rc, *sorted((valve_lo, z_face + sgn)), y=lay.y_valve2))  # the valve's hole (riser)
+    tools.append(cylinder(tap, *sorted((tap_z, z_face + sgn)), y=lay.y_valve2))
+    R = lay.r_outer
+    tools.append(bar(rc, (0, lay.y_valve2 - rc, zc), (0, 1, 0), R + 1 - lay.y_valve2 + rc))  # from the outside
+    tools.append(bar(c.plug_bore_mm / 2, (0, R - c.plug_depth_mm, zc), (0, 1, 0), c.plug_depth_mm + 1))
     return tools
 
 
 def _base_tools(lay: Layout) -> list[Solid]:
-    """What is cut from the base: rod bore and seal groove, the throttle and relief valve bores, the servo's
-    screw holes and the fluid channels, mm. In cutting order."""
+    """What is cut from the base: rod bore and seal groove, the base spigot's seal groove, the lead-in chamfers
+    of the tubes' bottom bore ends, the throttle and relief valve bores, the servo's screw holes, the fluid
+    channels and (annulus_top) the chamber-2 port, mm. In cutting order."""
     c = lay.cad
     z0 = lay.z_base_top
     tools: list[Solid] = []
     # rod bore and rod seal groove
     tools.append(cylinder(lay.r_rod, -1.0, z0 + 0.01))
     tools.append(ring(0.0, lay.rod_seal.groove_diameter_mm / 2, *lay.z_rod_seal))
+    # the base spigot's static seal; the outer tube's lead-in over it and the inner tube's for the piston's rings
+    tools.append(ring(lay.base_seal.groove_diameter_mm / 2, lay.r_bore, *lay.z_base_seal))
+    li = lay.lead_in_outer_bottom
+    tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_bottom, li.depth_mm, li.length_mm, outward=True,
+                               upward=True))
+    li = lay.lead_in_piston
+    tools.append(_lead_in_tool(lay.r_piston, z0, li.depth_mm, li.length_mm, outward=True, upward=True))
     zv = lay.z_valve
     # rotary throttle: radial bore along +x, channels up from it
     tools.append(bar(lay.throttle_d / 2, (lay.x_valve_inner, 0, zv), (1, 0, 0), lay.r_outer + 1 - lay.x_valve_inner))
@@ -131,13 +215,15 @@ def _base_tools(lay: Layout) -> list[Solid]:
     # relief valve: stepped radial bore along -x (seat drilling reaches the fluid-column channel)
     x_b = lay.r_ring_channel - lay.ring_channel_d / 2 - 0.5
     tools.append(bar(lay.relief_d / 2, (-(lay.r_outer + 1), 0, zv), (1, 0, 0), lay.r_outer + 1 - x_b))
-    tools.append(bar(min(c.relief_seat_mm, lay.relief_d) / 2, (-x_b - 0.01, 0, zv), (1, 0, 0),
+    tools.append(bar(lay.relief_seat_d / 2, (-x_b - 0.01, 0, zv), (1, 0, 0),
                      x_b - lay.x_valve_inner + 0.01))
     # vertical channels: fluid column <-> valves <-> support ring, both valves
     ch = lay.base_channel_d / 2
     for sgn in (1, -1):
         tools.append(cylinder(ch, zv, z0 + 0.01, x=sgn * lay.r_channel_a))
         tools.append(cylinder(min(ch, lay.ring_channel_d / 2), zv, z0 + 0.01, x=sgn * lay.r_ring_channel))
+    if lay.has_top_annulus:  # chamber 2 through the base and its spigot, the valve on the underside
+        tools.extend(_chamber2_tools(lay, lay.z_free0 + 0.01, None, c.fill_port_counterbore_depth_mm, 0.0, -1))
     return tools
 
 
@@ -177,16 +263,23 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
     h = united if united is not None else housing(lay)
     big = lay.r_outer + 1.0
     z0, z1, zt = lay.z_base_top, lay.z_cap, lay.z_top
-    regions = {
-        "housing_base": cylinder(big, -1.0, z0),
-        "housing_outer_tube": ring(lay.r_bore, big, z0, z1),
-        "housing_inner_tube": cylinder(lay.r_inner_tube, z0, z1),
-        "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
-    }
-    if lay.has_top_annulus:  # the collar is part of the inner tube; the top cap is a plain cap
+    if lay.has_joint:  # cut along the joint: the tube over the end pieces' spigots
+        from .housing_joints import joint_regions
+
+        regions = joint_regions(lay, big)
+    else:
+        regions = {
+            "housing_base": fuse(cylinder(big, -1.0, z0), ring(lay.r_bladder_out - 1e-3, lay.r_bore, z0, lay.z_free0)),
+            "housing_outer_tube": ring(lay.r_bore, big, z0, z1),
+            "housing_top_cap": fuse(cylinder(big, z1, zt + 1.0), ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, z1)),
+        }
+        if lay.has_top_annulus:  # the top cap is a plain cap
+            regions["housing_top_cap"] = cylinder(big, z1, zt + 1.0)
+    regions["housing_inner_tube"] = cylinder(lay.r_inner_tube, z0, z1)
+    if lay.has_top_annulus:  # the collar is part of the inner tube
         regions["housing_inner_tube"] = fuse(cylinder(lay.r_inner_tube, z0, z1),
                                              ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1))
-        regions["housing_top_cap"] = cylinder(big, z1, zt + 1.0)
+    regions = {k: regions[k] for k in ("housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap")}
     from ._shapes import single_solid
 
     return {name: single_solid(h.intersect(region)) for name, region in regions.items()}
@@ -229,6 +322,8 @@ def piston(lay: Layout, x_mm: float = 0.0) -> Solid:
     r_root = lay.piston_seal.groove_diameter_mm / 2
     tools = [ring(r_root, lay.r_piston + 1, g0, g1) for g0, g1 in _groove_levels(lay, x_mm)]
     tools.append(cylinder(c.rod_thread_core_mm / 2, z_end - 1, z_end + c.rod_thread_depth_mm))
+    li = lay.lead_in_rod  # the rod's end passes the rod seal in the base on assembly
+    tools.append(_lead_in_tool(lay.r_rod, z_end, li.depth_mm, li.length_mm, outward=False, upward=True))
     if lay.has_piston_pocket:
         tools.append(cylinder(lay.r_pocket, ztp - d.piston_pocket_depth_mm, ztp + 1))
     return cut(body, *tools)
@@ -254,7 +349,7 @@ def piston_head(lay: Layout, x_mm: float = 0.0) -> Solid:
 
 
 def piston_volume_mm3(lay: Layout) -> float:
-    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole - pocket).
+    """Closed-form volume of :func:`piston` (piston + rod - grooves - tapped hole - rod-end lead-in - pocket).
 
     Parameters
     ----------
@@ -272,6 +367,8 @@ def piston_volume_mm3(lay: Layout) -> float:
     g = lay.piston_seal
     v -= 2 * math.pi * (rp**2 - (g.groove_diameter_mm / 2) ** 2) * g.width_mm
     v -= math.pi * (c.rod_thread_core_mm / 2) ** 2 * c.rod_thread_depth_mm
+    li = lay.lead_in_rod
+    v -= lead_in_ring_mm3(rr, li.depth_mm, li.length_mm, outward=False)
     if lay.has_piston_pocket:
         v -= math.pi * lay.r_pocket**2 * d.piston_pocket_depth_mm
     return v

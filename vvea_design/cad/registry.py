@@ -40,10 +40,12 @@ from ..spring.design import Design
 from .bill import BomContext, BomLine
 from .bladder import bladder, bladder_volume_mm3, support_ring, support_ring_volume_mm3
 from .drafting import SheetContent
+from .features import (Feature, base_features, inner_tube_features, outer_tube_features, piston_features,
+                       top_cap_features)
 from .gas import gas_chamber_1, gas_chamber_2
 from .layout import Layout
 from .mould import Mould, mould, mould_core_volume_mm3
-from .parts import housing, housing_pieces, piston, piston_volume_mm3
+from .parts import housing, housing_pieces, lead_in_ring_mm3, piston, piston_volume_mm3
 from .sheets import housing_base_sheet, inner_tube_sheet, outer_tube_sheet, piston_sheet, top_cap_sheet
 
 __all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "HATCHES", "all_parts", "get_part", "parts_in",
@@ -118,6 +120,8 @@ class PartContext:
 BomHook = Callable[["Part", BomContext], tuple[BomLine, ...]]
 #: A drawing hook: ``hook(lay, solid)`` -> what the part's sheet shows (section plane, dimensions, notes), mm.
 DrawingHook = Callable[[Layout, Solid], SheetContent]
+#: A feature hook: ``hook(lay)`` -> the part's machined features, each with its size, tolerance and annotation.
+FeatureHook = Callable[[Layout], tuple[Feature, ...]]
 
 
 def made_part(part: "Part", ctx: BomContext) -> tuple[BomLine, ...]:
@@ -205,6 +209,8 @@ class Part:
     not_on_bom: str = ""  #: why the part has no line of its own (required when ``bom`` is None)
     drawing: DrawingHook | None = None  #: its dimensioned sheet (None: no sheet of its own)
     hatch: str | None = "metal"  #: section hatch on the drawings, one of :data:`HATCHES`
+    features: FeatureHook | None = None  #: its machined features (cylinders, grooves, holes, threads, chamfers)
+    finish: str = ""  #: surface treatment and finish, for the title block
 
     def __post_init__(self) -> None:
         if self.group not in GROUPS:
@@ -269,11 +275,17 @@ def _const(name: str, density: float | None, process: str) -> Callable[[Design],
 
 
 def _outer_tube_mm3(lay: Layout) -> float:
-    return math.pi * (lay.r_outer**2 - lay.r_bore**2) * (lay.z_cap - lay.z_base_top)
+    v = math.pi * (lay.r_outer**2 - lay.r_bore**2) * (lay.z_cap - lay.z_base_top)
+    for li in (lay.lead_in_outer_bottom, lay.lead_in_outer_top):  # the bore's lead-in chamfers at both ends
+        if li is not None:
+            v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
+    return v
 
 
 def _inner_tube_mm3(lay: Layout) -> float:
     v = math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * (lay.z_cap - lay.z_base_top)
+    li = lay.lead_in_piston  # the bore's lead-in for the piston's rings at the bottom end
+    v -= lead_in_ring_mm3(lay.r_piston, li.depth_mm, li.length_mm, outward=True)
     if lay.has_bulkhead:  # + the bulkhead web and the fill tube, minus the tube's bore through the web
         d = lay.design
         v += math.pi * (lay.r_piston**2 - lay.r_fill_tube_bore**2) * d.bulkhead_mm
@@ -289,6 +301,7 @@ def _inner_tube_mm3(lay: Layout) -> float:
 
 
 _HOUSING = structural_material("housing_material", "machined")
+_ANODISED = "clear anodised ISO 7599, 10 µm; dimensions after anodising"
 _GREY = (0.72, 0.74, 0.78)
 _MOULD = (0.55, 0.75, 0.95)
 
@@ -300,17 +313,21 @@ PARTS: tuple[Part, ...] = (
     Part("housing", "housing (united)", "assembly", lambda c: c.housing, _HOUSING, _GREY, bom=None,
          not_on_bom="made as its four machined pieces, each on the bill"),
     Part("housing_base", "base (valves, channels, rod seal)", "machined", lambda c: c.housing_pieces["housing_base"],
-         _HOUSING, (0.66, 0.68, 0.72), drawing=housing_base_sheet),
+         _HOUSING, (0.66, 0.68, 0.72), drawing=housing_base_sheet, features=base_features, finish=_ANODISED),
     Part("housing_outer_tube", "outer tube", "machined", lambda c: c.housing_pieces["housing_outer_tube"], _HOUSING,
-         (0.78, 0.80, 0.84), volume_mm3=_outer_tube_mm3, drawing=outer_tube_sheet),
+         (0.78, 0.80, 0.84), volume_mm3=_outer_tube_mm3, drawing=outer_tube_sheet, features=outer_tube_features,
+         finish=_ANODISED),
     Part("housing_inner_tube", "inner tube (piston bore)", "machined",
          lambda c: c.housing_pieces["housing_inner_tube"], _HOUSING, (0.60, 0.62, 0.66),
-         volume_mm3=_inner_tube_mm3, drawing=inner_tube_sheet),
-    Part("housing_top_cap", "top cap (fill ports, bladder clamp)", "machined",
-         lambda c: c.housing_pieces["housing_top_cap"], _HOUSING, (0.70, 0.72, 0.76), drawing=top_cap_sheet),
+         volume_mm3=_inner_tube_mm3, drawing=inner_tube_sheet, features=inner_tube_features,
+         finish="hard anodised ISO 10074, 25 µm; bore honed after anodising"),
+    Part("housing_top_cap", "top cap (charging ports, bladder clamp)", "machined",
+         lambda c: c.housing_pieces["housing_top_cap"], _HOUSING, (0.70, 0.72, 0.76), drawing=top_cap_sheet,
+         features=top_cap_features, finish=_ANODISED),
     Part("piston", "piston with rod", "assembly", lambda c: piston(c.lay, c.x_mm),
          structural_material("rod_material", "turned"), (0.45, 0.47, 0.52), volume_mm3=piston_volume_mm3, moves=True,
-         drawing=piston_sheet, hatch="steel"),
+         drawing=piston_sheet, hatch="steel", features=piston_features,
+         finish="quenched and tempered (ISO 683-2); rod hard-chromed ISO 6158, 20 µm, ground after plating"),
     Part("bladder", "bladder (cast silicone sleeve)", "assembly", lambda c: bladder(c.lay),
          _const(SILICONE, DENSITY_SILICONE_g_per_mm3, "cast"), (0.95, 0.75, 0.20), volume_mm3=bladder_volume_mm3,
          bom=cast_part, hatch="rubber"),

@@ -35,7 +35,7 @@ POUR_ALLOWANCE = 0.15
 
 #: Column order of ``bom.csv``.
 CSV_COLUMNS = ("item", "part", "description", "category", "material", "standard", "size", "quantity",
-               "unit_volume_mm3", "unit_mass_g", "total_mass_g", "in_unit", "file", "note")
+               "unit_volume_mm3", "unit_mass_g", "total_mass_g", "torque_Nm", "in_unit", "file", "note")
 
 
 @dataclass(frozen=True)

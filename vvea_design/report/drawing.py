@@ -25,7 +25,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..cad.assembly import CadModel
-from ..cad.drafting import Detail, Dim, Leader, fit_deviations_um
+from ..cad.drafting import Detail, Dim, Leader, Revision, fit_deviations_um
+from ..cad.sequence import assembly_plan
+from .assembly_sheet import assembly_sheet_figure, assembly_sheet_spec
 from .sheet_layout import SHEET_MM, sheet_figure
 from .sheet_spec import SheetSpec, check_anchors, section_loops, sheet_specs
 
@@ -56,8 +58,9 @@ class DrawingSet:
                 "scales": list(self.scales)}
 
 
-def write_drawings(model: CadModel, out_dir) -> DrawingSet:
-    """Write ``drawing_<sheet>.svg`` per sheet and ``drawings.pdf`` (all sheets) into ``out_dir``.
+def write_drawings(model: CadModel, out_dir, revision: Revision | None = None) -> DrawingSet:
+    """Write ``drawing_<sheet>.svg`` per sheet and ``drawings.pdf`` (all sheets) into ``out_dir``: the unit's
+    section, a sheet per drawn part, and the assembly order (exploded, step by step).
 
     Parameters
     ----------
@@ -65,6 +68,9 @@ def write_drawings(model: CadModel, out_dir) -> DrawingSet:
         The built CAD set (:func:`~vvea_design.cad.build_cad`).
     out_dir : path-like
         Output folder (created).
+    revision : Revision, optional
+        Revision letter, date and note of the title blocks (default: revision A at the fixed date, or
+        ``SOURCE_DATE_EPOCH``'s).
 
     Returns
     -------
@@ -83,16 +89,22 @@ def write_drawings(model: CadModel, out_dir) -> DrawingSet:
 
     design_id = hashlib.sha256(json.dumps(asdict(model.design), sort_keys=True).encode()).hexdigest()[:10]
     specs = sheet_specs(model)
+    plan = assembly_plan(model.layout)
+    order = assembly_sheet_spec(model, model.assembly_check())
+    n = len(specs) + 1
+    rev = revision or Revision()
     svgs, scales = [], []
     with mpl.rc_context({"svg.hashsalt": "vvea", "svg.fonttype": "none", "pdf.fonttype": 42,
                          "hatch.linewidth": 0.3, "path.simplify": False}):
         with PdfPages(out / "drawings.pdf", metadata={"CreationDate": None, "ModDate": None,
                                                        "Creator": "vvea_design", "Producer": "matplotlib"}) as pdf:
-            for i, spec in enumerate(specs):
-                fig = sheet_figure(spec, i + 1, len(specs), design_id)
-                path = out / f"drawing_{spec.name}.svg"
+            figs = [(spec.name, sheet_figure(spec, i + 1, n, design_id, rev)) for i, spec in enumerate(specs)]
+            figs.append((order.name, assembly_sheet_figure(model, plan, order, n, n, design_id, rev)))
+            for name, fig in figs:
+                path = out / f"drawing_{name}.svg"
                 fig.savefig(path, format="svg", metadata={"Date": None})
                 pdf.savefig(fig)
                 svgs.append(path)
                 scales.append(fig._vvea_scale)
+    specs = [*specs, order]
     return DrawingSet(tuple(s.name for s in specs), tuple(svgs), out / "drawings.pdf", tuple(scales))

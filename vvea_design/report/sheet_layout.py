@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..cad.drafting import Dim
+from ..cad.drafting import Dim, Revision, drawing_number
 from .sheet_spec import Region, SheetSpec
 
 __all__ = ["sheet_figure", "SHEET_MM"]
@@ -26,6 +26,8 @@ _GAP_MM = 6.0  # first dimension line from the outline
 _SCALES = (5.0, 2.0, 1.0, 0.5)  # ISO 5455
 _DETAIL_W = 150.0  # width of the detail area at the right of the sheet, mm
 _BAND_MM = 40.0  # notes and title block at the bottom of the sheet, mm
+_TITLE_W = 175.0  # width of the title block, mm
+_NOTE_STEP_MM = 3.9  # line pitch of the numbered notes, mm
 
 
 class _Paper:
@@ -39,8 +41,20 @@ class _Paper:
 
 
 def _text_mm(text: str, pt: float = _TEXT_PT) -> float:
-    """Approximate rendered width of ``text`` (DejaVu Sans), mm."""
-    return 0.6 * len(text) * pt / _PT_PER_MM
+    """Approximate rendered width of ``text`` (DejaVu Sans; its longest line), mm."""
+    return 0.6 * max(len(line) for line in text.split("\n")) * pt / _PT_PER_MM
+
+
+#: Longest line of a leader's note, characters (longer notes wrap).
+_LEADER_CHARS = 46
+_LINE_MM = 3.3  # line pitch of a wrapped leader note, mm
+
+
+def _wrap(text: str) -> str:
+    """A leader's note wrapped to :data:`_LEADER_CHARS` per line."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, _LEADER_CHARS, break_long_words=False, break_on_hyphens=False))
 
 
 def _tiers(items: list[tuple[float, float]]) -> list[int]:
@@ -61,7 +75,8 @@ def _tiers(items: list[tuple[float, float]]) -> list[int]:
     return out
 
 
-def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_id: str = ""):
+def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_id: str = "",
+                 revision: Revision | None = None):
     """The A3 sheet of ``spec`` as a matplotlib Figure (paper mm coordinates; true scale).
 
     Parameters
@@ -71,7 +86,9 @@ def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_i
     sheet_no, n_sheets : int
         For the title block.
     design_id : str
-        Short design identifier for the title block.
+        Short design identifier for the title block (and the drawing number).
+    revision : Revision, optional
+        Revision letter, date and note of the title block (default: :class:`~vvea_design.cad.drafting.Revision`).
 
     Returns
     -------
@@ -102,7 +119,7 @@ def sheet_figure(spec: SheetSpec, sheet_no: int = 1, n_sheets: int = 1, design_i
     if spec.detail is not None:
         _draw_detail(ax, spec, fig)
     _draw_leaders(ax, spec, P)
-    _draw_notes_and_title(ax, spec, scale, sheet_no, n_sheets, design_id)
+    _draw_notes_and_title(ax, spec, scale, sheet_no, n_sheets, design_id, revision)
     fig._vvea_scale = scale  # for the tests
     return fig
 
@@ -119,7 +136,7 @@ def _place_view(spec: SheetSpec) -> tuple[float, _Paper]:
 
     def side_room(side: str) -> float:
         n = len([d for d in spec.dims if d.axis == "z" and d.side == side])
-        texts = [lead.text for lead in spec.leaders if lead.side == side]
+        texts = [_wrap(lead.text) for lead in spec.leaders if lead.side == side]
         return (_GAP_MM + n * _TIER_MM if n else 4.0) + (max(_text_mm(t, _SMALL_PT) for t in texts) + 14 if texts else 6)
 
     left, right = side_room("left"), side_room("right") + (_DETAIL_W + 6 if spec.detail else 0)
@@ -162,48 +179,55 @@ def _draw_leaders(ax, spec: SheetSpec, P: _Paper) -> None:
             xt = P(u0, 0)[0] - _GAP_MM - n_left_tiers * _TIER_MM - 4
         else:
             xt = P(u1, 0)[0] + _GAP_MM + n_right_tiers * _TIER_MM + 4
+        texts = [_wrap(lead.text) for lead in items]
+        heights = [_LINE_MM * t.count("\n") for t in texts]  # extra height of a wrapped note
         ys = [P(*lead.at)[1] for lead in items]
         step = 5.0
         top = H - 16.0
         bottom = 10 + _BAND_MM + 6.0
-        placed = []
-        for y in ys:
-            y = min(y, top) if not placed else min(y, placed[-1] - step)
+        placed: list[float] = []
+        for y, h, h_prev in zip(ys, heights, [0.0, *heights[:-1]]):
+            y = min(y, top - 0.5 * h) if not placed else min(y, placed[-1] - step - 0.5 * (h + h_prev))
             placed.append(y)
-        if placed and placed[-1] < bottom:  # push up if the column runs into the notes
-            shift = bottom - placed[-1]
-            placed = [min(p + shift, top - i * step) for i, p in enumerate(placed)]
-        for lead, yt in zip(items, placed):
+        if placed and placed[-1] - 0.5 * heights[-1] < bottom:  # push up if the column runs into the notes
+            shift = bottom - (placed[-1] - 0.5 * heights[-1])
+            placed = [p + shift for p in placed]
+        for lead, yt, t in zip(items, placed, texts):
             xa, ya = P(*lead.at)
             ax.plot([xa], [ya], marker="o", ms=1.6, color="black")
             ax.plot([xa, xt], [ya, yt], color="black", lw=0.35)
             ha = "right" if side == "left" else "left"
             ax.plot([xt, xt + (-3 if side == "left" else 3)], [yt, yt], color="black", lw=0.35)
-            ax.text(xt + (-4 if side == "left" else 4), yt, lead.text, ha=ha, va="center", fontsize=_SMALL_PT,
-                    family="DejaVu Sans")
+            ax.text(xt + (-4 if side == "left" else 4), yt, t, ha=ha, va="center", fontsize=_SMALL_PT,
+                    family="DejaVu Sans", linespacing=1.1)
 
 
-def _draw_notes_and_title(ax, spec: SheetSpec, scale: float, sheet_no: int, n_sheets: int, design_id: str) -> None:
-    """The numbered notes (bottom left) and the title block (bottom right)."""
+def _draw_notes_and_title(ax, spec: SheetSpec, scale: float, sheet_no: int, n_sheets: int, design_id: str,
+                          revision: Revision | None = None) -> None:
+    """The numbered notes (bottom left) and the title block (bottom right): title, drawing number, revision and
+    its date, sheet, material and mass, finish, scale and the standards, the view, the design."""
     from matplotlib.patches import Rectangle
 
     W = SHEET_MM[0]
+    rev = revision or Revision()
     y = 10 + _BAND_MM - 2.0
     ax.text(14, y, "Notes", fontsize=_TEXT_PT, weight="bold", va="top", family="DejaVu Sans")
     for i, n in enumerate(spec.notes):
-        ax.text(14, y - 5.0 - 4.2 * i, f"{i + 1}. {n}", fontsize=_SMALL_PT, va="top", family="DejaVu Sans")
-    bx, by, bw, bh = W - 10 - 170, 10, 170, 34
+        ax.text(14, y - 5.0 - _NOTE_STEP_MM * i, f"{i + 1}. {n}", fontsize=_SMALL_PT, va="top", family="DejaVu Sans")
+    bx, by, bw, bh = W - 10 - _TITLE_W, 10, _TITLE_W, _BAND_MM
     ax.add_patch(Rectangle((bx, by), bw, bh, fill=False, lw=0.7, color="black"))
     rows = [
         (spec.title, 11.0, "bold"),
+        (f"Drawing no. {drawing_number(design_id, sheet_no)} | Rev. {rev.letter} ({rev.date}) | Sheet "
+         f"{sheet_no}/{n_sheets} | A3", _SMALL_PT, "normal"),
         (f"Material: {spec.material}" + (f" | Mass: {spec.mass_g:.1f} g" if spec.mass_g else ""), _SMALL_PT, "normal"),
-        (f"Scale {_scale_text(scale)} | Sheet {sheet_no}/{n_sheets} | A3 | Dimensions in mm | ISO 2768-m",
-         _SMALL_PT, "normal"),
+        (f"Finish: {spec.finish or 'see parts list'}", _SMALL_PT, "normal"),
+        (f"Scale {_scale_text(scale)} | mm | ISO 2768-m, ISO 8015 | sections ISO 128-50", _SMALL_PT, "normal"),
         (spec.view_note, _SMALL_PT, "normal"),
-        (f"vvea_design, design {design_id} | section views", _SMALL_PT, "normal"),
+        (f"vvea_design, design {design_id} | {rev.note}", _SMALL_PT, "normal"),
     ]
     for i, (t, pt, wgt) in enumerate(rows):
-        ax.text(bx + 3, by + bh - 5 - 6.5 * i, t, fontsize=pt, weight=wgt, va="center", family="DejaVu Sans")
+        ax.text(bx + 3, by + bh - 4.5 - 5.4 * i, t, fontsize=pt, weight=wgt, va="center", family="DejaVu Sans")
 
 
 def _draw_dims(ax, all_dims: Sequence[Dim], P: _Paper, extent: tuple[float, float, float, float]) -> None:
@@ -220,14 +244,7 @@ def _draw_dims(ax, all_dims: Sequence[Dim], P: _Paper, extent: tuple[float, floa
         if not dims:
             continue
         spans = [(min(d.a[1], d.b[1]), max(d.a[1], d.b[1])) for d in dims]
-        paper_spans = []
-        for (lo, hi), d in zip(spans, dims):
-            ylo, yhi = P(0, lo)[1], P(0, hi)[1]
-            need = _text_mm(d.label()) + 4
-            if yhi - ylo < need:  # text does not fit: reserve room above the top end
-                yhi = yhi + need
-            paper_spans.append((ylo, yhi))
-        tiers = _tiers(paper_spans)
+        tiers = _tiers(_z_paper_spans(dims, P))
         edge = P(u0 if side == "left" else u1, 0)[0]
         sgn = -1 if side == "left" else 1
         for d, (lo, hi), k in zip(dims, spans, tiers):
@@ -237,22 +254,20 @@ def _draw_dims(ax, all_dims: Sequence[Dim], P: _Paper, extent: tuple[float, floa
                 ax.plot([xa + sgn * 1.0, xl + sgn * 1.5], [ya, ya], color="black", lw=0.35)
             ylo, yhi = P(0, lo)[1], P(0, hi)[1]
             ax.annotate("", (xl, yhi), (xl, ylo), arrowprops=arrow)
-            t = d.label()
-            if yhi - ylo >= _text_mm(t) + 4:
-                ax.text(xl - 1.0, 0.5 * (ylo + yhi), t, rotation=90, ha="center", va="bottom", **kw)
-            else:
-                ax.text(xl - 1.0, yhi + 1.5, t, rotation=90, ha="center", va="bottom", **kw)
+            # the label beside its line, centred on it (a label longer than the line reaches past the arrows;
+            # the tiers reserved its height)
+            ax.text(xl - 1.0, 0.5 * (ylo + yhi), d.label(), rotation=90, ha="center", va="bottom", **kw)
     # horizontal dimensions
     for side in ("top", "bottom"):
         dims = [d for d in all_dims if d.axis == "u" and d.side == side]
         if not dims:
             continue
         paper = []
-        for d in dims:
+        for d in dims:  # a label wider than its line is centred over it: reserve its width around the centre
             xa, xb = sorted((P(d.a[0], 0)[0], P(d.b[0], 0)[0]))
             need = _text_mm(d.label()) + 4
             if xb - xa < need:
-                xb = xb + need
+                xa, xb = 0.5 * (xa + xb) - 0.5 * need, 0.5 * (xa + xb) + 0.5 * need
             paper.append((xa, xb))
         tiers = _tiers(paper)
         edge = P(0, z1 if side == "top" else z0)[1]
@@ -264,11 +279,7 @@ def _draw_dims(ax, all_dims: Sequence[Dim], P: _Paper, extent: tuple[float, floa
                 ax.plot([xa, xa], [ya + sgn * 1.0, yl + sgn * 1.5], color="black", lw=0.35)
             xa, xb = sorted((P(d.a[0], 0)[0], P(d.b[0], 0)[0]))
             ax.annotate("", (xb, yl), (xa, yl), arrowprops=arrow)
-            t = d.label()
-            if xb - xa >= _text_mm(t) + 4:
-                ax.text(0.5 * (xa + xb), yl + 0.8, t, ha="center", va="bottom", **kw)
-            else:
-                ax.text(xb + 2.0, yl + 0.8, t, ha="left", va="bottom", **kw)
+            ax.text(0.5 * (xa + xb), yl + 0.8, d.label(), ha="center", va="bottom", **kw)
     # inside dimensions: the line at the anchors' u, text to its right
     for d in all_dims:
         if d.side != "inside":
@@ -327,15 +338,23 @@ def _draw_detail(ax, spec: SheetSpec, fig) -> None:
     ax.text(wx1 + 1.0, wy1 + 1.0, det.label, fontsize=_TEXT_PT, weight="bold", family="DejaVu Sans")
 
 
-def _tiers_count(spec: SheetSpec, side: str, P) -> list[int]:
-    dims = [d for d in spec.dims if d.axis == "z" and d.side == side]
-    spans = []
+def _z_paper_spans(dims: Sequence[Dim], P) -> list[tuple[float, float]]:
+    """Paper extent (y) each vertical dimension needs: its line, or its label's height centred on it when the
+    label does not fit between the arrows (it is then written beside the line), mm."""
+    out = []
     for d in dims:
         lo, hi = sorted((d.a[1], d.b[1]))
         ylo, yhi = P(0, lo)[1], P(0, hi)[1]
         need = _text_mm(d.label()) + 4
-        spans.append((ylo, yhi + (need if yhi - ylo < need else 0.0)))
-    return _tiers(spans) if spans else []
+        if yhi - ylo < need:
+            ylo, yhi = 0.5 * (ylo + yhi) - 0.5 * need, 0.5 * (ylo + yhi) + 0.5 * need
+        out.append((ylo, yhi))
+    return out
+
+
+def _tiers_count(spec: SheetSpec, side: str, P) -> list[int]:
+    dims = [d for d in spec.dims if d.axis == "z" and d.side == side]
+    return _tiers(_z_paper_spans(dims, P)) if dims else []
 
 
 def _scale_text(s: float) -> str:

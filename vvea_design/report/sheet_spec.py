@@ -26,80 +26,36 @@ from ..cad.drafting import Detail, Dim, Leader, SheetContent, radial_extent_mm
 from ..cad.gas import fluid_column
 from ..cad.parts import piston_head
 from ..cad.registry import FLUID_COLOUR, Part, all_parts, parts_in
+from ..cad.section import section_loops
 from ..cad.sheets import unit_section_sheet
 
-__all__ = ["Region", "SheetSpec", "section_loops", "sheet_specs", "check_anchors", "HATCH_PATTERNS"]
+__all__ = ["Region", "SheetSpec", "section_loops", "sheet_specs", "check_anchors", "HATCH_PATTERNS", "PART_HATCHES",
+           "hatch_pattern", "unit_parts"]
 
 #: matplotlib hatch of each part hatch (:data:`~vvea_design.cad.registry.HATCHES`).
 HATCH_PATTERNS = {"metal": "////", "steel": "\\\\\\\\", "plastic": "xx", "rubber": None, None: None}
-_FILL_ALPHA = 0.18  # gas and fluid: translucent fills without outline
-_GHOST_COLOUR = (0.3, 0.3, 0.3)  # the piston at full stroke, dashed
+#: The housing's pieces hatched differently (ISO 128-50: adjacent parts differ in direction or spacing), so the
+#: joints show on the section: base 45° dense, outer tube 135° dense, inner tube 135° wide, top cap 45° wide.
+PART_HATCHES = {"housing_base": "////", "housing_outer_tube": "\\\\\\\\", "housing_inner_tube": "\\\\",
+                "housing_top_cap": "//"}
 
 
-# --------------------------------------------------------------------------- geometry
-def section_loops(solid, plane: str, u_min: float, u_max: float) -> list[np.ndarray]:
-    """Closed outlines of a solid cut by a meridian plane.
-
-    Straight edges give their end points, curved ones 24 points; the loops are
-    sorted and canonicalised (start vertex, counter-clockwise) so the output
-    does not depend on OCCT's result order.
+def hatch_pattern(part: Part) -> str | None:
+    """The matplotlib hatch a part's section is drawn with: its own (:data:`PART_HATCHES`) or its kind's.
 
     Parameters
     ----------
-    solid : build123d.Solid
-        Solid in the assembly frame, mm.
-    plane : str
-        ``"xz"`` (u = x, at y = 0) or ``"yz"`` (u = y, at x = 0).
-    u_min, u_max : float
-        Part of the plane kept, mm.
+    part : Part
+        The table entry.
 
     Returns
     -------
-    list of ndarray
-        Closed loops of (u, z) points, mm.
+    str or None
+        A matplotlib hatch pattern (None: a plain fill).
     """
-    from build123d import Face, Wire
-
-    bb = solid.bounding_box()
-    z0, z1 = bb.min.Z - 1.0, bb.max.Z + 1.0
-    if plane == "xz":
-        pts = [(u_min, 0, z0), (u_max, 0, z0), (u_max, 0, z1), (u_min, 0, z1)]
-    elif plane == "yz":
-        pts = [(0, u_min, z0), (0, u_max, z0), (0, u_max, z1), (0, u_min, z1)]
-    else:
-        raise ValueError(f"plane must be 'xz' or 'yz', got {plane!r}")
-    cutter = Face(Wire.make_polygon(pts, close=True))
-    sec = solid.intersect(cutter)
-    loops = []
-    if sec is None:
-        return loops
-    k = 0 if plane == "xz" else 1
-    for face in sec.faces():
-        for wire in [face.outer_wire(), *face.inner_wires()]:
-            pts_uz: list[tuple[float, float]] = []
-            for edge in wire.order_edges():
-                n = 2 if edge.geom_type.name == "LINE" else 24
-                ps = [edge.position_at(t) for t in np.linspace(0.0, 1.0, n)]
-                seg = [((p.X, p.Y)[k], p.Z) for p in ps]
-                if pts_uz and math.dist(pts_uz[-1], seg[-1]) < math.dist(pts_uz[-1], seg[0]):
-                    seg = seg[::-1]
-                pts_uz.extend(seg if not pts_uz else seg[1:])
-            loops.append(_canonical(np.asarray(pts_uz, dtype=float)))
-    # OCCT's boolean result order is not stable between calls: sort (and canonicalise) for byte-stable files
-    return sorted(loops, key=lambda lp: (round(float(lp[:, 1].min()), 6), round(float(lp[:, 0].min()), 6),
-                                         len(lp), round(float(lp.sum()), 6)))
-
-
-def _canonical(loop: np.ndarray) -> np.ndarray:
-    """A closed loop started at its lowest-leftmost vertex, counter-clockwise, closed."""
-    pts = loop[:-1] if len(loop) > 1 and np.allclose(loop[0], loop[-1]) else loop
-    area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
-    if area2 < 0:
-        pts = pts[::-1]
-    r = np.round(pts, 9)
-    k = min(range(len(r)), key=lambda i: (r[i, 1], r[i, 0]))
-    pts = np.roll(pts, -k, axis=0)
-    return np.vstack([pts, pts[:1]])
+    return PART_HATCHES.get(part.name, HATCH_PATTERNS[part.hatch])
+_FILL_ALPHA = 0.18  # gas and fluid: translucent fills without outline
+_GHOST_COLOUR = (0.3, 0.3, 0.3)  # the piston at full stroke, dashed
 
 
 def _aligned_loops(solid, margin_mm: float) -> tuple[np.ndarray, ...]:
@@ -137,6 +93,7 @@ class SheetSpec:
     extent: tuple[float, float, float, float] = (0, 0, 0, 0)  #: u0, u1, z0, z1 of the view
     anchor_loops: list[np.ndarray] = field(default_factory=list)  #: outlines the anchors must lie on
     detail: Detail | None = None
+    finish: str = ""  #: surface treatment for the title block
 
 
 def _unit_spec(model: CadModel) -> SheetSpec:
@@ -147,9 +104,9 @@ def _unit_spec(model: CadModel) -> SheetSpec:
     content: SheetContent = unit_section_sheet(lay)
     R = content.extent[1]
     parts, anchors = [], []
-    for p in parts_in("assembly"):
+    for p in unit_parts():
         loops = _aligned_loops(model.solids[p.name], R + 5)
-        parts.append(Region(p.name, loops, p.colour, HATCH_PATTERNS[p.hatch]))
+        parts.append(Region(p.name, loops, p.colour, hatch_pattern(p)))
         anchors.extend(loops)
     # fills first (under the outlines): the fluid, then the gas domains from the last to the first
     fills = [Region("fluid", _aligned_loops(fluid_column(lay, 0.0), R), FLUID_COLOUR, None, _FILL_ALPHA,
@@ -163,6 +120,18 @@ def _unit_spec(model: CadModel) -> SheetSpec:
                      view_note=content.view_note, extent=content.extent, anchor_loops=anchors)
 
 
+def unit_parts() -> tuple[Part, ...]:
+    """The parts the unit's section draws: the housing as its machined pieces (each hatched its own way), then
+    the other assembly parts (piston, bladder, support ring).
+
+    Returns
+    -------
+    tuple of Part
+        In drawing order.
+    """
+    return tuple(p for p in parts_in("machined", "assembly") if p.name != "housing")
+
+
 def _part_spec(model: CadModel, part: Part) -> SheetSpec:
     """The sheet of one part with a drawing hook: its section, what the hook says, its material and mass."""
     solid = model.solids[part.name]
@@ -173,14 +142,15 @@ def _part_spec(model: CadModel, part: Part) -> SheetSpec:
         loops = _aligned_loops(solid, R + 5)
     else:
         loops = tuple(section_loops(solid, plane, -R - 5, R + 5))
-    reg = Region(part.name, loops, part.colour, HATCH_PATTERNS[part.hatch])
+    reg = Region(part.name, loops, part.colour, hatch_pattern(part))
     mat = part.material(model.design)
     view = {"xz": "Section in the valve plane (y = 0)", "yz": "Section in the fill-port plane (x = 0)",
             "aligned": "Section A-A, aligned"}[plane]
     return SheetSpec(part.name, content.title or part.title[:1].upper() + part.title[1:], [reg], list(content.dims),
                      list(content.leaders), list(content.notes), material=content.material or mat.name,
                      mass_g=float(solid.volume) * mat.density_g_per_mm3, view_note=content.view_note or view,
-                     extent=content.extent or (-R, R, z0, z1), anchor_loops=list(reg.loops), detail=content.detail)
+                     extent=content.extent or (-R, R, z0, z1), anchor_loops=list(reg.loops), detail=content.detail,
+                     finish=part.finish)
 
 
 def sheet_specs(model: CadModel, names: Sequence[str] | None = None) -> list[SheetSpec]:

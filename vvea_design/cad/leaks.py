@@ -1,0 +1,113 @@
+"""Every path a medium could leak along -- each joint between two parts, each port -- and what seals it.
+
+A :class:`LeakPath` names the joint or port, the two spaces it would join (chamber 1, chamber 2, the oil, the
+outside), the seal that closes it and its standard, or says that it is **open** and what it needs. The report
+prints the list; nothing is marked sealed that the CAD does not draw.
+
+The joints of the inner tube to the base and to the top cap and of the ``annulus_top`` plain cap to the outer
+tube have no room for an O-ring in today's geometry: they are open until the joints' footprint (threads, tie
+rods or retaining rings, sized by the design) gives them one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .layout import Layout
+from .seals import ORING_STANDARD
+
+__all__ = ["LeakPath", "leak_paths"]
+
+
+@dataclass(frozen=True)
+class LeakPath:
+    """One joint or port: the spaces it would join, its seal (or none) and its standard."""
+
+    where: str  #: the joint or port
+    between: str  #: the two spaces, e.g. ``chamber 2 | outside``
+    sealed_by: str  #: the seal ("" when open)
+    standard: str  #: the seal's standard
+    note: str = ""  #: what is not verified, or what an open path needs
+
+    @property
+    def is_sealed(self) -> bool:
+        """A seal closes the path."""
+        return bool(self.sealed_by)
+
+    @property
+    def is_port(self) -> bool:
+        """A port (drilled, tapped or plugged), not a joint between parts."""
+        return self.where.startswith("port:")
+
+    def to_dict(self) -> dict:
+        """JSON-ready content.
+
+        Returns
+        -------
+        dict
+            ``where``, ``between``, ``sealed_by``, ``standard``, ``note`` and ``sealed``.
+        """
+        return {"where": self.where, "between": self.between, "sealed_by": self.sealed_by, "standard": self.standard,
+                "note": self.note, "sealed": self.is_sealed}
+
+
+def _oring(g, what: str) -> str:
+    return f"{what}: O-ring {g.oring.code} ({g.application}, squeeze {100 * g.squeeze:.0f} %)"
+
+
+def leak_paths(lay: Layout) -> tuple[LeakPath, ...]:
+    """The unit's leak paths and their seals.
+
+    Parameters
+    ----------
+    lay : Layout
+        The design's layout (its glands, ports and layout variant).
+
+    Returns
+    -------
+    tuple of LeakPath
+        Joints first, then ports.
+    """
+    iso = f"{ORING_STANDARD}, ISO 3601-2 gland"
+    bead = ("the bladder's sealing bead, clamped in its groove (silicone, drawn line-to-line: its squeeze comes "
+            "from the cast size, not verified)")
+    top_inside = ("chamber 2 above the bulkhead" if lay.has_bulkhead else "chamber 1")
+    out = [
+        LeakPath("rod in the base", "oil | outside", _oring(lay.rod_seal, "rod seal"), iso),
+        LeakPath("piston in the inner tube", "oil | chamber 1", _oring(lay.piston_seal, "2 piston seals"), iso),
+        LeakPath("base spigot in the outer tube", "chamber 2 | outside", _oring(lay.base_seal, "base seal"), iso),
+        LeakPath("bladder's lower cuff in the base spigot", "chamber 2 | oil", "bladder bead", "-", bead),
+        LeakPath("bladder's upper cuff in its clamp", "chamber 2 | oil", "bladder bead", "-", bead),
+        LeakPath("inner tube on the base", "oil in the column | oil in the bladder (a throttle bypass)", "", "",
+                 "lapped faces clamped by the joint, internal leak only; an O-ring needs room the joint's footprint "
+                 "has to give (the valve bores leave 2 mm of base under it)"),
+    ]
+    if lay.cap_seal is not None:
+        out += [LeakPath("top cap spigot in the outer tube", "chamber 2 | outside", _oring(lay.cap_seal, "cap seal"),
+                         iso),
+                LeakPath("inner tube's top end at the top cap", f"{top_inside} | oil (along the tube under the clamp)",
+                         "", "", "needs a static O-ring at the tube's end: no room between the tube and the cuff's "
+                                 "groove; the joint's footprint has to give it")]
+    else:
+        out.append(LeakPath("top cap on the outer tube", "chamber 1 (annulus) | outside", "", "",
+                            "the plain cap has no spigot: a seal needs the joint's footprint (a spigot or a sealed "
+                            "joint face) inside the chamber-1 annulus"))
+    if lay.collar_seal is not None:
+        out.append(LeakPath("collar in the outer tube", "chamber 1 | chamber 2", _oring(lay.collar_seal, "collar seal"),
+                            iso))
+    if lay.has_bulkhead:
+        out.append(LeakPath("fill tube's top end at the top cap", "chamber 1 | chamber 2", "", "",
+                            "needs a static O-ring around the fill tube (no ISO 3601-1 ring fits Ø"
+                            f"{2 * lay.r_fill_tube_out:.2f} with 0-5 % stretch; a Ø3.8 neck and O-ring 007 would)"))
+    valve = "charging valve with its own seal on the spot face (bought)"
+    out += [
+        LeakPath("port: chamber-1 charging valve", "chamber 1 | outside", valve, "ISO 261 M5x0.8"),
+        LeakPath("port: chamber-2 charging valve", "chamber 2 | outside", valve, "ISO 261 M5x0.8"),
+        LeakPath("port: relief valve bore", "oil | outside", "set screw with anaerobic hydraulic thread sealant",
+                 "ISO 4026", "a thread sealant, not an O-ring: leak-test after setting"),
+        LeakPath("port: throttle bore", "oil | outside", "the throttle core's own O-ring (bought servo-valve)", "-"),
+    ]
+    if lay.has_cross_port:
+        out.append(LeakPath("port: chamber-2 cross port", "chamber 2 | outside", "expander plug (metal-to-metal)",
+                            "SFC Koenig MB type"))
+    return tuple(out)
