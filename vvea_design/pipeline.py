@@ -141,6 +141,8 @@ class UnitDesign:
             "bom": None if self.bom is None else self.bom.to_dict(),
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
             "actuator_study": None if study is None else {
+                "runs": [r.to_dict() for r in study.runs],
+                "damping": study.damping.to_dict(),
                 "comparisons": [c.to_dict() for c in study.comparisons],
                 "settings": [s.to_dict() for s in study.settings],
                 "n_left_out_unverified": study.n_left_out,

@@ -82,6 +82,7 @@ __all__ = [
     "FULL_CHARGE",
     "design_actuator",
     "study_actuators",
+    "unit_mapping",
     "run_design_study",
 ]
 
@@ -333,16 +334,8 @@ def study_actuators(design, *, target_K_Nm_per_rad: float = PAPER_K_NM_PER_RAD, 
                                       "the design was given as an Actuator")
         sea = Actuator("SEA", act.K_Nm_per_rad, 0.0, 0.0, act.B_kgm2, act.M_kgm2, act.u_d_max, act.tau_m_max_Nm)
         return [(EQUAL_STIFFNESS, act, sea, None)], rng
-    spring = design if isinstance(design, GasSpring) else getattr(design, "gas_spring", None)
-    if not isinstance(spring, GasSpring):
-        raise ValueError(f"design must be an Actuator, a GasSpring or have a .gas_spring, got {type(design).__name__}")
-    fixed = getattr(design, "fixed", None)
-    own_r = getattr(fixed, "pulley_radius_mm", None)
-    r = float(mapping.get("pulley_radius_m", own_r / 1e3 if own_r else PAPER_PULLEY_RADIUS_M))
-    n = int(mapping.get("n_units", 2))
+    spring, r, n, x0, tau_max = unit_mapping(design, mapping)
     rng = damping or unit_damping_range(design, pulley_radius_m=r, n_units=n)
-    tau_max = float(getattr(fixed, "max_motor_torque_Nm", PAPER_SETTINGS["VVEA"].tau_m_max_Nm))
-    x0 = float(getattr(design, "setpoint_x0_mm", 0.0))
     runs = []
     for label, target, dname, sname in ((EQUAL_STIFFNESS, target_K_Nm_per_rad, "design", "SEA"),
                                         (FULL_CHARGE, None, FULL_DESIGN, FULL_SEA)):
@@ -354,6 +347,40 @@ def study_actuators(design, *, target_K_Nm_per_rad: float = PAPER_K_NM_PER_RAD, 
         act = Actuator(dname, ch.K_Nm_per_rad, rng.D_min_Nms_per_rad, rng.D_max_Nms_per_rad, tau_m_max_Nm=tau_max)
         runs.append((label, act, Actuator(sname, ch.K_Nm_per_rad, 0.0, 0.0, tau_m_max_Nm=tau_max), ch))
     return runs, rng
+
+
+def unit_mapping(design, mapping: dict | None = None) -> tuple[GasSpring, float, int, float, float]:
+    """The unit's gas spring and how it acts on the joint.
+
+    Parameters
+    ----------
+    design
+        A :class:`~vvea_design.spring.design.Design` (or anything with ``.gas_spring``) or a
+        :class:`~vvea_design.spring.gas_spring.GasSpring`.
+    mapping
+        ``pulley_radius_m`` (m) and ``n_units`` overriding the design's.
+
+    Returns
+    -------
+    (GasSpring, float, int, float, float)
+        The spring (mm, MPa), the pulley radius (m; the design's ``fixed.pulley_radius_mm``, else the paper's),
+        the units on the pulley, the set point x0 (mm) and the motor torque limit (N m).
+
+    Raises
+    ------
+    ValueError
+        For a design of an unknown kind.
+    """
+    mapping = dict(mapping or {})
+    spring = design if isinstance(design, GasSpring) else getattr(design, "gas_spring", None)
+    if not isinstance(spring, GasSpring):
+        raise ValueError(f"design must be an Actuator, a GasSpring or have a .gas_spring, got {type(design).__name__}")
+    fixed = getattr(design, "fixed", None)
+    own_r = getattr(fixed, "pulley_radius_mm", None)
+    r = float(mapping.get("pulley_radius_m", own_r / 1e3 if own_r else PAPER_PULLEY_RADIUS_M))
+    n = int(mapping.get("n_units", 2))
+    tau_max = float(getattr(fixed, "max_motor_torque_Nm", PAPER_SETTINGS["VVEA"].tau_m_max_Nm))
+    return spring, r, n, float(getattr(design, "setpoint_x0_mm", 0.0)), tau_max
 
 
 def _work(item):

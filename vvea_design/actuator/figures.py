@@ -22,7 +22,7 @@ from .ocp import OcpResult, rest_to_rest_reference
 
 # SETTING_COLOURS: the palette's (vvea_design.palette), named here as before
 __all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map",
-           "plot_design_vs_sea"]
+           "plot_design_vs_sea", "plot_sensitivity"]
 
 
 def _colour(name: str, i: int = 0) -> str:
@@ -408,7 +408,7 @@ def plot_design_vs_sea(df, runs: Sequence[tuple[str, str, str, float]], damping:
                     wins += t.startswith("SEA not valid")
                     losses += loss
                     if loss:
-                        ax.add_patch(Patch_rect(j, i))
+                        ax.add_patch(_dark_cell(j, i))
                     ax.text(j, i, t, ha="center", va="center", fontsize=7, color="white" if loss else "0.25")
         ax.set_xticks(range(len(T_vals)))
         ax.set_xticklabels([f"{t:g}" for t in T_vals])
@@ -433,8 +433,62 @@ def plot_design_vs_sea(df, runs: Sequence[tuple[str, str, str, float]], damping:
     return fig
 
 
-def Patch_rect(j: float, i: float):
+def _dark_cell(j: float, i: float):
     """A dark cell (the design not valid while the SEA is: a loss), centred on column ``j``, row ``i``."""
     from matplotlib.patches import Rectangle
 
     return Rectangle((j - 0.5, i - 0.5), 1.0, 1.0, facecolor="0.3", edgecolor="none", zorder=0.5)
+
+
+def plot_sensitivity(study, fig: Figure | None = None) -> Figure:
+    """Which property buys tracking: the design's mean rmse over an SEA's of the same K, as D_min, D_max, K move.
+
+    One panel per property (:data:`~vvea_design.actuator.sensitivity.PARAMETERS`): the mean rmse ratio
+    design / SEA over the cases both track validly (below 1: the design tracks better), each point labelled
+    with the design's wins over every case of the grid; the design as the study takes it is the star.
+
+    Parameters
+    ----------
+    study : DesignSensitivity
+        Result of :func:`~vvea_design.actuator.sensitivity.run_design_sensitivity`.
+    fig
+        Figure to draw into (three panels).
+
+    Returns
+    -------
+    Figure
+    """
+    if fig is None:
+        fig = Figure(figsize=(12.0, 4.0))
+    axes = fig.subplots(1, 3, sharey=True)
+    titles = {"D_min": ("throttle open: D_min (N m s/rad)", "linear"),
+              "D_max": ("throttle closed: D_max (N m s/rad)", "log"),
+              "K": ("joint stiffness K (N m/rad), SEA at the same K", "linear")}
+    colour = _colour("design")
+    for ax, par in zip(axes, ("D_min", "D_max", "K")):
+        pts = [p for p in study.of(par) if p.mean_rmse_ratio_design_over_sea is not None]
+        x = [p.value for p in pts]
+        y = [p.mean_rmse_ratio_design_over_sea for p in pts]
+        ax.plot(x, y, "o-", color=colour, lw=1.2, ms=5)
+        for p in pts:
+            ax.annotate(f"{p.design_beats}/{p.n_cases}", (p.value, p.mean_rmse_ratio_design_over_sea),
+                        textcoords="offset points", xytext=(0, 7), ha="center", fontsize=7)
+            if p.is_base:
+                ax.plot([p.value], [p.mean_rmse_ratio_design_over_sea], "*", color="k", ms=12, zorder=5)
+        ax.axhline(1.0, color="0.4", lw=0.8, ls="--")
+        ax.set_xscale(titles[par][1])
+        ax.set_xlabel(titles[par][0])
+        ax.grid(alpha=0.3)
+        spread = study.spread(par)
+        ax.set_title(f"{par}: the ratio moves by {spread:.3f}" if np.isfinite(spread) else f"{par}: one value",
+                     fontsize=9, y=1.0)
+    axes[0].set_ylabel("mean rmse design / SEA (same K)")
+    ys = [p.mean_rmse_ratio_design_over_sea for p in study.points if p.mean_rmse_ratio_design_over_sea is not None]
+    if ys:
+        lo, hi = min(min(ys), 1.0), max(max(ys), 1.0)
+        pad = 0.15 * (hi - lo) + 0.005
+        axes[0].set_ylim(lo - pad, hi + pad)
+    fig.suptitle("What buys tracking: the design against an SEA of the same stiffness (star: the design as studied; "
+                 "label: cases the design wins, every case counted)", fontsize=9)
+    set_margins_in(fig, left=0.45 + ytick_label_width_in(axes[0]), bottom=0.585, right=0.2, top=0.6, wspace=0.3)
+    return fig

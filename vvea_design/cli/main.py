@@ -272,6 +272,9 @@ def design(
                                                      "study (default 100, clustered at the step)"),
     workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
                                                                   "(default: all cores)"),
+    study_target_k: Optional[float] = typer.Option(None, "--study-target-k",
+                                                   help="joint stiffness (N m/rad) at which the actuator study "
+                                                        "compares the design with an SEA (default the paper's 362)"),
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
     from ..pipeline import STEPS, design_unit
@@ -285,6 +288,10 @@ def design(
         _fail(str(exc))
 
     study_options: dict = {"workers": workers}
+    if study_target_k is not None:
+        if not (study_target_k > 0 and study_target_k < float("inf")):
+            _fail(f"--study-target-k must be a positive stiffness in N m/rad, got {study_target_k!r}")
+        study_options["target_K_Nm_per_rad"] = study_target_k
     if study_grid is not None:
         from ..actuator.rest_to_rest import Grid
 
@@ -328,11 +335,19 @@ def design(
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
     if unit.actuator_study is not None:
-        for c in unit.actuator_study.comparisons:
-            beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
-            ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
-            stdout.print(f"design vs {c.other}: design beats it in {beats} of {c.n_cases} cases "
-                         f"({c.n_excluded} left out), mean rmse {c.other}/design {ratio}")
+        st = unit.actuator_study
+        stdout.print(f"actuator study damping: D = {st.damping.D_min_Nms_per_rad:.3g} ... "
+                     f"{st.damping.D_max_Nms_per_rad:.4g} N m s/rad from {st.damping.source} ({st.damping.why})")
+        for r in st.runs:
+            stdout.print(f"[{r.label}] " + (r.charge.describe() if r.charge is not None
+                                            else f"K = {r.actuator.K_Nm_per_rad:.4g} N m/rad"))
+            for c in (c for c in st.comparisons if c.run == r.label):
+                beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
+                ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
+                stdout.print(f"[{r.label}] {c.design} vs {c.other}: better in {c.design_beats} of {c.n_cases} "
+                             f"cases ({beats}), worse in {c.design_worse} (of those, {c.only_other_valid} where only "
+                             f"{c.other} is valid), {c.neither_valid} neither valid; mean rmse {c.other}/design "
+                             f"{ratio} over the {c.n_both_valid} cases both are valid")
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 
