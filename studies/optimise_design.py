@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from vvea_design.figure_layout import tight_layout_once
-from vvea_design.spring.design_file import save_design
+from vvea_design.jobs.spring import optimise as optimise_job
 from vvea_design.spring.optimise import optimise
 from vvea_design.spring.studies import PARETO_AXES, linearity_map, pareto_front, save_pareto
-from vvea_design.spring.plots import plot_linearity_map, plot_spring, save_figure
+from vvea_design.spring.plots import plot_linearity_map, save_figure
 from vvea_design.spring.requirements import Requirements
 
 HERE = Path(__file__).resolve().parent
@@ -120,11 +120,7 @@ def thermo_front(out: Path, res, quick: bool = False) -> dict:
 def main(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     req = Requirements()
-    res = optimise(req, seed=0)
-    save_design(out / "design.json", res.evaluation, req, optimiser=res.summary())
-    save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
-                            title=f"optimum on the default requirements ({res.layout} layout): "
-                                  f"{100 * res.evaluation.linearity_error:.2f} %"), out / "design_force.png")
+    res = optimise_job(req, seed=0, out=out / "design.json")  # `vvea optimise`: design.json, design_force.png
     summary = {"optimum": {**res.evaluation.performance(), "binding": res.evaluation.binding(),
                            "seconds": res.seconds, "evaluations": res.evaluations}}
     for axis, values in SWEEPS.items():

@@ -36,11 +36,19 @@ Temporaries are named ``.<name>.vvea-tmp-<pid>-<random>`` (and
 ``.vvea-old-`` for replaced entries); one left behind by a killed process
 (SIGKILL cannot be caught) is removed by the next command writing there once
 its process is gone.
+
+Nested results: an :func:`output_dir` whose target lies inside (or is) the
+temporary folder of an :func:`output_dir` still open in the same thread of
+execution writes straight into that target (created), with no temporary and
+no marker of its own: the enclosing block already lands the whole tree at
+once. This is how :func:`vvea_design.pipeline.design_unit` runs the jobs of
+its steps (CAD set, bladder check, ...) into the one unit folder it writes.
 """
 
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import ctypes
 import errno
 import json
@@ -59,10 +67,50 @@ __all__ = ["OutputError", "check_output_dir", "check_output_file", "output_dir",
 #: Every output folder gets ``.vvea-<command>.json`` listing what the command wrote there.
 MARKER_PREFIX = ".vvea-"
 _TEMP = re.compile(r"\.vvea-(?:tmp|old)-(\d+)-[0-9a-f]+")
+#: The temporary folders of the :func:`output_dir` blocks open in this context (innermost last).
+_OPEN: contextvars.ContextVar[tuple[Path, ...]] = contextvars.ContextVar("vvea_open_output_dirs", default=())
 
 
 class OutputError(ValueError):
-    """An output location that cannot be written (names the path and why)."""
+    """An output location that cannot be written (names the path and why).
+
+    Parameters
+    ----------
+    message : str
+        The whole message.
+    path : Path, optional
+        The location refused before any work (with ``reason``): :meth:`named` words the message for the
+        option that gave it.
+    reason : str, optional
+        Why ``path`` cannot be written.
+    """
+
+    def __init__(self, message: str, path: Path | None = None, reason: str | None = None):
+        super().__init__(message)
+        self.path = path
+        self.reason = reason
+
+    def named(self, option: str) -> str:
+        """The message naming the option that gave the location (``--out /x: is an existing file...``).
+
+        Parameters
+        ----------
+        option : str
+            The option (``"--out"``); ``""`` for none.
+
+        Returns
+        -------
+        str
+            The message; one not about a refused location (a failed write or move) as it is.
+        """
+        if self.path is None or self.reason is None:
+            return str(self)
+        return f"{_label(self.path, option)}: {self.reason}"
+
+
+def _refused(path: Path, option: str, reason: str) -> OutputError:
+    """The error for a location refused before any work: ``<option> <path>: <reason>``."""
+    return OutputError(f"{_label(path, option)}: {reason}", path, reason)
 
 
 # ---------------------------------------------------------------------------
@@ -79,8 +127,7 @@ def _nearest_existing(path: Path, option: str) -> Path:
     while not os.path.lexists(anc) and anc != anc.parent:
         anc = anc.parent
     if not anc.is_dir():
-        raise OutputError(f"{_label(path, option)}: {anc} is a file, so nothing can be written under it; "
-                          "give a path in a folder")
+        raise _refused(path, option, f"{anc} is a file, so nothing can be written under it; give a path in a folder")
     return anc
 
 
@@ -96,7 +143,7 @@ def _writable(folder: Path) -> OSError | None:
 
 
 def _fail_unwritable(folder: Path, path: Path, option: str, exc: OSError) -> None:
-    raise OutputError(f"{_label(path, option)}: cannot write in {folder} ({exc.strerror or exc})") from None
+    raise _refused(path, option, f"cannot write in {folder} ({exc.strerror or exc})") from None
 
 
 def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
@@ -124,7 +171,7 @@ def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
     """
     p = Path(os.path.realpath(path))
     if p.exists() and not p.is_dir():
-        raise OutputError(f"{_label(p, option)}: is an existing file, not a folder; give a folder path")
+        raise _refused(p, option, "is an existing file, not a folder; give a folder path")
     folder = p if p.is_dir() else _nearest_existing(p, option)
     err = _writable(folder)
     if err is not None:
@@ -154,7 +201,7 @@ def check_output_file(path: str | os.PathLike, option: str = "--out") -> Path:
     """
     p = Path(os.path.realpath(path))
     if p.is_dir():
-        raise OutputError(f"{_label(p, option)}: is an existing folder; give a file path (e.g. {p / 'design.json'})")
+        raise _refused(p, option, f"is an existing folder; give a file path (e.g. {p / 'design.json'})")
     folder = _nearest_existing(p, option)
     err = _writable(folder)
     if err is not None:
@@ -283,6 +330,11 @@ def _replace_dir(new: Path, target: Path) -> None:
     _remove(old)
 
 
+def _inside_open(target: Path) -> bool:
+    """``target`` (absolute, resolved) is the temporary folder of an open :func:`output_dir` block, or in one."""
+    return any(target == t or t in target.parents for t in _OPEN.get())
+
+
 def _marker(command: str) -> str:
     return f"{MARKER_PREFIX}{command}.json"
 
@@ -386,6 +438,10 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
     if not re.fullmatch(r"[A-Za-z0-9_-]+", command):
         raise ValueError(f"command must be a plain name, got {command!r}")
     target = check_output_dir(path, option)
+    if _inside_open(target):  # an enclosing block lands the whole tree: write in place
+        target.mkdir(parents=True, exist_ok=True)
+        yield target
+        return
     created = _make_parents(target.parent)
     _remove_orphans(target.parent)
     if target.is_dir():
@@ -394,10 +450,14 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
         tmp = _temp_name(target / "results") if inside else _temp_name(target)
     else:
         tmp = _temp_name(target)
+    token = None
     try:
         os.mkdir(tmp)
+        token = _OPEN.set((*_OPEN.get(), Path(os.path.realpath(tmp))))
         yield tmp
     except BaseException as exc:
+        if token is not None:
+            _OPEN.reset(token)
         _remove(tmp)
         _remove_created(created)
         if isinstance(exc, OSError):
@@ -405,6 +465,7 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
             if err is not None:
                 raise err from exc
         raise
+    _OPEN.reset(token)
     try:
         _commit_dir(tmp, target, command)
     except OSError as exc:

@@ -1,21 +1,22 @@
 """The main job as one function: requirements in, a checked unit and its folder out.
 
-:func:`design_unit` runs the chain of the toolkit in order::
+:func:`design_unit` runs the jobs of :mod:`vvea_design.jobs` in order, each into its part of the unit
+folder::
 
-    requirements -> optimise -> spring curve -> CAD -> bladder check (the
-    requirements' silicone) -> actuator parameters -> the design's actuator
-    study -> report.html
+    requirements -> optimise (design.json) -> spring curve (spring/) -> CAD set (cad/) -> bladder check
+    with the requirements' silicone (bladder/) -> actuator parameters and the design's actuator study
+    (actuator/) -> report.html
 
-and returns a :class:`UnitDesign` (frozen, ``to_dict()`` for JSON). The
-``vvea design`` command only calls it and prints the result.
+and returns a :class:`UnitDesign` (frozen, ``to_dict()`` is ``unit.json``). The folder lands whole or not
+at all. The ``vvea design`` command only calls it and prints the result.
 """
 
 from __future__ import annotations
 
-import csv
+import contextlib
 import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -23,12 +24,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import __version__
-from .actuator.model import Actuator, actuator_from_spring
-from .bladder.check import DEFAULT_ELEMENTS, BladderResult, check_bladder, write_bladder_report
+from .actuator.model import Actuator
+from .bladder.result import BladderResult
+from .jobs.bladder import check_bladder
+from .jobs.cad import build_cad
+from .jobs.common import OptionError, PathLike, check_out, folder, moved, requirements_of
+from .jobs.spring import force_plot_path, optimise, spring_report, write_spring_files
+from .jobs.studies import design_study_settings, run_design_study, target_stiffness
 from .spring.curve import SpringCurve, spring_curve
-from .spring.design_file import save_design
-from .spring.gas_spring import GasSpring
-from .spring.optimise import Infeasible, OptimisationResult, optimise
+from .spring.optimise import Infeasible, OptimisationResult
 from .spring.requirements import Requirements
 
 if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them (`vvea spring` stays light)
@@ -42,49 +46,6 @@ __all__ = ["SpringCurve", "UnitDesign", "design_unit", "spring_curve", "write_sp
 
 #: The steps of :func:`design_unit` in order (the names its ``progress`` callback receives).
 STEPS = ("optimise", "spring", "cad", "bladder", "actuator", "actuator_study", "report")
-
-def write_spring_files(spring: GasSpring, out_dir: str | Path, layout: str | None = None) -> dict[str, Path]:
-    """Write ``spring.csv`` (x, force, stiffness, pressures) and ``spring.png`` into ``out_dir``.
-
-    Parameters
-    ----------
-    spring : GasSpring
-        The gas spring (mm, mm², mm³, MPa).
-    out_dir : path-like
-        Folder (created).
-    layout : str, optional
-        The design's layout, named in the figure's title.
-
-    Returns
-    -------
-    dict of str to Path
-        ``{"csv": ..., "png": ...}``.
-    """
-    from .spring.plots import plot_spring
-
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    x = spring.x_mm(81)
-    F = spring.force_N(x)
-    k = spring.stiffness_N_per_mm(x)
-    P1, P2 = spring.pressures_MPa(x)
-    csv_path = out / "spring.csv"
-    with open(csv_path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
-        for row in zip(x, F, k, P1, P2):
-            w.writerow([f"{v:.6g}" for v in row])
-    png = _save(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0), layout=layout), out / "spring.png")
-    return {"csv": csv_path, "png": png}
-
-
-def _save(fig_or_path, path: Path) -> Path:
-    """Accept a plot function that returns a Figure (new style) or the path it saved (old style)."""
-    if isinstance(fig_or_path, (str, Path)):
-        return Path(fig_or_path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig_or_path.savefig(path, dpi=120, metadata={"Software": "vvea-design"})
-    return path
 
 
 @dataclass(frozen=True)
@@ -137,7 +98,7 @@ class UnitDesign:
             "optimiser": self.optimisation.summary(),
             "spring": {k: v for k, v in self.spring.to_dict().items() if not isinstance(v, list)},
             "bladder": self.bladder.to_dict(),
-            "actuator": _actuator_dict(self.actuator),
+            "actuator": asdict(self.actuator),
             "bom": None if self.bom is None else self.bom.to_dict(),
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
             "actuator_study": None if study is None else {
@@ -157,30 +118,51 @@ class UnitDesign:
 ProgressFn = Callable[[str, int, int], None]
 
 
+class _Steps:
+    """Times each step of :data:`STEPS` and announces it to ``progress(step, index, total)``."""
+
+    def __init__(self, progress: ProgressFn | None):
+        self.progress = progress
+        self.seconds: dict[str, float] = {}
+
+    @contextlib.contextmanager
+    def __call__(self, name: str) -> Iterator[None]:
+        if self.progress is not None:
+            self.progress(name, STEPS.index(name), len(STEPS))
+        t = time.perf_counter()
+        yield
+        self.seconds[name] = time.perf_counter() - t
+
+
 def design_unit(
-    requirements: Requirements,
-    out_dir: str | Path,
+    requirements: Requirements | PathLike | None,
+    out: PathLike,
     *,
     seed: int = 0,
     renders: bool = True,
     cad: bool = True,
     actuator_study: bool = True,
     report: bool = True,
-    bladder_elements: int = DEFAULT_ELEMENTS,
-    study_options: dict[str, Any] | None = None,
-    spec_path: str | Path | None = None,
+    bladder_elements: int | None = None,
+    study_grid: Any = None,
+    study_mesh_n: int | None = None,
+    safety_mesh_n: int | None = None,
+    workers: int | None = None,
+    study_target_K_Nm_per_rad: float | None = None,
+    spec_path: PathLike | None = None,
     progress: ProgressFn | None = None,
 ) -> UnitDesign:
     """Run the main job: optimise the spring, then spring curve, CAD, bladder check, actuator, report.
 
     Parameters
     ----------
-    requirements : Requirements
-        What the unit must meet (mm, MPa, N/mm; ``bladder_material`` names the silicone checked).
-    out_dir : path-like
-        Folder for everything (created): ``design.json``, ``design_force.png``,
-        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``bladder/``, ``actuator/``,
-        ``unit.json``, ``report.html``.
+    requirements : Requirements, path-like or None
+        What the unit must meet (mm, MPa, N/mm; ``bladder_material`` names the silicone checked), a
+        requirements TOML file, or None for the paper's unit.
+    out : path-like
+        Folder for everything, written whole or not at all: ``design.json``, ``design_force.png``,
+        ``spring/``, ``cad/`` (with drawings and ``bom.csv``), ``bladder/``, ``actuator/``, ``unit.json``,
+        ``report.html``.
     seed : int
         Seed of the optimiser's global search (same seed, same design).
     renders : bool
@@ -190,147 +172,147 @@ def design_unit(
         3-D view of the report).
     actuator_study : bool
         Run the design's own actuator study (rest-to-rest against VVEA, SEA, LWR and the torque step,
-        :func:`vvea_design.actuator.design_study.run_design_study`) into ``actuator/``.
+        :func:`vvea_design.jobs.studies.run_design_study`) into ``actuator/``.
     report : bool
         Write ``report.html``.
-    bladder_elements : int
-        Finite elements along the bladder meridian.
-    study_options : dict, optional
-        Keyword arguments of ``run_design_study`` (``grid``, ``mesh``, ``workers``, ...).
+    bladder_elements : int, optional
+        Finite elements along the bladder meridian (None: the check's default).
+    study_grid : Grid, (sequence of float, sequence of float) or str, optional
+        Rest-to-rest amplitudes (rad) and periods (s) of the actuator study (text ``"A1,A2:T1,T2"`` too);
+        None: 4 x 4 cases over the paper's grid.
+    study_mesh_n : int, optional
+        Collocation intervals of each rest-to-rest case of the actuator study (None: 64).
+    safety_mesh_n : int, optional
+        Collocation intervals of the actuator study's torque steps (None: 100, clustered at the step).
+    workers : int, optional
+        Worker processes of the actuator study (None: all cores).
+    study_target_K_Nm_per_rad : float, optional
+        Joint stiffness (N m/rad) at which the actuator study compares the design with an SEA of the same K
+        (None: the paper's 362); the study's second run is at full charge.
     spec_path : path-like, optional
-        Where ``requirements`` came from (recorded as provenance only).
+        Where ``requirements`` came from (recorded as provenance only; a file given as ``requirements``
+        records itself).
     progress : callable, optional
         ``progress(step, index, total)`` before each step of :data:`STEPS`.
 
     Returns
     -------
     UnitDesign
-        The typed result; ``unit.json`` in ``out_dir`` holds its ``to_dict()``.
+        The typed result; ``unit.json`` in ``out`` holds its ``to_dict()``.
 
     Raises
     ------
+    SpecError
+        Requirements that cannot be read or hold a wrong value.
+    OptionError
+        A bad study grid, mesh or stiffness (named ``study_grid``, ``study_mesh_n``, ``safety_mesh_n``,
+        ``study_target_K_Nm_per_rad``), before any work.
+    OutputError
+        ``out`` cannot be written (before any work).
     Infeasible
-        No design meets the requirements (``exc.result`` is the least-violating one).
+        No design meets the requirements (``exc.result`` is the least-violating one); nothing is written.
     """
-    from .spring.plots import plot_spring
+    req, read_from = requirements_of(requirements)
+    spec = spec_path if spec_path is not None else read_from
+    try:
+        design_study_settings(study_grid, study_mesh_n, safety_mesh_n)  # every option checked before any work
+        target_stiffness(study_target_K_Nm_per_rad, "study_target_K_Nm_per_rad")
+    except OptionError as exc:
+        raise exc.renamed({"grid": "study_grid", "mesh_n": "study_mesh_n"}.get(exc.option, exc.option)) from None
+    check_out(out)
+    study = dict(grid=study_grid, mesh_n=study_mesh_n, safety_mesh_n=safety_mesh_n, workers=workers,
+                 target_K_Nm_per_rad=study_target_K_Nm_per_rad)
+    with folder(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
+        unit = _write_unit(req, tmp, seed=seed, renders=renders, cad=cad, study=study if actuator_study else None,
+                           report=report, bladder_elements=bladder_elements,
+                           spec_path=None if spec is None else str(spec), progress=progress)
+    return _relocated(unit, tmp, Path(out))
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    seconds: dict[str, float] = {}
+
+def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: bool, study: dict | None,
+                report: bool, bladder_elements: int | None, spec_path: str | None,
+                progress: ProgressFn | None) -> UnitDesign:
+    """Every step of :func:`design_unit` into ``out``, each through its job."""
+    step = _Steps(progress)
     files: dict[str, Path] = {}
+    with step("optimise"):
+        res = optimise(req, seed=seed, out=out / "design.json")  # raises Infeasible
+        files["design"], files["design_force_png"] = out / "design.json", force_plot_path(out / "design.json")
+    with step("spring"):
+        sp = spring_report(res.design, out=out / "spring")
+        files["spring_csv"], files["spring_png"] = sp.files["csv"], sp.files["png"]
+    cad_set = None
+    with step("cad"):
+        if cad:
+            cad_set = build_cad(res.design, out=out / "cad", renders=renders, silicone=req.bladder_material,
+                                progress=False)
+            files["cad"], files["drawings_pdf"] = out / "cad", cad_set.drawings.pdf
+            files["bom_csv"] = out / "cad" / "bom.csv"
+    with step("bladder"):
+        bl = check_bladder(res.design, material=req.bladder_material, elements=bladder_elements,
+                           out=out / "bladder", progress=False)
+        files["bladder_json"], files["bladder_png"] = bl.path("json"), bl.path("png")  # bladder.json names its folder's files
+    with step("actuator"):
+        act = _write_actuator(res.design.gas_spring, out / "actuator")
+        files["actuator_json"] = out / "actuator" / "actuator.json"
+    ds = None
+    with step("actuator_study"):
+        if study is not None:
+            ds = run_design_study(res.design, out=out / "actuator", **study)
+            files["actuator_study_json"] = Path(ds.files.summary_json)
+    unit = UnitDesign(requirements=req, optimisation=res, spring=sp.curve, bladder=bl.result, actuator=act,
+                      cad_manifest=None if cad_set is None else cad_set.manifest,
+                      bom=None if cad_set is None else cad_set.bom,
+                      drawings=None if cad_set is None else cad_set.drawings, actuator_study=ds, out_dir=out,
+                      files=dict(files), seconds=dict(step.seconds), seed=seed, version=__version__,
+                      spec_path=spec_path)
+    with step("report"):
+        if report:
+            from .report.html import unit_report
 
-    def step(name: str) -> float:
-        if progress is not None:
-            progress(name, STEPS.index(name), len(STEPS))
-        return time.perf_counter()
-
-    # 1. optimise ------------------------------------------------------------
-    t = step("optimise")
-    strain_fn = None
-    if requirements.max_bladder_strain is not None:
-        from functools import partial
-
-        from .bladder.check import strain_bound
-
-        strain_fn = partial(strain_bound, material=requirements.bladder_material)
-    res = optimise(requirements, seed=seed, bladder_strain_fn=strain_fn)  # raises Infeasible
-    files["design"] = save_design(out / "design.json", res.evaluation, requirements, optimiser=res.summary())
-    lin = res.evaluation.linearity_error
-    files["design_force_png"] = _save(
-        plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
-                    title=f"optimised design ({res.layout} layout): linearity {100 * lin:.2f} %"), out / "design_force.png")
-    seconds["optimise"] = time.perf_counter() - t
-
-    # 2. spring curve --------------------------------------------------------
-    t = step("spring")
-    gs = res.design.gas_spring
-    curve = spring_curve(gs)
-    sp = write_spring_files(gs, out / "spring", layout=res.layout)
-    files["spring_csv"], files["spring_png"] = sp["csv"], sp["png"]
-    seconds["spring"] = time.perf_counter() - t
-
-    # 3. CAD -----------------------------------------------------------------
-    t = step("cad")
-    manifest = bom = drawings = None
-    if cad:
-        from .cad import build_cad, write_cad
-        from .report.bom import write_bom
-        from .report.drawing import write_drawings
-
-        model = build_cad(res.design)
-        manifest = write_cad(res.design, out / "cad", renders=renders, show_progress=False, model=model)
-        files["cad"] = out / "cad"
-        drawings = write_drawings(model, out / "cad")
-        files["drawings_pdf"] = Path(drawings.pdf)
-        bom = write_bom(model, out / "cad", requirements.bladder_material)
-        files["bom_csv"] = out / "cad" / "bom.csv"
-    seconds["cad"] = time.perf_counter() - t
-
-    # 4. bladder, with the requirements' silicone ------------------------------
-    t = step("bladder")
-    bl = check_bladder(res.design, requirements.bladder_material, n_elements=bladder_elements)
-    brep = write_bladder_report(res.design, out / "bladder", requirements.bladder_material,
-                                n_elements=bladder_elements, result=bl)  # solved once
-    files["bladder_json"] = brep.path("json")  # bladder.json lists names in its folder
-    files["bladder_png"] = brep.path("png")
-    seconds["bladder"] = time.perf_counter() - t
-
-    # 5. actuator parameters ---------------------------------------------------
-    t = step("actuator")
-    act = actuator_from_spring(gs, name="design")
-    act_dir = out / "actuator"
-    act_dir.mkdir(exist_ok=True)
-    files["actuator_json"] = act_dir / "actuator.json"
-    files["actuator_json"].write_text(json.dumps(
-        {**_actuator_dict(act),
-         "mapping": "K = 2 r^2 k, D = 2 r^2 L(gamma), paper section 3.4 (vvea_design.actuator.model)"},
-        indent=2) + "\n")
-    seconds["actuator"] = time.perf_counter() - t
-
-    # 6. the design's actuator study -------------------------------------------
-    t = step("actuator_study")
-    study = None
-    if actuator_study:
-        from .actuator.design_study import run_design_study
-
-        study = run_design_study(res.design, out_dir=act_dir, **(study_options or {}))
-        files["actuator_study_json"] = Path(study.files.summary_json)
-    seconds["actuator_study"] = time.perf_counter() - t
-
-    unit = UnitDesign(requirements=requirements, optimisation=res, spring=curve, bladder=bl, actuator=act,
-                      cad_manifest=manifest, bom=bom, drawings=drawings, actuator_study=study, out_dir=out, files=dict(files),
-                      seconds=dict(seconds), seed=seed, version=__version__,
-                      spec_path=None if spec_path is None else str(spec_path))
-
-    # 7. report ----------------------------------------------------------------
-    t = step("report")
-    if report:
-        from .report.html import unit_report
-
-        files["report"] = unit_report(unit).write(out / "report.html")
-    seconds["report"] = time.perf_counter() - t
-    unit = replace(unit, files=dict(files), seconds=dict(seconds))
+            files["report"] = unit_report(unit).write(out / "report.html")
     files["unit_json"] = out / "unit.json"
-    unit = replace(unit, files=dict(files))
+    unit = replace(unit, files=dict(files), seconds=dict(step.seconds))
     files["unit_json"].write_text(json.dumps(unit.to_dict(), indent=2, default=_json_default) + "\n")
     return unit
 
 
-def _relative_tree(value: Any, folder: Path) -> Any:
-    """``value`` with every path string inside ``folder`` made relative to it (the folder is moved at the end)."""
+def _write_actuator(spring, folder_: Path) -> Actuator:
+    """``actuator.json``: the joint-level K and D range of the unit (section 3.4 mapping, SI)."""
+    from .actuator.model import actuator_from_spring
+
+    act = actuator_from_spring(spring, name="design")
+    folder_.mkdir(exist_ok=True)
+    (folder_ / "actuator.json").write_text(json.dumps(
+        {**asdict(act), "mapping": "K = 2 r^2 k, D = 2 r^2 L(gamma), paper section 3.4 (vvea_design.actuator.model)"},
+        indent=2) + "\n")
+    return act
+
+
+def _relocated(unit: UnitDesign, old: Path, new: Path) -> UnitDesign:
+    """``unit`` with the paths it holds moved from the temporary folder ``old`` into ``new``."""
+    if old == new:
+        return unit
+    drawings, study = unit.drawings, unit.actuator_study
+    if drawings is not None:
+        drawings = replace(drawings, svg=tuple(moved(Path(p), old, new) for p in drawings.svg),
+                           pdf=moved(Path(drawings.pdf), old, new))
+    if study is not None:
+        study = replace(study, files=type(study.files)(*(None if p is None else moved(Path(p), old, new)
+                                                         for p in asdict(study.files).values())))
+    return replace(unit, out_dir=new, drawings=drawings, actuator_study=study,
+                   files={k: moved(Path(v), old, new) for k, v in unit.files.items()})
+
+
+def _relative_tree(value: Any, folder_: Path) -> Any:
+    """``value`` with every path string inside ``folder_`` made relative to it (the folder is moved at the end)."""
     if isinstance(value, dict):
-        return {k: _relative_tree(v, folder) for k, v in value.items()}
+        return {k: _relative_tree(v, folder_) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_relative_tree(v, folder) for v in value]
-    if isinstance(value, (str, Path)) and str(value).startswith(str(folder) + "/"):
-        return str(Path(value).relative_to(folder))
+        return [_relative_tree(v, folder_) for v in value]
+    if isinstance(value, (str, Path)) and str(value).startswith(str(folder_) + "/"):
+        return str(Path(value).relative_to(folder_))
     return value
-
-
-def _actuator_dict(act: Actuator) -> dict[str, Any]:
-    from dataclasses import asdict
-
-    return asdict(act)
 
 
 def _json_default(v: Any) -> Any:

@@ -515,3 +515,48 @@ def test_study_summary_and_figures_are_replaced_whole_results_kept(tmp_path, mon
     with pytest.raises(KeyboardInterrupt):  # resume: nothing to solve, then the figures are interrupted
         rr.run_rest_to_rest(tmp_path, grid=grid, mesh=mesh, fine_mesh=None, workers=1, progress=False)
     assert tree(tmp_path) == before  # summary.json and best_map.png not replaced alone
+
+
+# ---------------------------------------------------------------------------
+# nested results: a job inside the main job's folder (issue 22)
+# ---------------------------------------------------------------------------
+
+def test_a_folder_inside_an_open_one_is_written_in_place(tmp_path):
+    """design_unit runs each step's job into its own sub-folder of the unit's temporary folder: in place, no
+    temporary and no marker of its own; the unit lands whole with everything in it."""
+    target = tmp_path / "unit"
+    with output_dir(target, "design") as tmp:
+        with output_dir(tmp / "cad", "cad") as inner:
+            assert inner == Path(os.path.realpath(tmp / "cad")) and inner.is_dir()
+            (inner / "part.step").write_text("solid")
+        with output_dir(tmp, "design") as same:  # the open folder itself
+            assert same == Path(os.path.realpath(tmp))
+        assert sorted(os.listdir(tmp)) == ["cad"]  # no temporary, no marker inside
+    assert tree(target) == {".vvea-design.json": b'{\n "command": "design",\n "entries": [\n  "cad"\n ]\n}\n',
+                            "cad/part.step": b"solid"}
+    with output_dir(tmp_path / "alone", "cad") as tmp:  # once the block is closed, a folder is its own again
+        assert tmp != tmp_path / "alone" and ".vvea-tmp-" in tmp.name
+        (tmp / "x").write_text("1")
+    assert visible(tmp_path / "alone") == [".vvea-cad.json", "x"]
+
+
+def test_a_failed_step_inside_an_open_folder_leaves_the_old_unit(tmp_path):
+    target = tmp_path / "unit"
+    with output_dir(target, "design") as tmp:
+        (tmp / "design.json").write_text("old")
+    before = tree(target)
+    with pytest.raises(RuntimeError, match="mould"):
+        with output_dir(target, "design") as tmp:
+            with output_dir(tmp / "cad", "cad") as inner:
+                (inner / "housing.step").write_text("half")
+                raise RuntimeError("the mould does not close")
+    assert tree(target) == before and visible(tmp_path) == ["unit"]
+
+
+def test_a_refused_location_is_named_for_its_option(tmp_path, a_file):
+    with pytest.raises(OutputError) as exc:
+        check_output_dir(a_file, "")
+    assert str(exc.value).startswith(f"{a_file}: is an existing file") and exc.value.path == a_file
+    assert exc.value.named("--out") == f"--out {a_file}: is an existing file, not a folder; give a folder path"
+    failed = OutputError("could not move the results into /x: busy")  # not a refused location: as it is
+    assert failed.named("--out") == str(failed)

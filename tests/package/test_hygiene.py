@@ -259,9 +259,10 @@ FLOORS = {
     "spring": 1, "bladder": 1,
     "cad": 2, "identification": 2, "actuator": 2, "schema": 2, "testing": 2,
     "report": 3,
-    "pipeline": 4,
-    "cli": 5,
-    "__main__": 6,
+    "jobs": 4,  # one function per command, over the wings and the report; the pipeline composes them
+    "pipeline": 5,
+    "cli": 6,
+    "__main__": 7,
 }
 
 
@@ -287,6 +288,147 @@ def test_the_import_graph_has_no_cycle_and_no_upward_import():
     assert not upward, "imports that run upward: " + "; ".join(upward)
     cycle = _cycle(rooms)
     assert cycle is None, "cycle between rooms: " + " -> ".join(cycle)
+
+
+#: What the command line may import from the package: the jobs (their functions, result types and errors), the
+#: main job, messages, outputs and progress; the root only for its version.
+CLI_MAY_IMPORT = ("vvea_design.jobs", "vvea_design.pipeline", "vvea_design.messages", "vvea_design.outputs",
+                  "vvea_design.progress", "vvea_design.cli")
+
+
+def imported_names(source: str, module: str, is_package: bool) -> list[tuple[str, str | None]]:
+    """Every import of the package in ``source``: (module imported from, name or None for ``import m``).
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    module : str
+        Its dotted name, to resolve relative imports.
+    is_package : bool
+        True for an ``__init__.py``.
+
+    Returns
+    -------
+    list of (str, str or None)
+        Top-level, lazy and TYPE_CHECKING imports alike, in source order.
+    """
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    out = []
+    for node in ast.walk(_tree(source)):
+        if isinstance(node, ast.ImportFrom):
+            head = (base[:len(base) - node.level + 1] + ([node.module] if node.module else [])) if node.level \
+                else [node.module or ""]
+            src = ".".join(head)
+            if src.split(".")[0] == "vvea_design":
+                out += [(node.lineno, src, a.name) for a in node.names]
+        elif isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, None) for a in node.names if a.name.split(".")[0] == "vvea_design"]
+    return [(src, name) for _, src, name in sorted(out)]
+
+
+def cli_import_problems(source: str, module: str, is_package: bool) -> list[str]:
+    """The imports of a command-line module that reach past the jobs (see :data:`CLI_MAY_IMPORT`).
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    module : str
+        Its dotted name.
+    is_package : bool
+        True for an ``__init__.py``.
+
+    Returns
+    -------
+    list of str
+        ``"from a import b"`` for every import of another room, or of a name a jobs module does not offer
+        (not in its ``__all__``).
+    """
+    bad = []
+    for src, name in imported_names(source, module, is_package):
+        full = f"{src}.{name}" if name else src
+        if src == "vvea_design" and name == "__version__":
+            continue
+        if src == "vvea_design" and name is not None:  # `from vvea_design import jobs` and the like
+            src, name = full, None
+        if not any(src == ok or src.startswith(ok + ".") for ok in CLI_MAY_IMPORT):
+            bad.append(f"from {src} import {name}" if name else f"import {src}")
+        elif name is not None and src.startswith("vvea_design.jobs.") and name != "*":
+            if name not in getattr(importlib.import_module(src), "__all__", ()):
+                bad.append(f"from {src} import {name} (not in its __all__)")
+    return bad
+
+
+def test_the_command_line_imports_only_jobs_messages_outputs_progress_and_the_main_job():
+    """Issue 22: each command parses, calls one job and prints; it builds nothing from the wings itself."""
+    files = {m: p for m, p in _module_files().items() if _room(m) == "cli"}
+    assert len(files) >= 6
+    bad = {m: found for m, p in files.items() if (found := cli_import_problems(p.read_text(), m, p.name == "__init__.py"))}
+    assert not bad, "the command line reaches past the jobs: " + "; ".join(f"{m}: {', '.join(v)}" for m, v in bad.items())
+
+
+def test_the_cli_import_check_finds_each_form():
+    src = ("from ..jobs.spring import optimise, SpecError\n"  # a job and a re-exported error: allowed
+           "from ..spring.design_file import load_design\n"  # a wing: not allowed
+           "from ..jobs.spring import _write_map\n"  # not offered by the job module
+           "from .. import __version__\n"  # the version: allowed
+           "from ..outputs import OutputError\n"  # allowed
+           "def f():\n    import vvea_design.cad\n    from ..report.html import recorded_text\n")
+    assert cli_import_problems(src, "vvea_design.cli.main", False) == [
+        "from vvea_design.spring.design_file import load_design",
+        "from vvea_design.jobs.spring import _write_map (not in its __all__)",
+        "import vvea_design.cad", "from vvea_design.report.html import recorded_text"]
+
+
+# ------------------------------------------------------------------ size limits
+#: Modules allowed over MAX_MODULE_LINES and functions over MAX_FUNCTION_LINES, each with its reason (none today).
+SIZE_EXCEPTIONS: dict[str, str] = {}
+MAX_MODULE_LINES = 800
+MAX_FUNCTION_LINES = 120
+
+
+def size_problems(source: str, name: str) -> list[str]:
+    """A module over :data:`MAX_MODULE_LINES` lines and its functions over :data:`MAX_FUNCTION_LINES` lines.
+
+    Parameters
+    ----------
+    source : str
+        Python source of the module.
+    name : str
+        Its path (relative to the repository), which names the module and prefixes each function.
+
+    Returns
+    -------
+    list of str
+        ``"<path>: N lines"`` and ``"<path>:<function>: N lines"`` (methods and nested functions included),
+        leaving out those in :data:`SIZE_EXCEPTIONS`.
+    """
+    out = []
+    lines = len(source.splitlines())
+    if lines > MAX_MODULE_LINES and name not in SIZE_EXCEPTIONS:
+        out.append(f"{name}: {lines} lines")
+    for node in ast.walk(_tree(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            n = node.end_lineno - node.lineno + 1
+            key = f"{name}:{node.name}"
+            if n > MAX_FUNCTION_LINES and key not in SIZE_EXCEPTIONS:
+                out.append(f"{key}: {n} lines")
+    return out
+
+
+def test_no_module_over_800_lines_and_no_function_over_120():
+    found = [p for path in sorted((ROOT / "vvea_design").rglob("*.py"))
+             for p in size_problems(path.read_text(), str(path.relative_to(ROOT)))]
+    assert not found, "over the size limits (split them, or list them in SIZE_EXCEPTIONS with the reason): " + \
+        "; ".join(found)
+
+
+def test_the_size_check_finds_a_long_module_and_function():
+    body = "\n".join(f"    x{i} = {i}" for i in range(121))
+    src = f"def long():\n{body}\n" + "y = 1\n" * 700
+    assert size_problems(src, "m.py") == ["m.py: 822 lines", "m.py:long: 122 lines"]
+    assert size_problems("def short():\n    return 1\n", "m.py") == []
 
 
 def test_the_import_graph_sees_type_checking_and_lazy_imports():

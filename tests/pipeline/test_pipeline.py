@@ -2,6 +2,7 @@
 
 import json
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,6 +147,45 @@ def test_design_streams_results_to_stdout_and_progress_to_stderr(ecoflex_run):
     assert "constraints (margin > 0 = satisfied)" in res.stdout
     assert "[1/7] optimise" in res.stderr and "done" in res.stderr
     assert "[1/7]" not in res.stdout
+
+
+@pytest.mark.xdist_group("design_run")
+def test_design_unit_from_python_is_the_command(ecoflex_run, tmp_path):
+    """`vd.design_unit` with the command's options writes the unit `vvea design` wrote, and prints the same numbers
+    (issue 22 item 3; the other commands' twins are in test_jobs.py)."""
+    import io
+
+    import pandas as pd
+
+    import vvea_design as vd
+
+    res, out, spec = ecoflex_run
+    assert res.exit_code == 0, res.output
+    unit = vd.design_unit(spec, tmp_path / "unit", renders=False, study_grid="0.3:0.6", study_mesh_n=24,
+                          safety_mesh_n=30, workers=1)
+    mine = tmp_path / "unit"
+
+    def untimed(v):
+        if isinstance(v, dict):
+            return {k: untimed(x) for k, x in v.items() if k not in ("seconds", "evaluations_per_second", "timing",
+                                                                       "wall_seconds", "cpu_seconds")}
+        return [untimed(x) for x in v] if isinstance(v, list) else v
+
+    for rel in ("design.json", "unit.json", "actuator/design_study.json", "bladder/bladder.json"):
+        assert untimed(json.loads((mine / rel).read_text())) == untimed(json.loads((out / rel).read_text())), rel
+    for rel in ("spring/spring.csv", "cad/bom.csv", "cad/manifest.json", "actuator/actuator.json",
+                *(str(p.relative_to(out)) for p in (out / "cad").glob("*.step"))):
+        assert (mine / rel).read_bytes() == (out / rel).read_bytes(), rel
+    results = [pd.read_csv(io.BytesIO((d / "actuator" / "results.csv").read_bytes())).drop(columns=["seconds", "cpu_seconds"])
+               for d in (mine, out)]
+    pd.testing.assert_frame_equal(*results)
+    assert f"K = {unit.actuator.K_Nm_per_rad:.1f} N m/rad" in res.stdout
+    assert f"strain bound {100 * unit.bladder.strain_bound:.2f} %" in res.stdout
+    # the result names the folder it landed in, not the temporary one it was written in
+    assert unit.out_dir == mine and unit.files["design"] == mine / "design.json"
+    assert all(Path(p).is_file() for k, p in unit.files.items() if k != "cad")
+    assert unit.drawings.pdf.is_file() and unit.actuator_study.files.results_csv.is_file()
+    assert not [p for p in tmp_path.iterdir() if "vvea-tmp" in p.name]
 
 
 def test_spring_curve_matches_the_gas_law_by_hand():

@@ -17,7 +17,8 @@ from .model import PAPER_SETTINGS, Actuator
 from .multistart import _pick_label
 from .ocp import Mesh, OcpResult, PAPER_TABLE6, TorqueStepSolver, TorqueStepWeights
 
-__all__ = ["PAPER_SAFETY", "TorqueStepCase", "SafetyStudy", "solve_safety", "run_safety", "SAFETY_MESH"]
+__all__ = ["PAPER_SAFETY", "TorqueStepCase", "SafetyStudy", "solve_safety", "run_safety", "SAFETY_MESH",
+           "PAPER_LINK_INERTIA_KGM2", "PAPER_TAU_REF_NM", "PAPER_FIXED_D_NMS_PER_RAD"]
 
 
 #: What the paper states about Fig. 14.
@@ -31,6 +32,12 @@ PAPER_SAFETY = {
 
 #: Mesh of the safety study: 200 Radau intervals clustered towards both ends of the 0.5 s horizon.
 SAFETY_MESH = Mesh(200, 3, grading=0.8)
+#: Link inertia of the paper's torque step (kg m²): an almost fixed link.
+PAPER_LINK_INERTIA_KGM2 = 1e4
+#: Height of the paper's torque step (N m).
+PAPER_TAU_REF_NM = 50.0
+#: The constant dampings the paper compares variable damping with (N m s/rad; Fig. 14).
+PAPER_FIXED_D_NMS_PER_RAD = (31.0, 200.0)
 
 # -- per-process solver cache: building the two parametric torque-step NLPs takes ~0.6 s, a solve ~0.5 s
 _SOLVERS: dict[Mesh, TorqueStepSolver] = {}
@@ -171,9 +178,9 @@ class SafetyStudy:
 def solve_safety(
     base: Actuator = PAPER_SETTINGS["VVEA"],
     *,
-    M_kgm2: float = 1e4,
-    tau_ref_Nm: float = 50.0,
-    fixed_D_Nms_per_rad: Sequence[float] = (31.0, 200.0),
+    M_kgm2: float = PAPER_LINK_INERTIA_KGM2,
+    tau_ref_Nm: float = PAPER_TAU_REF_NM,
+    fixed_D_Nms_per_rad: Sequence[float] = PAPER_FIXED_D_NMS_PER_RAD,
     weights: TorqueStepWeights = PAPER_TABLE6,
     mesh: Mesh = SAFETY_MESH,
     solver: TorqueStepSolver | None = None,
@@ -270,9 +277,9 @@ def run_safety(
     out_dir: str | Path,
     *,
     base: Actuator = PAPER_SETTINGS["VVEA"],
-    M_kgm2: float = 1e4,
-    tau_ref_Nm: float = 50.0,
-    fixed_D_Nms_per_rad: Sequence[float] = (31.0, 200.0),
+    M_kgm2: float = PAPER_LINK_INERTIA_KGM2,
+    tau_ref_Nm: float = PAPER_TAU_REF_NM,
+    fixed_D_Nms_per_rad: Sequence[float] = PAPER_FIXED_D_NMS_PER_RAD,
     weights: TorqueStepWeights = PAPER_TABLE6,
     mesh: Mesh = SAFETY_MESH,
     figures: bool = True,

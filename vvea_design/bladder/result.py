@@ -144,7 +144,7 @@ class BladderReport:
     (:func:`~vvea_design.bladder.check.write_bladder_report`)."""
 
     result: BladderResult  #: the check written
-    out_dir: Path  #: the folder written into
+    out_dir: Path | None  #: the folder written into (None: nothing written)
     files: Mapping[str, str]  #: by role (``json``, ``csv``, ``png``): file name in ``out_dir``
 
     def path(self, role: str) -> Path:

@@ -143,7 +143,7 @@ def _base_tools(lay: Layout) -> list[Solid]:
 
 def cross_slots(lay: Layout, r_in: float, r_out: float, above: float = 0.0) -> list[Solid]:
     """The ``annulus_top`` layout's slots through the inner tube's top end: ``cad.cross_slots`` annular
-    sectors ``r_in .. r_out``, from ``slot_height`` below the top cap's underside to ``above`` over it, mm."""
+    sectors from ``r_in`` to ``r_out``, from ``slot_height`` below the top cap's underside to ``above`` over it, mm."""
     z1 = lay.z_cap
     out = []
     for k in range(lay.cad.cross_slots):

@@ -1,6 +1,7 @@
-"""``vvea bladder design.json --out DIR``: the bladder strain check (thin layer over :mod:`vvea_design.bladder.check`).
+"""``vvea bladder design.json --out DIR``: the bladder strain check (the job
+:func:`vvea_design.jobs.bladder.check_bladder`).
 
-Wire it in with ``register(app)``; ``vvea design`` runs the same step through
+Wire it in with ``register(app)``; ``vvea design`` runs the same job through
 :func:`vvea_design.pipeline.design_unit`.
 """
 
@@ -56,33 +57,20 @@ def print_bladder(d: dict) -> None:
 def bladder(
     design_json: Path = typer.Argument(..., help="design JSON (from `vvea optimise` / `vvea design`)"),
     out: Path = typer.Option(Path("bladder_out"), "--out", "-o", help="folder for bladder.json, CSV and PNG"),
-    material: str = typer.Option("dragon-skin-20", "--material", "-m", help="casting silicone key"),
+    material: Optional[str] = typer.Option(None, "--material", "-m", help="casting silicone key (default: dragon-skin-20)"),
     criterion: Optional[str] = typer.Option(None, "--criterion", "-c",
                                             help="allowable-strain criterion: cyclic (default) | static"),
     allowable: Optional[float] = typer.Option(None, "--allowable", help="allowable strain as a fraction (overrides --criterion)"),
-    elements: int = typer.Option(96, "--elements", help="finite elements along the meridian"),
+    elements: Optional[int] = typer.Option(None, "--elements", help="finite elements along the meridian (default 96)"),
 ) -> None:
     """Bladder check: FE membrane strain at both stroke ends, clamp bending bound, radial room."""
-    from ..bladder.check import BladderError, write_bladder_report
-    from .common import fail, load_design_or_exit
-    from .outputs import check_out, out_dir
+    from ..jobs.bladder import BladderError, DesignFileError, check_bladder
     from ..progress import console
-    from ..materials.silicones import CRITERIA, SILICONES
+    from .common import job_errors
 
-    if material not in SILICONES:
-        fail(f"unknown --material {material!r}; known: {', '.join(sorted(SILICONES))}")
-    if criterion is not None and criterion not in CRITERIA:
-        fail(f"unknown --criterion {criterion!r}; known: {', '.join(sorted(CRITERIA))}")
-    if elements < 8:
-        fail(f"--elements must be >= 8, got {elements}")
-    check_out(out)
-    design = load_design_or_exit(design_json)
-    try:
-        with console.status("solving the bladder membrane at both stroke ends"), out_dir(out, "bladder") as tmp:
-            report = write_bladder_report(design, tmp, material, allowable if allowable is not None else criterion,
-                                          n_elements=elements)
-    except BladderError as exc:
-        fail(str(exc))
+    with job_errors(errors=(DesignFileError, BladderError)):
+        report = check_bladder(design_json, material=material, criterion=criterion, allowable=allowable,
+                               elements=elements, out=out)
     print_bladder(report.to_dict())
     console.print(f"wrote {', '.join(str(out / f) for f in report.files.values())}")
 

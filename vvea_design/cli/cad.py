@@ -1,12 +1,13 @@
-"""``vvea cad design.json --out DIR``: the CAD set (thin layer over :mod:`vvea_design.cad`).
+"""``vvea cad design.json --out DIR``: the CAD set (the job :func:`vvea_design.jobs.cad.build_cad`).
 
-Wire it in with ``register(app)``; ``vvea design`` runs the same step through
+Wire it in with ``register(app)``; ``vvea design`` runs the same job through
 :func:`vvea_design.pipeline.design_unit`.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Optional
 
 import typer
 
@@ -51,36 +52,29 @@ def cad(
     renders: bool = typer.Option(True, "--renders/--no-renders", help="write the off-screen PNG renders"),
     drawings: bool = typer.Option(True, "--drawings/--no-drawings",
                                   help="write the dimensioned drawings (SVG per sheet, drawings.pdf) and bom.csv"),
-    silicone: str = typer.Option("dragon-skin-20", "--silicone", help="bladder casting silicone for the bill of materials"),
+    silicone: Optional[str] = typer.Option(None, "--silicone", help="bladder casting silicone for the bill of materials "
+                                                                   "(default: the bladder check's, dragon-skin-20)"),
 ) -> None:
     """CAD: housing, piston, bladder, support ring, bladder mould and gas domains as STEP/STL/GLB, checked;
     dimensioned drawings and the bill of materials."""
-    from ..materials.silicones import SILICONES
-    from .common import fail, load_design_or_exit
-    from .outputs import check_out, out_dir
+    from ..jobs.cad import DesignFileError, build_cad
     from ..progress import console
-
-    check_out(out)  # before the CAD kernel is even imported (seconds)
-    if silicone not in SILICONES:
-        fail(f"unknown --silicone {silicone!r}; known: {', '.join(sorted(SILICONES))}")
-    design = load_design_or_exit(design_json)
-    from ..cad import CadError, build_cad, write_cad
+    from .common import fail, job_errors
 
     try:
-        model = build_cad(design)
-        with out_dir(out, "cad") as tmp:  # the CAD set, drawings and BOM land whole, or the old ones stay
-            manifest = write_cad(design, tmp, renders=renders, model=model)
-            if drawings:
-                from ..report.bom import write_bom
-                from ..report.drawing import write_drawings
+        with job_errors(errors=(DesignFileError,)):
+            cad_set = build_cad(design_json, out=out, renders=renders, drawings=drawings, silicone=silicone)
+    except Exception as exc:
+        from ..jobs.cad import CadError  # the CAD kernel is loaded by now (the job ran)
 
-                ds = write_drawings(model, tmp)
-                bom = write_bom(model, tmp, silicone)
-    except CadError as exc:
+        if not isinstance(exc, CadError):
+            raise
         fail(f"{design_json}: {exc}")
+    manifest = cad_set.manifest
     print_manifest(manifest.to_dict())
     console.print(f"wrote {len(manifest.files)} files and manifest.json to {out}/")
     if drawings:
+        ds, bom = cad_set.drawings, cad_set.bom
         console.print(f"drawings: {len(ds.sheets)} sheets ({', '.join(ds.sheets)}) as SVG and {ds.pdf.name}; "
                       f"bom.csv: {len(bom.lines)} lines, unit mass {bom.unit_mass_g:.1f} g, "
                       f"silicone to mix {bom.silicone_to_mix_g:.1f} g ({bom.silicone})")

@@ -1,15 +1,18 @@
-"""What every `vvea` command module shares: failing with a clear message, loading a design."""
+"""What every `vvea` command module shares: failing with a clear message, turning a job's errors into exits."""
 
 from __future__ import annotations
 
-from pathlib import Path
+import contextlib
+from collections.abc import Iterator, Mapping
 from typing import NoReturn
 
 import typer
 
+from ..jobs.common import OptionError
+from ..outputs import OutputError
 from ..progress import print_error
 
-__all__ = ["fail", "load_design_or_exit"]
+__all__ = ["fail", "job_errors", "flag"]
 
 
 def fail(msg: str, code: int = 2) -> NoReturn:
@@ -31,22 +34,54 @@ def fail(msg: str, code: int = 2) -> NoReturn:
     raise typer.Exit(code)
 
 
-def load_design_or_exit(path: Path):
-    """The frozen design of a design JSON; a bad file exits 2 with the loader's message (it names the file).
+def flag(option: str, flags: Mapping[str, str] | None = None) -> str:
+    """The command-line flag of a job's option: ``flags[option]``, else ``--`` and the option with dashes.
 
     Parameters
     ----------
-    path : Path
-        Design JSON (``vvea optimise`` / ``vvea design`` output).
+    option : str
+        The job's keyword (``"max_linearity"``).
+    flags : mapping, optional
+        Keywords whose flag is spelt otherwise (``{"p2_MPa": "--p2"}``).
 
     Returns
     -------
-    vvea_design.spring.design.Design
-        The frozen design (mm, mm³, MPa).
+    str
+        The flag (``"--max-linearity"``).
     """
-    from ..spring.design_file import DesignFileError, load_design
+    return (flags or {}).get(option) or "--" + option.replace("_", "-")
 
+
+@contextlib.contextmanager
+def job_errors(flags: Mapping[str, str] | None = None, *, bad_parameter: bool = False,
+               errors: tuple[type[BaseException], ...] = ()) -> Iterator[None]:
+    """Run a job: a bad output location or option, or one of ``errors``, exits 2 with its message.
+
+    Parameters
+    ----------
+    flags : mapping, optional
+        Job keywords whose flag is not ``--`` plus the keyword with dashes.
+    bad_parameter : bool
+        Report a bad option as typer does (``Invalid value: ...``, exit 2) instead of ``error: ...``.
+    errors : tuple of exception types
+        The job's input errors (a design or requirements file, recordings) shown as they read (as typer's
+        ``Invalid value`` with ``bad_parameter``).
+
+    Returns
+    -------
+    Iterator[None]
+        (a context manager) around the job call.
+    """
     try:
-        return load_design(path)
-    except DesignFileError as exc:
+        yield
+    except OutputError as exc:
+        fail(exc.named("--out"))
+    except OptionError as exc:
+        msg = exc.named(flag(exc.option, flags))
+        if bad_parameter:
+            raise typer.BadParameter(msg) from None
+        fail(msg)
+    except errors as exc:
+        if bad_parameter:
+            raise typer.BadParameter(str(exc)) from exc
         fail(str(exc))

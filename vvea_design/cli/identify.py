@@ -1,4 +1,5 @@
-"""``vvea identify`` and ``vvea diagnose``: thin commands over the library.
+"""``vvea identify`` and ``vvea diagnose``: the jobs :func:`vvea_design.jobs.identification.identify` and
+:func:`~vvea_design.jobs.identification.diagnose`, their results printed.
 
 The lead wires them into the main app with ``register(app)``.
 """
@@ -10,44 +11,11 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from .common import fail
-from .outputs import check_out, out_dir
-from ..progress import console, progress_bar
+from .common import job_errors
+from ..progress import console
 from ..progress import out as stdout
 
 __all__ = ["register"]
-
-
-def _read(file: Path):
-    from ..identification.recordings import RecordingsError, read_recordings
-
-    try:
-        with progress_bar(f"reading {file.name} (velocity from the motion profile)", total=None):
-            return read_recordings(file)
-    except RecordingsError as exc:
-        fail(str(exc))
-
-
-def _reference(design: Path | None):
-    """The unit's gas spring from ``--design``, or the paper's Fig. 5 unit (said on stdout)."""
-    from ..identification.fit_data import REFERENCE_NOTE
-    from ..spring.design_file import DesignFileError, spring_from_json
-    from ..spring.paper import PAPER_FIG5
-
-    if design is None:
-        typer.echo(f"note: {REFERENCE_NOTE}", err=True)
-        return PAPER_FIG5
-    try:
-        ref = spring_from_json(design)
-    except DesignFileError as exc:
-        fail(str(exc))
-    typer.echo(
-        f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, "
-        f"V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm",
-        err=True,
-    )
-    return ref
-
 
 _DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 and travel shape the gas terms); default: the paper's Fig. 5 unit"
 
@@ -58,13 +26,10 @@ def identify_cmd(
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
-    from ..identification.identify import PAPER_ERROR_BAND_PCT, write_identification
+    from ..jobs.identification import DesignFileError, RecordingsError, identify
 
-    check_out(out)
-    _reference(design)  # eq. 14 has no gas-law term: the unit is named so the user knows which one is assumed
-    rec = _read(file)
-    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None), out_dir(out, "identify") as tmp:
-        summary = write_identification(rec, tmp).to_dict()
+    with job_errors(errors=(DesignFileError, RecordingsError)):
+        summary = identify(file, design=design, out=out).to_dict()
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
     for c in ("Parameter", "Unit", "Value", "± s.e.", "Paper"):
         t.add_column(c, justify="right" if c not in ("Parameter", "Unit") else "left")
@@ -74,10 +39,10 @@ def identify_cmd(
         t.add_row(name, p["unit"], f"{p['value']:.2f}", se, paper)
     typer.echo("")
     stdout.print(t)
-    band = summary["error_band_pct"]["ours"]
+    band, paper_band = summary["error_band_pct"]["ours"], summary["error_band_pct"]["paper"]
     typer.echo(
         f"RMS error {summary['rmse_N']:.1f} N; error band {band[0]:+.1f} % ... {band[1]:+.1f} % of nominal force "
-        f"(paper: {PAPER_ERROR_BAND_PCT[0]:+.1f} % ... {PAPER_ERROR_BAND_PCT[1]:+.1f} %)."
+        f"(paper: {paper_band[0]:+.1f} % ... {paper_band[1]:+.1f} %)."
     )
     typer.echo(
         f"{summary['rows_read']} rows read, {summary['rows_left_out']} left out ({summary['rows_left_out_reason']}); "
@@ -96,36 +61,15 @@ def diagnose_cmd(
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
-    from ..identification.diagnose import DiagnoseSettings, diagnose, format_summary, write_diagnosis
+    from ..jobs.identification import DesignFileError, RecordingsError, diagnose
 
     import matplotlib
 
     matplotlib.use("Agg")  # the command draws into files
-    check_out(out)
-    reference = _reference(design)
-    rec = _read(file)
-    msgs = []
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
-    with Progress(SpinnerColumn(), TextColumn("[bold]{task.description}"), TimeElapsedColumn(), console=console) as prog:
-        task = prog.add_task("diagnosing", total=None)
-
-        def say(msg: str) -> None:
-            msgs.append(msg)
-            prog.update(task, description=f"diagnosing: {msg}")
-
-        diag = diagnose(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
-    summary_text = format_summary(diag.report)
-    from ..report.html import write_folder_report
-
-    with out_dir(out, "diagnose") as tmp:  # the report and its figures land together
-        files = write_diagnosis(diag, tmp)
-        report = write_folder_report(f"vvea diagnose: {file.name}", tmp, summary_text=summary_text,
-                                     data=diag.report.to_dict(), label=str(out),
-                                     provenance={"recordings": file, "design": design, "seed": seed,
-                                                 "learner": learner})
-    typer.echo(summary_text)
-    console.print(f"wrote {', '.join(files)}, {report.name} to {out} ({diag.report.runtime_s:.1f} s)")
+    with job_errors(errors=(DesignFileError, RecordingsError)):
+        run = diagnose(file, design=design, seed=seed, learner=learner, out=out)
+    typer.echo(run.summary_text)
+    console.print(f"wrote {', '.join(run.files)} to {out} ({run.report.runtime_s:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:

@@ -1,14 +1,14 @@
-"""The `vvea` command line: a thin layer over the library.
+"""The `vvea` command line: each command parses its options, calls one job and prints its result.
 
 Spring side (this module): ``optimise``, ``spring``, ``check``, ``pareto``,
-``map`` and ``design`` (the main job, :func:`vvea_design.pipeline.design_unit`).
-Other topics register their commands from their own modules (``cli/*.py``).
-Results and tables go to stdout, progress and logs to stderr.
+``map`` (the jobs of :mod:`vvea_design.jobs.spring`) and ``design`` (the main
+job, :func:`vvea_design.pipeline.design_unit`). Other topics register their
+commands from their own modules (``cli/*.py``). Results and tables go to
+stdout, progress and logs to stderr.
 """
 
 from __future__ import annotations
 
-import csv
 import sys
 from pathlib import Path
 from typing import Optional
@@ -17,8 +17,8 @@ import typer
 from rich.table import Table
 
 from .common import fail as _fail
-from .common import load_design_or_exit
-from .outputs import check_out, out_dir, out_files
+from .common import job_errors
+from .outputs import check_out, out_dir
 from ..messages import show_margin
 from ..progress import console
 from ..progress import out as stdout
@@ -80,44 +80,14 @@ def _print_evaluation(ev, title: str) -> None:
     stdout.print(c)
 
 
-def _optimise_to(spec: Optional[Path], seed: int, out: Path):
-    from ..spring.design_file import save_design
-    from ..spring.optimise import Infeasible, NoBuildableDesign, optimise
-    from ..spring.plots import plot_spring, save_figure
-    from ..spring.requirements import SpecError, load_requirements
+def _infeasible(exc, spec: Optional[Path]) -> None:
+    """Exit 3 for requirements no design meets: the least-violating design's table, then why."""
+    from ..jobs.spring import Infeasible
 
-    png = out.with_name(out.stem + "_force.png")
-    check_out(out, "file")
-    check_out(png, "file")
-    try:
-        req = load_requirements(spec)
-    except SpecError as exc:
-        _fail(str(exc))
-    strain_fn = None
-    if req.max_bladder_strain is not None:
-        from functools import partial
-
-        from ..bladder.check import strain_bound
-
-        strain_fn = partial(strain_bound, material=req.bladder_material)
-    try:
-        res = optimise(req, seed=seed, bladder_strain_fn=strain_fn)
-    except Infeasible as exc:
+    if isinstance(exc, Infeasible):
         _print_evaluation(exc.result.evaluation, "least-violating design")
         _fail(str(exc), code=3)
-    except NoBuildableDesign as exc:
-        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
-    with out_files(out, png) as (tmp_json, tmp_png):  # both files whole, or neither
-        save_design(tmp_json, res.evaluation, req, optimiser=res.summary())
-        save_figure(plot_spring(res.design.gas_spring, extra_charges_MPa=(1.0, 2.0),
-                                title=f"optimised design ({res.layout} layout): linearity "
-                                      f"{100 * res.evaluation.linearity_error:.2f} %"),
-                    tmp_png)
-    _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
-    console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
-                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
-    console.print(f"wrote {out} and {png}")
-    return res, req
+    _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # NoBuildableDesign
 
 
 @app.command()
@@ -127,7 +97,18 @@ def optimise(
     seed: int = typer.Option(0, "--seed", help="seed of the global search (same seed, same design)"),
 ) -> None:
     """Find the most linear spring that meets the requirements; write design.json and its force plot."""
-    _optimise_to(spec, seed, out)
+    from ..jobs.spring import Infeasible, NoBuildableDesign, SpecError, force_plot_path
+    from ..jobs.spring import optimise as optimise_job
+
+    try:
+        with job_errors(errors=(SpecError,)):
+            res = optimise_job(spec, seed=seed, out=out)
+    except (Infeasible, NoBuildableDesign) as exc:
+        _infeasible(exc, spec)
+    _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
+    console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
+                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
+    console.print(f"wrote {out} and {force_plot_path(out)}")
 
 
 @app.command()
@@ -137,26 +118,16 @@ def spring(
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
 ) -> None:
     """Force curve, stiffness and linearity of a design (from its parameters alone)."""
-    from ..pipeline import write_spring_files
-    from ..spring.design_file import DesignFileError, spring_from_json
+    from ..jobs.spring import DesignFileError, spring_report
 
-    check_out(out or design.parent)
-    try:
-        gs = spring_from_json(design)
-    except DesignFileError as exc:
-        _fail(str(exc))
-    if p2 is not None:
-        if p2 <= 0:
-            _fail(f"--p2 must be > 0 MPa, got {p2}")
-        gs = gs.with_pressures(p2)
-    out = out or design.parent
-    with out_dir(out, "spring") as tmp:
-        files = {k: out / Path(v).name for k, v in write_spring_files(gs, tmp).items()}
-    stdout.print(f"linearity error {100 * gs.linearity_error():.3f} % (n = {gs.n_polytropic:g}; "
-                 f"{100 * gs.with_polytropic(1.4).linearity_error():.3f} % at n = 1.4), mean stiffness "
-                 f"{gs.mean_stiffness_N_per_mm():.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
-                 f"F({gs.travel_mm:g}) = {float(gs.force_N(gs.travel_mm)):.1f} N")
-    console.print(f"wrote {files['csv']} and {files['png']}")
+    with job_errors({"p2_MPa": "--p2"}, errors=(DesignFileError,)):
+        rep = spring_report(design, p2_MPa=p2, out=out or design.parent)
+    gs = rep.spring
+    stdout.print(f"linearity error {100 * rep.linearity_error:.3f} % (n = {gs.n_polytropic:g}; "
+                 f"{100 * rep.linearity_error_adiabatic:.3f} % at n = 1.4), mean stiffness "
+                 f"{rep.mean_stiffness_N_per_mm:.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
+                 f"F({gs.travel_mm:g}) = {rep.force_at_travel_N:.1f} N")
+    console.print(f"wrote {rep.files['csv']} and {rep.files['png']}")
 
 
 @app.command()
@@ -165,20 +136,15 @@ def check(
     max_linearity: float = typer.Option(..., "--max-linearity", help="largest acceptable linearity error (fraction, 0.015 = 1.5 %)"),
 ) -> None:
     """Fail (exit 1) when a design's linearity error exceeds the limit: a regression gate."""
-    from ..spring.design_file import DesignFileError
-    from ..testing import LinearityRegression, check_linearity
+    from ..jobs.spring import DesignFileError, check_design
 
-    if not 0 < max_linearity < 1:
-        _fail(f"--max-linearity is a fraction in (0, 1), got {max_linearity}")
-    try:
-        lin = check_linearity(design, max_linearity)
-    except DesignFileError as exc:
-        _fail(str(exc))
-    except LinearityRegression as exc:
+    with job_errors(errors=(DesignFileError,)):
+        res = check_design(design, max_linearity)
+    if not res.passes:
         stdout.print("[bold red]FAIL[/]", end=" ")
-        stdout.print(str(exc), markup=False, highlight=False, soft_wrap=True)
+        stdout.print(res.message, markup=False, highlight=False, soft_wrap=True)
         raise typer.Exit(1)
-    stdout.print(f"[green]OK[/] {design}: linearity error {100 * lin:.3f} % <= {100 * max_linearity:.3f} %")
+    stdout.print(f"[green]OK[/] {design}: linearity error {100 * res.linearity_error:.3f} % <= {100 * max_linearity:.3f} %")
 
 
 @app.command()
@@ -191,30 +157,18 @@ def pareto(
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address (tcp://host:port)"),
 ) -> None:
     """Pareto front: best linearity against stiffness, outer diameter or mass (CSV + PNG)."""
-    from ..spring.studies import PARETO_AXES, pareto_front, save_pareto
-    from ..spring.requirements import SpecError, load_requirements
+    from ..jobs.spring import SpecError, pareto_front
 
-    if axis not in PARETO_AXES:
-        _fail(f"--axis must be one of {sorted(PARETO_AXES)}, got {axis!r}")
     try:
         vals = [float(v) for v in values.split(",") if v.strip()]
     except ValueError:
         _fail(f"--values must be comma-separated numbers, got {values!r}")
-    if not vals:
-        _fail("--values is empty")
-    check_out(out)
-    try:
-        req = load_requirements(spec)
-    except SpecError as exc:
-        _fail(str(exc))
-    rows = pareto_front(req, axis, vals, seed=seed, scheduler=scheduler)
-    with out_dir(out, "pareto") as tmp:
-        csv_path, png = (out / Path(f).name for f in save_pareto(rows, axis, tmp))
-    field = PARETO_AXES[axis][0]
-    for r in rows:
-        lin = f"{100 * r['linearity_error']:.3f} %" if r.get("feasible") else "infeasible"
-        stdout.print(f"{field} = {r[field]:g}: {lin}")
-    console.print(f"wrote {csv_path} and {png}")
+    with job_errors(errors=(SpecError,)):
+        front = pareto_front(axis, vals, requirements=spec, seed=seed, scheduler=scheduler, out=out)
+    for p in front.points:
+        lin = f"{100 * p.linearity_error:.3f} %" if p.feasible else "infeasible"
+        stdout.print(f"{front.swept} = {p.value:g}: {lin}")
+    console.print(f"wrote {front.files['csv']} and {front.files['png']}")
 
 
 @app.command("map")
@@ -226,29 +180,10 @@ def map_(
     out: Path = typer.Option(Path("map"), "--out", "-o", help="output folder"),
 ) -> None:
     """2-D map of linearity over any two design variables, infeasible region marked."""
-    import numpy as np
+    from ..jobs.spring import linearity_map
 
-    from ..spring.design_file import DesignFileError, load_requirements_from_design
-    from ..spring.studies import linearity_map
-    from ..spring.plots import plot_linearity_map, save_figure
-
-    check_out(out)
-    try:
-        d = load_design_or_exit(design)
-        req = load_requirements_from_design(design)
-        m = linearity_map(d, req, x, y, n=n)
-    except (DesignFileError, ValueError) as exc:
-        _fail(str(exc))
-    with out_dir(out, "map") as tmp:
-        save_figure(plot_linearity_map(m, optimum=(getattr(d, x), getattr(d, y))), tmp / f"map_{x}_{y}.png")
-        with open(tmp / f"map_{x}_{y}.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow([x, y, "linearity_error", "feasible", "most_violated"])
-            for iy, yv in enumerate(m["y"]):
-                for ix, xv in enumerate(m["x"]):
-                    lin = m["linearity"][iy, ix]
-                    w.writerow([f"{xv:.6g}", f"{yv:.6g}", "" if np.isnan(lin) else f"{lin:.6g}",
-                                int(m["feasible"][iy, ix]), m["worst"][iy, ix]])
+    with job_errors(errors=(ValueError,)):  # a bad design file, or a variable of another layout
+        linearity_map(design, x=x, y=y, n=n, out=out)
     console.print(f"wrote {out / f'map_{x}_{y}.png'} and .csv")
 
 
@@ -277,55 +212,22 @@ def design(
                                                         "compares the design with an SEA (default the paper's 362)"),
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
+    from ..jobs.spring import Infeasible, NoBuildableDesign, SpecError
+    from ..jobs.studies import design_study_lines
     from ..pipeline import STEPS, design_unit
-    from ..spring.optimise import Infeasible, NoBuildableDesign
-    from ..spring.requirements import SpecError, load_requirements
-
-    check_out(out)
-    try:
-        req = load_requirements(spec)
-    except SpecError as exc:
-        _fail(str(exc))
-
-    study_options: dict = {"workers": workers}
-    if study_target_k is not None:
-        if not (study_target_k > 0 and study_target_k < float("inf")):
-            _fail(f"--study-target-k must be a positive stiffness in N m/rad, got {study_target_k!r}")
-        study_options["target_K_Nm_per_rad"] = study_target_k
-    if study_grid is not None:
-        from ..actuator.rest_to_rest import Grid
-
-        try:
-            a, t = study_grid.split(":")
-            study_options["grid"] = Grid(tuple(float(v) for v in a.split(",")), tuple(float(v) for v in t.split(",")))
-        except ValueError as exc:
-            _fail(f"--study-grid must be 'A1,A2,..:T1,T2,..' (rad:s), got {study_grid!r} ({exc})")
-    if study_mesh_n is not None or safety_mesh_n is not None:
-        from dataclasses import replace as _replace
-
-        from ..actuator.design_study import DESIGN_MESH, DESIGN_SAFETY_MESH
-
-        for flag, n, key, base in (("--study-mesh-n", study_mesh_n, "mesh", DESIGN_MESH),
-                                   ("--safety-mesh-n", safety_mesh_n, "safety_mesh", DESIGN_SAFETY_MESH)):
-            if n is None:
-                continue
-            try:
-                study_options[key] = _replace(base, n_intervals=n)
-            except ValueError as exc:
-                _fail(f"{flag}: {exc}")
 
     def say(step: str, i: int, n: int) -> None:
         console.print(f"[{i + 1}/{n}] {step}")
 
+    check_out(out)
     try:
-        with out_dir(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
-            unit = design_unit(req, tmp, seed=seed, renders=renders, actuator_study=actuator_study, spec_path=spec,
-                               study_options=study_options, progress=say)
-    except Infeasible as exc:
-        _print_evaluation(exc.result.evaluation, "least-violating design")
-        _fail(str(exc), code=3)
-    except NoBuildableDesign as exc:
-        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)
+        with (job_errors({"study_target_K_Nm_per_rad": "--study-target-k"}, errors=(SpecError,)),
+              out_dir(out, "design") as tmp):  # the unit lands whole, or not at all
+            unit = design_unit(spec, tmp, seed=seed, renders=renders, actuator_study=actuator_study,
+                               study_grid=study_grid, study_mesh_n=study_mesh_n, safety_mesh_n=safety_mesh_n,
+                               workers=workers, study_target_K_Nm_per_rad=study_target_k, progress=say)
+    except (Infeasible, NoBuildableDesign) as exc:
+        _infeasible(exc, spec)
     _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})")
     bl = unit.bladder
     stdout.print(f"bladder ({bl.silicone.name}): strain bound {100 * bl.strain_bound:.2f} % vs allowable "
@@ -335,19 +237,8 @@ def design(
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
     if unit.actuator_study is not None:
-        st = unit.actuator_study
-        stdout.print(f"actuator study damping: D = {st.damping.D_min_Nms_per_rad:.3g} ... "
-                     f"{st.damping.D_max_Nms_per_rad:.4g} N m s/rad from {st.damping.source} ({st.damping.why})")
-        for r in st.runs:
-            stdout.print(f"[{r.label}] " + (r.charge.describe() if r.charge is not None
-                                            else f"K = {r.actuator.K_Nm_per_rad:.4g} N m/rad"))
-            for c in (c for c in st.comparisons if c.run == r.label):
-                beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
-                ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
-                stdout.print(f"[{r.label}] {c.design} vs {c.other}: better in {c.design_beats} of {c.n_cases} "
-                             f"cases ({beats}), worse in {c.design_worse} (of those, {c.only_other_valid} where only "
-                             f"{c.other} is valid), {c.neither_valid} neither valid; mean rmse {c.other}/design "
-                             f"{ratio} over the {c.n_both_valid} cases both are valid")
+        for line in design_study_lines(unit.actuator_study):
+            stdout.print(line)
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 

@@ -1,8 +1,9 @@
 """The commands' side of :mod:`vvea_design.outputs`: a bad output location exits 2 with a clear message.
 
-Every command that writes calls :func:`check_out` right after reading its
-arguments (before any computation) and writes through :func:`out_dir` /
-:func:`out_files`, so its results land whole or not at all.
+The jobs check their output location themselves before any work and write whole or not at all
+(:mod:`vvea_design.jobs`); a command turns their :class:`~vvea_design.outputs.OutputError` into an exit
+(:func:`vvea_design.cli.common.job_errors`). ``vvea design`` also holds the unit's folder open around the
+main job (:func:`out_dir`), so that whatever the job writes lands whole.
 """
 
 from __future__ import annotations
@@ -11,10 +12,10 @@ import contextlib
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..outputs import OutputError, check_output_dir, check_output_file, output_dir, output_files
+from ..outputs import OutputError, check_output_dir, check_output_file, output_dir
 from .common import fail
 
-__all__ = ["check_out", "out_dir", "out_files"]
+__all__ = ["check_out", "out_dir"]
 
 
 def check_out(path: Path, kind: str = "dir", option: str = "--out") -> None:
@@ -56,28 +57,5 @@ def out_dir(path: Path, command: str, option: str = "--out") -> Iterator[Path]:
     try:
         with output_dir(path, command, option) as tmp:
             yield tmp
-    except OutputError as exc:
-        fail(str(exc))
-
-
-@contextlib.contextmanager
-def out_files(*paths: Path, option: str = "--out") -> Iterator[list[Path]]:
-    """:func:`vvea_design.outputs.output_files` that exits 2 on a location it cannot write.
-
-    Parameters
-    ----------
-    *paths : Path
-        The result files.
-    option : str
-        The option named in messages.
-
-    Returns
-    -------
-    Iterator[list[Path]]
-        (a context manager) the temporary paths, in order.
-    """
-    try:
-        with output_files(*paths, option=option) as tmps:
-            yield tmps
     except OutputError as exc:
         fail(str(exc))

@@ -1,12 +1,11 @@
-"""``vvea study ...`` commands: rest-to-rest sweep and safety study (thin layer over
-:mod:`vvea_design.actuator`).
+"""``vvea study ...`` commands: rest-to-rest sweep and safety study (the jobs
+:func:`vvea_design.jobs.studies.run_rest_to_rest` and :func:`~vvea_design.jobs.studies.run_safety`).
 
 Wire it in with ``register(app)``.
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
@@ -18,47 +17,12 @@ study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (pa
                         no_args_is_help=True)
 
 
-def _grid(spec: str):
-    from ..actuator.rest_to_rest import GRIDS, Grid
-
-    if spec in GRIDS:
-        return spec
-    # "A1,A2,...:T1,T2,..." custom grid
-    try:
-        a, t = spec.split(":")
-        return Grid(tuple(float(x) for x in a.split(",")), tuple(float(x) for x in t.split(",")))
-    except ValueError as exc:
-        raise typer.BadParameter(
-            f"--grid must be one of {sorted(GRIDS)} or 'A1,A2,..:T1,T2,..' (rad:s), got {spec!r} ({exc})"
-        ) from exc
-
-
 def _check_mesh_n(option: str, n: int, allow_off: bool = False) -> None:
     if n == 0 or (allow_off and n == -1):
         return
     if n < 4 or n % 4:
         off = ", -1 = none" if allow_off else ""
         raise typer.BadParameter(f"{option} must be a multiple of 4 (>= 4; 0 = study default{off}), got {n}")
-
-
-def _cases_saved(out: Path) -> int:
-    """Number of complete cases in ``out/results.csv`` (0 if none)."""
-    import csv
-
-    res = out / "results.csv"
-    if not res.exists():
-        return 0
-    from ..actuator.multistart import RESULT_COLUMNS
-
-    by_case: dict[str, set] = {}
-    settings: set = set()
-    with res.open(newline="") as fh:
-        for row in csv.DictReader(fh):
-            if None in row or any(row.get(c) is None for c in RESULT_COLUMNS):
-                continue
-            by_case.setdefault(row["case_id"], set()).add(row["setting"])
-            settings.add(row["setting"])
-    return sum(1 for s in by_case.values() if s == settings)
 
 
 @study_app.command("rest-to-rest")
@@ -75,8 +39,10 @@ def rest_to_rest(
              "optimum (multiple of 4; 0 = study default: 192 with the default --mesh-n, none otherwise; -1 = none)."),
     pulley_radius_m: Optional[float] = typer.Option(None, "--pulley-radius-m", help="Pulley radius r for --design (m)."),
     p2_mpa: Optional[float] = typer.Option(None, "--p2-mpa", help="Recharge the design spring to p2 (MPa)."),
-    gamma_min_deg: float = typer.Option(50.0, "--gamma-min-deg", help="Lowest throttle angle used (deg)."),
-    gamma_max_deg: float = typer.Option(120.0, "--gamma-max-deg", help="Highest throttle angle used (deg)."),
+    gamma_min_deg: Optional[float] = typer.Option(None, "--gamma-min-deg",
+                                                  help="Lowest throttle angle used (deg; default: the mapping's 50)."),
+    gamma_max_deg: Optional[float] = typer.Option(None, "--gamma-max-deg",
+                                                  help="Highest throttle angle used (deg; default: the mapping's 120)."),
     restart: bool = typer.Option(False, "--restart", help="Discard existing results instead of resuming."),
     no_progress: bool = typer.Option(False, "--no-progress", help="Hide the progress bar."),
 ) -> None:
@@ -84,141 +50,54 @@ def rest_to_rest(
 
     Resumes an interrupted sweep in the same --out folder.
     """
-    from ..actuator.model import PAPER_SETTINGS, from_design_json
-    from ..actuator.multistart import DEFAULT_MESH
-    from ..actuator.ocp import Mesh
-    from ..actuator.rest_to_rest import run_rest_to_rest
-    from ..parallel import Terminated
+    from ..jobs.studies import Terminated, cases_saved, run_rest_to_rest
     from ..progress import console
-    from .outputs import check_out
+    from .common import job_errors
 
     # every option is checked before anything is solved
-    check_out(out)  # resumable: results.csv grows case by case in --out itself, so only validated up front
     _check_mesh_n("--mesh-n", mesh_n)
     _check_mesh_n("--fine-mesh-n", fine_mesh_n, allow_off=True)
     if workers is not None and workers < 1:
         raise typer.BadParameter(f"--workers must be >= 1, got {workers}")
     if design is None and (pulley_radius_m is not None or p2_mpa is not None):
         raise typer.BadParameter("--pulley-radius-m and --p2-mpa apply to --design only")
-    grid_spec = _grid(grid)
-    settings = list(PAPER_SETTINGS.values())
-    if design is not None:
-        if not design.exists():
-            raise typer.BadParameter(f"--design: file {design} does not exist")
-        kw = dict(gamma_min_deg=gamma_min_deg, gamma_max_deg=gamma_max_deg, p2_MPa=p2_mpa)
-        if pulley_radius_m is not None:
-            kw["pulley_radius_m"] = pulley_radius_m
-        try:
-            settings.append(from_design_json(design, **kw))
-        except ValueError as exc:
-            raise typer.BadParameter(f"--design {design}: {exc}") from exc
-    mesh = DEFAULT_MESH if mesh_n == 0 else Mesh(mesh_n, DEFAULT_MESH.degree)
-    fine = "auto" if fine_mesh_n == 0 else (None if fine_mesh_n < 0 else Mesh(fine_mesh_n, DEFAULT_MESH.degree))
+    mapping = {} if design is None else dict(pulley_radius_m=pulley_radius_m, p2_MPa=p2_mpa,
+                                             gamma_min_deg=gamma_min_deg, gamma_max_deg=gamma_max_deg)
     try:
-        summary = run_rest_to_rest(out, grid=grid_spec, settings=settings, mesh=mesh, fine_mesh=fine, workers=workers,
-                                   scheduler=scheduler, restart=restart, progress=not no_progress)
-    except ValueError as exc:
-        raise typer.BadParameter(str(exc)) from exc
+        with job_errors({"p2_MPa": "--p2-mpa"}, bad_parameter=True, errors=(ValueError,)):
+            run = run_rest_to_rest(out, grid=grid, design=design, **mapping, mesh_n=mesh_n or None,
+                                   fine_mesh_n={0: "auto", -1: None}.get(fine_mesh_n, fine_mesh_n),
+                                   workers=workers, scheduler=scheduler, restart=restart, progress=not no_progress)
     except (KeyboardInterrupt, Terminated) as exc:
         code = 130 if isinstance(exc, KeyboardInterrupt) else 143
-        console.print(f"\n[bold yellow]interrupted[/]: {_cases_saved(out)} finished case(s) are saved in "
+        console.print(f"\n[bold yellow]interrupted[/]: {cases_saved(out)} finished case(s) are saved in "
                       f"{out / 'results.csv'}. Run the same command again to resume the sweep "
                       f"(add --restart to start over).", soft_wrap=True)
         raise typer.Exit(code) from None
-    from ..outputs import output_files
-    from ..report.html import folder_report, recorded_text
-
-    text = recorded_text(lambda c: _print_summary(summary, c))  # results to stdout, and into the report
-    typer.echo(text)
-    with output_files(out / "report.html", option="") as (tmp_report,):  # whole or not at all
-        folder_report("vvea study rest-to-rest", out, summary_text=text, data=summary.to_dict(),
-                      provenance={"grid": grid, "design": design, "mesh_n": mesh_n, "fine_mesh_n": fine_mesh_n}
-                      ).write(tmp_report)
-    console.print(f"wrote {out / 'results.csv'}, {out / 'summary.json'}, {out / 'best_map.png'}, "
-                  f"{out / 'trajectory.png'}, {out / 'report.html'}")
-
-
-def _print_summary(summary, console) -> None:
-    from rich.table import Table
-
-    st = summary.statistics
-    tab = Table(title="Table 5: ours (all solved cases / cases where both trajectories are valid) vs paper")
-    for c in ("statistic", "ours (all)", "ours (both valid)", "paper"):
-        tab.add_column(c)
-    paper = st.paper_table5
-    xs = list(dict.fromkeys(k.split("_vs_")[0] for k in st.pairs))
-    for X in xs:
-        for Y in ("SEA", "LWR"):
-            a, v = st.pair(X, Y, "all"), st.pair(X, Y, "valid")
-            if not a:
-                continue
-            fa = a.fraction_X_beats_Y
-            fv = v.fraction_X_beats_Y if v else None
-            pb = paper.get(f"{X}_beats_{Y}")
-            tab.add_row(f"{X} beats {Y}", f"{fa:.1%}" if fa is not None else "-",
-                        f"{fv:.1%}" if fv is not None else "-", f"{pb:.1%}" if pb is not None else "-")
-            ra, rv = a.meanrmse_Y_over_X, v.meanrmse_Y_over_X if v else None
-            pr = paper.get(f"meanrmse_{Y}_over_{X}")
-            tab.add_row(f"mean rmse {Y} / {X}", f"{ra:.3f}" if ra else "-", f"{rv:.3f}" if rv else "-",
-                        f"{pr:.3f}" if pr is not None else "-")
-    console.print(tab)
-    g = st.ivvea_vs_sea_guarantee
-    if g:
-        console.print(f"iVVEA worse than SEA in {g['iVVEA_worse_than_SEA_cases']} of {g['n_cases']} cases")
-    console.print(f"winning starts: {json.dumps(st.winning_starts)}")
-    console.print(f"solver failures: {st.solver_failures['count']}")
-    unv = st.unverified
-    if unv.get("count"):
-        console.print(f"left out of every statistic, trajectory not reproduced by re-simulation: {unv['count']} "
-                      f"({', '.join(unv['cases'][:8])}{' ...' if unv['count'] > 8 else ''})")
-    else:
-        console.print("every solved trajectory was reproduced by re-simulation")
+    typer.echo(run.summary_text)
+    console.print(f"wrote {', '.join(str(f) for f in run.files.values())}")
 
 
 @study_app.command("safety")
 def safety(
     out: Path = typer.Option(..., "--out", "-o", help="Output folder (safety.json, safety_trajectories.csv, safety.png)."),
-    mesh_n: int = typer.Option(200, "--mesh-n", help="Collocation intervals over the 0.5 s horizon."),
-    tau_ref_nm: float = typer.Option(50.0, "--tau-ref-nm", help="Torque step height (N m)."),
-    link_inertia_kgm2: float = typer.Option(1e4, "--link-inertia-kgm2", help="Link inertia M (kg m²)."),
+    mesh_n: Optional[int] = typer.Option(None, "--mesh-n", help="Collocation intervals over the 0.5 s horizon "
+                                                               "(default: the study's 200)."),
+    tau_ref_nm: Optional[float] = typer.Option(None, "--tau-ref-nm", help="Torque step height (N m; default: the "
+                                                                          "paper's 50)."),
+    link_inertia_kgm2: Optional[float] = typer.Option(None, "--link-inertia-kgm2",
+                                                      help="Link inertia M (kg m²; default: the paper's 1e4)."),
 ) -> None:
     """Torque step (paper §6, Table 6): variable damping vs fixed D = 31 and D = 200."""
-    import math
-
-    from ..actuator.ocp import Mesh
-    from ..actuator.safety import run_safety
+    from ..jobs.studies import run_safety
     from ..progress import console
-    from .outputs import check_out, out_dir
+    from .common import job_errors
 
-    check_out(out)
-    if mesh_n < 4:
-        raise typer.BadParameter(f"--mesh-n must be >= 4 intervals, got {mesh_n}")
-    if not (math.isfinite(tau_ref_nm) and tau_ref_nm != 0):
-        raise typer.BadParameter(f"--tau-ref-nm must be a non-zero torque in N m, got {tau_ref_nm}")
-    if not (math.isfinite(link_inertia_kgm2) and link_inertia_kgm2 > 0):
-        raise typer.BadParameter(f"--link-inertia-kgm2 must be > 0, got {link_inertia_kgm2}")
-    from rich.table import Table
-
-    from ..report.html import recorded_text, write_folder_report
-
-    with out_dir(out, "safety") as tmp:  # results, figure and report land together
-        try:
-            s = run_safety(tmp, mesh=Mesh(mesh_n, 3, grading=0.8), tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
-        except ValueError as exc:
-            raise typer.BadParameter(str(exc)) from exc
-        tab = Table(title=f"{tau_ref_nm:g} N m torque step")
-        for c in ("case", "mean D (N m s/rad)", "max D", "t95 (ms)", "status"):
-            tab.add_column(c)
-        for c in s.cases:
-            tab.add_row(c.name, f"{c.mean_D_Nms_per_rad:.1f}", f"{c.max_D_Nms_per_rad:.1f}",
-                        f"{c.t95_s * 1e3:.1f}", c.status)
-        text = recorded_text(lambda c: c.print(tab))
-        write_folder_report("vvea study safety", tmp, summary_text=text, data=s.to_dict(), label=str(out),
-                            provenance={"tau_ref_Nm": tau_ref_nm, "mesh_n": mesh_n,
-                                        "link_inertia_kgm2": link_inertia_kgm2})
-    typer.echo(text)
-    console.print(f"wrote {out / 'safety.json'}, {out / 'safety_trajectories.csv'}, {out / 'safety.png'}, "
-                  f"{out / 'report.html'}")
+    with job_errors({"tau_ref_Nm": "--tau-ref-nm", "M_kgm2": "--link-inertia-kgm2"}, bad_parameter=True,
+                    errors=(ValueError,)):
+        run = run_safety(out, mesh_n=mesh_n, tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
+    typer.echo(run.summary_text)
+    console.print(f"wrote {', '.join(str(f) for f in run.files.values())}")
 
 
 def register(app: typer.Typer) -> None:

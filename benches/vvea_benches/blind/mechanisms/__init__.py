@@ -1,0 +1,1 @@
+"""Mechanisms outside the diagnosis catalogue, one module each (physics, states, ranges in its docstring)."""

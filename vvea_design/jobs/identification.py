@@ -1,0 +1,197 @@
+"""The identification side's jobs: ``vvea identify`` (eq. 14, Table 3, Figs 10/11) and ``vvea diagnose``
+(where eq. 14 and the recordings disagree, the left-out physics named and fitted) as functions."""
+
+from __future__ import annotations
+
+import contextlib
+import tempfile
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from .common import PathLike, check_out, folder, lazy_errors, moved, spring_of
+
+if TYPE_CHECKING:
+    from ..identification.identify import Identification
+    from ..identification.recordings import Recordings
+    from ..identification.report import Diagnosis, DiagnosisReport
+    from ..spring.design import Design
+    from ..spring.gas_spring import GasSpring
+
+__all__ = ["identify", "DiagnosisRun", "diagnose", "RecordingsError", "DesignFileError"]
+
+#: The errors these jobs raise, imported on first use.
+__getattr__ = lazy_errors(__name__, ("RecordingsError", "DesignFileError"))
+
+
+def _reference(design: Design | GasSpring | PathLike | None, progress: bool) -> GasSpring:
+    """The unit on the bench (``design``'s spring, or the paper's Fig. 5 unit), said on stderr."""
+    from ..identification.fit_data import REFERENCE_NOTE
+    from ..progress import console
+    from ..spring.paper import PAPER_FIG5
+
+    if design is None:
+        text, ref = f"note: {REFERENCE_NOTE}", PAPER_FIG5
+    else:
+        ref = spring_of(design)[0]
+        text = (f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} "
+                f"mm^3, V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm")
+    if progress:
+        console.print(text, markup=False, highlight=False, soft_wrap=True)
+    return ref
+
+
+def _recordings(recordings: Recordings | PathLike, progress: bool) -> Recordings:
+    """The campaign, read from its file (a spinner on stderr) unless given."""
+    from ..identification.recordings import Recordings, read_recordings
+    from ..progress import progress_bar
+
+    if isinstance(recordings, Recordings):
+        return recordings
+    path = Path(recordings)
+    with progress_bar(f"reading {path.name} (velocity from the motion profile)", total=None, enabled=progress):
+        return read_recordings(path)
+
+
+def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None,
+             out: PathLike | None = None, progress: bool = True) -> Identification:
+    """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11 (``vvea identify``).
+
+    Parameters
+    ----------
+    recordings : Recordings or path-like
+        The campaign, or its file (CSV or Parquet, ``shared/specs/recordings.md``).
+    design : Design, GasSpring or path-like, optional
+        The unit on the bench (eq. 14 has no gas-law term: it is named so the user knows which one is
+        assumed); None: the paper's Fig. 5 unit.
+    out : path-like, optional
+        Folder for ``table3.csv``, ``identification.json`` and the figures; None: numbers only (no figures).
+    progress : bool
+        Say which unit is assumed and show spinners on stderr.
+
+    Returns
+    -------
+    Identification
+        Table 3 (values in their units), the RMS error (N), the error band (% of nominal force),
+        identifiability, notes and the names of the files written (none without ``out``).
+
+    Raises
+    ------
+    OutputError
+        ``out`` cannot be written (before any work).
+    DesignFileError
+        A design file that is missing or incomplete.
+    RecordingsError
+        A recordings file that cannot be read (names the file, row and column).
+    """
+    from ..identification.identify import write_identification
+    from ..progress import progress_bar
+
+    check_out(out)
+    _reference(design, progress)
+    rec = _recordings(recordings, progress)
+    with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None, enabled=progress), \
+            folder(out, "identify") as tmp:
+        if tmp is not None:
+            return write_identification(rec, tmp)
+        with tempfile.TemporaryDirectory() as scratch:
+            return replace(write_identification(rec, scratch, figures=False), files=())
+
+
+@dataclass(frozen=True)
+class DiagnosisRun:
+    """What :func:`diagnose` found: the diagnosis, its text summary and the files written."""
+
+    diagnosis: Diagnosis  #: the typed report and the fitted models
+    summary_text: str  #: the summary printed by ``vvea diagnose`` (also ``summary.md``)
+    files: dict[str, Path] = field(default_factory=dict)  #: by file name, ``report.html`` last (empty: none)
+
+    @property
+    def report(self) -> DiagnosisReport:
+        """The typed report (:meth:`DiagnosisReport.to_dict` is ``report.json``)."""
+        return self.diagnosis.report
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready.
+
+        Returns
+        -------
+        dict
+            ``report`` (the ``report.json`` content: forces in N, run time in s), ``summary_text`` and
+            ``files`` (paths as text).
+        """
+        return {"report": self.report.to_dict(), "summary_text": self.summary_text,
+                "files": {k: str(v) for k, v in self.files.items()}}
+
+
+@contextlib.contextmanager
+def _spinner(enabled: bool) -> Iterator[Callable[[str], None]]:
+    """``say(message)``: a spinner on stderr reading ``diagnosing: <message>``."""
+    if not enabled:
+        yield lambda msg: None
+        return
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    from ..progress import console
+
+    with Progress(SpinnerColumn(), TextColumn("[bold]{task.description}"), TimeElapsedColumn(), console=console) as prog:
+        task = prog.add_task("diagnosing", total=None)
+        yield lambda msg: prog.update(task, description=f"diagnosing: {msg}")
+
+
+def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None, seed: int = 0,
+             learner: bool = True, out: PathLike | None = None, progress: bool = True) -> DiagnosisRun:
+    """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics (``vvea diagnose``).
+
+    Parameters
+    ----------
+    recordings : Recordings or path-like
+        The campaign, or its file (CSV or Parquet).
+    design : Design, GasSpring or path-like, optional
+        The unit on the bench: its areas, V1, V2 and travel shape the gas terms; None: the paper's
+        Fig. 5 unit.
+    seed : int
+        Seed of the held-out and cross-validation splits.
+    learner : bool
+        Run the flexible-learner check for leftover structure.
+    out : path-like, optional
+        Folder for ``report.json``, ``final_model.json``, ``summary.md``, the figures and ``report.html``.
+    progress : bool
+        Say which unit is assumed and show a spinner with the current stage on stderr.
+
+    Returns
+    -------
+    DiagnosisRun
+        The diagnosis (RMS errors in N), its text summary and the files written.
+
+    Raises
+    ------
+    OutputError
+        ``out`` cannot be written (before any work).
+    DesignFileError
+        A design file that is missing or incomplete.
+    RecordingsError
+        A recordings file that cannot be read.
+    """
+    from ..identification.diagnose import DiagnoseSettings, diagnose as run, format_summary, write_diagnosis
+    from ..report.html import write_folder_report
+
+    check_out(out)
+    reference = _reference(design, progress)
+    rec = _recordings(recordings, progress)
+    with _spinner(progress) as say:
+        diag = run(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
+    text = format_summary(diag.report)
+    written: dict[str, Path] = {}
+    with folder(out, "diagnose") as tmp:  # the report and its figures land together
+        if tmp is not None:
+            written = {name: tmp / name for name in write_diagnosis(diag, tmp)}
+            name = Path(recordings).name if isinstance(recordings, (str, Path)) else Path(rec.source).name
+            html = write_folder_report(f"vvea diagnose: {name}", tmp, summary_text=text, data=diag.report.to_dict(),
+                                       label=str(out), provenance={"recordings": recordings, "design": design,
+                                                                   "seed": seed, "learner": learner})
+            written[html.name] = html
+    if out is not None:
+        written = {k: moved(v, tmp, Path(out)) for k, v in written.items()}
+    return DiagnosisRun(diag, text, written)
