@@ -1,27 +1,36 @@
 """Benchmark of the rest-to-rest OCPs: what each speed-up buys, what it changes, and the targets.
 
-    python studies/bench_ocp.py                  # A/B on a sample (2 amplitudes x 15 periods), CPU time, ~10 min idle
-    python studies/bench_ocp.py --full           # + the paper grid (600 OCPs) and the design study, wall time
-    python studies/bench_ocp.py --full --jit     # + compiled CasADi functions (gcc), compile time and solve time
+How to run it for the record (on an idle machine, nothing else running; the load is printed and stored):
 
-Writes ``studies/results/bench_ocp/bench_ocp.json`` and ``bench_ocp.png`` (``--out`` moves them) and prints
-the machine's load (``os.getloadavg()``) at every stage: wall times mean something only on an idle machine
-(load below ~0.5 per core); CPU times (``time.process_time``) are the fair A/B measure on a shared one.
+    python studies/bench_ocp.py --full --no-starts   # the targets only: paper grid + design study (~5 min idle)
+    python studies/bench_ocp.py --full               # + the A/B of the starts and their CPU shares (~15 min idle)
+    python studies/bench_ocp.py                      # the A/B only (2 amplitudes x 15 periods), CPU time
+    python studies/bench_ocp.py --full --jit         # + one NLP compiled with gcc (minutes of compiling)
+
+Run it from the repository root with the package importable (``PYTHONPATH=$PWD`` in a worktree). It ends
+with a summary block: the paper grid's wall time (target <= 180 s), the design study's (target <= 8 s, cold
+and warm solver cache), the 1/5/15-minute load before and after each, the Table 5 changes against the
+committed ``studies/results/rest_to_rest/results.csv`` (target: every fraction and ratio within 0.005) and
+each change's share of the CPU saved.
+
+Writes ``studies/results/bench_ocp/bench_ocp.json`` and ``bench_ocp.png`` (``--out`` moves them). Wall times
+mean something only on an idle machine (load below ~0.5 per core); CPU times (``time.process_time``) are the
+fair A/B measure on a shared one.
 
 Parts:
 
 1. **solver build**: each parametric solver built from its expressions vs read back from the disk cache
-   (:mod:`vvea_design.actuator.solver_cache`), and what building it for every case would cost (the "one
-   solver per process" saving);
-2. **starts** (A/B, same process, same cases): the multi-start of issue 13 (``const-Dmin, ramp, cold,
-   cross``, every case on its own) against the default (``const-Dmin, ramp, neighbour`` in chains over the
-   periods of each amplitude): CPU per case, and how many optima change and by how much;
-3. **shares**: where the default's CPU goes (coarse QPs, ramp QPs, coarse NLP starts, fine QPs, fine
+   (:mod:`vvea_design.actuator.solver_cache`): the saving of one solver per process, read from disk;
+2. **starts** (A/B, same process, same cases): the earlier multi-start (``const-Dmin, ramp, cold, cross``,
+   every case on its own), the same without ``cold`` and ``cross``, and the default (``const-Dmin, ramp,
+   neighbour`` in chains over the periods of each amplitude): CPU per case, and how many optima change and by
+   how much;
+3. **shares**: where each variant's CPU goes (coarse QPs, ramp QPs, coarse NLP starts, fine QPs, fine
    polish, re-simulation);
 4. ``--jit``: one variable-damping NLP compiled with the system C compiler against CasADi's virtual machine;
-5. ``--full``: the paper grid with the defaults on all cores (the issue's target: <= 180 s on this 2-core
-   machine idle) with the Table 5 changes against ``studies/results/rest_to_rest/summary.json``, and the design
-   study of ``cad/design.json`` (target <= 8 s), with a cold and a warm solver cache.
+5. ``--full``: the paper grid (600 OCPs) with the defaults on all cores, its Table 5 against the committed
+   run, and the design study of ``cad/design.json`` (both runs, equal stiffness and full charge), with a cold
+   and a warm solver cache.
 """
 
 from __future__ import annotations
@@ -181,13 +190,13 @@ def changes(a: pd.DataFrame, b: pd.DataFrame) -> dict:
 
 
 def bench_starts(amplitudes) -> dict:
-    """Part 2 and 3: issue 13's multi-start against the default, on the sample, in this process."""
+    """Part 2 and 3: the earlier multi-start against the default, on the sample, in this process."""
     from vvea_design.actuator.multistart import DEFAULT_STARTS
     from vvea_design.actuator.statistics import table5_statistics
 
     res = {}
     frames = {}
-    for label, starts, chained in (("issue 13: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False),
+    for label, starts, chained in (("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False),
                                    ("no cold, no cross", ("const-Dmin", "ramp"), False),
                                    ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True)):
         print(f"  {label} (load {load()}) ...", flush=True)
@@ -203,8 +212,8 @@ def bench_starts(amplitudes) -> dict:
               ", ".join(f"{k} {v:.1f}" for k, v in shares.items()), flush=True)
     base = next(iter(frames.values()))
     for label, df in list(frames.items())[1:]:
-        res[label]["optima_vs_issue_13"] = changes(base, df)
-        print(f"  optima of '{label}' against issue 13's: {json.dumps(res[label]['optima_vs_issue_13'])}")
+        res[label]["optima_vs_earlier"] = changes(base, df)
+        print(f"  optima of '{label}' against the earlier multi-start's: {json.dumps(res[label]['optima_vs_earlier'])}")
     return res
 
 
@@ -287,6 +296,11 @@ def bench_full(out_dir: Path) -> dict:
                 if q is not None:
                     deltas[k] = {"fraction": _delta(q.fraction_X_beats_Y, p.fraction_X_beats_Y),
                                  "meanrmse_ratio": _delta(q.meanrmse_Y_over_X, p.meanrmse_Y_over_X)}
+            for k, p in b.counted.items():  # every case counted
+                q = a.counted.get(k)
+                if q is not None:
+                    deltas[f"{k}_every_case"] = {"fraction": _delta(q.fraction_X_beats_Y, p.fraction_X_beats_Y),
+                                                 "meanrmse_ratio": _delta(q.meanrmse_Y_over_X, p.meanrmse_Y_over_X)}
             res["paper_grid"]["table5_change_vs_committed"] = deltas
             res["paper_grid"]["largest_table5_change"] = max(
                 (abs(v) for d_ in deltas.values() for v in d_.values() if v is not None), default=None)
@@ -302,6 +316,52 @@ def bench_full(out_dir: Path) -> dict:
                           "timing": st.timing.to_dict()}
             print(f"  {label}: {wall:.1f} s wall (target 8 s), load {l0} -> {load()}", flush=True)
     return res
+
+
+def summary(res: dict) -> list[str]:
+    """The lines the coordinator reads: targets, loads, Table 5 changes, each change's share of the CPU saved."""
+    lines = [f"machine: {res['machine']['cores']} cores, load at start {res['machine']['load_start']}, "
+             f"at the end {res['machine'].get('load_end')} (1/5/15 min; wall times count only near 0)"]
+    full = res.get("full", {})
+    g = full.get("paper_grid")
+    if g:
+        lines.append(f"paper grid (600 OCPs): {g['wall_s']} s wall, target {g['target_s']} s -> "
+                     f"{'MET' if g['wall_s'] <= g['target_s'] else 'NOT met'}; load {g['load_before']} -> "
+                     f"{g['load_after']}; {g['cpu_of_the_solves_s']} CPU-s of solves; failures {g['failures']}, "
+                     f"unverified {g['unverified']}, iVVEA worse than SEA {g['ivvea_worse_than_sea']}")
+        if "table5_change_vs_committed" in g:
+            big = g["largest_table5_change"]
+            lines.append(f"Table 5 against the committed run: largest change {big} (target 0.005 -> "
+                         f"{'MET' if big is not None and big <= 0.005 else 'NOT met'})")
+            for k, d in g["table5_change_vs_committed"].items():
+                lines.append(f"  {k:32s} fraction {d['fraction']!s:>8s}   mean rmse ratio {d['meanrmse_ratio']!s:>8s}")
+    for k, v in full.items():
+        if k.startswith("design study"):
+            lines.append(f"{k}: {v['wall_s']} s wall, target {v['target_s']} s -> "
+                         f"{'MET' if v['wall_s'] <= v['target_s'] else 'NOT met'}; load {v['load_before']} -> "
+                         f"{v['load_after']}")
+    st = res.get("starts")
+    if st and len(st) > 1:
+        labels = list(st)
+        cpu = [st[k]["cpu_per_case_s"] for k in labels]
+        saved = cpu[0] - cpu[-1]
+        lines.append(f"CPU per case (4 settings, both meshes): " + ", ".join(f"{k.split(';')[0]} {c:.2f} s"
+                                                                           for k, c in zip(labels, cpu)))
+        for (a, ca), (b, cb) in zip(zip(labels, cpu), zip(labels[1:], cpu[1:])):
+            share = (ca - cb) / saved if saved > 0 else float("nan")
+            lines.append(f"  '{a.split(';')[0]}' -> '{b.split(';')[0]}': {ca - cb:+.2f} CPU-s per case saved "
+                         f"({100 * share:.0f} % of the starts' saving)")
+        for k in labels[1:]:
+            ch = st[k].get("optima_vs_earlier", {})
+            lines.append(f"  optima changed by '{k.split(';')[0]}' (> 1e-3 relative rmse): " + ", ".join(
+                f"{s_} {v['changed_over_1e-3']}/{v['cases']} (worst +{v['max_worse']:.2g}, best -{v['max_better']:.2g})"
+                for s_, v in ch.items()))
+    b = res.get("build")
+    if b:
+        per_process = sum(v["build_cpu_s"] - v["cached_cpu_s"] for v in b.values())
+        lines.append(f"solver disk cache: {per_process:.1f} CPU-s saved per worker process (every solver read "
+                     "back instead of built)")
+    return lines
 
 
 def _delta(a, b):
@@ -368,7 +428,7 @@ def main() -> None:
     ap.add_argument("--jit", action="store_true", help="also compile one NLP with gcc (minutes)")
     ap.add_argument("--amplitudes", default=",".join(map(str, SAMPLE_A)),
                     help="amplitudes (rad) of the A/B sample; every period of the paper grid each")
-    ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts")
+    ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "bench_ocp")
     a = ap.parse_args()
     res = {"machine": {"cores": os.cpu_count(), "load_start": load(), "python": sys.version.split()[0],
@@ -389,6 +449,9 @@ def main() -> None:
         print("5. the targets (wall s):")
         res["full"] = bench_full(a.out)
     res["machine"]["load_end"] = load()
+    res["summary"] = summary(res)
+    print("\nsummary:")
+    print("\n".join(res["summary"]))
     a.out.mkdir(parents=True, exist_ok=True)
     (a.out / "bench_ocp.json").write_text(json.dumps(res, indent=2))
     figure(res, a.out / "bench_ocp.png")
