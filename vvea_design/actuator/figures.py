@@ -445,7 +445,8 @@ def plot_sensitivity(study, fig: Figure | None = None) -> Figure:
 
     One panel per property (:data:`~vvea_design.actuator.sensitivity.PARAMETERS`): the mean rmse ratio
     design / SEA over the cases both track validly (below 1: the design tracks better), each point labelled
-    with the design's wins over every case of the grid; the design as the study takes it is the star.
+    with the cases the design tracks better / worse over every case of the grid; the design as the study
+    takes it is the star.
 
     Parameters
     ----------
@@ -471,24 +472,35 @@ def plot_sensitivity(study, fig: Figure | None = None) -> Figure:
         y = [p.mean_rmse_ratio_design_over_sea for p in pts]
         ax.plot(x, y, "o-", color=colour, lw=1.2, ms=5)
         for p in pts:
-            ax.annotate(f"{p.design_beats}/{p.n_cases}", (p.value, p.mean_rmse_ratio_design_over_sea),
+            ax.annotate(f"{p.design_beats}/{p.design_worse}", (p.value, p.mean_rmse_ratio_design_over_sea),
                         textcoords="offset points", xytext=(0, 7), ha="center", fontsize=7)
             if p.is_base:
                 ax.plot([p.value], [p.mean_rmse_ratio_design_over_sea], "*", color="k", ms=12, zorder=5)
         ax.axhline(1.0, color="0.4", lw=0.8, ls="--")
+        ax.text(0.98, 1.0, "below: the design tracks better", transform=ax.get_yaxis_transform(), ha="right",
+                va="top", fontsize=7, color="0.35")
         ax.set_xscale(titles[par][1])
+        if titles[par][1] == "log":  # plain numbers (100, 200, 400), not 2 x 10^2
+            from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+            ax.xaxis.set_major_locator(FixedLocator(x))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.4g}"))
+            ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(titles[par][0])
         ax.grid(alpha=0.3)
         spread = study.spread(par)
         ax.set_title(f"{par}: the ratio moves by {spread:.3f}" if np.isfinite(spread) else f"{par}: one value",
                      fontsize=9, y=1.0)
-    axes[0].set_ylabel("mean rmse design / SEA (same K)")
+    axes[0].set_ylabel("mean rmse design / SEA of the same K")
     ys = [p.mean_rmse_ratio_design_over_sea for p in study.points if p.mean_rmse_ratio_design_over_sea is not None]
     if ys:
         lo, hi = min(min(ys), 1.0), max(max(ys), 1.0)
         pad = 0.15 * (hi - lo) + 0.005
         axes[0].set_ylim(lo - pad, hi + pad)
-    fig.suptitle("What buys tracking: the design against an SEA of the same stiffness (star: the design as studied; "
-                 "label: cases the design wins, every case counted)", fontsize=9)
-    set_margins_in(fig, left=0.45 + ytick_label_width_in(axes[0]), bottom=0.585, right=0.2, top=0.6, wspace=0.3)
+    n = study.points[0].n_cases if study.points else 0
+    fig.suptitle("What buys tracking: the design against an SEA of the same stiffness, one property changed at a time "
+                 f"(star: the design as studied)\nlabel: cases the design tracks better / worse of all {n} (a case only "
+                 "one of them tracks validly goes to it; the rest: neither valid or a tie); the ratio is over the cases "
+                 "both track validly", fontsize=8)
+    set_margins_in(fig, left=0.45 + ytick_label_width_in(axes[0]), bottom=0.585, right=0.2, top=0.75, wspace=0.3)
     return fig
