@@ -90,7 +90,7 @@ def main() -> None:
         u = r.damping_use
         print(f"[{r.label}] the valve: {u.n_cases} valid optima, {u.n_reach_D_max} reach D_max, {u.n_stay_at_D_min} "
               f"stay at D_min, highest D {u.largest_D_used_Nms_per_rad:.4g} N m s/rad, largest damping torque "
-              f"{u.largest_damping_torque_Nm:.4g} N m (relief {u.relief_torque_Nm} N m, above it: {u.n_over_relief})")
+              f"{u.largest_damping_torque_Nm:.4g} N m (relief {'unknown' if u.relief_torque_Nm is None else f'{u.relief_torque_Nm:.4g}'} N m, above it: {u.n_over_relief})")
     print(f"unverified trajectories (counted as not valid): {study.n_left_out}; invalid per setting: " +
           ", ".join(f"{x.name} {x.n_cases - x.n_valid}" for x in study.settings))
     print(f"loadavg at the end: {os.getloadavg()}")
