@@ -28,6 +28,7 @@ from vvea_design.actuator.design_study import (  # noqa: E402
 from vvea_design.actuator.model import PAPER_SETTINGS  # noqa: E402
 from vvea_design.actuator.multistart import DEFAULT_REGULARISATION  # noqa: E402
 from vvea_design.actuator.ocp import RestToRestSolver, TorqueStepSolver  # noqa: E402
+from vvea_design.jobs.studies import design_study_lines  # noqa: E402
 from vvea_design.spring.design_file import load_design  # noqa: E402
 
 T_IMPORT = time.perf_counter() - t_import0
@@ -41,7 +42,8 @@ def main() -> None:
     a = ap.parse_args()
     print(f"cores: {os.cpu_count()}; loadavg at start: {os.getloadavg()}")
     print(f"import of the actuator wing (casadi, scipy, matplotlib): {T_IMPORT:.2f} s")
-    act = design_actuator(load_design(a.design))
+    design = load_design(a.design)
+    act = design_actuator(design)
     print(f"design actuator: K = {act.K_Nm_per_rad:.0f} N m/rad, D = {act.D_min_Nms_per_rad:.3g}-"
           f"{act.D_max_Nms_per_rad:.4g} N m s/rad")
 
@@ -68,7 +70,7 @@ def main() -> None:
         stages = []
         t0 = time.perf_counter()
         c0 = time.process_time()
-        study = run_design_study(act, out_dir=d, workers=a.workers,
+        study = run_design_study(design, out_dir=d, workers=a.workers,
                                  progress=lambda i, n, m: stages.append((time.perf_counter() - t0, i, n, m)))
         wall = time.perf_counter() - t0
         cpu_parent = time.process_time() - c0
@@ -80,12 +82,16 @@ def main() -> None:
     print(f"breakdown: solves (parallel) {tm.rest_to_rest_and_safety_s:.1f} s, figures + files {tm.figures_s:.1f} s, "
           f"total {tm.total_s:.1f} s (wall {wall:.1f} s); IPOPT wall summed over workers {tm.solver_seconds:.1f} s; "
           f"rest-to-rest IPOPT CPU summed over workers {tm.rest_to_rest_cpu_seconds:.1f} s; parent CPU {cpu_parent:.1f} s")
-    print("mean rmse over the cases where every setting is valid: " +
+    print("mean rmse per setting over its valid, verified cases: " +
           ", ".join(f"{x.name} {x.mean_rmse_rad:.4f} rad" for x in study.settings))
-    for c in study.comparisons:
-        print(f"design vs {c.other}: beats in {c.design_beats} of {c.n_cases} cases where both are valid "
-              f"({c.n_excluded} left out), mean rmse {c.other}/design = {c.meanrmse_other_over_design:.3f}")
-    print(f"unverified trajectories left out: {study.n_left_out}; invalid per setting: " +
+    for line in design_study_lines(study):  # both runs, every case counted, the damping range's source
+        print(line)
+    for r in study.runs:
+        u = r.damping_use
+        print(f"[{r.label}] the valve: {u.n_cases} valid optima, {u.n_reach_D_max} reach D_max, {u.n_stay_at_D_min} "
+              f"stay at D_min, highest D {u.largest_D_used_Nms_per_rad:.4g} N m s/rad, largest damping torque "
+              f"{u.largest_damping_torque_Nm:.4g} N m (relief {'unknown' if u.relief_torque_Nm is None else f'{u.relief_torque_Nm:.4g}'} N m, above it: {u.n_over_relief})")
+    print(f"unverified trajectories (counted as not valid): {study.n_left_out}; invalid per setting: " +
           ", ".join(f"{x.name} {x.n_cases - x.n_valid}" for x in study.settings))
     print(f"loadavg at the end: {os.getloadavg()}")
 

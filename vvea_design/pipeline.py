@@ -32,7 +32,7 @@ from .jobs.cad import build_cad
 from .jobs.common import OptionError, PathLike, check_option, check_out, folder, inputs_kept, moved, requirements_of
 from .jobs.spring import force_plot_path, optimise, spring_report, write_spring_files
 from .jobs.structure import check_structure
-from .jobs.studies import design_study_settings, run_design_study
+from .jobs.studies import design_study_settings, run_design_study, target_stiffness
 from .spring.curve import SpringCurve, spring_curve
 from .spring.optimise import Infeasible, OptimisationResult
 from .spring.requirements import Requirements
@@ -109,6 +109,8 @@ class UnitDesign:
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
             "structure": None if self.structure is None else self.structure.to_dict(),
             "actuator_study": None if study is None else {
+                "runs": [r.to_dict() for r in study.runs],
+                "damping": study.damping.to_dict(),
                 "comparisons": [c.to_dict() for c in study.comparisons],
                 "settings": [s.to_dict() for s in study.settings],
                 "n_left_out_unverified": study.n_left_out,
@@ -153,6 +155,7 @@ def design_unit(
     study_mesh_n: int | None = None,
     safety_mesh_n: int | None = None,
     workers: int | None = None,
+    study_target_K_Nm_per_rad: float | None = None,
     spec_path: PathLike | None = None,
     progress: ProgressFn | None = None,
 ) -> UnitDesign:
@@ -190,6 +193,9 @@ def design_unit(
         Collocation intervals of the actuator study's torque steps (None: 100, clustered at the step).
     workers : int, optional
         Worker processes of the actuator study (None: all cores).
+    study_target_K_Nm_per_rad : float, optional
+        Joint stiffness (N m/rad) at which the actuator study compares the design with an SEA of the same K
+        (None: the paper's 362); the study's second run is at full charge.
     spec_path : path-like, optional
         Where ``requirements`` came from (recorded as provenance only; a file given as ``requirements``
         records itself).
@@ -206,8 +212,8 @@ def design_unit(
     SpecError
         Requirements that cannot be read or hold a wrong value.
     OptionError
-        A bad study grid or mesh (named ``study_grid``, ``study_mesh_n``, ``safety_mesh_n``), ``seed``,
-        ``workers`` or ``bladder_elements``, before any work.
+        A bad study grid, mesh or stiffness (named ``study_grid``, ``study_mesh_n``, ``safety_mesh_n``,
+        ``study_target_K_Nm_per_rad``), ``seed``, ``workers`` or ``bladder_elements``, before any work.
     OutputError
         ``out`` cannot be written, or is the requirements file (before any work).
     Infeasible
@@ -221,10 +227,12 @@ def design_unit(
     spec = spec_path if spec_path is not None else read_from
     try:
         design_study_settings(study_grid, study_mesh_n, safety_mesh_n)  # every option checked before any work
+        target_stiffness(study_target_K_Nm_per_rad, "study_target_K_Nm_per_rad")
     except OptionError as exc:
         raise exc.renamed({"grid": "study_grid", "mesh_n": "study_mesh_n"}.get(exc.option, exc.option)) from None
     check_out(out)
-    study = dict(grid=study_grid, mesh_n=study_mesh_n, safety_mesh_n=safety_mesh_n, workers=workers)
+    study = dict(grid=study_grid, mesh_n=study_mesh_n, safety_mesh_n=safety_mesh_n, workers=workers,
+                 target_K_Nm_per_rad=study_target_K_Nm_per_rad)
     with folder(out, "design") as tmp:  # the whole unit lands in `out` only when every step succeeded
         unit = _write_unit(req, tmp, seed=seed, renders=renders, cad=cad, study=study if actuator_study else None,
                            report=report, bladder_elements=bladder_elements,

@@ -181,11 +181,13 @@ def small_study(tmp_path_factory):
 def test_design_study_typed_result_and_files(small_study):
     study, out, calls = small_study
     assert isinstance(study, DesignStudy)
-    assert [s.name for s in study.settings] == ["design", "VVEA", "SEA", "LWR"]
-    assert len(study.cases) == 2 * 4 and {c.setting for c in study.cases} == {"design", "VVEA", "SEA", "LWR"}
-    for c in study.comparisons:
-        assert c.n_cases + c.n_excluded == 2
-        assert c.design_beats + c.design_worse <= c.n_cases
+    names = ["design", "VVEA", "SEA", "LWR", "design, full charge", "SEA, full charge"]
+    assert [s.name for s in study.settings] == names
+    assert len(study.cases) == 2 * 6 and {c.setting for c in study.cases} == set(names)
+    for c in study.comparisons:  # every case counted: wins, losses, ties and the cases neither has
+        assert c.n_cases == 2
+        assert c.design_beats + c.design_worse + c.ties + c.neither_valid == c.n_cases
+        assert c.only_other_valid <= c.design_worse and c.only_design_valid <= c.design_beats
     assert study.comparison("SEA").paper_vvea_beats == pytest.approx(0.291)
     assert study.safety_design.variable.success and study.safety_reference.variable.success
     assert study.safety_design.variable.t95_s < study.safety_design.case("fixed D 31").t95_s
@@ -195,21 +197,26 @@ def test_design_study_typed_result_and_files(small_study):
     for f in (study.files.map_png, study.files.trajectory_png, study.files.safety_png):
         assert f is not None and f.stat().st_size > 20_000
     df = pd.read_csv(study.files.results_csv)
-    assert len(df) == 8
-    # at 16 intervals some trajectories do not verify (the mesh is coarse); they are counted and left out
+    assert len(df) == 12
+    # at 16 intervals some trajectories do not verify (the mesh is coarse); they are counted as not usable
     assert study.n_left_out == int((df.success & ~df.verified).sum())
     for c in study.comparisons:
-        both = [A for A in (0.6, 1.0) if all(x.usable for x in study.cases if x.T_s == A and x.setting in ("design", c.other))]
-        assert c.n_cases == len(both)
-    # progress: every work item (2 torque steps + 2 cases) and the files, counting up to the total
-    assert [c[0] for c in calls] == list(range(1, 6)) and all(c[1] == 5 for c in calls)
+        both = [T for T in (0.6, 1.0)
+                if all(x.usable for x in study.cases if x.T_s == T and x.setting in (c.design, c.other))]
+        assert c.n_both_valid == len(both)
+    # progress: every work item (2 torque steps + 1 chain of periods) and the files, counting up to the total
+    assert [c[0] for c in calls] == list(range(1, 5)) and all(c[1] == 4 for c in calls)
 
 
-def test_design_study_statistics_leave_out_invalid_design_cases(small_study):
+def test_design_study_counts_a_case_the_design_loses_by_being_invalid(small_study):
+    """A case where the design is not usable and the other is, is a loss in every comparison (nothing dropped)."""
     study, _, _ = small_study
-    design_valid = sum(c.usable for c in study.cases if c.setting == "design")
     for c in study.comparisons:
-        assert c.n_cases <= design_valid
+        lost = sum(1 for T in (0.6, 1.0)
+                   if not next(x for x in study.cases if x.T_s == T and x.setting == c.design).usable
+                   and next(x for x in study.cases if x.T_s == T and x.setting == c.other).usable)
+        assert c.only_other_valid == lost
+        assert c.fraction_design_beats == pytest.approx(c.design_beats / c.n_cases)
 
 
 def test_design_study_rejects_unknown_reference():
@@ -220,10 +227,12 @@ def test_design_study_rejects_unknown_reference():
 def test_design_study_report_tables_and_files_iterate(small_study):
     study, out, _ = small_study
     tables = study.report_tables()
-    assert len(tables) == 3
+    assert len(tables) == 4
     for title, header, rows in tables:
         assert title and rows and all(len(r) == len(header) for r in rows)
-    assert [r[0] for r in tables[0][2]] == ["VVEA", "SEA", "LWR"]
+    assert [r[1] for r in tables[0][2]] == ["design vs SEA", "design vs VVEA", "design vs LWR",
+                                            "design, full charge vs SEA, full charge"]
+    assert [r[0] for r in tables[2][2]] == ["equal stiffness", "full charge"]
     assert {p.name for p in study.files} == {"results.csv", "design_study.json", "design_map.png",
                                             "design_trajectory.png", "design_safety.png"}
 

@@ -91,13 +91,22 @@ def test_validity_follows_the_95_percent_rule(coarse_run):
 
 
 def test_every_start_is_recorded_and_the_winner_is_the_best(one_case_run):
-    # solve_case's rows as the sweep wrote them (one case, 16 intervals, every start)
-    rows = pd.read_csv(one_case_run[0] / "results.csv").to_dict("records")
+    # solve_case's rows as the sweep wrote them (one case, 16 intervals, the default starts: a lone case has no
+    # neighbour) and solve_case's rows with the issue-13 multi-start (cold and cross starts as well)
+    swept = pd.read_csv(one_case_run[0] / "results.csv").to_dict("records")
+    every = [r.to_dict() for r in solve_case(RestToRestCase(0.4, 0.8, SETTINGS, SMALL_MESH,
+                                                            ("const-Dmin", "ramp", "cold", "cross")))]
+    for rows, starts in ((swept, {"const-Dmin (adopted)", "const-Dmin", "ramp"}),
+                         (every, {"const-Dmin (adopted)", "const-Dmin", "ramp", "cold"})):
+        _check_starts(rows, starts)
+
+
+def _check_starts(rows, starts):
     assert len(rows) == len(SETTINGS)
     for r in rows:
         objs = json.loads(r["start_objectives"])
         if r["setting"] in ("VVEA", "iVVEA"):
-            assert {"const-Dmin (adopted)", "const-Dmin", "ramp", "cold"} <= set(objs)
+            assert starts <= set(objs)
             best = min(v for v in objs.values() if v is not None)
             assert r["objective"] == pytest.approx(best, rel=1e-8)
             assert objs[r["start"]] == pytest.approx(best, rel=1e-5)
@@ -134,30 +143,32 @@ def test_dask_cluster_gives_the_local_numbers(tmp_path):
 
 
 def test_resume_after_an_interrupted_sweep(tmp_path, monkeypatch):
-    grid = Grid((0.4,), (0.4, 0.8, 1.2))
+    # the sweep's work item is a chain (one amplitude, its periods in order, each from its neighbour's optima):
+    # a finished chain is saved, an interrupted one solved again on resume
+    grid = Grid((0.4, 0.6), (0.4, 0.8))
     calls = {"n": 0}
-    real = sa.solve_case
+    real = sa.solve_chain
 
-    def flaky(case):
+    def flaky(cases, keep=None):
         calls["n"] += 1
         if calls["n"] == 2:
-            raise KeyboardInterrupt  # the user hits Ctrl-C during the second case
-        return real(case)
+            raise KeyboardInterrupt  # the user hits Ctrl-C during the second chain
+        return real(cases, keep)
 
-    monkeypatch.setattr(sa, "solve_case", flaky)
+    monkeypatch.setattr(sa, "solve_chain", flaky)
     with pytest.raises(KeyboardInterrupt):
         run_rest_to_rest(tmp_path, grid=grid, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
     first = pd.read_csv(tmp_path / "results.csv")
-    assert first.case_id.nunique() == 1 and len(first) == len(SETTINGS)
+    assert first.case_id.nunique() == 2 and len(first) == 2 * len(SETTINGS) and set(first.A_rad) == {0.4}
     # a torn half-written line, as after a kill -9, is dropped on resume
     with (tmp_path / "results.csv").open("a") as fh:
-        fh.write("A0.4_T0.8,VVEA,0.4,0.8,0.01")
-    monkeypatch.setattr(sa, "solve_case", real)
+        fh.write("A0.6_T0.4,VVEA,0.6,0.4,0.01")
+    monkeypatch.setattr(sa, "solve_chain", real)
     calls["n"] = 0
     run_rest_to_rest(tmp_path, grid=grid, mesh=SMALL_MESH, workers=1, progress=False, figures=False)
     df = pd.read_csv(tmp_path / "results.csv")
-    assert df.case_id.nunique() == 3 and len(df) == 3 * len(SETTINGS)
-    kept = df[df.case_id == first.case_id.iloc[0]].reset_index(drop=True)
+    assert df.case_id.nunique() == 4 and len(df) == 4 * len(SETTINGS)
+    kept = df[df.case_id.isin(first.case_id)].reset_index(drop=True)
     pd.testing.assert_frame_equal(kept[RESULT_COLUMNS], first[RESULT_COLUMNS])  # not recomputed
 
 
@@ -335,10 +346,10 @@ def test_cli_fine_mesh_option(tmp_path):
     (["--grid", "0.2,-1:0.4"], "--grid"),
 ])
 def test_cli_bad_options_are_rejected_before_the_sweep(tmp_path, monkeypatch, args, option):
-    def never(case):  # pragma: no cover - must not be reached
+    def never(cases, keep=None):  # pragma: no cover - must not be reached
         raise AssertionError("a case was solved")
 
-    monkeypatch.setattr(sa, "solve_case", never)
+    monkeypatch.setattr(sa, "solve_chain", never)
     res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--out", str(tmp_path / "o"), "--no-progress", *args])
     assert res.exit_code == 2, res.output
     assert option in res.output
@@ -388,16 +399,16 @@ def test_resume_hint_names_the_cli_flag(tmp_path, one_case_run):
 
 def test_ctrl_c_says_how_to_resume(tmp_path, monkeypatch):
     calls = {"n": 0}
-    real = sa.solve_case
+    real = sa.solve_chain
 
-    def interrupted_second(case):
+    def interrupted_second(cases, keep=None):  # the second chain (amplitude) of the sweep
         calls["n"] += 1
         if calls["n"] == 2:
             raise KeyboardInterrupt
-        return real(case)
+        return real(cases, keep)
 
-    monkeypatch.setattr(sa, "solve_case", interrupted_second)
-    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--grid", "0.4:0.4,0.8", "--mesh-n", "16",
+    monkeypatch.setattr(sa, "solve_chain", interrupted_second)
+    res = CliRunner().invoke(_app(), ["study", "rest-to-rest", "--grid", "0.4,0.6:0.4", "--mesh-n", "16",
                                       "--workers", "1", "--out", str(tmp_path), "--no-progress"])
     assert res.exit_code == 130, res.output
     text = " ".join(res.output.split())

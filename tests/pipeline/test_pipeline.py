@@ -78,11 +78,19 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     k = design["performance"]["mean_stiffness_N_per_mm"]
     assert unit["actuator"]["K_Nm_per_rad"] == pytest.approx(2 * PAPER_PULLEY_RADIUS_M**2 * k * 1e3, rel=1e-6)
     study = unit["actuator_study"]
-    assert [c["other"] for c in study["comparisons"]] == ["VVEA", "SEA", "LWR"]
-    assert all(c["n_cases"] + c["n_excluded"] == 1 for c in study["comparisons"])
-    assert study["settings"][0]["name"] == "design"
-    assert study["settings"][0]["K_Nm_per_rad"] == pytest.approx(unit["actuator"]["K_Nm_per_rad"])
-    assert "design vs SEA" in res.stdout
+    # equal stiffness (the paper's 362 N m/rad) against an SEA of that K and the paper's settings, then full charge
+    assert [(c["run"], c["other"]) for c in study["comparisons"]] == [
+        ("equal stiffness", "SEA"), ("equal stiffness", "VVEA"), ("equal stiffness", "LWR"),
+        ("full charge", "SEA, full charge")]
+    assert all(c["design_beats"] + c["design_worse"] + c["ties"] + c["neither_valid"] == c["n_cases"] == 1
+               for c in study["comparisons"])  # every case counted
+    assert study["settings"][0]["name"] == "design" and study["settings"][0]["K_Nm_per_rad"] == pytest.approx(362.0)
+    full = next(s for s in study["settings"] if s["name"] == "design, full charge")
+    r = design["fixed"].get("pulley_radius_mm", 63.88) / 1e3  # the study maps through the design's own pulley
+    assert full["K_Nm_per_rad"] == pytest.approx(2 * r**2 * k * 1e3, rel=1e-6)
+    assert full["K_Nm_per_rad"] == pytest.approx(unit["actuator"]["K_Nm_per_rad"], rel=1e-4)  # 63.88 vs 63.8786 mm
+    assert study["damping"]["source"] and [r["label"] for r in study["runs"]] == ["equal stiffness", "full charge"]
+    assert "design vs SEA" in res.stdout and "[equal stiffness]" in res.stdout and "[full charge]" in res.stdout
     ds = json.loads((out / "actuator" / "design_study.json").read_text())  # the CLI's mesh options reached it
     assert ds["mesh"]["n_intervals"] == 24 and ds["safety_design"]["setup"]["mesh"]["n_intervals"] == 30
     size = (out / "report.html").stat().st_size

@@ -125,24 +125,8 @@ class _Collocation:
         self.nx = nx = 5 if variable_damping else 4
         self.nu = nu = 2 if variable_damping else 1
         self.tau, self.C, self.Bq, self.Mass = _radau(d)
-        p = ca.SX.sym("p", self.NP)
-        self.p = p
-        a, Ts, ds, taumax, umax, K, B, M, Dc = (p[i] for i in range(self.NP))
-        z = ca.SX.sym("z", nx)
-        v = ca.SX.sym("v", nu)
-        dth = (a / Ts) * z[2]
-        dq = (a / Ts) * z[3]
-        D = ds * z[4] if variable_damping else Dc
-        tau = D * (dth - dq) + K * a * (z[0] - z[1])
-        tau_m = taumax * v[0]
-        rhs = [z[2], z[3], Ts**2 / a * (tau_m - tau) / B, Ts**2 / a * tau / M]
-        if variable_damping:
-            rhs.append(Ts * umax * v[1] / ds)
-        self.f = ca.Function("f", [z, v, p], [ca.vertcat(*rhs), tau, D])
         # decision vector: fixed start state, then per interval k: U_k, Z_k1..Z_kd
         self.nw = N * (nu + nx * d) + nx
-        w = ca.SX.sym("w", self.nw)
-        self.w = w
         self.iz0 = np.arange(nx)
         off = nx
         self.iu = np.zeros((N, nu), dtype=int)
@@ -157,6 +141,30 @@ class _Collocation:
                 off += nx
             prev = self.iz[k, d]
         assert off == self.nw
+        self._symbolic = False
+
+    def symbolic(self) -> "_Collocation":
+        """Build the CasADi expressions (``p``, ``f``, ``w``, ``g``, ``tau_at``) once; the solvers' builders
+        need them, a solver loaded from the cache (:mod:`~vvea_design.actuator.solver_cache`) does not."""
+        if self._symbolic:
+            return self
+        N, d, nx, nu, variable_damping = self.N, self.d, self.nx, self.nu, self.variable
+        p = ca.SX.sym("p", self.NP)
+        self.p = p
+        a, Ts, ds, taumax, umax, K, B, M, Dc = (p[i] for i in range(self.NP))
+        z = ca.SX.sym("z", nx)
+        v = ca.SX.sym("v", nu)
+        dth = (a / Ts) * z[2]
+        dq = (a / Ts) * z[3]
+        D = ds * z[4] if variable_damping else Dc
+        tau = D * (dth - dq) + K * a * (z[0] - z[1])
+        tau_m = taumax * v[0]
+        rhs = [z[2], z[3], Ts**2 / a * (tau_m - tau) / B, Ts**2 / a * tau / M]
+        if variable_damping:
+            rhs.append(Ts * umax * v[1] / ds)
+        self.f = ca.Function("f", [z, v, p], [ca.vertcat(*rhs), tau, D])
+        w = ca.SX.sym("w", self.nw)
+        self.w = w
         g = []
         self.tau_at = []  # (link torque, damping) at collocation points j = 1..d of each interval
         for k in range(N):
@@ -170,6 +178,8 @@ class _Collocation:
                 taus.append((tj, Dj))
             self.tau_at.append(taus)
         self.g = ca.vertcat(*g)
+        self._symbolic = True
+        return self
 
     def params(self, act: Actuator, a: float, Ts: float) -> np.ndarray:
         ds = max(act.D_max_Nms_per_rad, 1.0)

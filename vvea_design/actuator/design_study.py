@@ -1,25 +1,33 @@
 """The design's own actuator study, fast enough for the main job (``vvea design``).
 
-:func:`run_design_study` maps a design's gas spring to a joint actuator (the
-section 3.4 mapping, :func:`~vvea_design.actuator.model.actuator_from_spring`)
-and compares it with the paper's VVEA, SEA and LWR:
+:func:`run_design_study` answers the designer's question — does this unit track better than a plain SEA
+*of the same stiffness*? — in two labelled runs:
 
-* **rest-to-rest** (section 5) on :data:`DESIGN_GRID` (4 amplitudes x 4 periods
-  spread over the paper's grid), every setting on one mesh
-  (:data:`DESIGN_MESH`, 64 Radau intervals) with the multi-start of
-  :mod:`~vvea_design.actuator.multistart` reduced to the starts that win
-  almost always (D_min solution, ramp) and the study regularisation; every
-  trajectory is re-simulated (:mod:`~vvea_design.actuator.verify`) and only
-  valid, verified results enter the statistics (how many were left out is
-  part of the result);
-* **safety** (section 6): the 50 N m torque step of the design with variable
-  damping and with fixed D = 31 N m s/rad (the paper's slow case), and of the
-  paper's VVEA with variable damping.
+* **equal stiffness** (the default comparison): the design charged for a target joint stiffness
+  (``target_K_Nm_per_rad``, default the paper's 362 N m/rad; :func:`~vvea_design.actuator.stiffness.charge_for_stiffness`
+  picks the charge inside the unit's pressure limits and says which limit binds when the target is out of
+  range) against an SEA of the same K, and against the paper's VVEA and LWR for context;
+* **full charge**: the design at the charge it is sized for, against an SEA of that (higher) K.
 
-One parametric CasADi solver per mesh and process serves every case (the
-per-process cache of :mod:`~vvea_design.actuator.multistart`); the cases run
-through :func:`vvea_design.parallel.parallel_map`. ``studies/bench_design_study.py``
-prints the time breakdown.
+The design's damping range is the built unit's own (``Design.damping_range_N_s_per_mm()``: throttle open and
+closed, relief-capped) through the tendon pulley, or the paper's Table 4 range when the design carries none
+(:mod:`~vvea_design.actuator.damping`); the result names which and why. Every case is counted
+(:class:`~vvea_design.actuator.design_results.Comparison`): a case where the design is not valid (or not
+verified) while the other is valid is a loss. :class:`~vvea_design.actuator.design_results.DampingUse` says
+what the optima ask of the valve (peak damping per case, cases at D_max, damping torque against the relief
+valves).
+
+Rest-to-rest (section 5) on :data:`DESIGN_GRID` (4 amplitudes x 4 periods spread over the paper's grid), one
+mesh (:data:`DESIGN_MESH`, 64 Radau intervals), the multi-start reduced to :data:`DESIGN_STARTS` in chains
+over the periods of each amplitude (:func:`~vvea_design.actuator.multistart.solve_chain`), the study
+regularisation; every trajectory is re-simulated (:mod:`~vvea_design.actuator.verify`). Safety (section 6):
+the 50 N m torque step of the design at equal stiffness with variable damping and with fixed D = 31 N m s/rad
+(the paper's slow case), and of the paper's VVEA with variable damping. Settings that differ only by name are
+solved once (with Table 4's range, the design at 362 N m/rad *is* the paper's VVEA).
+
+One parametric CasADi solver per mesh and process serves every case (cached on disk,
+:mod:`~vvea_design.actuator.solver_cache`); the chains and torque steps run through
+:func:`vvea_design.parallel.parallel_map`. ``studies/bench_design_study.py`` prints the time breakdown.
 
 Example
 -------
@@ -43,13 +51,18 @@ import numpy as np
 
 from ..parallel import parallel_map
 from ..spring.gas_spring import GasSpring
-from .figures import plot_design_map, plot_safety, plot_trajectory
-from .model import PAPER_SETTINGS, Actuator, actuator_from_spring
-from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, CaseRow, RestToRestCase, solve_case_results
+from .damping import DampingRange, unit_damping_range
+from .design_results import (EQUAL_STIFFNESS, FULL_CHARGE, CaseResult, Comparison, DampingUse, SettingSummary,
+                             StudyFiles, StudyRun, StudyTiming, damping_use)
+from .figures import plot_design_vs_sea, plot_safety, plot_trajectory
+from .model import PAPER_PULLEY_RADIUS_M, PAPER_SETTINGS, Actuator, actuator_from_spring
+from .multistart import (DEFAULT_REGULARISATION, RESULT_COLUMNS, CaseRow, RestToRestCase, _chain_item, chains,
+                         solve_chain)
 from .ocp import Mesh, Regularisation
 from .rest_to_rest import Grid
 from .safety import SafetyStudy, solve_safety
-from .statistics import PAPER_TABLE5, Table5Statistics, table5_statistics
+from .statistics import PAPER_TABLE5, table5_statistics
+from .stiffness import ATMOSPHERE_MPA, PAPER_K_NM_PER_RAD, ChargeChoice, charge_for_stiffness
 
 __all__ = [
     "DESIGN_GRID",
@@ -60,10 +73,16 @@ __all__ = [
     "CaseResult",
     "SettingSummary",
     "Comparison",
+    "StudyRun",
+    "DampingUse",
     "StudyTiming",
     "StudyFiles",
     "DesignStudy",
+    "EQUAL_STIFFNESS",
+    "FULL_CHARGE",
     "design_actuator",
+    "study_actuators",
+    "unit_mapping",
     "run_design_study",
 ]
 
@@ -71,214 +90,90 @@ __all__ = [
 DESIGN_GRID = Grid((0.2, 0.4, 0.7, 1.0), (0.3, 0.6, 1.0, 1.5))
 #: Mesh of the design study (single level; SEA's grid-mean rmse is within 0.6 % of N = 256 here).
 DESIGN_MESH = Mesh(64, 3)
-#: Starts of the variable-damping settings (on the paper grid these two won 133 of 150 VVEA cases).
-DESIGN_STARTS = ("const-Dmin", "ramp")
+#: Starts of the variable-damping settings: the D_min solution and the neighbouring period's optimum
+#: (on the paper grid the D_min start alone comes within 0.2 % of the full multi-start for VVEA).
+DESIGN_STARTS = ("const-Dmin", "neighbour")
 #: Mesh of the design's torque step (t95 within 0.3 % of the 200-interval mesh, docs/actuator.md).
 DESIGN_SAFETY_MESH = Mesh(100, 3, grading=0.8)
 #: Fixed dampings (N m s/rad) the design's variable-damping torque step is compared with (paper: 31 and 200).
 DESIGN_SAFETY_FIXED_D = (31.0,)
-#: The paper's settings the design is compared with.
+#: The paper's settings the design is compared with at equal stiffness (SEA: at the design's K).
 DESIGN_REFERENCES = ("VVEA", "SEA", "LWR")
-
-
-@dataclass(frozen=True)
-class CaseResult:
-    """One setting at one (A, T)."""
-
-    A_rad: float  #: reference amplitude
-    T_s: float  #: reference period
-    setting: str  #: setting name
-    rmse_rad: float  #: tracking rmse (nan if not solved)
-    valid: bool  #: link reaches 95 % of A in both up-phases
-    verified: bool  #: re-simulation agrees, bounds kept
-    status: str  #: IPOPT status (or the error)
-    start: str  #: start that won
-
-    @property
-    def usable(self) -> bool:
-        """Counts in the statistics: solved, valid and verified."""
-        return self.valid and self.verified and math.isfinite(self.rmse_rad)
-
-    @classmethod
-    def from_row(cls, row: CaseRow) -> "CaseResult":
-        """The case of a ``results.csv`` row.
-
-        Parameters
-        ----------
-        row : CaseRow
-            A row of :func:`~vvea_design.actuator.multistart.solve_case_results` (SI units).
-
-        Returns
-        -------
-        CaseResult
-            Amplitude (rad), period (s), setting, rmse (rad), validity, verification, status and start.
-        """
-        return cls(float(row.A_rad), float(row.T_s), row.setting, float(row.rmse), bool(row.valid),
-                   bool(row.verified), str(row.status), str(row.start))
-
-    def to_dict(self) -> dict:
-        """Plain-JSON dictionary.
-
-        Returns
-        -------
-        dict
-            JSON-ready fields by name: ``A_rad`` (rad), ``T_s`` (s), ``setting``, ``rmse_rad`` (rad, NaN when
-            not solved), ``valid``, ``verified``, ``status``, ``start``.
-        """
-        return asdict(self)
-
-
-@dataclass(frozen=True)
-class SettingSummary:
-    """One setting over the grid."""
-
-    name: str  #: setting name
-    K_Nm_per_rad: float  #: series stiffness
-    D_min_Nms_per_rad: float  #: damping range, lower end
-    D_max_Nms_per_rad: float  #: damping range, upper end
-    n_cases: int  #: cases of the grid
-    n_solved: int  #: IPOPT success
-    n_valid: int  #: solved and valid (95 % rule)
-    n_unverified: int  #: solved but failed the re-simulation check (left out)
-    mean_rmse_rad: float  #: mean rmse over the cases where every setting is usable
-
-    def to_dict(self) -> dict:
-        """Plain-JSON dictionary.
-
-        Returns
-        -------
-        dict
-            JSON-ready fields by name: ``name``, ``K_Nm_per_rad`` (N m/rad), ``D_min_Nms_per_rad`` and
-            ``D_max_Nms_per_rad`` (N m s/rad), the case counts ``n_cases``, ``n_solved``, ``n_valid``,
-            ``n_unverified`` and ``mean_rmse_rad`` (rad).
-        """
-        return asdict(self)
-
-
-@dataclass(frozen=True)
-class Comparison:
-    """The design against one other setting (Table-5-like), over the cases where both are usable."""
-
-    other: str  #: the other setting
-    n_cases: int  #: cases where both trajectories are valid and verified
-    n_excluded: int  #: grid cases left out (either one invalid, unverified or not solved)
-    design_beats: int  #: cases with rmse_design < (1 - 1e-3) rmse_other
-    design_worse: int  #: cases with rmse_design > (1 + 1e-3) rmse_other
-    fraction_design_beats: float | None  #: design_beats / n_cases
-    meanrmse_other_over_design: float | None  #: mean rmse ratio (> 1: the design tracks better)
-    paper_vvea_beats: float | None  #: the paper's Table 5 "VVEA beats <other>" (context)
-    paper_meanrmse_other_over_vvea: float | None  #: the paper's Table 5 ratio for VVEA (context)
-
-    def to_dict(self) -> dict:
-        """Plain-JSON dictionary.
-
-        Returns
-        -------
-        dict
-            JSON-ready fields by name: ``other``, the case counts (``n_cases``, ``n_excluded``,
-            ``design_beats``, ``design_worse``), ``fraction_design_beats`` (fraction),
-            ``meanrmse_other_over_design`` (dimensionless ratio) and the paper's Table 5 values
-            (``paper_vvea_beats``, ``paper_meanrmse_other_over_vvea``); ``None`` where not defined.
-        """
-        return asdict(self)
-
-
-@dataclass(frozen=True)
-class StudyTiming:
-    """Wall-clock breakdown in s."""
-
-    rest_to_rest_and_safety_s: float  #: the parallel solves (cases + torque steps)
-    figures_s: float  #: figures and files
-    total_s: float  #: the whole call
-    workers: int  #: worker processes used
-    solver_seconds: float  #: sum of all IPOPT wall times (all processes)
-    rest_to_rest_cpu_seconds: float  #: CPU time of the rest-to-rest solves (all processes)
-
-    def to_dict(self) -> dict:
-        """Plain-JSON dictionary.
-
-        Returns
-        -------
-        dict
-            JSON-ready fields by name: ``rest_to_rest_and_safety_s``, ``figures_s``, ``total_s`` (wall clock,
-            s), ``workers`` (count), ``solver_seconds`` (summed IPOPT wall time, s) and
-            ``rest_to_rest_cpu_seconds`` (CPU time, s).
-        """
-        return asdict(self)
-
-
-@dataclass(frozen=True)
-class StudyFiles:
-    """Files written by :func:`run_design_study` (``None`` when not written)."""
-
-    results_csv: Path | None = None  #: one row per OCP (``results.csv`` columns)
-    summary_json: Path | None = None  #: :meth:`DesignStudy.to_dict`
-    map_png: Path | None = None  #: design vs the others, case by case (:func:`plot_design_map`)
-    trajectory_png: Path | None = None  #: one case's optimal trajectories
-    safety_png: Path | None = None  #: torque steps of the design and the paper's VVEA
-
-    def to_dict(self) -> dict:
-        """Plain-JSON dictionary: each file's name in the study's folder (``None``: not written).
-
-        Names, not paths, so that a study written in a temporary folder and moved into place
-        (``outputs.output_dir``) names no folder that no longer exists.
-
-        Returns
-        -------
-        dict of str to str or None
-            JSON-ready: field name (``results_csv``, ``summary_json``, ``map_png``, ``trajectory_png``,
-            ``safety_png``) to the file's base name, or ``None`` when the file was not written.
-        """
-        return {k: (Path(v).name if v is not None else None) for k, v in asdict(self).items()}
-
-    def __iter__(self):
-        """The written files (paths), figures last."""
-        return iter([p for p in (self.results_csv, self.summary_json, self.map_png, self.trajectory_png,
-                                 self.safety_png) if p is not None])
+#: Setting names of the full-charge run.
+FULL_DESIGN, FULL_SEA = "design, full charge", "SEA, full charge"
 
 
 @dataclass(frozen=True)
 class DesignStudy:
     """Result of :func:`run_design_study`."""
 
-    actuator: Actuator  #: the design's joint actuator (name "design")
-    references: tuple[Actuator, ...]  #: the settings compared with
+    actuator: Actuator  #: the design's joint actuator at equal stiffness (name "design")
+    references: tuple[Actuator, ...]  #: the settings it is compared with at equal stiffness ("SEA" at its K)
+    runs: tuple[StudyRun, ...]  #: equal stiffness first, then full charge (when the design can be recharged)
+    damping: DampingRange  #: the damping range used and why
     grid: Grid  #: rest-to-rest grid
     mesh: Mesh  #: collocation mesh
     starts: tuple[str, ...]  #: variable-damping starts
     regularisation: Regularisation  #: input smoothing (rmse stays the pure tracking cost)
     cases: tuple[CaseResult, ...]  #: every setting at every case
-    settings: tuple[SettingSummary, ...]  #: design first, then the references
-    comparisons: tuple[Comparison, ...]  #: the design against each reference
-    safety_design: SafetyStudy  #: torque step of the design (variable D, and fixed D = 31 with the design's K)
+    settings: tuple[SettingSummary, ...]  #: design first, then the references, then the full-charge run's
+    comparisons: tuple[Comparison, ...]  #: the design against each other setting of its run, every case counted
+    safety_design: SafetyStudy  #: torque step of the design at equal stiffness (variable D, and fixed D = 31)
     safety_reference: SafetyStudy  #: the same for the paper's VVEA
     timing: StudyTiming  #: time breakdown
     files: StudyFiles = field(default_factory=StudyFiles)  #: what was written
     trajectory_case: tuple[float, float] = (float("nan"), float("nan"))  #: (A, T) of the trajectory figure
     best: dict = field(default_factory=dict, repr=False)  #: OcpResult per setting at ``trajectory_case``
 
-    def comparison(self, other: str) -> Comparison:
-        """The comparison with the setting called ``other``.
+    def comparison(self, other: str, run: str = EQUAL_STIFFNESS) -> Comparison:
+        """The comparison with the setting called ``other`` in ``run``.
 
         Parameters
         ----------
         other : str
-            Name of a reference setting of the study (``"VVEA"``, ``"SEA"``, ``"LWR"`` by default).
+            Name of a setting of the run (``"SEA"``, ``"VVEA"``, ``"LWR"`` at equal stiffness;
+            ``"SEA, full charge"`` at full charge).
+        run : str
+            :data:`EQUAL_STIFFNESS` (default) or :data:`FULL_CHARGE`.
 
         Returns
         -------
         Comparison
-            The design against ``other`` over the cases where both are usable.
+            The design against ``other`` over every case of the grid.
 
         Raises
         ------
         KeyError
-            When the study has no comparison with ``other`` (the message lists the ones it has).
+            When the study has no such comparison (the message lists the ones it has).
         """
         for c in self.comparisons:
-            if c.other == other:
+            if c.other == other and c.run == run:
                 return c
-        raise KeyError(f"no comparison with {other!r}; have {[c.other for c in self.comparisons]}")
+        raise KeyError(f"no comparison with {other!r} in run {run!r}; have "
+                       f"{[(c.run, c.other) for c in self.comparisons]}")
+
+    def run(self, label: str) -> StudyRun:
+        """The run called ``label``.
+
+        Parameters
+        ----------
+        label : str
+            :data:`EQUAL_STIFFNESS` or :data:`FULL_CHARGE`.
+
+        Returns
+        -------
+        StudyRun
+            The design's actuator, charge and damping use in that run.
+
+        Raises
+        ------
+        KeyError
+            When the study has no such run.
+        """
+        for r in self.runs:
+            if r.label == label:
+                return r
+        raise KeyError(f"no run {label!r}; have {[r.label for r in self.runs]}")
 
     def report_tables(self) -> list[tuple[str, tuple[str, ...], list[tuple]]]:
         """Tables for a report: (title, header, rows) each; numbers rounded for reading.
@@ -286,33 +181,39 @@ class DesignStudy:
         Returns
         -------
         list of (str, tuple of str, list of tuple)
-            Three tables, each as (title, column headers, rows of formatted cells; ``"-"`` for a missing or
-            non-finite number): the rest-to-rest comparison of the design with each reference (fractions
-            as percent, rmse ratios dimensionless), the settings over the grid (K in N m/rad, D range in
-            N m s/rad, mean rmse in rad) and the torque-step cases of the design and of the paper's VVEA
-            (t95 in ms, mean and max D in N m s/rad, status).
+            Four tables, each as (title, column headers, rows of formatted cells; ``"-"`` for a missing or
+            non-finite number): the comparisons of both runs over every case (counts, percent of every case,
+            rmse ratios), the settings over the grid (K in N m/rad, D range in N m s/rad, mean rmse in rad),
+            what the optima ask of the valve (N m s/rad, N m) and the torque steps (t95 in ms, mean and max D
+            in N m s/rad, status).
         """
         def f(x, fmt):
             return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
         n = len(self.grid.cases())
-        comp = [(c.other, f"{c.design_beats} of {c.n_cases}", f(c.fraction_design_beats, ".0%"),
-                 f(c.meanrmse_other_over_design, ".3f"), c.n_excluded,
-                 f(c.paper_vvea_beats, ".1%"), f(c.paper_meanrmse_other_over_vvea, ".3f")) for c in self.comparisons]
+        comp = [(c.run, f"{c.design} vs {c.other}", f"{c.design_beats} of {c.n_cases}", f(c.fraction_design_beats, ".0%"),
+                 c.design_worse, c.only_other_valid, c.neither_valid, f(c.meanrmse_other_over_design, ".3f"),
+                 c.n_both_valid, f(c.paper_vvea_beats, ".1%")) for c in self.comparisons]
         sets = [(s.name, f(s.K_Nm_per_rad, ".0f"), f"{s.D_min_Nms_per_rad:.3g}-{s.D_max_Nms_per_rad:.4g}",
                  f"{s.n_valid} of {s.n_cases}", s.n_unverified, f(s.mean_rmse_rad, ".4f")) for s in self.settings]
+        use = [(r.label, r.damping_use.n_cases, r.damping_use.n_reach_D_max, r.damping_use.n_stay_at_D_min,
+                f(r.damping_use.largest_D_used_Nms_per_rad, ".4g"), f(r.damping_use.largest_damping_torque_Nm, ".0f"),
+                f(r.damping_use.relief_torque_Nm, ".0f"), r.damping_use.n_over_relief) for r in self.runs]
         steps = []
         for st in (self.safety_design, self.safety_reference):
             for c in st.cases:
                 steps.append((c.name, f(c.t95_s * 1e3, ".1f"), f(c.mean_D_Nms_per_rad, ".1f"),
                               f(c.max_D_Nms_per_rad, ".1f"), c.status))
         return [
-            (f"Rest-to-rest: the design against the paper's settings ({n} cases, only cases where both "
-             f"trajectories are valid and verified)",
-             ("other setting", "design better", "fraction", "mean rmse other / design", "cases left out",
-              "paper: VVEA better", "paper: mean rmse other / VVEA"), comp),
+            (f"Rest-to-rest: the design against the other settings, every one of the {n} cases counted (the design "
+             "not valid while the other is: a loss)",
+             ("run", "comparison", "design better", "of every case", "design worse", "of those: only the other valid",
+              "neither valid", "mean rmse other / design (both valid)", "both valid", "paper: VVEA better"), comp),
             ("Settings over the grid", ("setting", "K (N m/rad)", "D (N m s/rad)", "valid cases",
-                                        "not verified (left out)", "mean rmse (rad), cases all valid"), sets),
+                                        "not verified", "mean rmse (rad), cases all valid"), sets),
+            (f"What the optima ask of the valve ({self.damping.source})",
+             ("run", "valid optima", "reach D_max", "stay at D_min", "highest D used (N m s/rad)",
+              "largest damping torque (N m)", "relief torque (N m)", "above the relief torque"), use),
             (f"Torque step {self.safety_design.setup['tau_ref_Nm']:g} N m (M = "
              f"{self.safety_design.setup['M_kgm2']:g} kg m²)",
              ("case", "t95 (ms)", "mean D (N m s/rad)", "max D (N m s/rad)", "status"), steps),
@@ -320,7 +221,7 @@ class DesignStudy:
 
     @property
     def n_left_out(self) -> int:
-        """Results left out of the statistics because the trajectory did not verify."""
+        """Results whose trajectory did not verify (each counted as not usable, so a loss against a usable rival)."""
         return sum(s.n_unverified for s in self.settings)
 
     def to_dict(self) -> dict:
@@ -329,15 +230,17 @@ class DesignStudy:
         Returns
         -------
         dict
-            JSON-ready: the design actuator and the references (their fields, SI), the grid (``A_rad`` in
-            rad, ``T_s`` in s), mesh, starts, regularisation, per-setting summaries, comparisons, the number
-            of cases left out as unverified, both torque-step studies, timing (s), file names, the
-            trajectory figure's case (``A_rad``, ``T_s``) and every case result (see the ``to_dict`` of
-            each part).
+            JSON-ready: the design actuator and the references (their fields, SI), the runs (charge in MPa,
+            K in N m/rad, damping use), the damping range and its source, the grid (``A_rad`` in rad, ``T_s``
+            in s), mesh, starts, regularisation, per-setting summaries, comparisons (every case counted), the
+            number of unverified results, both torque-step studies, timing (s), file names, the trajectory
+            figure's case (``A_rad``, ``T_s``) and every case result (see the ``to_dict`` of each part).
         """
         return {
             "actuator": asdict(self.actuator),
             "references": [asdict(a) for a in self.references],
+            "runs": [r.to_dict() for r in self.runs],
+            "damping": self.damping.to_dict(),
             "grid": {"A_rad": list(self.grid.A_rad), "T_s": list(self.grid.T_s)},
             "mesh": asdict(self.mesh),
             "starts": list(self.starts),
@@ -355,7 +258,7 @@ class DesignStudy:
 
 
 def design_actuator(design, **mapping) -> Actuator:
-    """The design's joint actuator named ``"design"``.
+    """The design's joint actuator named ``"design"`` at its own charge, with the Table 3 valve mapping.
 
     Parameters
     ----------
@@ -382,18 +285,111 @@ def design_actuator(design, **mapping) -> Actuator:
     return actuator_from_spring(spring, name="design", **mapping)
 
 
+_MAPPING_KEYS = ("pulley_radius_m", "n_units")
+
+
+def study_actuators(design, *, target_K_Nm_per_rad: float = PAPER_K_NM_PER_RAD, damping: DampingRange | None = None,
+                    mapping: dict | None = None, max_charge_MPa: float | None = None,
+                    min_pressure_MPa: float = ATMOSPHERE_MPA,
+                    ) -> tuple[list[tuple[str, Actuator, Actuator, ChargeChoice | None]], DampingRange]:
+    """The design's actuators of the study's runs, each with an SEA of the same stiffness.
+
+    Parameters
+    ----------
+    design
+        A :class:`~vvea_design.spring.design.Design` (or anything with ``.gas_spring``), a
+        :class:`~vvea_design.spring.gas_spring.GasSpring`, or an :class:`Actuator` (used as is: one run at its
+        own K).
+    target_K_Nm_per_rad
+        Joint stiffness of the equal-stiffness run, N m/rad.
+    damping
+        The damping range to use (default: the unit's own, :func:`~vvea_design.actuator.damping.unit_damping_range`).
+    mapping
+        ``pulley_radius_m`` (m; default the design's ``fixed.pulley_radius_mm``, else the paper's) and
+        ``n_units`` (default 2).
+    max_charge_MPa, min_pressure_MPa
+        The unit's pressure limits (MPa, absolute; see :func:`~vvea_design.actuator.stiffness.charge_for_stiffness`).
+
+    Returns
+    -------
+    (list of (str, Actuator, Actuator, ChargeChoice or None), DampingRange)
+        Per run: its label, the design's actuator, the SEA of the same K, the charge (None for an
+        Actuator); and the damping range used.
+
+    Raises
+    ------
+    ValueError
+        For an unknown mapping option or a design of an unknown kind.
+    """
+    mapping = dict(mapping or {})
+    unknown = sorted(set(mapping) - set(_MAPPING_KEYS))
+    if unknown:
+        raise ValueError(f"mapping options {unknown} are not used by the study; it takes {list(_MAPPING_KEYS)} "
+                         "(the charge follows from target_K_Nm_per_rad, the damping from the unit)")
+    if isinstance(design, Actuator):
+        act = design.with_(name="design")
+        if damping is not None:
+            act = act.with_(D_min_Nms_per_rad=damping.D_min_Nms_per_rad, D_max_Nms_per_rad=damping.D_max_Nms_per_rad)
+        rng = damping or DampingRange(act.D_min_Nms_per_rad, act.D_max_Nms_per_rad, "the given actuator",
+                                      "the design was given as an Actuator")
+        sea = Actuator("SEA", act.K_Nm_per_rad, 0.0, 0.0, act.B_kgm2, act.M_kgm2, act.u_d_max, act.tau_m_max_Nm)
+        return [(EQUAL_STIFFNESS, act, sea, None)], rng
+    spring, r, n, x0, tau_max = unit_mapping(design, mapping)
+    rng = damping or unit_damping_range(design, pulley_radius_m=r, n_units=n)
+    runs = []
+    for label, target, dname, sname in ((EQUAL_STIFFNESS, target_K_Nm_per_rad, "design", "SEA"),
+                                        (FULL_CHARGE, None, FULL_DESIGN, FULL_SEA)):
+        if target is None:  # the highest allowed charge
+            target = charge_for_stiffness(spring, 1.0, pulley_radius_m=r, n_units=n, max_charge_MPa=max_charge_MPa,
+                                          min_pressure_MPa=min_pressure_MPa, setpoint_x0_mm=x0).K_full_Nm_per_rad
+        ch = charge_for_stiffness(spring, target, pulley_radius_m=r, n_units=n, max_charge_MPa=max_charge_MPa,
+                                  min_pressure_MPa=min_pressure_MPa, setpoint_x0_mm=x0)
+        act = Actuator(dname, ch.K_Nm_per_rad, rng.D_min_Nms_per_rad, rng.D_max_Nms_per_rad, tau_m_max_Nm=tau_max)
+        runs.append((label, act, Actuator(sname, ch.K_Nm_per_rad, 0.0, 0.0, tau_m_max_Nm=tau_max), ch))
+    return runs, rng
+
+
+def unit_mapping(design, mapping: dict | None = None) -> tuple[GasSpring, float, int, float, float]:
+    """The unit's gas spring and how it acts on the joint.
+
+    Parameters
+    ----------
+    design
+        A :class:`~vvea_design.spring.design.Design` (or anything with ``.gas_spring``) or a
+        :class:`~vvea_design.spring.gas_spring.GasSpring`.
+    mapping
+        ``pulley_radius_m`` (m) and ``n_units`` overriding the design's.
+
+    Returns
+    -------
+    (GasSpring, float, int, float, float)
+        The spring (mm, MPa), the pulley radius (m; the design's ``fixed.pulley_radius_mm``, else the paper's),
+        the units on the pulley, the set point x0 (mm) and the motor torque limit (N m).
+
+    Raises
+    ------
+    ValueError
+        For a design of an unknown kind.
+    """
+    mapping = dict(mapping or {})
+    spring = design if isinstance(design, GasSpring) else getattr(design, "gas_spring", None)
+    if not isinstance(spring, GasSpring):
+        raise ValueError(f"design must be an Actuator, a GasSpring or have a .gas_spring, got {type(design).__name__}")
+    fixed = getattr(design, "fixed", None)
+    own_r = getattr(fixed, "pulley_radius_mm", None)
+    r = float(mapping.get("pulley_radius_m", own_r / 1e3 if own_r else PAPER_PULLEY_RADIUS_M))
+    n = int(mapping.get("n_units", 2))
+    tau_max = float(getattr(fixed, "max_motor_torque_Nm", PAPER_SETTINGS["VVEA"].tau_m_max_Nm))
+    return spring, r, n, float(getattr(design, "setpoint_x0_mm", 0.0)), tau_max
+
+
 def _work(item):
-    """Worker: a rest-to-rest case -> (rows, best results), or a torque-step study. Never raises for a case."""
+    """Worker: a chain of rest-to-rest cases -> (rows per case, kept best), or a torque-step study."""
     kind, payload = item
     if kind == "safety":
         base, mesh, name, fixed = payload
         return solve_safety(base, mesh=mesh, name=name, fixed_D_Nms_per_rad=fixed)
-    try:
-        return solve_case_results(payload)
-    except Exception:  # noqa: BLE001 - one case must not stop the study (solve_case records the error)
-        from .multistart import solve_case
-
-        return solve_case(payload), {}
+    return _chain_item(payload)
 
 
 def _solve_items(items: list, workers: int | None, progress, total: int) -> tuple[list, int]:
@@ -407,44 +403,50 @@ def _solve_items(items: list, workers: int | None, progress, total: int) -> tupl
         if progress is not None:
             kind, payload = items[i]
             msg = (f"torque step {payload[2]}" if kind == "safety"
-                   else f"rest-to-rest A = {payload.A_rad:g} rad, T = {payload.T_s:g} s")
+                   else f"rest-to-rest A = {payload[1][0].A_rad:g} rad, {len(payload[1])} period(s)")
             progress(done[0], total, msg)
 
     used = 1 if workers == 1 else min(default_workers() if workers is None else workers, len(items))
     return parallel_map(_work, items, workers=workers, on_result=on_result, progress=False), used
 
 
-def _setting_summaries(settings: Sequence[Actuator], cases: tuple[CaseResult, ...],
+def _setting_summaries(groups: Sequence[Sequence[Actuator]], cases: tuple[CaseResult, ...],
                        grid: Grid) -> tuple[SettingSummary, ...]:
-    """Each setting over the grid; the mean rmse over the cases where every setting is usable."""
-    names = [a.name for a in settings]
+    """Each setting over the grid; the mean rmse over the cases where every setting of its run is usable."""
     usable = {(c.A_rad, c.T_s, c.setting): c.usable for c in cases}
-    all_ok = [k for k in grid.cases() if all(usable.get((k[0], k[1], n), False) for n in names)]
     rm = {(c.A_rad, c.T_s, c.setting): c.rmse_rad for c in cases}
     out = []
-    for a in settings:
-        mine = [c for c in cases if c.setting == a.name]
-        out.append(SettingSummary(
-            a.name, a.K_Nm_per_rad, a.D_min_Nms_per_rad, a.D_max_Nms_per_rad, len(mine),
-            sum(1 for c in mine if math.isfinite(c.rmse_rad)),
-            sum(1 for c in mine if c.valid and math.isfinite(c.rmse_rad)),
-            sum(1 for c in mine if math.isfinite(c.rmse_rad) and not c.verified),
-            float(np.mean([rm[(A, T, a.name)] for A, T in all_ok])) if all_ok else float("nan")))
+    for group in groups:
+        names = [a.name for a in group]
+        all_ok = [k for k in grid.cases() if all(usable.get((k[0], k[1], n), False) for n in names)]
+        for a in group:
+            mine = [c for c in cases if c.setting == a.name]
+            out.append(SettingSummary(
+                a.name, a.K_Nm_per_rad, a.D_min_Nms_per_rad, a.D_max_Nms_per_rad, len(mine),
+                sum(1 for c in mine if math.isfinite(c.rmse_rad)),
+                sum(1 for c in mine if c.valid and math.isfinite(c.rmse_rad)),
+                sum(1 for c in mine if math.isfinite(c.rmse_rad) and not c.verified),
+                float(np.mean([rm[(A, T, a.name)] for A, T in all_ok])) if all_ok else float("nan")))
     return tuple(out)
 
 
-def _comparisons(refs: Sequence[Actuator], stats: Table5Statistics, n_grid: int) -> tuple[Comparison, ...]:
-    """The design against each reference over the cases where both are usable (Table-5-like)."""
+def _comparisons(runs, refs: Sequence[Actuator], stats) -> tuple[Comparison, ...]:
+    """The design of each run against its SEA (and, at equal stiffness, the references), every case counted."""
     out = []
-    for r in refs:
-        p = stats.pair("design", r.name, "valid")
-        paper = (PAPER_TABLE5.get(f"VVEA_beats_{r.name}"), PAPER_TABLE5.get(f"meanrmse_{r.name}_over_VVEA"))
-        if p is None:
-            out.append(Comparison(r.name, 0, n_grid, 0, 0, None, None, *paper))
-        else:
-            out.append(Comparison(r.name, p.n_cases, p.n_excluded, p.X_beats_Y, p.X_worse_than_Y,
-                                  p.fraction_X_beats_Y, p.meanrmse_Y_over_X, *paper))
+    for label, act, sea, _ in runs:
+        others = [sea.name] + ([r.name for r in refs if r.name != sea.name] if label == EQUAL_STIFFNESS else [])
+        for o in others:
+            c = stats.counted_pair(act.name, o)
+            paper = (PAPER_TABLE5.get(f"VVEA_beats_{o}"), PAPER_TABLE5.get(f"meanrmse_{o}_over_VVEA"))
+            if c is not None:
+                out.append(Comparison.from_counted(label, act.name, o, c, paper))
     return tuple(out)
+
+
+def _check(references: Sequence[str]) -> None:
+    unknown = [r for r in references if r not in PAPER_SETTINGS]
+    if unknown:
+        raise ValueError(f"references {unknown} are not paper settings; choose from {sorted(PAPER_SETTINGS)}")
 
 
 def run_design_study(
@@ -458,73 +460,95 @@ def run_design_study(
     references: Sequence[str] = DESIGN_REFERENCES,
     mapping: dict | None = None,
     safety_mesh: Mesh = DESIGN_SAFETY_MESH,
+    target_K_Nm_per_rad: float = PAPER_K_NM_PER_RAD,
+    damping: DampingRange | None = None,
+    max_charge_MPa: float | None = None,
+    min_pressure_MPa: float = ATMOSPHERE_MPA,
+    starts: Sequence[str] = DESIGN_STARTS,
 ) -> DesignStudy:
-    """Rest-to-rest and torque-step study of one design against the paper's VVEA, SEA and LWR.
+    """Rest-to-rest and torque-step study of one design: at equal stiffness against an SEA, VVEA and LWR, and at full charge.
 
     Parameters
     ----------
     design
         The design: a :class:`~vvea_design.spring.design.Design` (or anything
         with ``.gas_spring``), a :class:`~vvea_design.spring.gas_spring.GasSpring`,
-        or a ready :class:`~vvea_design.actuator.model.Actuator`.
+        or a ready :class:`~vvea_design.actuator.model.Actuator` (one run at its own K).
     out_dir
-        If given, writes ``results.csv``, ``design_study.json``,
-        ``design_map.png``, ``design_trajectory.png`` and ``design_safety.png``
-        there (the folder is created).
+        If given, writes ``results.csv``, ``design_study.json``, ``design_map.png`` (rmse ratio design / SEA
+        over A and T in both runs), ``design_trajectory.png`` and ``design_safety.png`` there (created).
     progress
         Called as ``progress(done, total, message)`` after each finished work
-        item (16 rest-to-rest cases + 2 torque steps by default) and once per
-        later stage.
+        item (one chain of periods per amplitude + 2 torque steps) and once at the end.
     workers
         Local worker processes (default: all cores; 1 = in this process).
     grid, mesh
         Rest-to-rest grid (A in rad, T in s) and collocation mesh (defaults :data:`DESIGN_GRID`,
         :data:`DESIGN_MESH`).
     references
-        Names in :data:`~vvea_design.actuator.model.PAPER_SETTINGS` to compare with.
+        Names in :data:`~vvea_design.actuator.model.PAPER_SETTINGS` to compare with at equal stiffness
+        (``"SEA"`` is taken at the design's K).
     mapping
-        Options of the design -> actuator mapping (see :func:`design_actuator`).
+        ``pulley_radius_m`` (m) and ``n_units`` of the section 3.4 mapping (see :func:`study_actuators`).
     safety_mesh
-        Collocation mesh of the two torque steps (default :data:`DESIGN_SAFETY_MESH`, 100 intervals
+        Collocation mesh of the torque steps (default :data:`DESIGN_SAFETY_MESH`, 100 intervals
         clustered at the step; a coarser one is quicker and blurs the damping switch).
+    target_K_Nm_per_rad
+        Joint stiffness of the equal-stiffness run, N m/rad (default the paper's 362).
+    damping
+        Damping range (N m s/rad) to use instead of the unit's own.
+    max_charge_MPa, min_pressure_MPa
+        The unit's pressure limits (MPa, absolute): default the design's own charge and atmospheric pressure.
+    starts
+        Variable-damping starts (default :data:`DESIGN_STARTS`).
 
     Returns
     -------
     DesignStudy
         Typed result (rmse in rad, times in s); ``to_dict()`` gives the JSON.
+
+    Raises
+    ------
+    ValueError
+        For an unknown reference or mapping option, or pressure limits that leave no charge.
     """
     import pandas as pd
 
     t_start = time.perf_counter()
-    act = design_actuator(design, **(mapping or {}))
-    unknown = [r for r in references if r not in PAPER_SETTINGS]
-    if unknown:
-        raise ValueError(f"references {unknown} are not paper settings; choose from {sorted(PAPER_SETTINGS)}")
-    refs = tuple(PAPER_SETTINGS[r] for r in references)
-    settings = (act,) + refs
+    _check(references)
+    runs, rng = study_actuators(design, target_K_Nm_per_rad=target_K_Nm_per_rad, damping=damping, mapping=mapping,
+                                max_charge_MPa=max_charge_MPa, min_pressure_MPa=min_pressure_MPa)
+    act, sea = runs[0][1], runs[0][2]
+    refs = tuple(sea if r == "SEA" else PAPER_SETTINGS[r] for r in references)
+    groups = [(act,) + refs] + [(a, s) for _, a, s, _ in runs[1:]]
+    settings = tuple(a for g in groups for a in g)
     reg = DEFAULT_REGULARISATION
     items: list = [("safety", (act, safety_mesh, "design, variable D", DESIGN_SAFETY_FIXED_D)),
                    ("safety", (PAPER_SETTINGS["VVEA"], safety_mesh, "VVEA, variable D", ()))]
-    items += [("r2r", RestToRestCase(A, T, settings, mesh, DESIGN_STARTS, (), None, reg)) for A, T in grid.cases()]
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), (), None, reg) for A, T in grid.cases()]
+    # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
+    ex = (min(grid.A_rad, key=lambda a: abs(a - 0.7)), min(grid.T_s, key=lambda t: abs(t - 1.0)))
+    ex_case = next(c for c in cases if (c.A_rad, c.T_s) == ex)
+    items += [("r2r", (solve_chain, ch, ex_case if ex_case in ch else None)) for ch in chains(cases)]
     total = len(items) + 1
     out, used = _solve_items(items, workers, progress, total)
     t_solved = time.perf_counter()
     safety_design, safety_ref = out[0], out[1]
-    rows: list[CaseRow] = [row for rs, _ in out[2:] for row in rs]
-    bests = {(case.A_rad, case.T_s): best for (_, case), (_, best) in zip(items[2:], out[2:])}
+    rows: list[CaseRow] = [row for per_case, _ in out[2:] for rs in per_case for row in rs]
+    best = next((b for _, b in out[2:] if b is not None), {})
     df = pd.DataFrame([r.to_dict() for r in rows], columns=RESULT_COLUMNS)
-    cases = tuple(CaseResult.from_row(r) for r in rows)
-    # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
-    ex = (min(grid.A_rad, key=lambda a: abs(a - 0.7)), min(grid.T_s, key=lambda t: abs(t - 1.0)))
+    results = tuple(CaseResult.from_row(r) for r in rows)
+    study_runs = tuple(StudyRun(label, a.name, s.name, a, ch, damping_use(label, a, results, rng))
+                       for label, a, s, ch in runs)
     study = DesignStudy(
-        actuator=act, references=refs, grid=grid, mesh=mesh, starts=DESIGN_STARTS, regularisation=reg,
-        cases=cases, settings=_setting_summaries(settings, cases, grid),
-        comparisons=_comparisons(refs, table5_statistics(df), len(grid.cases())), safety_design=safety_design,
+        actuator=act, references=refs, runs=study_runs, damping=rng, grid=grid, mesh=mesh, starts=tuple(starts),
+        regularisation=reg, cases=results, settings=_setting_summaries(groups, results, grid),
+        comparisons=_comparisons(runs, refs, table5_statistics(df)), safety_design=safety_design,
         safety_reference=safety_ref,
         timing=StudyTiming(t_solved - t_start, 0.0, 0.0, used,
                            float(df["seconds"].sum()) + safety_design.wall_seconds + safety_ref.wall_seconds,
                            float(df["cpu_seconds"].sum())),
-        trajectory_case=ex, best=bests.get(ex, {}),
+        trajectory_case=ex, best={k: v for k, v in best.items() if k in {a.name for a in groups[0]}},
     )
     if out_dir is not None:
         study = dataclasses.replace(study, files=_write(study, df, Path(out_dir)))
@@ -550,7 +574,9 @@ def _write(study: DesignStudy, df, out: Path) -> StudyFiles:
         wr.writerows(df.to_dict("records"))
     files = StudyFiles(results_csv=res, summary_json=out / "design_study.json", map_png=out / "design_map.png",
                        trajectory_png=out / "design_trajectory.png", safety_png=out / "design_safety.png")
-    plot_design_map(df, "design", [r.name for r in study.references]).savefig(files.map_png, dpi=120)
+    plot_design_vs_sea(df, [(r.label, r.design, r.sea, r.actuator.K_Nm_per_rad) for r in study.runs],
+                       damping=f"D {study.damping.D_min_Nms_per_rad:.3g}-{study.damping.D_max_Nms_per_rad:.4g} "
+                               f"N m s/rad ({study.damping.source})").savefig(files.map_png, dpi=120)
     if study.best:
         A, T = study.trajectory_case
         plot_trajectory(study.best, A, T, highlight="design").savefig(files.trajectory_png, dpi=120)

@@ -21,11 +21,14 @@ from ..palette import FIXED_DAMPING_STYLES, OTHER_COLOURS, SETTING_COLOURS, sett
 from .ocp import OcpResult, rest_to_rest_reference
 
 # SETTING_COLOURS: the palette's (vvea_design.palette), named here as before
-__all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map"]
+__all__ = ["SETTING_COLOURS", "plot_best_map", "plot_trajectory", "plot_safety", "plot_design_map",
+           "plot_design_vs_sea", "plot_sensitivity"]
 
 
 def _colour(name: str, i: int = 0) -> str:
-    return setting_colour(name, i)
+    """A setting's colour; ``"<setting>, <run>"`` (e.g. ``"design, full charge"``) takes its setting's."""
+    head = name.split(",")[0]
+    return setting_colour(head if head in SETTING_COLOURS else name, i)
 
 
 def _bool(series):
@@ -330,4 +333,174 @@ def plot_design_map(df, design: str = "design", references: Sequence[str] | None
     # and the setting names
     set_margins_in(fig, left=0.453 + ytick_label_width_in(ax), bottom=0.585, right=0.15, top=0.521,
                    wspace=-0.03 + ytick_label_width_in(cb.ax) + ytick_label_width_in(bx))
+    return fig
+
+
+def plot_design_vs_sea(df, runs: Sequence[tuple[str, str, str, float]], damping: str = "",
+                       fig: Figure | None = None) -> Figure:
+    """The designer's figure: rmse of the design over rmse of an SEA of the same stiffness, case by case.
+
+    One panel per run (equal stiffness, full charge): a cell per (T, A) with ``rmse_design / rmse_SEA - 1`` in %
+    (green: the design tracks better). Every case is drawn: a case where only the SEA is valid is a loss of the
+    design (dark cell, "design not valid"), one where only the design is valid a win ("SEA not valid"), one
+    where neither is valid a grey cell.
+
+    Parameters
+    ----------
+    df
+        Results table (``results.csv`` columns) holding every setting of the runs.
+    runs
+        Per run: ``(label, design setting, SEA setting, K in N m/rad)``.
+    damping
+        The damping range used, for the title (text).
+    fig
+        Figure to draw into (one panel per run).
+
+    Returns
+    -------
+    Figure
+    """
+    df = df.copy()
+    df["usable"] = _usable(df)
+    A_vals = sorted(df["A_rad"].unique())
+    T_vals = sorted(df["T_s"].unique())
+    ok = df.pivot_table(index=["A_rad", "T_s"], columns="setting", values="usable", aggfunc="first").fillna(False)
+    rmse = df.pivot_table(index=["A_rad", "T_s"], columns="setting", values="rmse", aggfunc="first")
+    n = len(runs)
+    if fig is None:
+        fig = Figure(figsize=(5.0 * n + 1.4, 4.6))
+    gs = fig.add_gridspec(1, n + 1, width_ratios=[1.0] * n + [0.05])
+    axes = [fig.add_subplot(gs[0, k]) for k in range(n)]
+    cax = fig.add_subplot(gs[0, n])
+    rels, texts = [], []
+    for label, dname, sname, K in runs:
+        rel = np.full((len(A_vals), len(T_vals)), np.nan)
+        text = np.full(rel.shape, "", dtype=object)
+        for i, A in enumerate(A_vals):
+            for j, T in enumerate(T_vals):
+                d_ok = (A, T) in ok.index and bool(ok.loc[(A, T)].get(dname, False))
+                s_ok = (A, T) in ok.index and bool(ok.loc[(A, T)].get(sname, False))
+                if d_ok and s_ok:
+                    rel[i, j] = 100.0 * (rmse.loc[(A, T), dname] / rmse.loc[(A, T), sname] - 1.0)
+                    text[i, j] = f"{rel[i, j]:+.1f} %"
+                else:
+                    text[i, j] = ("design not valid\n(a loss)" if s_ok else "SEA not valid\n(a win)" if d_ok
+                                  else "neither\nvalid")
+        rels.append(rel)
+        texts.append(text)
+    finite = np.concatenate([r[np.isfinite(r)] for r in rels]) if rels else np.array([])
+    lim = max(5.0, float(np.max(np.abs(finite)))) if finite.size else 5.0
+    cmap = colormaps["RdYlGn_r"].with_extremes(bad="0.85")
+    norm = TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim)
+    im = None
+    for ax, (label, dname, sname, K), rel, text in zip(axes, runs, rels, texts):
+        im = ax.imshow(np.ma.masked_invalid(rel), origin="lower", cmap=cmap, aspect="auto", norm=norm)
+        wins = losses = 0
+        for i in range(len(A_vals)):
+            for j in range(len(T_vals)):
+                t = text[i, j]
+                if np.isfinite(rel[i, j]):
+                    wins += rel[i, j] < -0.1
+                    losses += rel[i, j] > 0.1
+                    ax.text(j, i, t, ha="center", va="center", fontsize=8)
+                else:
+                    loss = t.startswith("design not valid")
+                    wins += t.startswith("SEA not valid")
+                    losses += loss
+                    if loss:
+                        ax.add_patch(_dark_cell(j, i))
+                    ax.text(j, i, t, ha="center", va="center", fontsize=7, color="white" if loss else "0.25")
+        ax.set_xticks(range(len(T_vals)))
+        ax.set_xticklabels([f"{t:g}" for t in T_vals])
+        ax.set_yticks(range(len(A_vals)))
+        ax.set_yticklabels([f"{a:g}" for a in A_vals])
+        ax.set_xlabel("period T (s)")
+        ax.set_ylabel("amplitude A (rad)")
+        ax.set_title(f"{label}: K = {K:.4g} N m/rad\n{dname} better in {wins}, worse in {losses} of "
+                     f"{len(A_vals) * len(T_vals)} cases", fontsize=9, y=1.0)
+    cb = fig.colorbar(im, cax=cax)
+    cb.set_label("rmse design / rmse SEA (same K) − 1 (%)")
+    fig.suptitle("The design against an SEA of the same stiffness (negative = the design tracks better)"
+                 + (f"\n{damping}" if damping else ""), fontsize=9)
+    # margins in inches: fixed room for the titles and labels; measured, the amplitude tick labels (left and
+    # between the panels) and the colour bar's tick labels and label (right)
+    yw = ytick_label_width_in(axes[0])
+    W = fig.get_size_inches()[0]
+    set_margins_in(fig, left=0.453 + yw, bottom=0.585, right=0.45 + ytick_label_width_in(cax), top=1.0,
+                   wspace=0.5 + yw)
+    last, bar = axes[-1].get_position(), cax.get_position()
+    cax.set_position([last.x1 + 0.15 / W, bar.y0, bar.width, bar.height])  # the bar close to the last panel
+    return fig
+
+
+def _dark_cell(j: float, i: float):
+    """A dark cell (the design not valid while the SEA is: a loss), centred on column ``j``, row ``i``."""
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((j - 0.5, i - 0.5), 1.0, 1.0, facecolor="0.3", edgecolor="none", zorder=0.5)
+
+
+def plot_sensitivity(study, fig: Figure | None = None) -> Figure:
+    """Which property buys tracking: the design's mean rmse over an SEA's of the same K, as D_min, D_max, K move.
+
+    One panel per property (:data:`~vvea_design.actuator.sensitivity.PARAMETERS`): the mean rmse ratio
+    design / SEA over the cases both track validly (below 1: the design tracks better), each point labelled
+    with the cases the design tracks better / worse over every case of the grid; the design as the study
+    takes it is the star.
+
+    Parameters
+    ----------
+    study : DesignSensitivity
+        Result of :func:`~vvea_design.actuator.sensitivity.run_design_sensitivity`.
+    fig
+        Figure to draw into (three panels).
+
+    Returns
+    -------
+    Figure
+    """
+    if fig is None:
+        fig = Figure(figsize=(12.0, 4.0))
+    axes = fig.subplots(1, 3, sharey=True)
+    titles = {"D_min": ("throttle open: D_min (N m s/rad)", "linear"),
+              "D_max": ("throttle closed: D_max (N m s/rad)", "log"),
+              "K": ("joint stiffness K (N m/rad), SEA at the same K", "linear")}
+    colour = _colour("design")
+    for ax, par in zip(axes, ("D_min", "D_max", "K")):
+        pts = [p for p in study.of(par) if p.mean_rmse_ratio_design_over_sea is not None]
+        x = [p.value for p in pts]
+        y = [p.mean_rmse_ratio_design_over_sea for p in pts]
+        ax.plot(x, y, "o-", color=colour, lw=1.2, ms=5)
+        for p in pts:
+            ax.annotate(f"{p.design_beats}/{p.design_worse}", (p.value, p.mean_rmse_ratio_design_over_sea),
+                        textcoords="offset points", xytext=(0, 7), ha="center", fontsize=7)
+            if p.is_base:
+                ax.plot([p.value], [p.mean_rmse_ratio_design_over_sea], "*", color="k", ms=12, zorder=5)
+        ax.axhline(1.0, color="0.4", lw=0.8, ls="--")
+        ax.text(0.98, 1.0, "below: the design tracks better", transform=ax.get_yaxis_transform(), ha="right",
+                va="top", fontsize=7, color="0.35")
+        ax.set_xscale(titles[par][1])
+        if titles[par][1] == "log":  # plain numbers (100, 200, 400), not 2 x 10^2
+            from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+            ax.xaxis.set_major_locator(FixedLocator(x))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.4g}"))
+            ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel(titles[par][0])
+        ax.grid(alpha=0.3)
+        spread = study.spread(par)
+        ax.set_title(f"{par}: the ratio moves by {spread:.3f}" if np.isfinite(spread) else f"{par}: one value",
+                     fontsize=9, y=1.0)
+    axes[0].set_ylabel("mean rmse design / SEA of the same K")
+    ys = [p.mean_rmse_ratio_design_over_sea for p in study.points if p.mean_rmse_ratio_design_over_sea is not None]
+    if ys:
+        lo, hi = min(min(ys), 1.0), max(max(ys), 1.0)
+        pad = 0.15 * (hi - lo) + 0.005
+        axes[0].set_ylim(lo - pad, hi + pad)
+    n = study.points[0].n_cases if study.points else 0
+    fig.suptitle("What buys tracking: the design against an SEA of the same stiffness, one property changed at a time "
+                 f"(star: the design as studied)\nlabel: cases the design tracks better / worse of all {n} (a case only "
+                 "one of them tracks validly goes to it; the rest: neither valid or a tie); the ratio is over the cases "
+                 "both track validly", fontsize=8)
+    set_margins_in(fig, left=0.45 + ytick_label_width_in(axes[0]), bottom=0.585, right=0.2, top=0.75, wspace=0.3)
     return fig

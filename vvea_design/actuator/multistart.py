@@ -13,7 +13,17 @@ and are solved from several starts; the best objective wins:
   (feasible, adopted too);
 * ``cold`` - at rest with D = D_min;
 * ``cross`` - the best solution of the other variable-damping settings of the
-  same case, clipped into this setting's damping range.
+  same case, clipped into this setting's damping range;
+* ``neighbour`` - the multi-start optimum of the same setting at the neighbouring
+  case of a chain (:func:`solve_chain`: the cases of one amplitude in the order of
+  their periods), as is: the problem is scaled by A and T, so a neighbour's scaled
+  decision vector is a start for this case. A chain's first case has none.
+
+The default starts are ``const-Dmin``, ``ramp`` and ``neighbour`` (``cold`` and
+``cross`` stay available; ``studies/bench_ocp.py`` measures what each costs and
+which optima change). Settings that differ only by name are solved once and
+share their results (the design at the paper's K with the paper's damping range
+*is* the paper's VVEA).
 
 With a fine mesh the multi-start runs on the coarse mesh and every setting is
 solved once more on the fine one (:func:`_polish_on_fine_mesh`).
@@ -25,7 +35,7 @@ import contextlib
 import json
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
@@ -41,11 +51,14 @@ __all__ = [
     "DEFAULT_MESH",
     "DEFAULT_FINE_MESH",
     "DEFAULT_STARTS",
+    "ALL_STARTS",
     "DEFAULT_REGULARISATION",
     "RESULT_COLUMNS",
     "TIE_RTOL",
     "solve_case",
     "solve_case_results",
+    "solve_chain",
+    "chains",
     "solve_single",
     "keep_results",
 ]
@@ -60,9 +73,11 @@ DEFAULT_FINE_MESH = Mesh(n_intervals=192, degree=3)
 #: Regularisation of the studies: removes the chatter of τ_m (±τ_max) and of D (D_min <-> D_max) while
 #: the link rests, at a cost of < 0.2 % in rmse (measured, docs/actuator.md).
 DEFAULT_REGULARISATION = Regularisation(u_d=1e-3, tau_rate=1e-6)
-#: Starts tried for variable-damping settings.
-DEFAULT_STARTS = ("const-Dmin", "ramp", "cold", "cross")
-_ALL_STARTS = set(DEFAULT_STARTS)
+#: Starts tried for variable-damping settings (``neighbour`` only inside a chain, :func:`solve_chain`).
+DEFAULT_STARTS = ("const-Dmin", "ramp", "neighbour")
+#: Every start there is (``cold``: at rest with D = D_min; ``cross``: the other variable settings' optima).
+ALL_STARTS = ("const-Dmin", "ramp", "cold", "cross", "neighbour")
+_ALL_STARTS = set(ALL_STARTS)
 
 
 @dataclass(frozen=True)
@@ -118,6 +133,8 @@ class CaseRow:
     verify_reason: str  #: "ok", or why not verified
     resim_rmse: float  #: rmse of the re-simulated trajectory, rad
     resim_rel_error: float  #: relative difference of the two rmse (fraction)
+    #: largest damping torque |D (θ' - q')| over every collocation point, N m (the relief valves bound it)
+    max_damping_torque_Nm: float = float("nan")
 
     def to_dict(self) -> dict:
         """The row as ``results.csv`` writes it.
@@ -186,42 +203,65 @@ def _row(case: RestToRestCase, act: Actuator, r: OcpResult | None, start: str, n
         verify_reason="not checked",
         resim_rmse=float("nan"),
         resim_rel_error=float("nan"),
+        max_damping_torque_Nm=float(np.max(np.abs(r.Z[..., 4] * (r.Z[..., 2] - r.Z[..., 3])))) if ok else float("nan"),
     )
 
 
-def solve_case_results(case: RestToRestCase) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+def _same_numbers(act: Actuator) -> tuple:
+    """Every field of a setting but its name (settings with equal keys have equal solutions)."""
+    return tuple(getattr(act, f.name) for f in fields(act) if f.name != "name")
+
+
+def solve_case_results(case: RestToRestCase,
+                       neighbour: dict[str, OcpResult] | None = None) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Solve every setting of one case; return (rows, best results by setting name).
 
     With ``case.fine_mesh`` the multi-start runs on ``case.mesh`` and the rows
     and results come from the fine mesh (:func:`_polish_on_fine_mesh`). Every
     reported result is re-simulated (:func:`~vvea_design.actuator.verify.verify_rest_to_rest`).
+    Settings that differ only by name are solved once (the rows carry each one's name).
 
     Parameters
     ----------
     case
         Amplitude (rad), period (s), settings, mesh(es), starts, regularisation.
+    neighbour
+        The multi-start optima (on ``case.mesh``) of a neighbouring case by setting name: the ``neighbour``
+        start of :func:`solve_chain` (used when ``"neighbour"`` is among ``case.starts``).
 
     Returns
     -------
     (list of CaseRow, dict)
         One ``results.csv`` row per setting (:class:`CaseRow`, SI units) and the best
-        :class:`~vvea_design.actuator.ocp.OcpResult` per setting name.
+        :class:`~vvea_design.actuator.ocp.OcpResult` per setting name; each best result's
+        ``extra["multistart"]`` is its multi-start optimum on ``case.mesh`` (the next case's neighbour start).
     """
-    rows, best = _solve_case_one_mesh(case)
-    if case.fine_mesh is not None and case.fine_mesh != case.mesh:
-        rows, best = _polish_on_fine_mesh(case, rows, best)
-    acts = {a.name: a for a in case.settings}
-    checked = []
+    first: dict[tuple, Actuator] = {}
+    for act in case.settings:
+        first.setdefault(_same_numbers(act), act)
+    unique = replace(case, settings=tuple(first.values())) if len(first) < len(case.settings) else case
+    rows, best = _solve_case_one_mesh(unique, neighbour or {})
+    coarse = dict(best)
+    if unique.fine_mesh is not None and unique.fine_mesh != unique.mesh:
+        rows, best = _polish_on_fine_mesh(unique, rows, best)
+    acts = {a.name: a for a in unique.settings}
+    checked = {}
     for row in rows:
         r = best.get(row.setting)
         if r is None:
             v = Verification(False, f"solver: {row.status}", *(4 * [float("nan")]))
         else:
-            v = verify_rest_to_rest(r, acts[row.setting], case.A_rad, case.T_s)
+            v = verify_rest_to_rest(r, acts[row.setting], unique.A_rad, unique.T_s)
             r.extra["verification"] = v
-        checked.append(replace(row, verified=v.verified, verify_reason=v.reason or "ok", resim_rmse=v.resim_rmse_rad,
-                               resim_rel_error=v.rmse_rel_error))
-    return checked, best
+            r.extra["multistart"] = coarse.get(row.setting)
+        checked[row.setting] = replace(row, verified=v.verified, verify_reason=v.reason or "ok",
+                                       resim_rmse=v.resim_rmse_rad, resim_rel_error=v.rmse_rel_error)
+    out_rows, out_best = [], {}
+    for act in case.settings:
+        twin = first[_same_numbers(act)].name
+        out_rows.append(replace(checked[twin], setting=act.name))
+        out_best[act.name] = best.get(twin)
+    return out_rows, out_best
 
 
 def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
@@ -292,8 +332,9 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
     return rows, best
 
 
-def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[CaseRow], dict[str, OcpResult]]:
-    """Multi-start on ``case.mesh`` only."""
+def _solve_case_one_mesh(case: RestToRestCase,
+                         neighbour: dict[str, OcpResult]) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+    """Multi-start on ``case.mesh`` only (``neighbour``: the neighbouring case's optima by setting name)."""
     s = _solver(case.mesh, case.ipopt_options)
     A, T = case.A_rad, case.T_s
     dt = s.interval_seconds(T)
@@ -349,6 +390,9 @@ def _solve_case_one_mesh(case: RestToRestCase) -> tuple[list[CaseRow], dict[str,
                 attempt("ramp", s.solve(act, A, T, w0=s.guess_from(rq, act, A, T), regularisation=case.regularisation))
         if "cold" in case.starts:
             attempt("cold", s.solve(act, A, T, regularisation=case.regularisation))
+        nb = neighbour.get(act.name) if "neighbour" in case.starts else None
+        if nb is not None and nb.success and len(nb.w) == s.cols[True].nw and np.all(np.isfinite(nb.w)):
+            attempt("neighbour", s.solve(act, A, T, w0=nb.w, regularisation=case.regularisation))
         info[act.name] = dict(cand=cand, secs=secs, iters=iters, obj=inf["obj"])
     if "cross" in case.starts and len(variable) > 1:
         for act in variable:
@@ -428,8 +472,20 @@ def keep_results() -> Iterator[list]:
         _KEPT.sink = previous
 
 
+def _case_or_error(case: RestToRestCase, neighbour: dict[str, OcpResult] | None,
+                   ) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+    """:func:`solve_case_results`, or error rows (and no results) for any exception in it."""
+    t0 = time.perf_counter()
+    try:
+        return solve_case_results(case, neighbour)
+    except Exception as exc:  # noqa: BLE001 - a sweep must never stop on one case
+        msg = f"error: {type(exc).__name__}: {exc}".splitlines()[0][:200]
+        return [_row(case, act, None, "", 0, time.perf_counter() - t0, 0, {}, None, status=msg)
+                for act in case.settings], {}
+
+
 def solve_case(case: RestToRestCase) -> list[CaseRow]:
-    """Work function of the sweep: rows for one (A, T) case; never raises.
+    """Rows for one (A, T) case on its own (no neighbour start); never raises.
 
     Any exception becomes rows with ``status = "error: ..."`` and no result.
     Inside :func:`keep_results` the best results are handed over too.
@@ -444,35 +500,75 @@ def solve_case(case: RestToRestCase) -> list[CaseRow]:
     list of CaseRow
         One ``results.csv`` row per setting (SI units; ``to_dict()`` gives the CSV row).
     """
-    t0 = time.perf_counter()
-    try:
-        rows, best = solve_case_results(case)
-        sink = getattr(_KEPT, "sink", None)
-        if sink is not None:
-            sink.append((case, best))
-        return rows
-    except Exception as exc:  # noqa: BLE001 - a sweep must never stop on one case
-        msg = f"error: {type(exc).__name__}: {exc}".splitlines()[0][:200]
-        out = []
-        for act in case.settings:
-            out.append(_row(case, act, None, "", 0, time.perf_counter() - t0, 0, {}, None, status=msg))
-        return out
+    rows, best = _case_or_error(case, None)
+    sink = getattr(_KEPT, "sink", None)
+    if sink is not None and best:
+        sink.append((case, best))
+    return rows
 
 
+def solve_chain(cases: Sequence[RestToRestCase], keep: RestToRestCase | None = None,
+                ) -> tuple[list[list[CaseRow]], dict[str, OcpResult] | None]:
+    """Work function of the sweeps: the cases of one chain in order, each starting from its predecessor's optima.
 
-def _sweep_item(item: tuple) -> tuple[list[CaseRow], dict | None]:
-    """Work function of :func:`~vvea_design.actuator.rest_to_rest.run_rest_to_rest`.
+    Every case but the first gets the ``neighbour`` start (when among its starts): the multi-start optimum of
+    the same setting at the case before. Deterministic for a given chain; never raises (a case that fails
+    becomes error rows, and the next case has no neighbour start).
 
-    ``item = (solve, case, keep)``: ``solve`` is the sweep's :func:`solve_case` (passed along, so a
-    worker imports this light module only, not the sweep's figures and statistics). Returns its rows,
-    plus the best results by setting name when ``keep`` (the case of the trajectory figure), else ``None``.
+    Parameters
+    ----------
+    cases
+        The chain's cases (one amplitude in rad, its periods in s in order; see :func:`chains`).
+    keep
+        A case of the chain whose best results to hand back (the trajectory figure's), or None.
+
+    Returns
+    -------
+    (list of list of CaseRow, dict or None)
+        The rows of each case in order (SI units), and the best results by setting name of ``keep`` (None
+        when ``keep`` is not in the chain or failed).
     """
-    solve, case, keep = item
-    if not keep:
-        return solve(case), None
-    with keep_results() as kept:
-        rows = solve(case)
-    return rows, next((best for c, best in kept if c is case), None)
+    out, kept, neighbour = [], None, None
+    for case in cases:
+        rows, best = _case_or_error(case, neighbour)
+        out.append(rows)
+        if keep is not None and case == keep:
+            kept = best or None
+        neighbour = {k: r.extra.get("multistart") for k, r in best.items()
+                     if r is not None and r.extra.get("multistart") is not None} or None
+    return out, kept
+
+
+def chains(cases: Sequence[RestToRestCase]) -> list[list[RestToRestCase]]:
+    """The sweep's cases grouped into chains: consecutive cases of one amplitude, when they use the neighbour start.
+
+    Parameters
+    ----------
+    cases
+        The sweep's cases, amplitude-major (as :meth:`~vvea_design.actuator.rest_to_rest.Grid.cases` gives them).
+
+    Returns
+    -------
+    list of list of RestToRestCase
+        One chain per amplitude (its periods in the grid's order) for cases whose starts include ``neighbour``;
+        every other case is a chain of its own.
+    """
+    out: list[list[RestToRestCase]] = []
+    for c in cases:
+        if ("neighbour" in c.starts and out and out[-1][-1].A_rad == c.A_rad and "neighbour" in out[-1][-1].starts
+                and out[-1][-1].settings == c.settings):
+            out[-1].append(c)
+        else:
+            out.append([c])
+    return out
+
+
+def _chain_item(item: tuple) -> tuple[list[list[CaseRow]], dict | None]:
+    """Work function of :func:`~vvea_design.actuator.rest_to_rest.run_rest_to_rest`: ``item = (solve, cases,
+    keep)``, ``solve`` being the sweep's :func:`solve_chain` (passed along, so a worker imports this light
+    module only, not the sweep's figures and statistics)."""
+    solve, cases, keep = item
+    return solve(cases, keep)
 
 
 @dataclass(frozen=True)

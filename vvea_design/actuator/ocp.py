@@ -35,6 +35,7 @@ import numpy as np
 
 from .collocation import Mesh, OcpResult, _Collocation, _result_from, _resample
 from .model import Actuator
+from .solver_cache import cached_functions
 
 __all__ = [
     "Mesh",
@@ -59,6 +60,16 @@ _IPOPT_DEFAULTS = {
     "ipopt.tol": 1e-8,
     "ipopt.mu_strategy": "adaptive",
 }
+
+
+class _PerStructure:
+    """``obj[variable]``: one of a solver's functions for a structure (True: variable damping), built on first use."""
+
+    def __init__(self, functions, name: str) -> None:
+        self._functions, self._name = functions, name
+
+    def __getitem__(self, variable: bool):
+        return self._functions(bool(variable))[self._name]
 
 
 #: IPOPT options for polishing a good start (an interpolated coarse-mesh optimum) on a finer
@@ -188,39 +199,49 @@ class RestToRestSolver:
                 f"t = T/2, T, 3T/2), got {mesh.n_intervals}"
             )
         self.mesh = mesh
-        opts = dict(_IPOPT_DEFAULTS)
-        opts.update(ipopt_options or {})
-        self.cols: dict[bool, _Collocation] = {}
-        self.solvers = {}
-        self.Jfuns = {}
-        N = mesh.n_intervals
-        for variable in (False, True):
-            col = _Collocation(mesh, S=2.0, variable_damping=variable, phases=4)
-            self.qdes = np.where(np.mod(col.edges[:-1] + 1e-12, 1.0) < 0.5, 0.0, 1.0)
-            # exact tracking integral of the collocation polynomial, normalised:
-            # mean of ((q - q_des)/A)^2 over the horizon = sum_k h e_k^T Mass e_k / S
-            J = 0
+        self._opts = dict(_IPOPT_DEFAULTS)
+        self._opts.update(ipopt_options or {})
+        self.cols: dict[bool, _Collocation] = {v: _Collocation(mesh, S=2.0, variable_damping=v, phases=4)
+                                              for v in (False, True)}
+        self.qdes = np.where(np.mod(self.cols[True].edges[:-1] + 1e-12, 1.0) < 0.5, 0.0, 1.0)
+        self._funcs: dict[bool, dict] = {}
+        #: IPOPT solver per structure (True: variable damping), built or loaded on first use
+        self.solvers = _PerStructure(self._functions, "solver")
+        #: tracking integral J(w) per structure (normalised, dimensionless)
+        self.Jfuns = _PerStructure(self._functions, "J")
+
+    def _functions(self, variable: bool) -> dict:
+        if variable not in self._funcs:
+            key = (self.mesh, variable, tuple(sorted(self._opts.items())))
+            self._funcs[variable] = cached_functions("rest_to_rest", key, lambda: self._build(variable))
+        return self._funcs[variable]
+
+    def _build(self, variable: bool) -> dict:
+        """The NLP of one structure: IPOPT solver and the tracking integral J(w)."""
+        col = self.cols[variable].symbolic()
+        N = self.mesh.n_intervals
+        # exact tracking integral of the collocation polynomial, normalised:
+        # mean of ((q - q_des)/A)^2 over the horizon = sum_k h e_k^T Mass e_k / S
+        J = 0
+        for k in range(N):
+            e = ca.vertcat(*[col.w[int(col.iz[k, j, 1])] - self.qdes[k] for j in range(col.d + 1)])
+            J += col.h[k] * ca.mtimes([e.T, ca.DM(col.Mass), e])
+        J = J / col.S
+        # optional regularisation (weights = NLP parameters, 0 = none, see Regularisation):
+        # the damping rate, mean of (u_d/u_d_max)^2, and the motor-torque steps,
+        # sum_k ((tau_m[k+1] - tau_m[k])/tau_max)^2. Candidates are always compared on J alone.
+        reg = ca.SX.sym("reg", 2)
+        R_ud = 0
+        if variable:
             for k in range(N):
-                e = ca.vertcat(*[col.w[int(col.iz[k, j, 1])] - self.qdes[k] for j in range(col.d + 1)])
-                J += col.h[k] * ca.mtimes([e.T, ca.DM(col.Mass), e])
-            J = J / col.S
-            # optional regularisation (weights = NLP parameters, 0 = none, see Regularisation):
-            # the damping rate, mean of (u_d/u_d_max)^2, and the motor-torque steps,
-            # sum_k ((tau_m[k+1] - tau_m[k])/tau_max)^2. Candidates are always compared on J alone.
-            reg = ca.SX.sym("reg", 2)
-            R_ud = 0
-            if variable:
-                for k in range(N):
-                    R_ud += col.h[k] * col.w[int(col.iu[k, 1])] ** 2
-            R_tau = 0
-            for k in range(N - 1):
-                R_tau += (col.w[int(col.iu[k + 1, 0])] - col.w[int(col.iu[k, 0])]) ** 2
-            f = J + reg[0] * R_ud / col.S + reg[1] * R_tau
-            nlp = {"x": col.w, "p": ca.vertcat(col.p, reg), "f": f, "g": col.g}
-            name = "rest_to_rest_" + ("variable" if variable else "constant")
-            self.cols[variable] = col
-            self.solvers[variable] = ca.nlpsol(name, "ipopt", nlp, opts)
-            self.Jfuns[variable] = ca.Function("J", [col.w], [J])
+                R_ud += col.h[k] * col.w[int(col.iu[k, 1])] ** 2
+        R_tau = 0
+        for k in range(N - 1):
+            R_tau += (col.w[int(col.iu[k + 1, 0])] - col.w[int(col.iu[k, 0])]) ** 2
+        f = J + reg[0] * R_ud / col.S + reg[1] * R_tau
+        nlp = {"x": col.w, "p": ca.vertcat(col.p, reg), "f": f, "g": col.g}
+        name = "rest_to_rest_" + ("variable" if variable else "constant")
+        return {"solver": ca.nlpsol(name, "ipopt", nlp, self._opts), "J": ca.Function("J", [col.w], [J])}
 
     def _col(self, act: Actuator) -> _Collocation:
         return self.cols[act.variable_damping]
@@ -448,29 +469,41 @@ class TorqueStepSolver:
 
     def __init__(self, mesh: Mesh = Mesh(100, 3), ipopt_options: dict | None = None) -> None:
         self.mesh = mesh
-        opts = dict(_IPOPT_DEFAULTS)
-        opts.update(ipopt_options or {})
-        self.cols, self.solvers, self.terms = {}, {}, {}
-        for variable in (False, True):
-            col = _Collocation(mesh, S=1.0, variable_damping=variable)
-            wts = ca.SX.sym("wts", 5)  # P_tau, P_d, P_m, tau_ref, D_min_cost
-            P_tau, P_d, P_m, tau_ref, Dmin = (wts[i] for i in range(5))
-            Ts = col.p[1]
-            Jt = Jd = Jm = 0
-            for k in range(col.N):
-                tau_m = col.p[3] * col.w[int(col.iu[k, 0])]
-                Jm += col.h[k] * Ts * tau_m**2
-                for j in range(1, col.d + 1):
-                    tj, Dj = col.tau_at[k][j - 1]
-                    Jt += col.h[k] * Ts * col.Bq[j] * (tj - tau_ref) ** 2
-                    Jd += col.h[k] * Ts * col.Bq[j] * (Dj - Dmin) ** 2
-            J = P_tau * Jt + P_d * Jd + P_m * Jm
-            scale = P_tau * tau_ref**2 * Ts + 1e-12
-            p_all = ca.vertcat(col.p, wts)
-            nlp = {"x": col.w, "p": p_all, "f": J / scale, "g": col.g}
-            self.cols[variable] = col
-            self.solvers[variable] = ca.nlpsol("torque_step_" + str(variable), "ipopt", nlp, opts)
-            self.terms[variable] = ca.Function("terms", [col.w, p_all], [Jt, Jd, Jm, scale])
+        self._opts = dict(_IPOPT_DEFAULTS)
+        self._opts.update(ipopt_options or {})
+        self.cols = {v: _Collocation(mesh, S=1.0, variable_damping=v) for v in (False, True)}
+        self._funcs: dict[bool, dict] = {}
+        #: IPOPT solver per structure (True: variable damping), built or loaded on first use
+        self.solvers = _PerStructure(self._functions, "solver")
+        #: the cost's terms (J_tau, J_D, J_m, scale) per structure
+        self.terms = _PerStructure(self._functions, "terms")
+
+    def _functions(self, variable: bool) -> dict:
+        if variable not in self._funcs:
+            key = (self.mesh, variable, tuple(sorted(self._opts.items())))
+            self._funcs[variable] = cached_functions("torque_step", key, lambda: self._build(variable))
+        return self._funcs[variable]
+
+    def _build(self, variable: bool) -> dict:
+        """The NLP of one structure: IPOPT solver and the cost's terms."""
+        col = self.cols[variable].symbolic()
+        wts = ca.SX.sym("wts", 5)  # P_tau, P_d, P_m, tau_ref, D_min_cost
+        P_tau, P_d, P_m, tau_ref, Dmin = (wts[i] for i in range(5))
+        Ts = col.p[1]
+        Jt = Jd = Jm = 0
+        for k in range(col.N):
+            tau_m = col.p[3] * col.w[int(col.iu[k, 0])]
+            Jm += col.h[k] * Ts * tau_m**2
+            for j in range(1, col.d + 1):
+                tj, Dj = col.tau_at[k][j - 1]
+                Jt += col.h[k] * Ts * col.Bq[j] * (tj - tau_ref) ** 2
+                Jd += col.h[k] * Ts * col.Bq[j] * (Dj - Dmin) ** 2
+        J = P_tau * Jt + P_d * Jd + P_m * Jm
+        scale = P_tau * tau_ref**2 * Ts + 1e-12
+        p_all = ca.vertcat(col.p, wts)
+        nlp = {"x": col.w, "p": p_all, "f": J / scale, "g": col.g}
+        return {"solver": ca.nlpsol("torque_step_" + str(variable), "ipopt", nlp, self._opts),
+                "terms": ca.Function("terms", [col.w, p_all], [Jt, Jd, Jm, scale])}
 
     def solve(
         self,

@@ -1,8 +1,10 @@
 """The rest-to-rest sweep (paper section 5): grids, the resumable results file, mesh convergence.
 
-The sweep goes through :func:`vvea_design.parallel.parallel_map`; each
-finished case is appended to ``results.csv`` at once, so an interrupted sweep
-resumes where it stopped.
+The sweep goes through :func:`vvea_design.parallel.parallel_map` in chains
+(:func:`~vvea_design.actuator.multistart.chains`: the periods of one amplitude, each case starting from its
+neighbour's optima); each finished chain is appended to ``results.csv`` at once, so an interrupted sweep
+resumes where it stopped. A chain that was cut short is solved again from its first case (the same
+numbers as an uninterrupted run); only its missing cases are written.
 """
 
 from __future__ import annotations
@@ -25,8 +27,8 @@ from ..parallel import parallel_map
 from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
-from .multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS, RESULT_COLUMNS,
-                         CaseRow, RestToRestCase, _sweep_item, solve_case, solve_case_results)
+from .multistart import (ALL_STARTS, DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS,
+                         RESULT_COLUMNS, CaseRow, RestToRestCase, _chain_item, chains, solve_chain)
 from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import Table5Statistics, table5_statistics
 
@@ -230,9 +232,9 @@ def _check_options(grid, settings, mesh, fine_mesh, starts, workers, ipopt_optio
     if mesh.n_intervals % 4:
         raise ValueError(f"the mesh must have a multiple of 4 intervals (the reference switches at T/2, T, 3T/2), "
                          f"got {mesh.n_intervals}")
-    unknown = set(starts) - set(DEFAULT_STARTS)
+    unknown = set(starts) - set(ALL_STARTS)
     if unknown or not starts:
-        raise ValueError(f"starts must be a non-empty selection of {list(DEFAULT_STARTS)}, got {list(starts)}")
+        raise ValueError(f"starts must be a non-empty selection of {list(ALL_STARTS)}, got {list(starts)}")
     if workers is not None and (int(workers) != workers or workers < 1):
         raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     if isinstance(fine_mesh, str):
@@ -280,9 +282,9 @@ def _prepare_results(out: Path, opt: _Options, restart: bool) -> set[str]:
     return {r["case_id"] for r in done_rows}
 
 
-def _solve_cases(res_path: Path, todo: list[RestToRestCase], keep: RestToRestCase | None, description: str,
-                 workers, scheduler, progress: bool) -> tuple[float, list[dict]]:
-    """Solve ``todo``, appending each finished case's rows to results.csv at once.
+def _solve_cases(res_path: Path, todo: list[list[RestToRestCase]], done: set[str], keep: RestToRestCase | None,
+                 description: str, workers, scheduler, progress: bool) -> tuple[float, list[dict]]:
+    """Solve the chains ``todo``, appending each finished chain's rows of cases not in ``done`` to results.csv.
 
     Returns the wall time (s) and the best results of ``keep`` (the trajectory figure's case) when it was
     solved here (a one-element list; empty otherwise).
@@ -291,16 +293,18 @@ def _solve_cases(res_path: Path, todo: list[RestToRestCase], keep: RestToRestCas
     fh = res_path.open("a", newline="")
     wr = csv.DictWriter(fh, fieldnames=RESULT_COLUMNS)
 
-    def on_result(i: int, res: tuple[list[CaseRow], dict | None]) -> None:
-        rows, best = res
-        wr.writerows(r.to_dict() for r in rows)
+    def on_result(i: int, res: tuple[list[list[CaseRow]], dict | None]) -> None:
+        per_case, best = res
+        for case, rows in zip(todo[i], per_case):
+            if case.case_id not in done:
+                wr.writerows(r.to_dict() for r in rows)
         fh.flush()
         if best is not None:
             kept.append(best)
 
     t0 = time.perf_counter()
     try:
-        parallel_map(_sweep_item, [(solve_case, c, c == keep) for c in todo], workers=workers,
+        parallel_map(_chain_item, [(solve_chain, ch, keep if keep in ch else None) for ch in todo], workers=workers,
                      scheduler=scheduler, description=description, on_result=on_result, progress=progress)
     finally:
         fh.close()
@@ -318,7 +322,11 @@ def _write_summary_and_figures(out: Path, summary: RestToRestSummary, df, opt: _
             names_set = set(df["setting"])
             ex = "VVEA" if "VVEA" in names_set else next((a.name for a in opt.settings if a.variable_damping),
                                                         opt.settings[0].name)
-            best = ex_best[0] if ex_best else solve_case_results(ex_case)[1]
+            if ex_best:
+                best = ex_best[0]
+            else:  # solved in an earlier run: its chain up to it again (the same numbers as in results.csv)
+                chain = next(ch for ch in chains([opt.case(A, T) for A, T in opt.grid.cases()]) if ex_case in ch)
+                best = solve_chain(chain[:chain.index(ex_case) + 1], ex_case)[1] or {}
             plot_trajectory(best, ex_case.A_rad, ex_case.T_s, highlight=ex).savefig(tmps[2], dpi=130)
 
 
@@ -391,20 +399,21 @@ def run_rest_to_rest(
     res_path = out / "results.csv"
     done = _prepare_results(out, opt, restart)
     cases = [opt.case(A, T) for A, T in opt.grid.cases()]
-    todo = [c for c in cases if c.case_id not in done]
+    todo = [ch for ch in chains(cases) if any(c.case_id not in done for c in ch)]
     if done:
         console.print(f"[bold]resuming[/]: {len(done)} of {len(cases)} cases already in {res_path}", soft_wrap=True)
     # the case of the trajectory figure (Fig. 12-like): the worker that solves it hands its best results back,
     # so the figure needs no second solve of it (only when it was solved in an earlier run)
     ex_case = opt.case(min(opt.grid.A_rad, key=lambda a: abs(a - 0.8)), min(opt.grid.T_s, key=lambda t: abs(t - 1.4)))
-    wall, ex_best = _solve_cases(res_path, todo, ex_case if figures else None,
-                                 f"rest-to-rest {opt.grid_name} ({len(opt.settings)} settings/case)", workers,
-                                 scheduler, progress)
+    wall, ex_best = _solve_cases(res_path, todo, done, ex_case if figures else None,
+                                 f"rest-to-rest {opt.grid_name} ({len(opt.settings)} settings/case, "
+                                 f"{len(todo)} chain(s))", workers, scheduler, progress)
     import pandas as pd
 
     df = pd.read_csv(res_path)
     run = SweepRun(
-        grid=opt.grid_name, cases=len(cases), cases_solved_this_run=len(todo), ocps=len(cases) * len(opt.settings),
+        grid=opt.grid_name, cases=len(cases), cases_solved_this_run=sum(c.case_id not in done for ch in todo for c in ch),
+        ocps=len(cases) * len(opt.settings),
         wall_seconds_this_run=round(wall, 2), mesh=opt.mesh, fine_mesh=opt.fine_mesh, starts=opt.starts,
         regularisation=opt.regularisation, solver_seconds_total=round(float(df["seconds"].sum()), 2),
         solver_cpu_seconds_total=round(float(df["cpu_seconds"].sum()), 2) if "cpu_seconds" in df else None)
@@ -476,9 +485,9 @@ def mesh_convergence(
     for m in meshes:
         cases = [RestToRestCase(A, T, settings, m) for A, T in grid.cases()]
         t0 = time.perf_counter()
-        rows = parallel_map(solve_case, cases, workers=workers, scheduler=scheduler,
-                            description=f"mesh N={m.n_intervals} d={m.degree}", progress=progress)
+        res = parallel_map(_chain_item, [(solve_chain, ch, None) for ch in chains(cases)], workers=workers,
+                           scheduler=scheduler, description=f"mesh N={m.n_intervals} d={m.degree}", progress=progress)
         wall = time.perf_counter() - t0
-        df = pd.DataFrame([r.to_dict() for rs in rows for r in rs])
+        df = pd.DataFrame([r.to_dict() for per_case, _ in res for rs in per_case for r in rs])
         out.append(MeshConvergence(m, df, table5_statistics(df), wall, float(df["seconds"].sum())))
     return out

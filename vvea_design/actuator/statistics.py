@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, fields
 
 import pandas as pd
 
-__all__ = ["PAPER_TABLE5", "PairStatistics", "Table5Statistics", "table5_statistics"]
+__all__ = ["PAPER_TABLE5", "PairStatistics", "CountedPair", "Table5Statistics", "table5_statistics", "counted_pair"]
 
 
 #: Table 5 of the paper (fractions and ratios).
@@ -52,6 +52,74 @@ class PairStatistics:
 
 
 @dataclass(frozen=True)
+class CountedPair:
+    """X against Y over *every* case of the table: a case where only one of them is usable goes to that one.
+
+    "Usable" is solved, verified by re-simulation and valid (the link reaches 95 % of A in both up-phases).
+    Nothing is left out: ``X_beats_Y + X_worse_than_Y + ties + neither_usable == n_cases``.
+    """
+
+    n_cases: int  #: every case of the table
+    X_beats_Y: int  #: both usable and rmse_X < (1 - rtol) rmse_Y, plus the cases where only X is usable
+    X_worse_than_Y: int  #: both usable and rmse_X > (1 + rtol) rmse_Y, plus the cases where only Y is usable
+    ties: int  #: both usable, within rtol
+    only_X_usable: int  #: X usable, Y not (counted as a win of X)
+    only_Y_usable: int  #: Y usable, X not (counted as a loss of X)
+    neither_usable: int  #: neither usable (its own column: no winner)
+    fraction_X_beats_Y: float | None  #: X_beats_Y / n_cases (None without cases)
+    fraction_X_worse_than_Y: float | None  #: X_worse_than_Y / n_cases (None without cases)
+    n_both_usable: int  #: cases where both are usable (the mean ratio's cases)
+    meanrmse_Y_over_X: float | None  #: mean rmse of Y over mean rmse of X over the both-usable cases
+
+    def to_dict(self) -> dict:
+        """Plain-JSON dictionary.
+
+        Returns
+        -------
+        dict
+            JSON-ready fields by name: case counts, fractions (dimensionless) and the mean rmse ratio
+            (dimensionless); ``None`` where not defined.
+        """
+        return asdict(self)
+
+
+def counted_pair(rmse_X, rmse_Y, usable_X, usable_Y, rtol: float = 1e-3) -> CountedPair:
+    """Count X against Y over every case (see :class:`CountedPair`).
+
+    Parameters
+    ----------
+    rmse_X, rmse_Y
+        Tracking rmse of X and Y per case, rad (NaN where not solved).
+    usable_X, usable_Y
+        Per case: the result is solved, verified and valid.
+    rtol
+        Relative margin of "X beats Y" (fraction, dimensionless).
+
+    Returns
+    -------
+    CountedPair
+        Wins, losses, ties and the one-sided cases (counts), fractions of every case, mean rmse ratio.
+    """
+    import numpy as np
+
+    x, y = np.asarray(rmse_X, float), np.asarray(rmse_Y, float)
+    ux = np.asarray(usable_X, bool) & np.isfinite(x)
+    uy = np.asarray(usable_Y, bool) & np.isfinite(y)
+    both = ux & uy
+    better = both & (x < (1 - rtol) * y)
+    worse = both & (x > (1 + rtol) * y)
+    only_x, only_y = ux & ~uy, uy & ~ux
+    n = len(x)
+    wins, losses = int(better.sum() + only_x.sum()), int(worse.sum() + only_y.sum())
+    nb = int(both.sum())
+    return CountedPair(
+        n_cases=n, X_beats_Y=wins, X_worse_than_Y=losses, ties=int((both & ~better & ~worse).sum()),
+        only_X_usable=int(only_x.sum()), only_Y_usable=int(only_y.sum()), neither_usable=int((~ux & ~uy).sum()),
+        fraction_X_beats_Y=wins / n if n else None, fraction_X_worse_than_Y=losses / n if n else None,
+        n_both_usable=nb, meanrmse_Y_over_X=float(y[both].mean() / x[both].mean()) if nb else None)
+
+
+@dataclass(frozen=True)
 class Table5Statistics:
     """Table 5 statistics of one results table (what ``summary.json`` holds besides the run record).
 
@@ -64,6 +132,8 @@ class Table5Statistics:
     valid_cases_per_setting: dict[str, int]  #: usable cases by setting name
     mean_rmse_rad: dict[str, float]  #: mean rmse (rad) by setting over its solved, verified cases
     pairs: dict[str, PairStatistics]  #: ``"<X>_vs_<Y>_<all|valid>"`` to the comparison
+    #: ``"<X>_vs_<Y>"`` to X against Y over every case (a case only one of them makes usable goes to it)
+    counted: dict[str, CountedPair]
     ivvea_vs_sea_guarantee: dict  #: iVVEA against SEA case by case (empty without both settings)
     winning_starts: dict[str, dict[str, int]]  #: per variable-damping setting: start label to cases it won
     best_valid_setting_counts: dict[str, dict[str, int]]  #: per group of settings: best usable setting to cases
@@ -91,6 +161,23 @@ class Table5Statistics:
         """
         return self.pairs.get(f"{X}_vs_{Y}_{scope}")
 
+    def counted_pair(self, X: str, Y: str) -> CountedPair | None:
+        """X against Y over every case (:class:`CountedPair`).
+
+        Parameters
+        ----------
+        X : str
+            Name of the variable-damping setting.
+        Y : str
+            Name of the other setting.
+
+        Returns
+        -------
+        CountedPair or None
+            None when the table has no such pair.
+        """
+        return self.counted.get(f"{X}_vs_{Y}")
+
     def to_dict(self) -> dict:
         """Plain-JSON dictionary, in the key order of ``summary.json``.
 
@@ -102,6 +189,7 @@ class Table5Statistics:
         """
         d = {f.name: getattr(self, f.name) for f in fields(self)}
         d["pairs"] = {k: p.to_dict() for k, p in self.pairs.items()}
+        d["counted"] = {k: p.to_dict() for k, p in self.counted.items()}
         return d
 
 
@@ -137,6 +225,17 @@ def _pairs(piv: pd.DataFrame, valid: pd.DataFrame, varset: list[str], settings: 
     return pairs
 
 
+def _counted(piv: pd.DataFrame, valid: pd.DataFrame, varset: list[str], settings: list[str],
+             rtol: float) -> dict[str, CountedPair]:
+    """Every (X variable, Y other) comparison over every case of the table."""
+    out = {}
+    for X in varset:
+        for Y in settings:
+            if Y != X:
+                out[f"{X}_vs_{Y}"] = counted_pair(piv[X], piv[Y], valid[X], valid[Y], rtol)
+    return out
+
+
 def _guarantee(piv: pd.DataFrame, settings: list[str]) -> dict:
     """iVVEA against SEA case by case (the multi-start's guarantee: iVVEA never worse)."""
     if "iVVEA" not in settings or "SEA" not in settings:
@@ -169,8 +268,9 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> Table5Statistics:
     cases where ``rmse_X < (1 - rtol) rmse_Y`` and ``mean(rmse_Y)/mean(rmse_X)``,
     over (a) ``all``: the cases both solved, and (b) ``valid``: the cases where
     both trajectories are valid (the link reaches 95 % of A in both
-    up-phases). A result whose trajectory did not pass the re-simulation
-    check (column ``verified``, :mod:`vvea_design.actuator.verify`) counts as
+    up-phases); and (c) ``counted``: every case, a case where only one of the two is usable
+    going to that one (:class:`CountedPair`: nothing is left out). A result whose trajectory did not pass the
+    re-simulation check (column ``verified``, :mod:`vvea_design.actuator.verify`) counts as
     not solved; ``unverified`` and each pair's ``n_excluded`` say how many
     were left out. Also: iVVEA-worse-than-SEA count, the winning starts,
     solver failures, and the paper's numbers.
@@ -211,6 +311,8 @@ def table5_statistics(df, outperform_rtol: float = 1e-3) -> Table5Statistics:
         valid_cases_per_setting={s: int(valid[s].sum()) for s in valid.columns},
         mean_rmse_rad={s: float(piv[s].mean()) for s in piv.columns},
         pairs=_pairs(piv, valid, varset, settings, outperform_rtol),
+        counted=_counted(piv, valid.reindex(index=piv.index, columns=piv.columns, fill_value=False), varset, settings,
+                         outperform_rtol),
         ivvea_vs_sea_guarantee=_guarantee(piv, settings),
         winning_starts=wins,
         best_valid_setting_counts=_best_counts(piv, valid, varset, settings),

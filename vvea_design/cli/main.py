@@ -229,9 +229,13 @@ def design(
                                                      "study (default 100, clustered at the step)"),
     workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
                                                                   "(default: all cores)"),
+    study_target_k: Optional[float] = typer.Option(None, "--study-target-k",
+                                                   help="joint stiffness (N m/rad) at which the actuator study "
+                                                        "compares the design with an SEA (default the paper's 362)"),
 ) -> None:
     """The main job: optimise, spring curve, CAD, bladder check, actuator, report.html — all into one folder."""
     from ..jobs.spring import Infeasible, NoBuildableDesign, SpecError
+    from ..jobs.studies import design_study_lines
     from ..pipeline import STEPS, design_unit
 
     def say(step: str, i: int, n: int) -> None:
@@ -239,10 +243,11 @@ def design(
 
     check_out(out)
     try:
-        with job_errors(errors=(SpecError,)), out_dir(out, "design") as tmp:  # the unit lands whole, or not at all
+        with (job_errors({"study_target_K_Nm_per_rad": "--study-target-k"}, errors=(SpecError,)),
+              out_dir(out, "design") as tmp):  # the unit lands whole, or not at all
             unit = design_unit(spec, tmp, seed=seed, renders=renders, actuator_study=actuator_study,
                                study_grid=study_grid, study_mesh_n=study_mesh_n, safety_mesh_n=safety_mesh_n,
-                               workers=workers, progress=say)
+                               workers=workers, study_target_K_Nm_per_rad=study_target_k, progress=say)
     except (Infeasible, NoBuildableDesign) as exc:
         _infeasible(exc, spec)
     _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})",
@@ -261,11 +266,8 @@ def design(
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
     if unit.actuator_study is not None:
-        for c in unit.actuator_study.comparisons:
-            beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
-            ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
-            stdout.print(f"design vs {c.other}: design beats it in {beats} of {c.n_cases} cases "
-                         f"({c.n_excluded} left out), mean rmse {c.other}/design {ratio}")
+        for line in design_study_lines(unit.actuator_study):
+            stdout.print(line)
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from rich.console import Console
 
     from ..actuator.design_study import DesignStudy
+    from ..actuator.sensitivity import DesignSensitivity
     from ..actuator.model import Actuator
     from ..actuator.ocp import Mesh
     from ..actuator.rest_to_rest import Grid, RestToRestSummary
@@ -29,7 +30,8 @@ if TYPE_CHECKING:
     from ..spring.gas_spring import GasSpring
 
 __all__ = ["RestToRestRun", "run_rest_to_rest", "cases_saved", "print_rest_to_rest", "Terminated",
-           "SafetyRun", "run_safety", "design_study_settings", "run_design_study"]
+           "SafetyRun", "run_safety", "design_study_settings", "run_design_study", "design_study_lines",
+           "target_stiffness", "run_design_sensitivity"]
 
 #: A rest-to-rest grid: a named one, a :class:`~vvea_design.actuator.rest_to_rest.Grid`,
 #: ``(amplitudes_rad, periods_s)`` or the text ``"A1,A2:T1,T2"``.
@@ -433,12 +435,14 @@ def design_study_settings(grid: GridLike | None = None, mesh_n: int | None = Non
 
 def run_design_study(design: Design | GasSpring | PathLike, *, out: PathLike | None = None,
                      grid: GridLike | None = None, mesh_n: int | None = None, safety_mesh_n: int | None = None,
-                     workers: int | None = None,
+                     workers: int | None = None, target_K_Nm_per_rad: float | None = None,
                      progress: Callable[[int, int, str], None] | None = None) -> DesignStudy:
-    """A design's actuator against the paper's VVEA, SEA and LWR: rest-to-rest and the torque step.
+    """A design's actuator against an SEA of the same stiffness and the paper's VVEA and LWR; the torque step.
 
-    The study of ``vvea design`` (its ``actuator/`` folder): the section 3.4 mapping of the design's spring
-    to a joint actuator, rest-to-rest on a 4 x 4 grid and the 50 N m torque step.
+    The study of ``vvea design`` (its ``actuator/`` folder): the design charged for the target joint
+    stiffness (inside its pressure limits) against an SEA of that K, VVEA and LWR, then at full charge
+    against an SEA of the full-charge K (two labelled runs), every case counted, with the unit's own
+    damping range; rest-to-rest on a 4 x 4 grid and the 50 N m torque step.
 
     Parameters
     ----------
@@ -455,19 +459,21 @@ def run_design_study(design: Design | GasSpring | PathLike, *, out: PathLike | N
         Collocation intervals of the torque steps (None: 100, clustered at the step).
     workers : int, optional
         Worker processes (None: all cores; 1: in this process).
+    target_K_Nm_per_rad : float, optional
+        Joint stiffness of the equal-stiffness run, N m/rad, > 0 (None: the paper's 362).
     progress : callable, optional
         ``progress(done, total, message)`` after each finished case.
 
     Returns
     -------
     DesignStudy
-        The comparisons (fractions, rmse ratios), per-setting summaries, both torque steps (SI) and the
-        files written.
+        Both runs (charge, K), the comparisons over every case (counts, rmse ratios), per-setting summaries,
+        the damping range and its source, both torque steps (SI) and the files written.
 
     Raises
     ------
     OptionError
-        A bad grid or mesh (before anything is solved).
+        A bad grid, mesh or target stiffness (before anything is solved).
     OutputError
         ``out`` cannot be written (before anything is solved).
     DesignFileError
@@ -476,12 +482,137 @@ def run_design_study(design: Design | GasSpring | PathLike, *, out: PathLike | N
     from ..actuator.design_study import StudyFiles, run_design_study as study_of
 
     g, mesh, safety_mesh = design_study_settings(grid, mesh_n, safety_mesh_n)
+    target = target_stiffness(target_K_Nm_per_rad)
     check_out(out)
     d = design_of(design) if isinstance(design, (str, Path)) else design
     with folder(out, "design_study") as tmp:
-        study = study_of(d, out_dir=tmp, progress=progress, workers=workers, grid=g, mesh=mesh, safety_mesh=safety_mesh)
+        study = study_of(d, out_dir=tmp, progress=progress, workers=workers, grid=g, mesh=mesh, safety_mesh=safety_mesh,
+                         target_K_Nm_per_rad=target)
     if out is None:
         return study
     f = study.files
     return replace(study, files=StudyFiles(*(None if p is None else moved(Path(p), tmp, Path(out)) for p in (
         f.results_csv, f.summary_json, f.map_png, f.trajectory_png, f.safety_png))))
+
+
+def target_stiffness(target_K_Nm_per_rad: float | None, option: str = "target_K_Nm_per_rad") -> float:
+    """The checked joint stiffness of a design study's equal-stiffness run.
+
+    Parameters
+    ----------
+    target_K_Nm_per_rad : float, optional
+        N m/rad (None: the paper's 362).
+    option : str
+        The caller's name for it (in the error).
+
+    Returns
+    -------
+    float
+        N m/rad, finite and > 0.
+
+    Raises
+    ------
+    OptionError
+        Not a finite positive stiffness.
+    """
+    from ..actuator.stiffness import PAPER_K_NM_PER_RAD
+
+    if target_K_Nm_per_rad is None:
+        return PAPER_K_NM_PER_RAD
+    k = float(target_K_Nm_per_rad)
+    if not (math.isfinite(k) and k > 0):
+        raise OptionError(option, f"must be a positive joint stiffness in N m/rad, got {target_K_Nm_per_rad!r}")
+    return k
+
+
+def design_study_lines(study: DesignStudy) -> list[str]:
+    """The design study as the ``vvea design`` command prints it: the damping range and its source, then per
+    labelled run its charge and every comparison with every case counted.
+
+    Parameters
+    ----------
+    study : DesignStudy
+        A finished :func:`run_design_study`.
+
+    Returns
+    -------
+    list of str
+        One line each (damping N m s/rad, stiffness N m/rad, pressures MPa, counts of cases).
+    """
+    dmp = study.damping
+    lines = [f"actuator study damping: D = {dmp.D_min_Nms_per_rad:.3g} ... {dmp.D_max_Nms_per_rad:.4g} N m s/rad "
+             f"from {dmp.source} ({dmp.why})"]
+    for r in study.runs:
+        lines.append(f"[{r.label}] " + (r.charge.describe() if r.charge is not None
+                                        else f"K = {r.actuator.K_Nm_per_rad:.4g} N m/rad"))
+        for c in (c for c in study.comparisons if c.run == r.label):
+            beats = "-" if c.fraction_design_beats is None else f"{100 * c.fraction_design_beats:.1f} %"
+            ratio = "-" if c.meanrmse_other_over_design is None else f"{c.meanrmse_other_over_design:.3f}"
+            lines.append(f"[{r.label}] {c.design} vs {c.other}: better in {c.design_beats} of {c.n_cases} cases "
+                         f"({beats}), worse in {c.design_worse} (of those, {c.only_other_valid} where only "
+                         f"{c.other} is valid), {c.neither_valid} neither valid; mean rmse {c.other}/design {ratio} "
+                         f"over the {c.n_both_valid} cases both are valid")
+    return lines
+
+
+def run_design_sensitivity(design: Design | GasSpring | PathLike, *, out: PathLike | None = None,
+                           target_K_Nm_per_rad: float | None = None, D_min_values: Sequence[float] | None = None,
+                           D_max_values: Sequence[float] | None = None,
+                           K_factors: Sequence[float] = (0.5, 0.75, 1.0, 1.5, 2.0), grid: GridLike | None = None,
+                           mesh_n: int | None = None, workers: int | None = None,
+                           progress: bool = True) -> DesignSensitivity:
+    """Which property of the unit buys tracking: the design against an SEA of the same K as D_min, D_max and K move.
+
+    Parameters
+    ----------
+    design : Design, GasSpring or path-like
+        The design, its gas spring, or its design JSON.
+    out : path-like, optional
+        Folder for ``sensitivity.csv`` (every OCP), ``sensitivity.json`` and ``sensitivity.png``.
+    target_K_Nm_per_rad : float, optional
+        Joint stiffness of the base design, N m/rad (None: the paper's 362).
+    D_min_values, D_max_values : sequence of float, optional
+        Damping values to try, N m s/rad, >= 0 (None: around the unit's own range).
+    K_factors : sequence of float
+        Joint stiffnesses to try as multiples of the base K, > 0 (each charge inside the unit's pressure limits).
+    grid : Grid, (sequence of float, sequence of float) or str, optional
+        Rest-to-rest amplitudes (rad) and periods (s); None: the design study's 4 x 4 cases.
+    mesh_n : int, optional
+        Collocation intervals of each case (None: the design study's 64).
+    workers : int, optional
+        Worker processes (None: all cores; 1: in this process).
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    DesignSensitivity
+        Every point (counts over every case, mean rmse ratio design/SEA) and its ``answer()``.
+
+    Raises
+    ------
+    OptionError
+        A bad grid, mesh, stiffness, damping value or factor (before anything is solved).
+    OutputError
+        ``out`` cannot be written (before anything is solved).
+    """
+    from ..actuator.sensitivity import run_design_sensitivity as sensitivity_of
+
+    g, mesh, _ = design_study_settings(grid, mesh_n, None)
+    target = target_stiffness(target_K_Nm_per_rad)
+    for option, values, low in (("D_min_values", D_min_values, 0.0), ("D_max_values", D_max_values, 0.0),
+                                ("K_factors", K_factors, None)):
+        for v in values or ():
+            ok = math.isfinite(float(v)) and (float(v) >= low if low is not None else float(v) > 0)
+            if not ok:
+                raise OptionError(option, f"must hold finite values {'>= 0' if low is not None else '> 0'}, "
+                                          f"got {v!r}")
+    check_out(out)
+    d = design_of(design) if isinstance(design, (str, Path)) else design
+    kw = dict(target_K_Nm_per_rad=target, D_min_values=D_min_values, D_max_values=D_max_values,
+              K_factors=tuple(K_factors), grid=g, mesh=mesh, workers=workers, progress=progress)
+    if out is None:
+        return sensitivity_of(d, None, **kw)
+    with folder(out, "sensitivity") as tmp:
+        study = sensitivity_of(d, tmp, **kw)
+    return study

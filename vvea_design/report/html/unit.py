@@ -289,38 +289,50 @@ def _setting_swatches(names) -> str:
 
 
 def _design_study_blocks(study: "DesignStudy") -> str:
-    """The design's actuator study (:class:`vvea_design.actuator.design_study.DesignStudy`): Table 5, map, safety."""
+    """The design's actuator study (:class:`vvea_design.actuator.design_study.DesignStudy`): both runs, every case
+    counted, the damping range and what the optima ask of it, the designer's figure, safety."""
     grid = study.grid
+    dmp = study.damping
     out = paragraph(f"Rest-to-rest optimal control (paper section 5) on {len(grid.A_rad)} × {len(grid.T_s)} cases "
                     f"(A = {', '.join(f'{v:g}' for v in grid.A_rad)} rad; T = {', '.join(f'{v:g}' for v in grid.T_s)} s), "
-                    f"{study.mesh.n_intervals} collocation intervals (Radau degree {study.mesh.degree}); "
-                    "only trajectories that are valid (95 % of A reached) and verified by re-simulation count.")
-    rows = []
-    for c in study.comparisons:
-        rows.append((f"design vs {c.other}", c.n_cases, c.n_excluded,
-                     None if c.fraction_design_beats is None else 100 * c.fraction_design_beats,
-                     c.meanrmse_other_over_design,
-                     None if c.paper_vvea_beats is None else 100 * c.paper_vvea_beats,
-                     c.paper_meanrmse_other_over_vvea))
-    out += "<h3>Table 5 for the design</h3>" + table(
-        ("comparison", "cases compared", "cases left out", "design beats (%)", "mean rmse other / design",
-         "paper: VVEA beats (%)", "paper: rmse other / VVEA"), rows)
+                    f"{study.mesh.n_intervals} collocation intervals (Radau degree {study.mesh.degree}). The design is "
+                    "compared with an SEA of the same joint stiffness; every case counts: where the design's trajectory "
+                    "is not valid (95 % of A not reached) or not verified by re-simulation while the other's is, the "
+                    "design loses the case.")
+    out += paragraph(f"Damping range used: D = {dmp.D_min_Nms_per_rad:.3g} … {dmp.D_max_Nms_per_rad:.4g} N m s/rad, "
+                     f"from {dmp.source}: {dmp.why}.")
+    out += "".join(paragraph(f"{r.label.capitalize()}: " + (r.charge.describe() if r.charge is not None else
+                                                             f"K = {r.actuator.K_Nm_per_rad:.4g} N m/rad") + ".")
+                   for r in study.runs)
+    rows = [(c.run, f"{c.design} vs {c.other}", c.n_cases, c.design_beats, c.design_worse, c.only_other_valid,
+             c.neither_valid, None if c.fraction_design_beats is None else 100 * c.fraction_design_beats,
+             c.meanrmse_other_over_design, c.n_both_valid,
+             None if c.paper_vvea_beats is None else 100 * c.paper_vvea_beats) for c in study.comparisons]
+    out += "<h3>The design against an SEA of the same stiffness (and the paper's settings)</h3>" + table(
+        ("run", "comparison", "cases", "design better", "design worse", "of those: design not valid",
+         "neither valid", "design better (% of every case)", "mean rmse other / design (both valid)",
+         "both valid", "paper: VVEA better (%)"), rows)
     srows = [(s.name, s.K_Nm_per_rad, s.D_min_Nms_per_rad, s.D_max_Nms_per_rad, s.n_cases, s.n_solved, s.n_valid,
               s.n_unverified, s.mean_rmse_rad) for s in study.settings]
     out += table(("setting", "K (N m/rad)", "D_min (N m s/rad)", "D_max (N m s/rad)", "cases", "solved", "valid",
-                  "unverified (left out)", "mean rmse (rad)"), srows)
+                  "not verified", "mean rmse (rad)"), srows)
+    urows = [(r.label, r.damping_use.n_cases, r.damping_use.n_reach_D_max, r.damping_use.n_stay_at_D_min,
+              r.damping_use.largest_D_used_Nms_per_rad, r.damping_use.largest_damping_torque_Nm,
+              r.damping_use.relief_torque_Nm, r.damping_use.n_over_relief) for r in study.runs]
+    out += "<h3>What the optima ask of the valve</h3>" + table(
+        ("run", "valid optima", "reach D_max", "stay at D_min", "highest D used (N m s/rad)",
+         "largest damping torque (N m)", "relief torque (N m)", "above the relief torque"), urows)
     out += _setting_swatches(["design", *(r.name for r in study.references)])
     f = study.files
-    refs = ", ".join(r.name for r in study.references)
     if getattr(f, "map_png", None) and Path(f.map_png).exists():
-        out += image(f.map_png, f"The design against the best valid of {refs}, case by case (green: the design "
-                                "tracks better; grey: the design's trajectory is not valid), and each setting's mean "
-                                "rmse over the cases where every setting is valid.")
+        out += image(f.map_png, "rmse of the design over rmse of an SEA of the same stiffness, case by case, in "
+                                "each run (green: the design tracks better; dark: the design not valid while the "
+                                "SEA is, a loss; grey: neither valid).")
     if getattr(f, "trajectory_png", None) and Path(f.trajectory_png).exists():
         A, T = study.trajectory_case
-        out += image(f.trajectory_png, f"Optimal trajectories at A = {A:g} rad, T = {T:g} s: link angle against "
-                                       "the reference (dashed), motor torque and damping of every setting; the "
-                                       "design drawn thick.")
+        out += image(f.trajectory_png, f"Optimal trajectories at A = {A:g} rad, T = {T:g} s, equal stiffness: link "
+                                       "angle against the reference (dashed), motor torque and damping of every "
+                                       "setting; the design drawn thick.")
     cases = list(study.safety_design.cases) + [study.safety_reference.variable]
     tau = float(study.safety_design.setup["tau_ref_Nm"])
     out += f"<h3>Safety: {tau:g} N m torque step (paper section 6)</h3>" + table(
@@ -330,8 +342,8 @@ def _design_study_blocks(study: "DesignStudy") -> str:
         out += image(f.safety_png, "Torque step of the design and of the paper's VVEA: variable damping solid in "
                                    "the setting's colour, fixed damping dashed.")
     t = study.timing
-    out += paragraph(f"study time {t.total_s:.1f} s on {t.workers} worker(s); {study.n_left_out} result(s) left out "
-                     "because their trajectory did not verify.", "note")
+    out += paragraph(f"study time {t.total_s:.1f} s on {t.workers} worker(s); {study.n_left_out} result(s) whose "
+                     "trajectory did not verify count as not valid.", "note")
     return out
 
 
