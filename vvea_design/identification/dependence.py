@@ -62,7 +62,7 @@ def dependence_profile(D: FitData, force: np.ndarray, rows: np.ndarray | None = 
     force : numpy.ndarray
         ``(D.n,)`` the term's force, N.
     rows : numpy.ndarray of bool, optional
-        Samples to use (default: all).
+        ``(D.n,)`` mask of the samples to use (dimensionless; default: all).
 
     Returns
     -------

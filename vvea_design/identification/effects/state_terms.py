@@ -6,7 +6,8 @@ outside the catalogue that shifts, drifts or bands the force has a term that fol
 report describes it by its dependence instead of borrowing a catalogue name:
 
 - ``charge_offset``: a force proportional to the charge, plus a constant, independent of motion;
-- ``charge_drift``: the charge-borne spring force changing (either sign) with campaign order;
+- ``charge_drift``: the charge-borne spring force rising with campaign order (a falling one is the
+  catalogue's ``leakage``, whose checks decide its name);
 - ``damping_drift``: the throttle force changing with campaign order;
 - ``friction_map``: friction as a piecewise-linear function of the position (a band of the stroke);
 - ``start_pulse``: a force fading over the first moments of each experiment (time within the experiment).
@@ -26,7 +27,7 @@ __all__: list[str] = []  # its effects are reached through the registry
 RANK = 165
 
 #: Knots of the friction map over the stroke (fractions of travel).
-KNOTS = np.linspace(0.0, 1.0, 9)
+KNOTS = np.linspace(0.0, 1.0, 21)
 
 
 @dataclass(frozen=True)
@@ -50,7 +51,7 @@ class ChargeDrift(Effect):
 
     def describe(self, values, errors, _, __):
         k, k2 = values["k"], values["k2"]
-        way = "rises" if k > 0 else "falls"
+        way = "rises" if k >= 0 else "falls"
         return (
             f"The charge-borne spring force {way} with campaign order: stiffness {fmt_estimate(k, errors.get('k'), 'N/mm/MPa/h')} "
             f"({k2:+.3g} N/mm/MPa/h^2) and offset {fmt_estimate(values['a'], errors.get('a'), 'N/MPa/h')} per hour of campaign "
@@ -97,8 +98,9 @@ register(ChargeOffset("charge_offset", "offset following the charge", "A force o
 
 register(ChargeDrift("charge_drift", "charge drifting with campaign order", "The charge-borne spring force drifts over the campaign.",
                      "f += p2 t_c (k x + a) + p2 t_c^2 (k2 x + a2)   (t_c campaign time in h)",
-                     (Param("k", "N/mm/MPa/h", *FREE, "stiffness change per MPa per hour"), Param("a", "N/MPa/h", *FREE, "offset change per MPa per hour"),
-                      Param("k2", "N/mm/MPa/h^2", *FREE, "change of the stiffness drift per hour"),
+                     (Param("k", "N/mm/MPa/h", 0.0, np.inf, "stiffness gained per MPa per hour (a falling charge is the catalogue's leakage)"),
+                      Param("a", "N/MPa/h", *FREE, "offset change per MPa per hour"),
+                      Param("k2", "N/mm/MPa/h^2", -np.inf, 0.0, "slowing of the stiffness gain per hour"),
                       Param("a2", "N/MPa/h^2", *FREE, "change of the offset drift per hour")),
                      catalogue=False, log_shape=False))
 
@@ -108,7 +110,7 @@ register(DampingDrift("damping_drift", "damping drifting with campaign order", "
                       catalogue=False, needs=("damping_force_N",), log_shape=False))
 
 register(FrictionMap("friction_map", "friction varying over bands of the stroke", "Friction follows the position, in both directions.",
-                     "f += sign(xdot) sum_i f_i hat_i(x/travel)   (piecewise-linear over 9 knots)", (), catalogue=False, log_shape=False))
+                     "f += sign(xdot) sum_i f_i hat_i(x/travel)   (piecewise-linear over 21 knots, 5 % of travel apart)", (), catalogue=False, log_shape=False))
 
 
 @dataclass(frozen=True)
