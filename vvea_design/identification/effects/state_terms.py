@@ -27,7 +27,7 @@ __all__: list[str] = []  # its effects are reached through the registry
 RANK = 165
 
 #: Knots of the friction map over the stroke (fractions of travel).
-KNOTS = np.linspace(0.0, 1.0, 21)
+KNOTS = np.linspace(0.0, 1.0, 9)
 
 
 @dataclass(frozen=True)
@@ -110,7 +110,7 @@ register(DampingDrift("damping_drift", "damping drifting with campaign order", "
                       catalogue=False, needs=("damping_force_N",), log_shape=False))
 
 register(FrictionMap("friction_map", "friction varying over bands of the stroke", "Friction follows the position, in both directions.",
-                     "f += sign(xdot) sum_i f_i hat_i(x/travel)   (piecewise-linear over 21 knots, 5 % of travel apart)", (), catalogue=False, log_shape=False))
+                     "f += sign(xdot) sum_i f_i hat_i(x/travel)   (piecewise-linear over 9 knots, 12.5 % of travel apart)", (), catalogue=False, log_shape=False))
 
 
 @dataclass(frozen=True)
