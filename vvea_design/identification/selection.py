@@ -536,8 +536,8 @@ def _drop_discovered_instead(D: FitData, plan: Plan, sel, cur: ModelFit, c: str,
     """A discovered term accepted after the catalogue term ``c`` to drop instead of ``c`` (its fit), or None.
 
     The model without the discovered term must explain the held-out experiments as well as the model
-    without ``c`` (paired t of the per-experiment CV error <= ``settings.name_t``); of those, the one
-    whose removal costs least.
+    without ``c`` (paired t of the per-experiment CV error <= ``settings.name_t``, and its CV error at
+    most ``settings.min_gain`` larger); of those, the one whose removal costs least.
     """
     tr = plan.train
     best = None
@@ -548,7 +548,8 @@ def _drop_discovered_instead(D: FitData, plan: Plan, sel, cur: ModelFit, c: str,
         fd = fit_model(D, rest, experiments=tr, shapes={e: cur.shapes[e] for e in rest if e in cur.shapes})
         sse_d = _cv_current(D, fd, plan)[3]
         t = _paired_t(sse_d[tr], sse_c[tr])  # > 0: dropping d costs more than dropping c
-        if t <= settings.name_t and (best is None or t < best[0]):
+        extra = float((sse_d[tr].sum() - sse_c[tr].sum()) / max(sse_c[tr].sum(), 1e-300))  # and by this share of the error
+        if t <= settings.name_t and extra < settings.min_gain and (best is None or t < best[0]):
             best = (t, d, fd)
     return None if best is None else (best[1], best[2])
 
