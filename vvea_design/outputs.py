@@ -62,7 +62,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 __all__ = ["OutputError", "check_output_dir", "check_output_file", "output_dir", "output_files", "write_text_atomic",
-           "MARKER_PREFIX"]
+           "MARKER_PREFIX", "check_not_input", "io_failure"]
 
 #: Every output folder gets ``.vvea-<command>.json`` listing what the command wrote there.
 MARKER_PREFIX = ".vvea-"
@@ -146,6 +146,87 @@ def _fail_unwritable(folder: Path, path: Path, option: str, exc: OSError) -> Non
     raise _refused(path, option, f"cannot write in {folder} ({exc.strerror or exc})") from None
 
 
+def _not_a_windows_path(path: str | os.PathLike, option: str) -> None:
+    """A drive letter or backslashes on a system whose separator is '/': a path meant for Windows."""
+    text = os.fspath(path)
+    if os.sep == "/" and (re.match(r"^[A-Za-z]:[\\/]", text) or "\\" in text):
+        raise _refused(Path(text), option, "looks like a Windows path (a drive letter or backslashes); this system "
+                       "separates folders with '/' and would make a file named with backslashes — write it as "
+                       "e.g. designs/d.json")
+
+
+def check_not_input(outputs, inputs, option: str = "--out") -> None:
+    """Raise :class:`OutputError` when an output would be one of the inputs (the same file, or a link to it).
+
+    Call it before any work, with every file the command writes and every file it reads: ``vvea optimise
+    --spec req.toml -o req.toml`` (or ``-o`` a link to it, or a hard link) is refused, never overwrites the
+    requirements.
+
+    Parameters
+    ----------
+    outputs : iterable of path-like
+        Files (or folders) the command writes.
+    inputs : iterable of path-like or None
+        Files it reads (None entries are skipped).
+    option : str
+        The option named in the message.
+
+    Raises
+    ------
+    OutputError
+        An output resolves to an input (symbolic links followed, hard links by inode).
+    """
+    ins = []
+    for i in inputs:
+        if i is None:
+            continue
+        real = os.path.realpath(i)
+        try:
+            st = os.stat(real)
+            ident = (st.st_dev, st.st_ino)
+        except OSError:
+            ident = None
+        ins.append((Path(i), real, ident))
+    for o in outputs:
+        real = os.path.realpath(o)
+        try:
+            st = os.stat(real)
+            ident = (st.st_dev, st.st_ino)
+        except OSError:
+            ident = None
+        for given, r, i_ident in ins:
+            if real == r or (ident is not None and ident == i_ident):
+                how = "" if os.path.abspath(o) == os.path.abspath(given) else f" (it resolves to {r})"
+                raise _refused(Path(o), option, f"is the input {given}{how}; writing it would destroy the input "
+                               "— give another output path")
+
+
+def io_failure(exc: OSError, target) -> str:
+    """One line for a write that failed (a full disk, a quota, a read-only or vanished file system).
+
+    Parameters
+    ----------
+    exc : OSError
+        The error raised while writing.
+    target : path-like
+        The output the command was writing.
+
+    Returns
+    -------
+    str
+        ``could not write <target>: no space left on device (the disk is full; nothing was changed there)``
+        and the like.
+    """
+    why = (exc.strerror or str(exc)).rstrip(".")
+    extra = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota is used up",
+             errno.EFBIG: "a file size limit is reached", errno.EROFS: "the file system is read-only"}.get(exc.errno)
+    return (f"could not write {target}: {why[:1].lower() + why[1:]} ({extra + '; ' if extra else ''}nothing was changed "
+            "there)")
+
+
+_IO_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO}
+
+
 def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
     """Raise :class:`OutputError` unless a result folder can be written at ``path``.
 
@@ -167,8 +248,9 @@ def check_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
     Raises
     ------
     OutputError
-        ``path`` is an existing file, lies under a file, or cannot be written.
+        ``path`` is an existing file, lies under a file, cannot be written, or is a Windows path.
     """
+    _not_a_windows_path(path, option)
     p = Path(os.path.realpath(path))
     if p.exists() and not p.is_dir():
         raise _refused(p, option, "is an existing file, not a folder; give a folder path")
@@ -197,8 +279,10 @@ def check_output_file(path: str | os.PathLike, option: str = "--out") -> Path:
     Raises
     ------
     OutputError
-        ``path`` is an existing folder, lies under a file, or its folder cannot be written.
+        ``path`` is an existing folder, lies under a file, its folder cannot be written, or it is a
+        Windows path.
     """
+    _not_a_windows_path(path, option)
     p = Path(os.path.realpath(path))
     if p.is_dir():
         raise _refused(p, option, f"is an existing folder; give a file path (e.g. {p / 'design.json'})")
@@ -396,8 +480,8 @@ def _commit_dir(tmp: Path, target: Path, command: str) -> None:
 def _as_output_error(exc: OSError, tmp_paths: list[Path], target: Path) -> OutputError | None:
     """An OSError while writing into a temporary: a clear error naming the target."""
     name = str(getattr(exc, "filename", "") or "")
-    if name and any(name.startswith(str(t)) for t in tmp_paths):
-        return OutputError(f"could not write {target}: {exc.strerror or exc} (nothing was changed there)")
+    if (name and any(name.startswith(str(t)) for t in tmp_paths)) or exc.errno in _IO_ERRNOS:
+        return OutputError(io_failure(exc, target))
     return None
 
 
@@ -442,7 +526,10 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
         target.mkdir(parents=True, exist_ok=True)
         yield target
         return
-    created = _make_parents(target.parent)
+    try:
+        created = _make_parents(target.parent)
+    except OSError as exc:
+        raise OutputError(io_failure(exc, target)) from exc
     _remove_orphans(target.parent)
     if target.is_dir():
         _remove_orphans(target)
@@ -452,7 +539,10 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
         tmp = _temp_name(target)
     token = None
     try:
-        os.mkdir(tmp)
+        try:
+            os.mkdir(tmp)
+        except OSError as exc:
+            raise OutputError(io_failure(exc, target)) from exc
         token = _OPEN.set((*_OPEN.get(), Path(os.path.realpath(tmp))))
         yield tmp
     except BaseException as exc:
@@ -470,7 +560,9 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
         _commit_dir(tmp, target, command)
     except OSError as exc:
         _remove(tmp)
-        raise OutputError(f"could not move the results into {target}: {exc.strerror or exc}") from exc
+        raise OutputError(f"could not move the results into {target}: {exc.strerror or exc}"
+                          + (" (the disk is full; nothing was changed there)" if exc.errno == errno.ENOSPC else "")
+                          ) from exc
 
 
 @contextlib.contextmanager
@@ -499,7 +591,11 @@ def output_files(*paths: str | os.PathLike, option: str = "--out") -> Iterator[l
     targets = [check_output_file(p, option) for p in paths]
     created: list[Path] = []
     for t in targets:
-        created += _make_parents(t.parent)
+        try:
+            created += _make_parents(t.parent)
+        except OSError as exc:
+            _remove_created(created)
+            raise OutputError(io_failure(exc, t)) from exc
         _remove_orphans(t.parent)
     tmps = [_temp_name(t) for t in targets]
     try:

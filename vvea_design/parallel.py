@@ -30,14 +30,16 @@ import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
+from .plausibility import check_count
 from .progress import progress_bar
 
 T = TypeVar("T")
 R = TypeVar("R")
 
-__all__ = ["parallel_map", "default_workers", "Terminated"]
+__all__ = ["parallel_map", "default_workers", "Terminated", "WorkerLost", "SchedulerUnreachable", "check_scheduler"]
 
 
 class Terminated(BaseException):
@@ -46,6 +48,57 @@ class Terminated(BaseException):
     A BaseException (like KeyboardInterrupt), so ``except Exception`` blocks
     do not swallow it; the exit status for it is 143 (128 + SIGTERM).
     """
+
+
+class WorkerLost(RuntimeError):
+    """A worker process ended without returning its result (killed by a signal, or out of memory).
+
+    The results finished before it were handed to ``on_result``; the exit status for it is 4 (a failed
+    computation).
+    """
+
+
+class SchedulerUnreachable(ValueError):
+    """The Dask scheduler address given cannot be reached (names the address and why)."""
+
+
+def check_scheduler(address: str, timeout_s: float = 5.0) -> str:
+    """Raise :class:`SchedulerUnreachable` unless a TCP connection to ``address`` opens within ``timeout_s``.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://host:port`` (or ``host:port``).
+    timeout_s : float
+        Seconds to wait for the connection.
+
+    Returns
+    -------
+    str
+        ``address`` unchanged.
+
+    Raises
+    ------
+    SchedulerUnreachable
+        The address is malformed or nothing answers there.
+    """
+    import socket
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host = port = None
+    if parts.scheme not in ("tcp", "tls") or not host or not port:
+        raise SchedulerUnreachable(f"scheduler {address!r}: expected an address tcp://host:port")
+    try:
+        with socket.create_connection((host, port), timeout=timeout_s):
+            pass
+    except OSError as exc:
+        raise SchedulerUnreachable(f"scheduler {address}: cannot connect within {timeout_s:g} s "
+                                   f"({exc.strerror or exc}); is a Dask scheduler running there?") from None
+    return address
 
 
 def _die_with_parent(parent_pid: int) -> None:
@@ -174,6 +227,15 @@ def parallel_map(
         propagates (after the already finished results were handed to
         ``on_result``); functions that must never stop a sweep should catch
         their own failures and return them as data.
+
+    Raises
+    ------
+    WorkerLost
+        A worker process died without a result (killed, out of memory).
+    SchedulerUnreachable
+        ``scheduler`` is given and nothing answers there within 5 s.
+    ValueError
+        ``workers`` is not a whole number in 1 ... 1024.
     """
     work: Sequence[T] = list(items)
     results: list[Any] = [None] * len(work)
@@ -189,17 +251,16 @@ def parallel_map(
             advance()
 
         if scheduler:
+            check_scheduler(scheduler)
             from distributed import Client, as_completed as dask_as_completed
 
-            with Client(scheduler) as client:
+            with Client(scheduler, timeout="10s") as client:
                 futures = client.map(func, work, pure=False)
                 index = {f.key: i for i, f in enumerate(futures)}
                 for fut in dask_as_completed(futures):
                     _done(index[fut.key], fut.result())
         else:
-            n = default_workers() if workers is None else int(workers)
-            if n < 1:
-                raise ValueError(f"workers must be >= 1, got {n}")
+            n = default_workers() if workers is None else check_count("workers", workers, "workers", ValueError)
             if n == 1 or len(work) == 1:
                 for i, item in enumerate(work):
                     _done(i, func(item))
@@ -215,6 +276,12 @@ def parallel_map(
                         # Ctrl-C or SIGTERM: stop everything now (finished results are already handed over)
                         _stop_now(pool)
                         raise
+                    except BrokenProcessPool:
+                        _stop_now(pool)
+                        done = sum(1 for f in futs if f.done() and not f.cancelled() and f.exception() is None)
+                        raise WorkerLost(f"{description}: a worker process died before returning its result "
+                                         f"(killed by a signal, or out of memory); {done} of {len(work)} item(s) "
+                                         "finished and were kept") from None
                     except BaseException:
                         # an error in one item: do not run (and then throw away) the queued items
                         pool.shutdown(wait=True, cancel_futures=True)

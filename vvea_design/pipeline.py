@@ -28,7 +28,7 @@ from .actuator.model import Actuator
 from .bladder.result import BladderResult
 from .jobs.bladder import check_bladder
 from .jobs.cad import build_cad
-from .jobs.common import OptionError, PathLike, check_out, folder, moved, requirements_of
+from .jobs.common import OptionError, PathLike, check_option, check_out, folder, inputs_kept, moved, requirements_of
 from .jobs.spring import force_plot_path, optimise, spring_report, write_spring_files
 from .jobs.studies import design_study_settings, run_design_study
 from .spring.curve import SpringCurve, spring_curve
@@ -199,12 +199,17 @@ def design_unit(
     SpecError
         Requirements that cannot be read or hold a wrong value.
     OptionError
-        A bad study grid or mesh (named ``study_grid``, ``study_mesh_n``, ``safety_mesh_n``), before any work.
+        A bad study grid or mesh (named ``study_grid``, ``study_mesh_n``, ``safety_mesh_n``), ``seed``,
+        ``workers`` or ``bladder_elements``, before any work.
     OutputError
-        ``out`` cannot be written (before any work).
+        ``out`` cannot be written, or is the requirements file (before any work).
     Infeasible
         No design meets the requirements (``exc.result`` is the least-violating one); nothing is written.
     """
+    check_option("seed", seed, "seed")
+    check_option("workers", workers, "workers")
+    check_option("bladder_elements", bladder_elements, "bladder_elements")
+    inputs_kept((out,), (requirements, spec_path))
     req, read_from = requirements_of(requirements)
     spec = spec_path if spec_path is not None else read_from
     try:

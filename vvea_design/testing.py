@@ -7,14 +7,18 @@ Example (in your project's tests)::
     def test_my_unit_stays_linear():
         assert_linearity("designs/my_unit.json", max_linearity=0.015)
 
-The design file is evaluated from its ``parameters`` alone (paper eq. 5), so
-an edited file is judged by what it says, not by what it was.
+The design file is rebuilt from its decision variables and checked like every
+command reads it (:func:`vvea_design.spring.design_file.load_design`): a stored
+area, pressure, wall or figure that disagrees with the design is an error
+(:class:`~vvea_design.spring.design_file.DesignFileError`), never a judgement
+of a stale copy; its spring is then evaluated with paper eq. 5.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from .plausibility import LIMITS
 from .spring.design_file import spring_from_json
 from .spring.gas_spring import GasSpring
 
@@ -31,9 +35,9 @@ def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float,
     Parameters
     ----------
     design : str, Path, dict or GasSpring
-        A design JSON path, its parsed content, or a
-        :class:`~vvea_design.spring.gas_spring.GasSpring` (evaluated from its
-        ``parameters`` alone, paper eq. 5).
+        A design JSON path, its parsed content (rebuilt and checked as
+        :func:`~vvea_design.spring.design_file.load_design_dict` does), or a
+        :class:`~vvea_design.spring.gas_spring.GasSpring` (paper eq. 5).
     max_linearity : float
         Largest acceptable linearity error, a fraction (0.015 = 1.5 %).
     num : int or None
@@ -49,7 +53,12 @@ def check_linearity(design: str | Path | dict | GasSpring, max_linearity: float,
     ------
     LinearityRegression
         The error exceeds ``max_linearity``.
+    vvea_design.spring.design_file.DesignFileError
+        The design file is unreadable, incomplete or disagrees with itself.
+    vvea_design.plausibility.PlausibilityError
+        ``max_linearity`` is not a fraction in (0, 1].
     """
+    LIMITS["linearity_fraction"].check(max_linearity, "max_linearity")
     gs = design if isinstance(design, GasSpring) else spring_from_json(design)
     lin = gs.linearity_error(num)
     if lin > max_linearity:

@@ -170,7 +170,8 @@ def test_csv_and_parquet_agree(tmp_path, small_frame, small_csv):
 def test_savgol_fallback_for_other_motions():
     t = np.linspace(0, 10, 201)
     x = 20 * (1 - np.cos(np.pi * t / 5))  # 0 -> 40 -> 0, sinusoidal, not a trapezoid
-    df = pd.DataFrame(dict(experiment="S", time_s=t, displacement_mm=x, force_N=0.0, p2_MPa=2.0, valve_deg=100.0))
+    # a spring's force (a constant force column is refused: no load cell connected)
+    df = pd.DataFrame(dict(experiment="S", time_s=t, displacement_mm=x, force_N=46.6 * x, p2_MPa=2.0, valve_deg=100.0))
     rec = recordings_from_frame(df, "sine")
     assert rec.n_savgol == 1
     v_true = 20 * np.pi / 5 * np.sin(np.pi * t / 5)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from ..plausibility import LIMITS
 from .model import Actuator
 
 __all__ = ["Mesh", "OcpResult"]
@@ -35,6 +36,7 @@ class Mesh:
             raise ValueError(f"Mesh.grading must be in [0, 1), got {self.grading!r}")
         if int(self.n_intervals) != self.n_intervals or self.n_intervals < 4:
             raise ValueError(f"Mesh.n_intervals must be a whole number >= 4, got {self.n_intervals!r}")
+        LIMITS["mesh_intervals"].check(self.n_intervals, "Mesh.n_intervals", ValueError)
         if int(self.degree) != self.degree or not 1 <= self.degree <= 9:
             raise ValueError(f"Mesh.degree must be a whole number in 1..9, got {self.degree!r}")
 
@@ -237,11 +239,15 @@ class _Collocation:
             sol = solver(**args)
             st = solver.stats()
             status = str(st.get("return_status", "unknown"))
+            if status == "User_Requested_Stop":  # IPOPT's own Ctrl-C handler stopped it: the user's interrupt
+                raise KeyboardInterrupt("interrupted during an IPOPT solve")
             success = bool(st.get("success", False))
             iters = int(st.get("iter_count", -1))
             w = np.asarray(sol["x"]).ravel()
             f = float(sol["f"])
         except RuntimeError as exc:  # an error inside CasADi/IPOPT: recorded, never raised
+            if "KeyboardInterrupt" in str(exc) or "nterrupted" in str(exc):  # Ctrl-C seen inside CasADi
+                raise KeyboardInterrupt("interrupted during a CasADi call") from None
             status, success, iters = f"error: {exc}".splitlines()[0][:200], False, -1
             w, f = np.full(self.nw, np.nan), float("nan")
         self.last_cpu_seconds = time.process_time() - c0

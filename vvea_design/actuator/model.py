@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..messages import show
+from ..plausibility import LIMITS
 from ..spring.gas_spring import PAPER_FIG5, GasSpring
 
 __all__ = [
@@ -311,6 +312,9 @@ def actuator_from_spring(
     """
     if not (math.isfinite(pulley_radius_m) and pulley_radius_m > 0):
         raise ValueError(f"pulley_radius_m must be a positive number of metres, got {pulley_radius_m!r}")
+    LIMITS["pulley_radius_m"].check(pulley_radius_m, "pulley_radius_m", ValueError)
+    for option, g in (("gamma_min_deg", gamma_min_deg), ("gamma_max_deg", gamma_max_deg)):
+        LIMITS["valve_deg"].check(g, option, ValueError)
     if int(n_units) != n_units or n_units < 1:
         raise ValueError(f"n_units must be a whole number >= 1, got {n_units!r}")
     if gamma_max_deg < gamma_min_deg:

@@ -18,6 +18,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..plausibility import LIMITS
+
 from ..outputs import output_files
 from ..parallel import parallel_map
 from ..progress import console
@@ -46,6 +48,8 @@ class Grid:
             v = getattr(self, name)
             if len(v) == 0 or any(not (math.isfinite(x) and x > 0) for x in v):
                 raise ValueError(f"Grid.{name} must be a non-empty list of positive numbers, got {v!r}")
+        LIMITS["grid_cases"].check(len(self.A_rad) * len(self.T_s), "the grid's cases (amplitudes x periods)",
+                                   ValueError, hint=f"{len(self.A_rad)} amplitudes x {len(self.T_s)} periods")
 
     def cases(self) -> list[tuple[float, float]]:
         """All (A, T) pairs, A-major.
@@ -243,6 +247,11 @@ def _check_options(grid, settings, mesh, fine_mesh, starts, workers, ipopt_optio
                     tuple(sorted((ipopt_options or {}).items())), regularisation)
 
 
+#: Every file a rest-to-rest sweep writes in its folder (``report.html``: the command's report of it); a restart
+#: removes them all before the first new case, so an interrupted restart leaves the new partial sweep alone.
+SWEEP_FILES = ("results.csv", "meta.json", "summary.json", "best_map.png", "trajectory.png", "report.html")
+
+
 def _prepare_results(out: Path, opt: _Options, restart: bool) -> set[str]:
     """Check an existing sweep in ``out`` is this one, write meta.json and rewrite results.csv clean.
 
@@ -257,8 +266,10 @@ def _prepare_results(out: Path, opt: _Options, restart: bool) -> set[str]:
                 f"{res_path} belongs to a different sweep (grid/settings/mesh/starts/regularisation differ from "
                 f"{meta_path}); use another output folder, or discard it with --restart (restart=True in Python)"
             )
-    if restart and res_path.exists():
-        res_path.unlink()
+    if restart:  # the whole earlier sweep goes, not only its results: never a new results.csv beside an old summary
+        for name in SWEEP_FILES:
+            if (out / name).is_file() or (out / name).is_symlink():
+                (out / name).unlink()
     meta_path.write_text(json.dumps(meta, indent=2))
     done_rows = _read_done(res_path, opt.settings)
     # rewrite the file clean (drops a torn last line / incomplete case)
@@ -351,7 +362,8 @@ def run_rest_to_rest(
         Passed to :func:`~vvea_design.parallel.parallel_map` (all local cores
         by default; a Dask scheduler address runs on that cluster).
     restart
-        Discard an existing ``results.csv`` instead of resuming it.
+        Discard an existing sweep (every file of :data:`SWEEP_FILES`, before the first case is solved)
+        instead of resuming it; other files in ``out_dir`` are kept.
     progress, figures
         Show the progress bar; write the PNGs.
     outperform_rtol

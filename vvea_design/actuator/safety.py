@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..plausibility import LIMITS
 from .figures import plot_safety
 from .model import PAPER_SETTINGS, Actuator
 from .multistart import _pick_label
@@ -217,6 +218,9 @@ def solve_safety(
     """
     if not (math.isfinite(M_kgm2) and M_kgm2 > 0):
         raise ValueError(f"M_kgm2 must be a positive inertia, got {M_kgm2!r}")
+    LIMITS["link_inertia_kgm2"].check(M_kgm2, "M_kgm2", ValueError)
+    LIMITS["torque_step_Nm"].check(abs(tau_ref_Nm) if isinstance(tau_ref_Nm, (int, float)) else tau_ref_Nm,
+                                   "|tau_ref_Nm|", ValueError)
     s = solver if solver is not None else _solver(mesh)
     var = base.with_(M_kgm2=M_kgm2,
                      name=name or f"variable D {base.D_min_Nms_per_rad:.3g}-{base.D_max_Nms_per_rad:.3g}")

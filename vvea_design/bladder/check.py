@@ -57,6 +57,7 @@ from .membrane import (
 )
 from ..materials.silicones import Silicone, StrainCriterion, get_criterion, get_silicone
 from ..messages import show
+from ..plausibility import LIMITS
 from .result import DEFAULT_ELEMENTS, ENDS, BladderReport, BladderResult, StrokeEnd
 
 __all__ = [
@@ -238,6 +239,7 @@ def check_membrane(mid_radius_mm: float, free_length_mm: float, thickness_mm: fl
     """
     from ..materials.silicones import allowable_strain
 
+    LIMITS["bladder_elements"].check(n_elements, "n_elements", BladderError)
     R = _positive("mid_radius_mm", mid_radius_mm)
     L = _positive("free_length_mm", free_length_mm)
     H = _positive("thickness_mm", thickness_mm)

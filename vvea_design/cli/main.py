@@ -18,14 +18,17 @@ from rich.table import Table
 
 from .common import fail as _fail
 from .common import job_errors
+from .errors import VveaGroup, set_debug, strip_debug
 from .outputs import check_out, out_dir
 from ..messages import show_margin
 from ..progress import console
 from ..progress import out as stdout
 
 app = typer.Typer(
+    cls=VveaGroup,  # every command: one-line errors, the documented exit codes, --debug for traces (cli/errors.py)
     add_completion=False,
     no_args_is_help=True,
+    pretty_exceptions_enable=False,
     help="vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.",
 )
 
@@ -44,14 +47,20 @@ def _version(value: bool) -> None:
 def _root(
     version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
                                  help="print the version and exit"),
+    debug: bool = typer.Option(False, "--debug", help="show the full trace of an unexpected error"),
 ) -> None:
-    """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator."""
+    """vvea-design: design the pneumatic spring–damper unit of a variable visco-elastic actuator.
+
+    Exit codes: 0 done, 1 a check failed (or an internal error), 2 bad input, 3 infeasible requirements,
+    4 a computation failed, 130 interrupted, 143 terminated.
+    """
     import matplotlib
 
+    set_debug(debug)
     matplotlib.use("Agg")  # the command line draws off-screen; the library never selects a backend
 
 
-def _print_evaluation(ev, title: str) -> None:
+def _print_evaluation(ev, title: str, bounds=()) -> None:
     perf = ev.performance()
     t = Table(title=title, show_header=True)
     t.add_column("quantity")
@@ -77,7 +86,19 @@ def _print_evaluation(ev, title: str) -> None:
         rel = "<=" if d["kind"] == "max" else ">="
         c.add_row(name, f"{show_margin(d['value'])} {d['unit']}", f"{rel} {float(d['limit']):.4g}",
                   f"[{style}]{show_margin(m, '+.4f')}[/]")  # round-off of a binding constraint reads 0
+    for b in bounds:  # a search bound the optimum sits on limits it like a constraint
+        c.add_row(f"{b['name']} [search bound]", f"{b['value']:.6g}",
+                  f"{'<=' if b['end'] == 'high' else '>='} {b['bound']:.6g}", "[yellow]0[/]")
     stdout.print(c)
+
+
+def _say_bounds(bounds) -> None:
+    """One line per search bound the optimum sits on: it limits the design; say how to lift it."""
+    for b in bounds:
+        console.print(f"note: {b['variable']} = {b['value']:.6g} sits on the {b['end']} end of its search bound "
+                      f"({b['bound']:.6g}): the bound limits the optimum like a constraint; widen [bounds] "
+                      f"{b['variable']} in the requirements file (or leave it out: the default follows the envelope)",
+                      soft_wrap=True, markup=False, highlight=False)
 
 
 def _infeasible(exc, spec: Optional[Path]) -> None:
@@ -85,7 +106,7 @@ def _infeasible(exc, spec: Optional[Path]) -> None:
     from ..jobs.spring import Infeasible
 
     if isinstance(exc, Infeasible):
-        _print_evaluation(exc.result.evaluation, "least-violating design")
+        _print_evaluation(exc.result.evaluation, "least-violating design", exc.result.binding_bounds)
         _fail(str(exc), code=3)
     _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # NoBuildableDesign
 
@@ -105,9 +126,10 @@ def optimise(
             res = optimise_job(spec, seed=seed, out=out)
     except (Infeasible, NoBuildableDesign) as exc:
         _infeasible(exc, spec)
-    _print_evaluation(res.evaluation, f"optimised design (seed {seed})")
+    _print_evaluation(res.evaluation, f"optimised design (seed {seed})", res.binding_bounds)
     console.print(f"{res.evaluations} model evaluations in {res.seconds:.1f} s "
-                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.evaluation.binding()) or 'none'}")
+                  f"({res.evaluations_per_second:.0f}/s); binding: {', '.join(res.binding()) or 'none'}")
+    _say_bounds(res.binding_bounds)
     console.print(f"wrote {out} and {force_plot_path(out)}")
 
 
@@ -117,7 +139,7 @@ def spring(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="folder for spring.csv and spring.png (default: beside the design)"),
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
 ) -> None:
-    """Force curve, stiffness and linearity of a design (from its parameters alone)."""
+    """Force curve, stiffness and linearity of a design (rebuilt from its decision variables)."""
     from ..jobs.spring import DesignFileError, spring_report
 
     with job_errors({"p2_MPa": "--p2"}, errors=(DesignFileError,)):
@@ -163,7 +185,7 @@ def pareto(
         vals = [float(v) for v in values.split(",") if v.strip()]
     except ValueError:
         _fail(f"--values must be comma-separated numbers, got {values!r}")
-    with job_errors(errors=(SpecError,)):
+    with job_errors(errors=(SpecError,)):  # a value its requirement cannot take: --values, named by the job
         front = pareto_front(axis, vals, requirements=spec, seed=seed, scheduler=scheduler, out=out)
     for p in front.points:
         lin = f"{100 * p.linearity_error:.3f} %" if p.feasible else "infeasible"
@@ -223,7 +245,9 @@ def design(
                                workers=workers, progress=say)
     except (Infeasible, NoBuildableDesign) as exc:
         _infeasible(exc, spec)
-    _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})")
+    _print_evaluation(unit.optimisation.evaluation, f"optimised design (seed {seed})",
+                      unit.optimisation.binding_bounds)
+    _say_bounds(unit.optimisation.binding_bounds)
     bl = unit.bladder
     stdout.print(f"bladder ({bl.silicone.name}): strain bound {100 * bl.strain_bound:.2f} % vs allowable "
                  f"{100 * bl.allowable_strain:.2f} %, radial room {'ok' if bl.passes_room else 'touches'} -> "
@@ -251,11 +275,12 @@ for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
 
 
 def main() -> None:
-    """Run the ``vvea`` command (the console-script entry point); Ctrl-C exits 130 with a message."""
+    """Run the ``vvea`` command (the console-script entry point); exit codes and messages: :mod:`.errors`."""
+    argv = strip_debug(sys.argv[1:])  # --debug anywhere on the line
     try:
-        app()
-    except KeyboardInterrupt:  # pragma: no cover
-        console.print("interrupted")
+        app(args=argv, prog_name="vvea")
+    except KeyboardInterrupt:  # pragma: no cover - outside a command (while parsing)
+        console.print("interrupted (Ctrl-C)")
         sys.exit(130)
 
 

@@ -11,10 +11,22 @@ from typing import Optional
 
 import typer
 
+from .errors import INTERRUPT_REPORTED
+
 __all__ = ["register", "study_app"]
 
 study_app = typer.Typer(help="Actuator studies: rest-to-rest optimal control (paper §5) and safety (§6).",
                         no_args_is_help=True)
+
+
+def _failed_solves(count: int, total: int, what: str, where: Path) -> None:
+    """Exit 4 after the results are written when a solve failed: a failed solve never exits 0."""
+    if count:
+        from ..progress import print_error
+
+        print_error(f"{count} of {total} {what} failed to solve (see the status column); the results in {where} "
+                    "are written but incomplete")
+        raise typer.Exit(4)
 
 
 def _check_mesh_n(option: str, n: int, allow_off: bool = False) -> None:
@@ -61,8 +73,9 @@ def rest_to_rest(
         raise typer.BadParameter(f"--workers must be >= 1, got {workers}")
     if design is None and (pulley_radius_m is not None or p2_mpa is not None):
         raise typer.BadParameter("--pulley-radius-m and --p2-mpa apply to --design only")
-    mapping = {} if design is None else dict(pulley_radius_m=pulley_radius_m, p2_MPa=p2_mpa,
-                                             gamma_min_deg=gamma_min_deg, gamma_max_deg=gamma_max_deg)
+    # the gamma range is checked with or without --design (the job says they apply to a design only)
+    mapping = dict(pulley_radius_m=pulley_radius_m, p2_MPa=p2_mpa, gamma_min_deg=gamma_min_deg,
+                   gamma_max_deg=gamma_max_deg)
     try:
         with job_errors({"p2_MPa": "--p2-mpa"}, bad_parameter=True, errors=(ValueError,)):
             run = run_rest_to_rest(out, grid=grid, design=design, **mapping, mesh_n=mesh_n or None,
@@ -70,12 +83,14 @@ def rest_to_rest(
                                    workers=workers, scheduler=scheduler, restart=restart, progress=not no_progress)
     except (KeyboardInterrupt, Terminated) as exc:
         code = 130 if isinstance(exc, KeyboardInterrupt) else 143
-        console.print(f"\n[bold yellow]interrupted[/]: {cases_saved(out)} finished case(s) are saved in "
-                      f"{out / 'results.csv'}. Run the same command again to resume the sweep "
-                      f"(add --restart to start over).", soft_wrap=True)
+        console.print(f"\n[bold yellow]{'interrupted' if code == 130 else 'terminated'}[/]: {cases_saved(out)} "
+                      f"finished case(s) are saved in {out / 'results.csv'}. Run the same command again to resume "
+                      f"the sweep (add --restart to start over).", soft_wrap=True)
+        INTERRUPT_REPORTED["done"] = True
         raise typer.Exit(code) from None
     typer.echo(run.summary_text)
     console.print(f"wrote {', '.join(str(f) for f in run.files.values())}")
+    _failed_solves(run.solver_failures, run.summary.run.ocps, "optimal-control problems", out)
 
 
 @study_app.command("safety")
@@ -98,6 +113,7 @@ def safety(
         run = run_safety(out, mesh_n=mesh_n, tau_ref_Nm=tau_ref_nm, M_kgm2=link_inertia_kgm2)
     typer.echo(run.summary_text)
     console.print(f"wrote {', '.join(str(f) for f in run.files.values())}")
+    _failed_solves(run.solver_failures, len(run.study.cases), "torque-step cases", out)
 
 
 def register(app: typer.Typer) -> None:

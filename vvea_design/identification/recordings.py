@@ -25,6 +25,7 @@ Example
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -33,7 +34,10 @@ import pandas as pd
 from scipy.optimize import least_squares
 from scipy.signal import savgol_filter
 
+from ..inputs import check_input_file, decode_text, read_input_bytes
 from ..messages import show
+from ..spring.gas_spring import PAPER_FIG5
+from .units import Reference, apply_units, check_scale
 
 __all__ = [
     "RecordingsError",
@@ -140,7 +144,8 @@ class Recordings:
 
 
 # ---------------------------------------------------------------- reading
-def read_recordings(path: str | Path) -> Recordings:
+def read_recordings(path: str | Path, *, units: Mapping[str, str] | None = None, negate: Iterable[str] = (),
+                    reference=None) -> Recordings:
     """Read and validate a recordings file (``.csv`` or ``.parquet``).
 
     Parameters
@@ -150,6 +155,15 @@ def read_recordings(path: str | Path) -> Recordings:
         file with the exchange-format columns. A CSV exported with ``;`` as
         delimiter and ``,`` as decimal mark (spreadsheet programs in many
         locales) is read too; :attr:`Recordings.notes` says so.
+    units
+        Column -> the unit it was recorded in (``{"force_N": "kN"}``), converted to the format's unit
+        (:data:`vvea_design.plausibility.UNITS`); a column given a unit is not checked for its scale.
+    negate
+        Columns recorded with the opposite sign convention (``("force_N",)``), negated.
+    reference
+        The unit on the bench the recordings are checked against (:mod:`vvea_design.identification.units`):
+        a :class:`~vvea_design.spring.design.Design` (its travel, g per MPa and the charge its walls
+        carry), a :class:`~vvea_design.spring.gas_spring.GasSpring`, or None: the paper's Fig. 5 unit.
 
     Returns
     -------
@@ -160,13 +174,13 @@ def read_recordings(path: str | Path) -> Recordings:
     ------
     RecordingsError
         Naming the file, the column or line and what is wrong. Line numbers
-        are those of the file (blank lines counted).
+        are those of the file (blank lines counted). Also before reading: a
+        path that is a folder, a FIFO or a device, a file over 2 GiB; and
+        after: a column whose scale or sign points to another unit or
+        convention (naming the likely unit and the override).
     """
     path = Path(path)
-    if not path.exists():
-        raise RecordingsError(f"{path}: file not found")
-    if path.is_dir():
-        raise RecordingsError(f"{path}: is a folder, not a recordings file")
+    check_input_file(path, "recordings file", RecordingsError)
     suffix = path.suffix.lower()
     notes: list[str] = []
     lines = None
@@ -179,7 +193,8 @@ def read_recordings(path: str | Path) -> Recordings:
     else:
         frame, lines, notes = _read_csv(path)
         line_offset = 2
-    return recordings_from_frame(frame, source=str(path), line_offset=line_offset, line_numbers=lines, notes=tuple(notes))
+    return recordings_from_frame(frame, source=str(path), line_offset=line_offset, line_numbers=lines,
+                                 notes=tuple(notes), units=units, negate=negate, reference=reference)
 
 
 def _short(exc: Exception) -> str:
@@ -192,16 +207,9 @@ def _read_csv(path: Path):
     import csv
     import io
 
-    raw = path.read_bytes()
-    if b"\x00" in raw:
-        raise RecordingsError(f"{path}: is not a text file (holds NUL bytes); expected a CSV or a .parquet file")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = raw[: exc.start].count(b"\n") + 1
-        raise RecordingsError(
-            f"{path}: line {line}: not UTF-8 text (byte 0x{raw[exc.start]:02x}); save the file as UTF-8 CSV"
-        ) from None
+    raw = read_input_bytes(path, "recordings file", RecordingsError)
+    text = decode_text(raw, path, "recordings file", RecordingsError, "CSV (or use a .parquet file)")
+    del raw
     file_lines = text.splitlines()
     nonblank = [i + 1 for i, ln in enumerate(file_lines) if ln.strip()]
     if not nonblank:
@@ -257,12 +265,34 @@ def _where(source: str, idx: int, line_offset: int, lines=None) -> str:
     return f"{source}: line {idx + line_offset}" if line_offset else f"{source}: row {idx}"
 
 
+def _numeric_columns(d: pd.DataFrame, source: str, line_offset: int, line_numbers) -> None:
+    """The numeric columns of ``d`` as floats (in place); a non-numeric, empty or infinite cell names its line."""
+    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
+    for c in cols:
+        num = _to_numeric(d[c])
+        bad = num.isna() & d[c].notna()
+        if bad.any():
+            i = int(np.flatnonzero(bad.to_numpy())[0])
+            raise RecordingsError(
+                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
+            )
+        nan = num.isna() | ~np.isfinite(num.astype(float))
+        if nan.any():
+            i = int(np.flatnonzero(nan.to_numpy())[0])
+            raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column {c} is NaN/empty or infinite")
+        d[c] = num.astype(float)
+
+
 def recordings_from_frame(
     frame: pd.DataFrame,
     source: str = "<frame>",
     line_offset: int = 0,
     line_numbers=None,
     notes: tuple = (),
+    *,
+    units: Mapping[str, str] | None = None,
+    negate: Iterable[str] = (),
+    reference=None,
 ) -> Recordings:
     """Validate a table in the exchange format and derive the kinematics.
 
@@ -280,11 +310,9 @@ def recordings_from_frame(
         CSV shift them).
     notes
         Remarks about how the file was read, kept in :attr:`Recordings.notes`.
-    line_numbers
-        File line of every row (overrides ``line_offset``; blank lines in a
-        CSV shift them).
-    notes
-        Remarks about how the file was read, kept in :attr:`Recordings.notes`.
+    units, negate, reference
+        As for :func:`read_recordings`: columns' units to convert, columns to negate, and the unit the
+        scale of the columns is checked against (None: the paper's Fig. 5 unit).
 
     Returns
     -------
@@ -296,7 +324,10 @@ def recordings_from_frame(
     RecordingsError
         Missing column, non-numeric value, NaN, time not increasing inside
         an experiment, too few samples, an experiment with two pressures or
-        two valve positions, an experiment split into non-contiguous blocks.
+        two valve positions, an experiment split into non-contiguous blocks;
+        a column whose scale or sign points to another unit or convention,
+        a force that never changes, one experiment that would outweigh all
+        the others (:func:`vvea_design.identification.units.check_scale`).
     """
     frame = frame.reset_index(drop=True)
     missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
@@ -314,20 +345,8 @@ def recordings_from_frame(
         i = int(np.flatnonzero(bad_id.to_numpy())[0])
         raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column experiment is empty (NaN)")
     d["experiment"] = d["experiment"].astype(str)
-    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
-    for c in cols:
-        num = _to_numeric(d[c])
-        bad = num.isna() & d[c].notna()
-        if bad.any():
-            i = int(np.flatnonzero(bad.to_numpy())[0])
-            raise RecordingsError(
-                f"{_where(source, i, line_offset, line_numbers)}: column {c} holds a non-numeric value {show(d[c].iloc[i])}"
-            )
-        nan = num.isna() | ~np.isfinite(num.astype(float))
-        if nan.any():
-            i = int(np.flatnonzero(nan.to_numpy())[0])
-            raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column {c} is NaN/empty or infinite")
-        d[c] = num.astype(float)
+    _numeric_columns(d, source, line_offset, line_numbers)
+    given = apply_units(d, units, negate, source, RecordingsError)
 
     exp = d["experiment"].to_numpy()
     starts = np.r_[True, exp[1:] != exp[:-1]]
@@ -372,7 +391,22 @@ def recordings_from_frame(
             raise RecordingsError(
                 f"{_where(source, int(a), line_offset, line_numbers)}: experiment {name!r}: p2_MPa must be > 0, got {show(held['p2_MPa'][a])}"
             )
-    return _derive(d, bounds, block_ids, source, tuple(notes), line_offset, line_numbers)
+    problem, more = check_scale(d, bounds[:-1], block_ids, source, _reference(reference), given)
+    if problem:
+        raise RecordingsError(problem)
+    return _derive(d, bounds, block_ids, source, tuple(notes) + tuple(more), line_offset, line_numbers)
+
+
+def _reference(ref) -> Reference:
+    """The :class:`~vvea_design.identification.units.Reference` of a Design, a GasSpring or None (the paper's unit)."""
+    if isinstance(ref, Reference):
+        return ref
+    if ref is None:
+        return Reference(PAPER_FIG5, "the paper's Fig. 5 unit (no --design given)", False)
+    if hasattr(ref, "gas_spring") and hasattr(ref, "wall_safety_factors"):  # a Design
+        sf = min(ref.wall_safety_factors().values())
+        return Reference(ref.gas_spring, "the --design unit", True, float(ref.p2_MPa) * float(sf))
+    return Reference(ref, "the given unit", True)
 
 
 def _to_numeric(col: pd.Series) -> pd.Series:

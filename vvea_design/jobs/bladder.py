@@ -8,7 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .common import OptionError, PathLike, check_out, design_of, folder, lazy_errors
+from .common import OptionError, PathLike, check_option, check_out, design_of, folder, inputs_kept, lazy_errors
 
 if TYPE_CHECKING:
     from ..bladder.result import BladderReport
@@ -52,7 +52,8 @@ def check_bladder(design: Design | PathLike, *, material: str | None = None, cri
     Raises
     ------
     OptionError
-        An unknown ``material`` or ``criterion``, or fewer than 8 ``elements``.
+        An unknown ``material`` or ``criterion``, ``elements`` outside 8 ... 4000, or an ``allowable`` strain
+        that is no fraction the material can take.
     OutputError
         ``out`` cannot be written (before any work).
     DesignFileError
@@ -73,7 +74,16 @@ def check_bladder(design: Design | PathLike, *, material: str | None = None, cri
         raise OptionError("criterion", f"{criterion!r}; known: {', '.join(sorted(CRITERIA))}", "unknown {option} {reason}")
     if elements < 8:
         raise OptionError("elements", f"must be >= 8, got {elements}", "{option} {reason}")
+    check_option("bladder_elements", elements, "elements")
+    if allowable is not None:
+        from ..materials.silicones import allowable_strain
+
+        try:
+            allowable_strain(material, allowable)
+        except ValueError as exc:
+            raise OptionError("allowable", str(exc)) from None
     check_out(out)
+    inputs_kept((out,), (design,))
     d = design_of(design)
     limit = allowable if allowable is not None else criterion
     shown = console.status("solving the bladder membrane at both stroke ends") if progress else contextlib.nullcontext()

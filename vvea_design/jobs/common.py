@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from ..spring.requirements import Requirements
 
 __all__ = ["OptionError", "requirements_of", "design_of", "spring_of", "check_out", "folder", "files", "moved",
-           "PathLike", "ERRORS", "lazy_errors"]
+           "PathLike", "ERRORS", "lazy_errors", "check_option", "check_scheduler_option", "inputs_kept"]
 
 #: The errors a job may raise (besides :class:`OptionError` and :class:`~vvea_design.outputs.OutputError`), by
 #: name: the module of this package that defines each. A job module re-exports the ones its jobs raise
@@ -39,6 +39,11 @@ ERRORS = {
     "CadError": "cad.layout",
     "BladderError": "bladder.check",
     "RecordingsError": "identification.recordings",
+    "PlausibilityError": "plausibility",
+    "DesignError": "spring.parameters",
+    "WorkerLost": "parallel",
+    "SchedulerUnreachable": "parallel",
+    "Terminated": "parallel",
 }
 
 #: A file or folder given as text or as a path.
@@ -285,3 +290,87 @@ def moved(value: Any, old: Path, new: Path) -> Any:
         return new / value.relative_to(old)
     return value
 
+
+
+def check_option(key: str, value: Any, option: str) -> Any:
+    """Raise :class:`OptionError` naming ``option`` unless ``value`` lies in the toolkit's range ``key``.
+
+    The ranges are :data:`vvea_design.plausibility.LIMITS` (what a real unit, bench or computer can have), so
+    a job refuses an absurd number (a 1e9 MPa charge, a 100000-point map) before any work, naming the option
+    and why.
+
+    Parameters
+    ----------
+    key : str
+        A key of :data:`vvea_design.plausibility.LIMITS` (``"charge_MPa"``, ``"map_points"``, ``"seed"``).
+    value : Any
+        The option's value, in the limit's unit (None: not given, accepted).
+    option : str
+        The job's keyword (``"p2_MPa"``, ``"n"``).
+
+    Returns
+    -------
+    Any
+        ``value`` unchanged.
+
+    Raises
+    ------
+    OptionError
+        ``value`` is not a finite number in the range (the message gives the range and why).
+    """
+    from ..plausibility import LIMITS
+
+    if value is None:
+        return value
+    lim = LIMITS[key]
+    why = lim.problem(value)
+    if why is not None:
+        from ..messages import show
+
+        real = isinstance(value, (int, float)) and not isinstance(value, bool)
+        raise OptionError(option, f"{why}, got {show(value)}" + (f" ({lim.why})" if real else ""),
+                          "{option} {reason}")
+    return value
+
+
+def check_scheduler_option(scheduler: str | None) -> None:
+    """Raise :class:`OptionError` (option ``scheduler``) now, before any work, unless the Dask scheduler answers.
+
+    Parameters
+    ----------
+    scheduler : str or None
+        ``tcp://host:port``; None: local processes (nothing to check).
+
+    Raises
+    ------
+    OptionError
+        A malformed address, or no connection within a few seconds.
+    """
+    if scheduler is None:
+        return
+    from ..parallel import SchedulerUnreachable, check_scheduler
+
+    try:
+        check_scheduler(scheduler)
+    except SchedulerUnreachable as exc:
+        raise OptionError("scheduler", str(exc)) from None
+
+
+def inputs_kept(outputs: Any, inputs: Any) -> None:
+    """Raise :class:`~vvea_design.outputs.OutputError` before any work when an output is one of the inputs.
+
+    ``optimise("req.toml", out="req.toml")`` (or ``out`` a link to it) is refused: no input is ever an output.
+
+    Parameters
+    ----------
+    outputs : iterable of path-like or None
+        The files and folders the job writes (None entries skipped).
+    inputs : iterable of object
+        What the job reads; the entries given as a path are compared (objects skipped).
+    """
+    from ..outputs import check_not_input
+
+    outs = [o for o in outputs if o is not None]
+    ins = [i for i in inputs if isinstance(i, (str, Path))]
+    if outs and ins:
+        check_not_input(outs, ins, option="")

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import contextlib
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import PathLike, check_out, folder, lazy_errors, moved, spring_of
+from .common import PathLike, check_option, check_out, design_of, folder, inputs_kept, lazy_errors, moved
 
 if TYPE_CHECKING:
     from ..identification.identify import Identification
@@ -25,25 +25,34 @@ __all__ = ["identify", "DiagnosisRun", "diagnose", "RecordingsError", "DesignFil
 __getattr__ = lazy_errors(__name__, ("RecordingsError", "DesignFileError"))
 
 
-def _reference(design: Design | GasSpring | PathLike | None, progress: bool) -> GasSpring:
-    """The unit on the bench (``design``'s spring, or the paper's Fig. 5 unit), said on stderr."""
+def _reference(design: Design | GasSpring | PathLike | None, progress: bool) -> tuple[GasSpring, Any]:
+    """The unit on the bench, said on stderr: its spring, and what the recordings are checked against.
+
+    A design file is rebuilt from its decision variables (:func:`~vvea_design.jobs.common.design_of`); the
+    second value is that design (its travel, g per MPa and wall capacity bound the recordings), the spring
+    given, or None for the paper's Fig. 5 unit.
+    """
     from ..identification.fit_data import REFERENCE_NOTE
     from ..progress import console
+    from ..spring.gas_spring import GasSpring
     from ..spring.paper import PAPER_FIG5
 
     if design is None:
-        text, ref = f"note: {REFERENCE_NOTE}", PAPER_FIG5
+        text, ref, unit = f"note: {REFERENCE_NOTE}", PAPER_FIG5, None
     else:
-        ref = spring_of(design)[0]
-        text = (f"unit from {design}: A1 = {ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} "
-                f"mm^3, V2 = {ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm")
+        unit = design if isinstance(design, GasSpring) else design_of(design)
+        ref = unit if isinstance(unit, GasSpring) else unit.gas_spring
+        text = (f"unit from {design if isinstance(design, (str, Path)) else 'the design given'}: A1 = "
+                f"{ref.A1_mm2:.0f} mm^2, A2 = {ref.A2_mm2:.0f} mm^2, V1 = {ref.V1_mm3:.4g} mm^3, V2 = "
+                f"{ref.V2_mm3:.4g} mm^3, travel {ref.travel_mm:g} mm")
     if progress:
         console.print(text, markup=False, highlight=False, soft_wrap=True)
-    return ref
+    return ref, unit
 
 
-def _recordings(recordings: Recordings | PathLike, progress: bool) -> Recordings:
-    """The campaign, read from its file (a spinner on stderr) unless given."""
+def _recordings(recordings: Recordings | PathLike, progress: bool, units: Mapping[str, str] | None = None,
+                negate: Iterable[str] = (), unit: Any = None) -> Recordings:
+    """The campaign, read from its file (a spinner on stderr) unless given, checked against ``unit``."""
     from ..identification.recordings import Recordings, read_recordings
     from ..progress import progress_bar
 
@@ -51,11 +60,12 @@ def _recordings(recordings: Recordings | PathLike, progress: bool) -> Recordings
         return recordings
     path = Path(recordings)
     with progress_bar(f"reading {path.name} (velocity from the motion profile)", total=None, enabled=progress):
-        return read_recordings(path)
+        return read_recordings(path, units=units, negate=tuple(negate), reference=unit)
 
 
 def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None,
-             out: PathLike | None = None, progress: bool = True) -> Identification:
+             units: Mapping[str, str] | None = None, negate: Iterable[str] = (), out: PathLike | None = None,
+             progress: bool = True) -> Identification:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11 (``vvea identify``).
 
     Parameters
@@ -64,7 +74,13 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
         The campaign, or its file (CSV or Parquet, ``shared/specs/recordings.md``).
     design : Design, GasSpring or path-like, optional
         The unit on the bench (eq. 14 has no gas-law term: it is named so the user knows which one is
-        assumed); None: the paper's Fig. 5 unit.
+        assumed; a recording whose travel, force scale or charge cannot be this unit's is refused); None:
+        the paper's Fig. 5 unit.
+    units : mapping of str to str, optional
+        Column -> the unit it was recorded in (``{"force_N": "kN", "displacement_mm": "m"}``), converted to
+        the format's unit; a column given a unit is not questioned for its scale (a file only).
+    negate : iterable of str
+        Columns recorded with the opposite sign convention (``("force_N",)``), negated (a file only).
     out : path-like, optional
         Folder for ``table3.csv``, ``identification.json`` and the figures; None: numbers only (no figures).
     progress : bool
@@ -89,8 +105,9 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     from ..progress import progress_bar
 
     check_out(out)
-    _reference(design, progress)
-    rec = _recordings(recordings, progress)
+    inputs_kept((out,), (recordings, design))
+    _, unit = _reference(design, progress)
+    rec = _recordings(recordings, progress, units, negate, unit)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None, enabled=progress), \
             folder(out, "identify") as tmp:
         if tmp is not None:
@@ -141,7 +158,8 @@ def _spinner(enabled: bool) -> Iterator[Callable[[str], None]]:
 
 
 def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None, seed: int = 0,
-             learner: bool = True, out: PathLike | None = None, progress: bool = True) -> DiagnosisRun:
+             learner: bool = True, units: Mapping[str, str] | None = None, negate: Iterable[str] = (),
+             out: PathLike | None = None, progress: bool = True) -> DiagnosisRun:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics (``vvea diagnose``).
 
     Parameters
@@ -155,6 +173,10 @@ def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
         Seed of the held-out and cross-validation splits.
     learner : bool
         Run the flexible-learner check for leftover structure.
+    units : mapping of str to str, optional
+        Column -> the unit it was recorded in, converted (a file only; see :func:`identify`).
+    negate : iterable of str
+        Columns recorded with the opposite sign convention, negated (a file only).
     out : path-like, optional
         Folder for ``report.json``, ``final_model.json``, ``summary.md``, the figures and ``report.html``.
     progress : bool
@@ -177,9 +199,11 @@ def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     from ..identification.diagnose import DiagnoseSettings, diagnose as run, format_summary, write_diagnosis
     from ..report.html import write_folder_report
 
+    check_option("seed", seed, "seed")
     check_out(out)
-    reference = _reference(design, progress)
-    rec = _recordings(recordings, progress)
+    inputs_kept((out,), (recordings, design))
+    reference, unit = _reference(design, progress)
+    rec = _recordings(recordings, progress, units, negate, unit)
     with _spinner(progress) as say:
         diag = run(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
     text = format_summary(diag.report)

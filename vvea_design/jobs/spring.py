@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import (OptionError, PathLike, check_out, design_of, files, folder, lazy_errors, moved, requirements_of,
-                     spring_of)
+from .common import (OptionError, PathLike, check_option, check_out, check_scheduler_option, design_of, files, folder,
+                     inputs_kept, lazy_errors, moved, requirements_of, spring_of)
 
 if TYPE_CHECKING:
     from ..spring.curve import SpringCurve
@@ -82,7 +82,9 @@ def optimise(requirements: Requirements | PathLike | None = None, *, seed: int =
     Raises
     ------
     OutputError
-        ``out`` or the plot beside it cannot be written (before the search).
+        ``out`` or the plot beside it cannot be written, or is the requirements file (before the search).
+    OptionError
+        A ``seed`` the search's generator cannot take.
     SpecError
         Requirements that cannot be read or hold a wrong value.
     Infeasible
@@ -93,6 +95,8 @@ def optimise(requirements: Requirements | PathLike | None = None, *, seed: int =
     if out is not None:
         check_out(out, "file")
         check_out(force_plot_path(out), "file")
+        inputs_kept((out, force_plot_path(out)), (requirements,))
+    check_option("seed", seed, "seed")
     req, _ = requirements_of(requirements)
     strain_fn = None
     if req.max_bladder_strain is not None:
@@ -223,17 +227,20 @@ def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None
     DesignFileError
         A design file that is missing or incomplete.
     OptionError
-        ``p2_MPa`` <= 0.
+        ``p2_MPa`` <= 0, outside the range a real charge has, or above what the design's walls hold.
     OutputError
         ``out`` cannot be written (before any work).
     """
     from ..spring.curve import spring_curve
 
     check_out(out)
-    spring, layout = spring_of(design)
     if p2_MPa is not None:
         if p2_MPa <= 0:
             raise OptionError("p2_MPa", f"must be > 0 MPa, got {p2_MPa}", "{option} {reason}")
+        check_option("charge_MPa", p2_MPa, "p2_MPa")
+    spring, layout = spring_of(design)  # a design file is rebuilt from its decision variables, never trusted
+    if p2_MPa is not None:
+        _within_walls(design, p2_MPa)
         spring = spring.with_pressures(p2_MPa)
     written: dict[str, Path] = {}
     with folder(out, "spring") as tmp:
@@ -242,6 +249,27 @@ def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None
     if out is not None:
         written = {k: moved(v, tmp, Path(out)) for k, v in written.items()}
     return SpringReport(spring, spring_curve(spring), layout, written)
+
+
+def _within_walls(design: Any, p2_MPa: float) -> None:
+    """Raise :class:`OptionError` when the design's walls yield below the charge ``p2_MPa`` (MPa)."""
+    from ..spring.design import Design
+    from ..spring.design_file import load_design_dict
+
+    if isinstance(design, dict):
+        d = load_design_dict(design)
+    elif isinstance(design, (str, Path)):
+        d = design_of(design)
+    elif isinstance(design, Design):
+        d = design
+    else:
+        return  # a bare gas spring has no walls
+    sf = min(d.wall_safety_factors().values())
+    if p2_MPa > d.p2_MPa * sf:
+        raise OptionError("p2_MPa", f"= {p2_MPa:g} MPa: the walls of {design if isinstance(design, (str, Path)) else 'the design'} "
+                          f"yield above {d.p2_MPa * sf:.3g} MPa (they are sized for p2 = {d.p2_MPa:g} MPa at a "
+                          f"safety factor of {sf:.3g}); recharge at most to that, or optimise a design for the higher "
+                          "charge (max_charge_MPa)", "{option} {reason}")
 
 
 # ---------------------------------------------------------------------------------------------- check
@@ -381,14 +409,18 @@ def linearity_map(design: Design | PathLike, *, x: str = "outer_diameter_mm", y:
         A design file that is missing, incomplete or without requirements.
     ValueError
         A variable that is not a decision variable of the design's layout, or ``x`` = ``y``.
+    OptionError
+        ``n`` outside 2 ... 401 points per axis (before anything is allocated).
     OutputError
-        ``out`` cannot be written (before any work).
+        ``out`` cannot be written, or is the design file (before any work).
     """
     from ..spring.studies import linearity_map as grid_map
 
     from ..spring.design import Design
 
+    check_option("map_points", n, "n")
     check_out(out)
+    inputs_kept((out,), (design, requirements))
     d = design_of(design)
     if requirements is None and not isinstance(design, Design):
         from ..spring.design_file import load_requirements_from_design
@@ -463,7 +495,8 @@ def pareto_front(axis: str, values: Sequence[float], *, requirements: Requiremen
     Raises
     ------
     OptionError
-        An unknown ``axis`` or no ``values``.
+        An unknown ``axis``, no ``values`` or a value its requirement cannot take, a bad ``seed`` or
+        ``workers``, an unreachable ``scheduler`` (all before any work).
     OutputError
         ``out`` cannot be written (before any work).
     SpecError
@@ -476,8 +509,18 @@ def pareto_front(axis: str, values: Sequence[float], *, requirements: Requiremen
     vals = [float(v) for v in values]
     if not vals:
         raise OptionError("values", "is empty", "{option} {reason}")
+    check_option("seed", seed, "seed")
+    check_option("workers", workers, "workers")
     check_out(out)
+    inputs_kept((out,), (requirements,))
     req, _ = requirements_of(requirements)
+    from ..spring.studies import check_pareto_values
+
+    try:
+        check_pareto_values(req, axis, vals)
+    except ValueError as exc:
+        raise OptionError("values", str(exc)) from None
+    check_scheduler_option(scheduler)
     rows = sweep(req, axis, vals, seed=seed, workers=workers, scheduler=scheduler, progress=progress)
     written: dict[str, Path] = {}
     with folder(out, "pareto") as tmp:

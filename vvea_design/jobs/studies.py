@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from ..parallel import Terminated
-from .common import OptionError, PathLike, check_out, design_of, folder, moved
+from .common import OptionError, PathLike, check_option, check_out, check_scheduler_option, design_of, folder, moved
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -144,6 +144,11 @@ class RestToRestRun:
     summary_text: str  #: the Table 5 comparison as ``vvea study rest-to-rest`` prints it
     files: dict[str, Path] = field(default_factory=dict)  #: by role (empty: nothing kept)
 
+    @property
+    def solver_failures(self) -> int:
+        """Optimal-control problems that failed to solve (a failed solve never passes for a result)."""
+        return int(self.summary.statistics.solver_failures.get("count", 0))
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready.
 
@@ -223,7 +228,9 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
     Raises
     ------
     OptionError
-        An unknown grid or a bad design mapping (checked before anything is solved).
+        An unknown grid, a bad design mapping, a throttle range outside 0 ... 360 deg or upside down, a
+        charge or pulley radius no real unit has, a bad ``workers`` or an unreachable ``scheduler`` (all
+        checked before anything is solved).
     OutputError
         ``out`` cannot be written (before anything is solved).
     ValueError
@@ -232,6 +239,11 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
         The sweep was interrupted; the finished cases stay in ``out/results.csv`` (:func:`cases_saved`).
     """
     grid_spec = _grid(grid)
+    _check_mapping(pulley_radius_m, p2_MPa, gamma_min_deg, gamma_max_deg)
+    check_option("mesh_intervals", mesh_n, "mesh_n")
+    check_option("mesh_intervals", None if fine_mesh_n == "auto" else fine_mesh_n, "fine_mesh_n")
+    check_option("workers", workers, "workers")
+    check_scheduler_option(scheduler)
     mapping = {k: v for k, v in dict(pulley_radius_m=pulley_radius_m, p2_MPa=p2_MPa, gamma_min_deg=gamma_min_deg,
                                      gamma_max_deg=gamma_max_deg).items() if v is not None}
     if design is not None and isinstance(design, (str, Path)) and not Path(design).exists():
@@ -265,6 +277,19 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
     return RestToRestRun(summary, text, {k: out / v for k, v in names.items()})
 
 
+def _check_mapping(pulley_radius_m: float | None, p2_MPa: float | None, gamma_min_deg: float | None,
+                   gamma_max_deg: float | None) -> None:
+    """The design mapping's numbers in the ranges a real actuator has, the throttle range the right way up."""
+    check_option("pulley_radius_m", pulley_radius_m, "pulley_radius_m")
+    check_option("charge_MPa", p2_MPa, "p2_MPa")
+    check_option("valve_deg", gamma_min_deg, "gamma_min_deg")
+    check_option("valve_deg", gamma_max_deg, "gamma_max_deg")
+    if gamma_min_deg is not None and gamma_max_deg is not None and gamma_min_deg > gamma_max_deg:
+        raise OptionError("gamma_min_deg", f"({gamma_min_deg:g} deg) must not exceed the highest throttle angle "
+                          f"({gamma_max_deg:g} deg)",
+                          "{option} {reason}")
+
+
 def _rest_to_rest_text(summary: RestToRestSummary) -> str:
     from ..report.html import recorded_text
 
@@ -279,6 +304,11 @@ class SafetyRun:
     study: SafetyStudy  #: every case (objective, mean / max D in N m s/rad, t95 in s, status)
     summary_text: str  #: the table ``vvea study safety`` prints
     files: dict[str, Path] = field(default_factory=dict)  #: by role (empty: nothing written)
+
+    @property
+    def solver_failures(self) -> int:
+        """Torque-step cases that failed to solve."""
+        return sum(1 for c in self.study.cases if not c.success)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready.
@@ -342,6 +372,7 @@ def run_safety(out: PathLike | None = None, *, mesh_n: int | None = None, tau_re
     M_kgm2 = safety.PAPER_LINK_INERTIA_KGM2 if M_kgm2 is None else M_kgm2
     if mesh_n < 4:
         raise OptionError("mesh_n", f"must be >= 4 intervals, got {mesh_n}", "{option} {reason}")
+    check_option("mesh_intervals", mesh_n, "mesh_n")
     if not (math.isfinite(tau_ref_Nm) and tau_ref_Nm != 0):
         raise OptionError("tau_ref_Nm", f"must be a non-zero torque in N m, got {tau_ref_Nm}", "{option} {reason}")
     if not (math.isfinite(M_kgm2) and M_kgm2 > 0):

@@ -250,10 +250,15 @@ def allowable_strain(material: str | Silicone, criterion: str | StrainCriterion 
     Raises
     ------
     ValueError
-        If a numeric ``criterion`` is not a finite positive number, or a name is unknown.
+        If a numeric ``criterion`` is not a finite positive number or exceeds the material's elongation
+        at break (a percentage given for a fraction), or a name is unknown.
     """
     if isinstance(criterion, (int, float)) and not isinstance(criterion, bool):
         if not (math.isfinite(criterion) and criterion > 0):
             raise ValueError(f"allowable strain must be a positive fraction, got {criterion!r}")
+        sil = get_silicone(material)
+        if criterion > sil.elongation_at_break:
+            raise ValueError(f"allowable strain {criterion:g} ({100 * criterion:g} %) is beyond {sil.name}'s elongation "
+                             f"at break ({100 * sil.elongation_at_break:g} %): it is a fraction (0.25 = 25 %)")
         return float(criterion)
     return get_criterion(criterion).allowable(get_silicone(material))

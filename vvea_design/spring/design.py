@@ -42,6 +42,7 @@ from functools import cached_property
 import numpy as np
 
 from ..messages import show
+from ..plausibility import LIMITS
 from .derive import Derived, derive
 from .gas_spring import GasSpring, setpoint_p1_MPa
 from .layouts import DECISION_VARIABLES, LAYOUTS, BudgetShare, LayoutVariant, get_layout, layout_variables
@@ -100,8 +101,13 @@ class Design:
         self._check_layout_variables(lay)
         if not isinstance(self.p2_MPa, (int, float)) or not math.isfinite(self.p2_MPa) or self.p2_MPa <= 0:
             raise DesignError(f"p2_MPa must be > 0, got {show(self.p2_MPa)}")
+        LIMITS["charge_MPa"].check(self.p2_MPa, "p2_MPa", DesignError)  # before the walls are sized for it
         if not isinstance(self.setpoint_x0_mm, (int, float)) or not math.isfinite(self.setpoint_x0_mm):
             raise DesignError(f"setpoint_x0_mm must be a finite number, got {show(self.setpoint_x0_mm)}")
+        if not abs(self.setpoint_x0_mm) < f.travel_mm:
+            raise DesignError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
+                              f"(|x0| < travel_mm = {show(f.travel_mm)})")
+
         if self.piston_diameter_mm <= f.rod_diameter_mm:
             raise DesignError(
                 f"piston_diameter_mm ({self.piston_diameter_mm:g}) must exceed the rod diameter "

@@ -24,11 +24,21 @@ Layout (``format_version`` 1)::
       "optimiser":   {seed, evaluations, seconds, ...}       (optional)
     }
 
-The force curve is reproducible from ``parameters`` alone with paper eq. 5
-(see :func:`spring_from_json`). :func:`load_design` rebuilds the frozen
-:class:`~vvea_design.spring.design.Design` and checks that the stored areas and
-pressures agree with it, so an edited file cannot silently disagree with
-itself.
+The force curve is reproducible from ``parameters`` alone with paper eq. 5.
+Every reader (:func:`load_design`, :func:`spring_from_json`, and so every
+command) rebuilds the frozen :class:`~vvea_design.spring.design.Design` from
+its decision variables and ``fixed`` and rejects the file where a stored
+derived value of ``parameters`` (the areas and p1 of eq. 5) disagrees with
+it. The numbers of ``geometry`` and ``performance`` are for reading: where
+they disagree with the rebuilt design (an edited wall, a volume changed by
+hand) they are ignored with a :class:`StaleDerivedValues` warning naming
+them (the commands print it as a note), so an edited file never silently
+disagrees with itself: edit the decision variables, never the derived
+values. Numbers a real unit cannot have (a
+1e9 MPa charge, a 1e-300 mm travel) are refused by the design itself
+(:mod:`vvea_design.plausibility`). The file is read through
+:mod:`vvea_design.inputs` (a folder, a device, a FIFO, a file over 16 MiB,
+UTF-16 text or JSON nested absurdly deep are errors naming the file).
 
 A design file is self-contained: :func:`load_design` takes nothing from a
 default. ``parameters`` (with ``setpoint_x0_mm``) and every field of
@@ -52,9 +62,11 @@ from .gas_spring import GasSpring
 from .layouts import DECISION_VARIABLES, LAYOUTS
 from .problem import Evaluation, evaluate_design
 from .requirements import Requirements, SpecError
+from ..inputs import decode_text, parse_json, read_input_bytes
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
-           "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate"]
+           "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate",
+           "CHECKED_PERFORMANCE", "StaleDerivedValues", "stale_derived_values"]
 
 FORMAT = "vvea-design"
 FORMAT_VERSION = 1
@@ -195,17 +207,15 @@ def read_design_json(path: str | Path) -> dict:
     Raises
     ------
     DesignFileError
-        If the file does not exist, is not valid JSON, is not a vvea design file, has an unsupported
-        ``format_version``, an unknown top-level or parameter key, or a parameter of eq. 5 that is
-        missing or not a finite number (each message names the file and key).
+        If the file does not exist, is not a regular file (a folder, a device, a FIFO), is larger than
+        16 MiB, is not UTF-8 (UTF-16 is named), is not valid JSON or nested absurdly deep, is not a vvea
+        design file, has an unsupported ``format_version``, an unknown top-level or parameter key, or a
+        parameter of eq. 5 that is missing or not a finite number (each message names the file and key).
     """
     path = Path(path)
-    if not path.is_file():
-        raise DesignFileError(f"design file {str(path)!r} does not exist")
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise DesignFileError(f"{path}: not valid JSON: {exc}") from None
+    raw = read_input_bytes(path, "design file", DesignFileError)
+    data = parse_json(decode_text(raw, path, "design file", DesignFileError, "JSON"), path, "design file",
+                      DesignFileError)
     _check_envelope(data, str(path))
     return data
 
@@ -237,7 +247,11 @@ def _check_envelope(data: Any, src: str) -> None:
 
 
 def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
-    """The gas spring from ``parameters`` alone (eq. 5): what `vvea check` and `vvea spring` evaluate.
+    """The gas spring of a design JSON (paper eq. 5): what `vvea check` and `vvea spring` evaluate.
+
+    The design is rebuilt from its decision variables and checked like :func:`load_design_dict` does
+    (a stored area, p1, geometry or performance figure that disagrees is an error), so the spring is
+    the file's design, never a stale copy of it.
 
     Parameters
     ----------
@@ -247,27 +261,16 @@ def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
     Returns
     -------
     GasSpring
-        Areas (mm²), volumes (mm³), charges (MPa), travel (mm) and polytropic exponent of the file.
+        Areas (mm²), volumes (mm³), charges (MPa), travel (mm) and polytropic exponent of the design.
 
     Raises
     ------
     DesignFileError
-        If the file does not exist, is not valid JSON, is not a vvea design file, has an unsupported
-        ``format_version``, an unknown top-level or parameter key, or a parameter of eq. 5 that is
-        missing or not a finite number (each message names the file and key).
-        Also when the parameters do not make a valid spring (e.g. a chamber bottoms out in the travel).
+        As :func:`read_design_json` and :func:`load_design_dict` (each message names the file and key).
     """
     if isinstance(path_or_data, dict):
-        data, src = path_or_data, "design"
-        _check_envelope(data, src)
-    else:
-        data, src = read_design_json(path_or_data), str(path_or_data)
-    p = data["parameters"]
-    try:
-        return GasSpring(p["A1_mm2"], p["A2_mm2"], p["V1_mm3"], p["V2_mm3"], p["p1_MPa"], p["p2_MPa"],
-                         p["travel_mm"], p["n_polytropic"])
-    except ValueError as exc:
-        raise DesignFileError(f"{src}: parameters: {exc}") from None
+        return load_design_dict(path_or_data).gas_spring
+    return load_design(path_or_data).gas_spring
 
 
 def _check_geometry_complete(data: dict, src: str) -> None:
@@ -359,11 +362,82 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
         stored = float(p[key])
         if not math.isclose(stored, value, rel_tol=1e-6, abs_tol=1e-9):
             raise DesignFileError(
-                f"{src}: parameters.{key} = {stored:.6g} disagrees with the geometry ({value:.6g}); "
-                "edit the decision variables (piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, p2_MPa), "
-                "not the derived values, or re-run `vvea optimise`"
+                f"{src}: parameters.{key} = {stored:.6g} disagrees with the design rebuilt from its decision "
+                f"variables and fixed ({value:.6g}): either {key} was edited (edit the decision variables "
+                "piston_diameter_mm, outer_diameter_mm, V1_mm3, V2_mm3, p2_MPa instead) or a decision variable was "
+                f"edited without it (set {key} to {value:.6g}, or re-run `vvea optimise`)"
             )
+    _check_stored_derived(data, design, src)
     return design
+
+
+#: Figures of ``performance`` that follow from the design alone (not from its requirements) and are
+#: compared with the design rebuilt from the file: key -> how to compute it.
+CHECKED_PERFORMANCE = {
+    "walls_mm": lambda d: d.walls_mm(),
+    "mass_g": lambda d: d.mass_g,
+    "mass_breakdown_g": lambda d: d.mass_breakdown_g(),
+    "wall_safety_factors": lambda d: d.wall_safety_factors(),
+    "linearity_error_isothermal": lambda d: d.gas_spring.with_polytropic(1.0).linearity_error(),
+    "linearity_error_adiabatic": lambda d: d.gas_spring.with_polytropic(1.4).linearity_error(),
+    "housing_length_mm": lambda d: d.housing_length_mm,
+}
+
+def _disagreements(stored: Any, derived: Any, where: str) -> list[str]:
+    """Every number of ``stored`` that disagrees with ``derived`` (1e-6 relative), named by its path."""
+    if isinstance(stored, dict) and isinstance(derived, dict):
+        return [bad for k, v in stored.items() if k in derived for bad in _disagreements(v, derived[k], f"{where}.{k}")]
+    if (isinstance(stored, bool) or not isinstance(stored, (int, float)) or isinstance(derived, bool)
+            or not isinstance(derived, (int, float)) or not math.isfinite(float(derived))):
+        return []
+    if not math.isfinite(stored) or not math.isclose(stored, derived, rel_tol=1e-6, abs_tol=1e-9):
+        return [f"{where} = {stored:.6g} (rebuilt: {float(derived):.6g})"]
+    return []
+
+
+class StaleDerivedValues(UserWarning):
+    """A design file's ``geometry`` or ``performance`` holds numbers of another design: they are ignored."""
+
+
+def stale_derived_values(data: dict, design: Design) -> list[str]:
+    """The numbers of ``geometry`` and ``performance`` that disagree with the design rebuilt from the file.
+
+    Parameters
+    ----------
+    data : dict
+        Parsed design JSON.
+    design : Design
+        The design rebuilt from its decision variables and ``fixed`` (:func:`load_design_dict`).
+
+    Returns
+    -------
+    list of str
+        ``"geometry.walls_mm.outer_tube = 3 (rebuilt: 1.58972)"`` per disagreeing number (mm, mm³, g,
+        fractions as stored); empty when the file agrees with itself.
+    """
+    out: list[str] = []
+    if isinstance(data.get("geometry"), dict):
+        out += _disagreements(data["geometry"], design.geometry_summary(), "geometry")
+    perf = data.get("performance")
+    if isinstance(perf, dict):
+        for key, fn in CHECKED_PERFORMANCE.items():
+            if key in perf:
+                out += _disagreements(perf[key], _clean(fn(design)), f"performance.{key}")
+    return out
+
+
+def _check_stored_derived(data: dict, design: Design, src: str) -> None:
+    """Warn (:class:`StaleDerivedValues`) when geometry or performance hold numbers of another design."""
+    stale = stale_derived_values(data, design)
+    if stale:
+        import warnings
+
+        more = f" and {len(stale) - 3} more" if len(stale) > 3 else ""
+        warnings.warn(f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its "
+                      f"parameters and fixed: {'; '.join(stale[:3])}{more}. They are ignored: every command "
+                      "recomputes them (an edited wall or volume in geometry/performance has no effect; edit "
+                      "parameters or fixed, or re-run `vvea optimise` to refresh the file)",
+                      StaleDerivedValues, stacklevel=3)
 
 
 def load_design(path: str | Path) -> Design:

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..messages import show
+from ..plausibility import LIMITS
 
 __all__ = [
     "ChamberBottomedOut",
@@ -572,7 +573,14 @@ class GasSpring:
         -------
         GasSpring
             The recharged spring (travel and polytropic exponent unchanged).
+
+        Raises
+        ------
+        vvea_design.plausibility.PlausibilityError
+            ``p2_MPa`` is not a charge a real unit can have (:data:`vvea_design.plausibility.LIMITS`
+            ``charge_MPa``: 0.01 ... 20 MPa).
         """
+        LIMITS["charge_MPa"].check(p2_MPa, "p2_MPa")
         p1 = float(setpoint_p1_MPa(p2_MPa, self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, x0_mm, self.n_polytropic))
         return GasSpring(self.A1_mm2, self.A2_mm2, self.V1_mm3, self.V2_mm3, p1, p2_MPa, self.travel_mm, self.n_polytropic)
 

@@ -32,7 +32,7 @@ from ..progress import progress_bar
 from .derive import derive
 from .design import Design, DesignError
 from .layouts import get_layout
-from .problem import Evaluation, design_from_vector, evaluate_design, evaluate_population
+from .problem import Evaluation, binding_bounds, design_from_vector, evaluate_design, evaluate_population
 from .requirements import Requirements
 
 __all__ = [
@@ -106,6 +106,9 @@ class OptimisationResult:
     searches: tuple[LayoutSearch, ...] = ()  #: one per layout variant tried
     bladder_strain_fe: float | None = None  #: FE strain bound of the final design (when constrained)
     bladder_strain_surrogate: float | None = None  #: the surrogate's value at the final design
+    #: the search bounds the design sits on (:func:`~vvea_design.spring.problem.binding_bounds`): they limit the
+    #: optimum like a constraint; widen them in ``[bounds]`` (or leave them out to follow the envelope)
+    binding_bounds: tuple[dict, ...] = ()
 
     @property
     def design(self) -> Design:
@@ -121,6 +124,17 @@ class OptimisationResult:
     def evaluations_per_second(self) -> float:
         """Model evaluations per second of wall time (1/s); nan when no time was measured."""
         return self.evaluations / self.seconds if self.seconds > 0 else float("nan")
+
+    def binding(self) -> list[str]:
+        """Everything that limits the optimum: the binding constraints, then the search bounds it sits on.
+
+        Returns
+        -------
+        list of str
+            Constraint names (:meth:`Evaluation.binding`), then ``"bound <variable> (<end> end)"`` per
+            search bound reached.
+        """
+        return self.evaluation.binding() + [b["name"] for b in self.binding_bounds]
 
     def infeasibility_message(self) -> str:
         """What the least-violating design misses, for the user.
@@ -152,8 +166,9 @@ class OptimisationResult:
         dict
             Seed, evaluation count, ``seconds`` (s), evaluations per second (1/s), generations,
             the search's message, whether the polish improved it, the layout, the binding
-            constraints, one entry per layout search and the FE / surrogate bladder strain
-            (fraction, None when unconstrained).
+            constraints, one entry per layout search, the FE / surrogate bladder strain
+            (fraction, None when unconstrained) and, when the design sits on a search bound,
+            ``binding_bounds`` (:func:`~vvea_design.spring.problem.binding_bounds`).
         """
         return {
             "seed": self.seed,
@@ -168,6 +183,7 @@ class OptimisationResult:
             "searches": [s.to_dict() for s in self.searches],
             "bladder_strain_fe": self.bladder_strain_fe,
             "bladder_strain_surrogate": self.bladder_strain_surrogate,
+            **({"binding_bounds": [dict(b) for b in self.binding_bounds]} if self.binding_bounds else {}),
         }
 
     def to_dict(self) -> dict:
@@ -463,7 +479,7 @@ def optimise(
     searches = tuple(item[2] for item in sorted(found, key=lambda it: layouts.index(it[0])))
     result = OptimisationResult(ev, seed, sum(item[3].count for item in found), seconds,
                                 sum(s.generations for s in searches), info.message, polished, searches,
-                                strain_fe, strain_sur)
+                                strain_fe, strain_sur, tuple(binding_bounds(design, req)))
     if raise_infeasible and not ev.feasible:
         raise Infeasible(result)
     return result

@@ -9,6 +9,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 
 from ..messages import show
+from ..plausibility import LIMITS
 from ..materials.structural import get_material
 
 __all__ = ["FixedParameters", "DesignError", "CHANNEL_GAP_MM"]
@@ -79,6 +80,7 @@ class FixedParameters:
                         raise DesignError(f"fixed.{f.name} must be >= 0, got {show(v)}")
                 elif v <= 0 and f.name != "bladder_cast_fill":
                     raise DesignError(f"fixed.{f.name} must be > 0, got {show(v)}")
+        LIMITS["travel_mm"].check(self.travel_mm, "fixed.travel_mm", DesignError)
         if not 0.0 <= self.bladder_cast_fill <= 1.0:
             raise DesignError(f"fixed.bladder_cast_fill must be in [0, 1], got {show(self.bladder_cast_fill)}")
         if not 1.0 <= self.n_polytropic <= 1.4:

@@ -28,6 +28,7 @@ __all__ = [
     "constraint_names",
     "evaluate_population",
     "design_from_vector",
+    "binding_bounds",
 ]
 
 
@@ -140,6 +141,40 @@ def design_from_vector(v, req: Requirements, layout: str = "inner_tube") -> Desi
     if "bladder_cast_fill" in kw:
         fixed = replace(fixed, bladder_cast_fill=min(max(kw.pop("bladder_cast_fill"), 0.0), 1.0))
     return Design(**kw, p2_MPa=req.max_charge_MPa, setpoint_x0_mm=req.setpoint_x0_mm, fixed=fixed, layout=layout)
+
+
+def binding_bounds(design: Design, req: Requirements, tol: float = 1e-6) -> list[dict]:
+    """The search bounds the design sits on: a bound that limits the optimum, reported like a constraint.
+
+    The outer diameter's high end at the envelope (``max_outer_diameter_mm``) is not listed: the
+    envelope's own constraint ``outer_diameter`` reports it.
+
+    Parameters
+    ----------
+    design : Design
+        The design (its layout's decision variables; the cast fill from ``fixed`` when optimised).
+    req : Requirements
+        Its requirements: the search ranges (:meth:`Requirements.search_bounds`).
+    tol : float
+        A variable is on a bound when within this fraction of the bound (or of its range) of it.
+
+    Returns
+    -------
+    list of dict
+        One per bound reached: ``variable`` (unit in the name), ``end`` ("low"/"high"), ``bound`` and
+        ``value`` in the variable's unit, and ``name``: ``"bound <variable> (<end> end)"``.
+    """
+    out = []
+    for name, (lo, hi) in zip(req.decision_variables(design.layout), req.search_bounds(design.layout)):
+        v = float(design.fixed.bladder_cast_fill if name == "bladder_cast_fill" else getattr(design, name))
+        for end, b in (("low", lo), ("high", hi)):
+            if abs(v - b) > tol * max(abs(b), hi - lo):
+                continue
+            if name == "outer_diameter_mm" and end == "high" and b == req.max_outer_diameter_mm:
+                continue
+            out.append({"name": f"bound {name} ({end} end)", "variable": name, "end": end, "bound": float(b),
+                        "value": v})
+    return out
 
 
 def _exponents(req: Requirements, report: bool = True) -> list[float]:

@@ -28,6 +28,7 @@ The evaluation of a design against them (margins, feasibility) is the optimisati
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -36,7 +37,9 @@ from typing import Any
 from .layouts import COMMON_BOUNDS, LAYOUTS, get_layout, layout_variables
 from .parameters import DesignError, FixedParameters
 from ..materials.silicones import allowable_strain, get_silicone
+from ..inputs import decode_text, read_input_bytes
 from ..messages import show
+from ..plausibility import LIMITS
 
 __all__ = [
     "Requirements",
@@ -44,6 +47,9 @@ __all__ = [
     "load_requirements",
     "default_bounds",
     "DEFAULT_BOUNDS",
+    "BOUNDS_FOLLOW",
+    "REQUIREMENT_LIMITS",
+    "envelope_room",
     "OBJECTIVES",
     "REPORTED_N",
 ]
@@ -53,17 +59,73 @@ __all__ = [
 CAST_FILL_BOUNDS = (0.1, 1.0)
 
 
-def default_bounds() -> dict[str, tuple[float, float]]:
-    """Default search range of each decision variable of every registered layout.
+def default_bounds(req: "Requirements | None" = None) -> dict[str, tuple[float, float]]:
+    """Default search range of each decision variable of every registered layout, following ``req``.
+
+    Parameters
+    ----------
+    req : Requirements or None
+        The requirements the search serves; None: the ranges of the paper's unit (the layouts' own).
 
     Returns
     -------
     dict of str to tuple of float
         Variable name -> ``(low, high)`` in its unit (mm, mm³; ``bladder_cast_fill`` a fraction): the
-        shared four, each layout's own (:mod:`vvea_design.spring.layouts`), then the cast fill.
+        shared four, each layout's own (:mod:`vvea_design.spring.layouts`), then the cast fill. With
+        ``req`` the ranges follow its envelope and never fall below the paper's
+        (:data:`BOUNDS_FOLLOW`): the outer diameter runs up to ``max_outer_diameter_mm``, the piston up to what fits inside the envelope's walls and bladder, every
+        gas volume (mm³) up to the gas the envelope's bore holds between the end caps.
     """
     own = {name: var.bounds for name, (_, var) in layout_variables().items()}
-    return {**COMMON_BOUNDS, **own, "bladder_cast_fill": CAST_FILL_BOUNDS}
+    base = {**COMMON_BOUNDS, **own, "bladder_cast_fill": CAST_FILL_BOUNDS}
+    if req is None:
+        return base
+    return {name: _follow(name, lo, hi, req) for name, (lo, hi) in base.items()}
+
+
+def envelope_room(max_outer_diameter_mm: float, max_housing_length_mm: float,
+                  fixed: FixedParameters) -> tuple[float, float]:
+    """What an envelope can hold at most: the widest piston and the most gas.
+
+    Parameters
+    ----------
+    max_outer_diameter_mm, max_housing_length_mm : float
+        The envelope (mm).
+    fixed : FixedParameters
+        Its thinnest walls and end caps, the bladder's thickness and gaps (mm).
+
+    Returns
+    -------
+    piston_mm, gas_mm3 : float
+        The largest piston diameter inside the thinnest outer and inner walls, the bladder and its two
+        gaps (mm); the volume of the outer bore between the thinnest end caps (mm³).
+    """
+    f = fixed
+    piston = max_outer_diameter_mm - 2 * (f.min_outer_wall_mm + f.min_inner_tube_wall_mm + f.bladder_thickness_mm
+                                          + 2 * f.bladder_min_gap_mm)
+    bore = max_outer_diameter_mm - 2 * f.min_outer_wall_mm
+    gas = math.pi / 4 * bore**2 * max(max_housing_length_mm - f.min_top_cap_mm - f.min_base_mm, 0.0)
+    return piston, gas
+
+
+#: How a default search bound follows the requirements (table-driven: a new decision variable slots in by its
+#: name, a gas volume ``*_mm3`` scales like V1 and V2): variable (or suffix) -> rule.
+BOUNDS_FOLLOW: dict[str, str] = {
+    "outer_diameter_mm": "high end at the envelope's max_outer_diameter_mm",
+    "piston_diameter_mm": "high end scaled up to the widest piston the envelope holds",
+    "*_mm3": "high end scaled up to the gas the envelope's bore holds between the end caps",
+}
+
+
+def _follow(name: str, lo: float, hi: float, req: "Requirements") -> tuple[float, float]:
+    piston, gas = envelope_room(req.max_outer_diameter_mm, req.max_housing_length_mm, req.fixed)
+    if name == "outer_diameter_mm":
+        return (lo, req.max_outer_diameter_mm)
+    if name == "piston_diameter_mm":
+        return (lo, hi * max(1.0, piston / COMMON_BOUNDS["piston_diameter_mm"][1]))
+    if name.endswith("_mm3"):
+        return (lo, hi * max(1.0, gas / COMMON_BOUNDS["V2_mm3"][1]))
+    return (lo, hi)
 
 
 def _zero_low() -> set[str]:
@@ -92,6 +154,19 @@ _OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic")
 _TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
 
 
+#: Which range of :data:`vvea_design.plausibility.LIMITS` each numeric requirement must lie in (table-driven: a
+#: new requirement slots in with one line; ``None`` values of optional ones are not checked). A target no design
+#: can reach (a stiffness of 1e9 N/mm) is no bad input: the optimiser reports it infeasible (exit 3).
+REQUIREMENT_LIMITS: dict[str, str] = {
+    "travel_mm": "travel_mm",
+    "max_outer_diameter_mm": "diameter_mm",
+    "max_housing_length_mm": "length_mm",
+    "max_charge_MPa": "charge_MPa",
+    "min_wall_safety_factor": "wall_safety_factor",
+    "max_mass_g": "mass_g",
+}
+
+
 class SpecError(ValueError):
     """A requirements file or value that is wrong (names the file, key and problem)."""
 
@@ -117,7 +192,9 @@ class Requirements:
     layouts: tuple[str, ...] = ("inner_tube", "bulkhead", "annulus_top")  #: layout variants the optimiser chooses between
     optimise_cast_fill: bool = False  #: the bladder's cast fill is a decision variable too (max_bladder_strain then defaults to the silicone's cyclic allowable)
     max_linearity_adiabatic: float | None = None  #: optional: linearity error at n = 1.4 <= this (fraction)
-    bounds: dict[str, tuple[float, float]] = field(default_factory=default_bounds)
+    #: search ranges given explicitly (``[bounds]``); every other variable's range follows the requirements
+    #: (:func:`default_bounds`, :attr:`resolved_bounds`)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
     fixed: FixedParameters = field(default_factory=FixedParameters)
 
     def __post_init__(self) -> None:
@@ -127,6 +204,10 @@ class Requirements:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise SpecError(f"{name} must be a positive number, got {show(v)}")
+        for name, key in REQUIREMENT_LIMITS.items():
+            v = getattr(self, name)
+            if v is not None:
+                LIMITS[key].check(v, name, SpecError)
         if not 0.0 <= self.min_gas_fraction_at_full_stroke < 1.0:
             raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {show(self.min_gas_fraction_at_full_stroke)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
@@ -157,15 +238,25 @@ class Requirements:
             raise SpecError(f"layouts must be a non-empty list of {list(LAYOUTS)}, got {show(self.layouts)}")
         object.__setattr__(self, "layouts", lays)
         defaults, zero_low = default_bounds(), _zero_low()
+        object.__setattr__(self, "bounds", {k: (v[0], v[1]) if isinstance(v, (list, tuple)) and len(v) == 2 else v
+                                            for k, v in dict(self.bounds).items()})
         known_vars = set(defaults)
         unknown = set(self.bounds) - known_vars
         if unknown:
             raise SpecError(f"[bounds] has unknown variable(s) {sorted(unknown)}; known: {sorted(known_vars)}")
-        for name, (lo, hi) in self.bounds.items():
+        for name, pair in self.bounds.items():
+            if (not isinstance(pair, tuple) or not all(isinstance(p, (int, float)) and not isinstance(p, bool)
+                                                       for p in pair)):
+                raise SpecError(f"[bounds] {name} must be [low, high] numbers, got {show(pair)}")
+            lo, hi = pair
             low_ok = lo >= 0 if name in zero_low else lo > 0
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
                 raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
                                 + (" (low may be 0)" if name in zero_low else ""))
+        if self.bounds:  # a range equal to the one that follows the requirements is no override
+            derived = default_bounds(self)
+            object.__setattr__(self, "bounds", {k: v for k, v in self.bounds.items()
+                                                if (float(v[0]), float(v[1])) != tuple(map(float, derived[k]))})
         if self.bounds.get("bladder_cast_fill", (0.0, 1.0))[1] > 1.0:
             raise SpecError(f"[bounds] bladder_cast_fill = {show(list(self.bounds['bladder_cast_fill']))}: a stroke "
                             "fraction, the high end must be <= 1")
@@ -179,12 +270,17 @@ class Requirements:
         if lo_D >= self.max_outer_diameter_mm:
             raise SpecError(
                 f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
-                f"lower search bound of outer_diameter_mm ({show(lo_D)})"
-            )
+                f"lower search bound of outer_diameter_mm ({show(lo_D)}); "
+                + ("set [bounds] outer_diameter_mm = [low, high] to search units that small"
+                   if "outer_diameter_mm" not in self.bounds else "lower that bound or widen the envelope"))
         if (self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic
                 or self.fixed.wall_safety_factor != self.min_wall_safety_factor):
             object.__setattr__(self, "fixed", replace(self.fixed, travel_mm=self.travel_mm, n_polytropic=self.n_polytropic,
                                                       wall_safety_factor=self.min_wall_safety_factor))
+        if self.max_mass_g is not None and self.max_mass_g <= self.fixed.servo_and_valve_mass_g:
+            raise SpecError(f"max_mass_g ({show(self.max_mass_g)} g) leaves nothing for the unit: the servo, valve and "
+                            f"fittings alone weigh fixed.servo_and_valve_mass_g = "
+                            f"{show(self.fixed.servo_and_valve_mass_g)} g")
         min_len = (self.fixed.min_top_cap_mm + self.fixed.min_base_mm + self.fixed.piston_height_mm + self.travel_mm
                    + self.fixed.fluid_clearance_mm)
         if self.max_housing_length_mm <= min_len:
@@ -244,13 +340,19 @@ class Requirements:
         DesignError
             If ``layout`` is unknown.
         """
-        out, defaults = [], default_bounds()
+        out, resolved = [], self.resolved_bounds
         for name in self.decision_variables(layout):
-            lo, hi = self.bounds.get(name, defaults[name])
+            lo, hi = resolved[name]
             if name == "outer_diameter_mm":
                 hi = min(hi, self.max_outer_diameter_mm)
             out.append((float(lo), float(hi)))
         return out
+
+    @property
+    def resolved_bounds(self) -> dict[str, tuple[float, float]]:
+        """The search range of every decision variable: the explicit :attr:`bounds`, the rest following these
+        requirements (:func:`default_bounds`), in mm, mm³ and fractions."""
+        return {**default_bounds(self), **self.bounds}
 
     def to_dict(self) -> dict[str, Any]:
         """JSON/TOML-ready content (what a design file's ``spec`` holds).
@@ -258,11 +360,12 @@ class Requirements:
         Returns
         -------
         dict
-            Every field (units in the names), ``bounds`` as ``name -> [low, high]``, ``layouts``
+            Every field (units in the names), ``bounds`` as ``name -> [low, high]`` (every variable's range
+            the search used, :attr:`resolved_bounds`), ``layouts``
             and ``objective_n`` as lists, ``fixed`` as a nested dict.
         """
         d = asdict(self)
-        d["bounds"] = {k: list(v) for k, v in self.bounds.items()}
+        d["bounds"] = {k: list(v) for k, v in self.resolved_bounds.items()}
         d["layouts"] = list(self.layouts)
         if self.objective_n is not None:
             d["objective_n"] = list(self.objective_n)
@@ -303,7 +406,7 @@ class Requirements:
             if key == "bounds":
                 if not isinstance(value, dict):
                     raise SpecError(f"{source}: [bounds] must be a table")
-                b = default_bounds()
+                b = {}
                 for name, pair in value.items():
                     if (not isinstance(pair, (list, tuple)) or len(pair) != 2
                             or not all(isinstance(p, (int, float)) and not isinstance(p, bool) for p in pair)):
@@ -370,29 +473,26 @@ def load_requirements(path: str | Path | None) -> Requirements:
     Raises
     ------
     SpecError
-        If the file does not exist, cannot be read, is not UTF-8 (names line and column) or not
-        valid TOML, or a value is wrong (:meth:`Requirements.from_dict`).
+        If the file does not exist, is not a regular file (a folder, a FIFO, a device), is larger
+        than 1 MiB, cannot be read, is not UTF-8 (UTF-16 is named; otherwise line and column) or not
+        valid TOML, holds a number of hundreds of digits, or a value is wrong
+        (:meth:`Requirements.from_dict`).
     """
     if path is None:
         return Requirements()
     path = Path(path)
-    if not path.is_file():
-        raise SpecError(f"requirements file {str(path)!r} does not exist")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise SpecError(f"{path}: cannot be read ({exc.strerror})") from None
-    try:
-        text = raw.decode("utf-8-sig")  # a byte-order mark (some Windows editors) is not an error
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        col = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise SpecError(
-            f"{path}: not UTF-8 text: byte 0x{raw[exc.start]:02x} at line {line}, column {col} (byte offset "
-            f"{exc.start}) cannot be decoded; TOML files are UTF-8 — save it as UTF-8 (e.g. `iconv -f latin1 -t utf-8`)"
-        ) from None
+    raw = read_input_bytes(path, "requirements file", SpecError)
+    text = decode_text(raw, path, "requirements file", SpecError, "TOML")
+    long = re.search(r"[0-9_]{400,}", text)
+    if long:  # Python refuses to convert integers of more than 4300 digits (a ValueError inside tomllib)
+        line = text.count("\n", 0, long.start()) + 1
+        key = re.match(r"\s*([A-Za-z0-9_.\"-]+)\s*=", text.splitlines()[line - 1])
+        raise SpecError(f"{path}: line {line}: {key.group(1) + ': ' if key else ''}a number of {len(long.group())} "
+                        "digits; no requirement needs more than a handful")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        raise SpecError(f"{path}: not valid TOML: {exc}") from None
+    except (ValueError, RecursionError) as exc:  # an absurd literal tomllib cannot convert
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     return Requirements.from_dict(data, source=str(path))

@@ -14,6 +14,7 @@ Each returns a typed result (a frozen dataclass with ``to_dict()``). The search 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -21,6 +22,7 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution
 
 from ..parallel import parallel_map
+from ..plausibility import check_count
 from .design import Design
 from .layouts import LAYOUTS
 from .optimise import _best_polish, _polish, _RowMemo, _starts, optimise
@@ -28,8 +30,8 @@ from .problem import constraint_names, design_from_vector, evaluate_design, eval
 from .records import Record
 from .requirements import Requirements
 
-__all__ = ["PARETO_AXES", "ParetoPoint", "pareto_front", "save_pareto", "LinearityMap", "linearity_map",
-           "GasVolumeBound", "gas_volume_bound", "GasCapacity", "gas_capacity"]
+__all__ = ["PARETO_AXES", "ParetoPoint", "pareto_front", "check_pareto_values", "save_pareto", "LinearityMap",
+           "linearity_map", "GasVolumeBound", "gas_volume_bound", "GasCapacity", "gas_capacity"]
 
 
 # ---------------------------------------------------------------------------
@@ -99,7 +101,7 @@ def _pareto_point(args) -> ParetoPoint:
     return ParetoPoint(
         swept, value, ev.feasible, ev.linearity_error, ev.linearity_isothermal, ev.linearity_adiabatic, ev.objective,
         ev.mass_g, ev.design.layout, ev.details["mean_stiffness"]["value"],
-        ",".join(ev.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9]),
+        ",".join(r.binding() if ev.feasible else [k for k, m in ev.margins.items() if m < -1e-9]),
         {n: float(getattr(ev.design, n)) for n in names})
 
 
@@ -156,22 +158,58 @@ def pareto_front(
     Raises
     ------
     ValueError
-        If ``axis`` is not one of :data:`PARETO_AXES`.
+        If ``axis`` is not one of :data:`PARETO_AXES`, a value is not a finite number its requirement
+        can take, or there are more than 500 values.
+    """
+    field_name = PARETO_AXES[axis][0] if axis in PARETO_AXES else ""
+    jobs = [(point, seed, popsize, maxiter, field_name, v) for point, v in check_pareto_values(req, axis, values)]
+    return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
+                        description=f"Pareto front over {axis}", progress=progress)
+
+
+def check_pareto_values(req: Requirements, axis: str, values) -> list[tuple[Requirements, float]]:
+    """The requirements of each point of a Pareto front, checked before any optimisation.
+
+    Parameters
+    ----------
+    req : Requirements
+        The other requirements, held fixed.
+    axis : str
+        The swept requirement, a key of :data:`PARETO_AXES`.
+    values : sequence of float
+        Values of the swept requirement, in its field's unit (N/mm, mm, g or fraction).
+
+    Returns
+    -------
+    list of (Requirements, float)
+        One ``(requirements, value)`` per value, in order (a swept envelope widens a default diameter bound).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), or
+        more than 500 values.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
     field_name = PARETO_AXES[axis][0]
-    jobs = []
-    for v in values:
+    values = list(values)
+    check_count("pareto_points", len(values), "the number of values", ValueError)
+    points = []
+    for i, v in enumerate(values):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ValueError(f"values[{i}] = {v!r}: each value of {field_name} must be a finite number")
         kw = {field_name: float(v)}
-        if axis == "outer_diameter":
+        if axis == "outer_diameter":  # the swept envelope: its default range follows; a pinned one is widened
             b = dict(req.bounds)
-            lo, hi = b.get("outer_diameter_mm", (25.0, 59.5))
-            b["outer_diameter_mm"] = (min(lo, 0.5 * float(v)), max(hi, float(v)))
+            lo = min(b.get("outer_diameter_mm", (25.0,))[0], 0.5 * float(v))
+            b["outer_diameter_mm"] = (lo, max(b.get("outer_diameter_mm", (lo, float(v)))[1], float(v)))
             kw["bounds"] = b
-        jobs.append((replace(req, **kw), seed, popsize, maxiter, field_name, float(v)))
-    return parallel_map(_pareto_point, jobs, workers=workers, scheduler=scheduler,
-                        description=f"Pareto front over {axis}", progress=progress)
+        try:
+            points.append((replace(req, **kw), float(v)))
+        except ValueError as exc:  # SpecError: a value no requirement can take
+            raise ValueError(f"values[{i}] = {v:g}: {exc}") from None
+    return points
 
 
 def save_pareto(rows: list, axis: str, out_dir, title: str = "") -> tuple:
@@ -289,7 +327,8 @@ def linearity_map(
         if v not in names:
             raise ValueError(f"unknown design variable {v!r} of the {design.layout!r} layout; choose from {list(names)}")
     if var_x == var_y:
-        raise ValueError("the two map variables must differ")
+        raise ValueError(f"the two map variables must differ, got {var_x!r} twice")
+    n = check_count("map_points", n, "n", ValueError)
     bounds = dict(zip(names, req.search_bounds(design.layout)))
 
     def around(var):  # default range: ±40 % around the design, inside the search bounds

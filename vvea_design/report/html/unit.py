@@ -184,7 +184,7 @@ def _requirements_section(unit: UnitResult) -> Section:
             continue
         rows.append((f.name, getattr(req, f.name)))
     bounds = table(("decision variable (unit in the name)", "search low", "search high"),
-                   [(k, v[0], v[1]) for k, v in req.bounds.items()])
+                   [(k, v[0], v[1]) for k, v in req.resolved_bounds.items()])
     src = unit.spec_path or "built-in defaults (the paper's unit)"
     return Section("Requirements", paragraph(f"source: {src}") +
                    table(("requirement (unit in the name)", "value"), rows) + bounds)
@@ -228,7 +228,7 @@ def _margins_section(unit: UnitResult) -> Section:
             table(("quantity", "value"), prow) +
             table(("verdict", "constraint", "value", "limit", "margin (> 0 met, scaled)"), rows, raw_columns=(0,),
                   num_columns=(4,)) +
-            paragraph(f"binding (margin < 0.001): {', '.join(ev.binding()) or 'none'}; optimiser: "
+            paragraph(f"binding (margin < 0.001): {', '.join(unit.optimisation.binding()) or 'none'}; optimiser: "
                       f"{unit.optimisation.evaluations} evaluations in {unit.optimisation.seconds:.1f} s, seed "
                       f"{unit.seed}.", "note"))
     return Section("Design and constraint margins", paragraph(f"Design of {_layout_text(unit)}.") + body)
