@@ -15,6 +15,10 @@ the files:
 4. **Final fits** (:func:`~vvea_design.identification.selection.final_fits`)
    -- all experiments, cluster-robust errors, fold jackknife for shape
    parameters, held-out RMS after each accepted term.
+4b. **Held-out guard** (:func:`~vvea_design.identification.guard.heldout_guard`)
+   -- each accepted term is kept only if it lowers the error on the
+   held-out experiments and (catalogue terms) passes its own signature
+   checks; the final model is never worse there than eq. 14.
 5. **Leftover check** (:func:`~vvea_design.identification.noise.learner_check`)
    -- gradient-boosted trees on the final residuals; ``unexplained_structure``
    when they still predict them beyond the noise floor, or the held-out error
@@ -35,6 +39,7 @@ from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
 from .fit_data import REFERENCE_NOTE, REST_REASON, FitData
 from .fitting import fit_model
+from .guard import failed_checks, heldout_guard, unaccept
 from .noise import NOISE_METHOD, learner_check, noise_floor_N, residual_map
 from .plots import plot_heldout_steps, plot_residual_maps, plot_worst
 from .recordings import Recordings
@@ -100,8 +105,17 @@ def diagnose(
     noise0 = noise_floor_N(D, D.y - base_train.predict(D))
     say("selection")
     sel, shapes, trials = select_effects(D, plan, noise0, settings, say)
-    say("final fits")
-    baseline, final, steps, hsteps, shape_se = final_fits(D, plan, sel, shapes, settings)
+    say("held-out guard and final fits")
+    for _ in range(len(sel) + 1):
+        sel, _removed = heldout_guard(D, plan, sel, shapes, trials, settings.guard_min_drop_N)
+        baseline, final, steps, hsteps, shape_se = final_fits(D, plan, sel, shapes, settings)
+        # a catalogue term whose own signature check fails on the final fit is not accepted
+        bad = {e: c for e in sel if (c := failed_checks(D, final, e))}
+        for e, checks in bad.items():
+            unaccept(trials, e, "its own physical signature check fails on the final fit: " + "; ".join(c.detail for c in checks))
+        if not bad:
+            break
+        sel = [e for e in sel if e not in bad]
     res_b = D.y - baseline.predict(D)
     res_f = D.y - final.predict(D)
     noise = noise_floor_N(D, res_f)
@@ -137,11 +151,21 @@ def diagnose(
         where_baseline=where_b,
         where_final=where_f,
         worst_experiments=worst_experiments(D, rec, res_b, res_f),
-        notes=plan.notes,
+        notes=plan.notes + (_clock_note(rec),),
         settings=settings,
         runtime_s=time.perf_counter() - t0,
     )
     return Diagnosis(report, baseline, final, D, steps)
+
+
+def _clock_note(rec) -> str:
+    """What the campaign time is made of: the tester's clock (``clock_s``) or the runs back to back."""
+    data = getattr(rec, "data", None)
+    if data is not None and "clock_s" in data.columns:
+        return "campaign time from the clock_s column: the pauses between runs are included"
+    return ("no absolute time column (clock_s): campaign time counts the runs back to back, the pauses between runs left out; "
+            "a drift that goes on during the pauses (warming, leakage) is compressed in time, so its rate per hour is over-estimated "
+            "and a drift over long pauses shows as steps between runs")
 
 
 def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> list[str]:

@@ -266,8 +266,8 @@ def learner_check(D: FitData, residual: np.ndarray, noise_N: float, settings: Di
 
 
 def _learner_inner(D, residual, noise_N, settings, HistGradientBoostingRegressor, GroupKFold) -> LearnerCheck:
-    feats = np.column_stack([D.x, D.v, np.abs(D.v), np.sign(D.v), np.log10(D.tsr + 1e-3), D.p2, D.valve, D.ctime])
-    names = ["displacement", "velocity", "speed", "direction", "time_since_reversal", "p2", "valve", "campaign_time"]
+    feats = np.column_stack([D.x, D.v, np.abs(D.v), np.sign(D.v), np.log10(D.tsr + 1e-3), D.p2, D.valve, D.ctime, D.t])
+    names = ["displacement", "velocity", "speed", "direction", "time_since_reversal", "p2", "valve", "campaign_time", "time_in_experiment"]
     rng = np.random.default_rng(settings.seed + 1)
     idx = np.arange(D.n)
     if D.n > settings.learner_rows:

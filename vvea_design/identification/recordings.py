@@ -3,7 +3,9 @@
 Reads the exchange format of ``shared/specs/recordings.md`` (CSV or Parquet):
 one tidy table, one row per sample, many experiments per file, columns
 ``experiment, time_s, displacement_mm, force_N, p2_MPa, valve_deg`` and the
-optional label ``speed_mm_s``. Other columns are kept and ignored.
+optional label ``speed_mm_s`` and the optional absolute time ``clock_s`` (s, the
+tensile tester's clock: with it the campaign time keeps the pauses between runs).
+Other columns are kept and ignored.
 
 Velocity is derived from ``time_s`` and ``displacement_mm`` only. A naive
 finite difference is useless here: 2 µm of displacement noise at 20 ms
@@ -67,6 +69,7 @@ REST_FRACTION = 0.02
 MIN_SAMPLES_PER_EXPERIMENT = 8
 
 _NUMERIC = ("time_s", "displacement_mm", "force_N", "p2_MPa", "valve_deg")
+_OPTIONAL = ("speed_mm_s", "clock_s")  #: optional numeric columns: the speed label (mm/s), the absolute time (s)
 
 
 class RecordingsError(ValueError):
@@ -245,7 +248,7 @@ def _read_csv(path: Path):
     if sep != ",":
         notes.append(f"read as {'semicolon' if sep == ';' else 'tab'}-separated")
     decimal_comma = False
-    for c in _NUMERIC + ("speed_mm_s",):
+    for c in _NUMERIC + _OPTIONAL:
         if c in frame.columns:
             col = frame[c].str.strip()
             if sep != "," and col.str.contains(",", regex=False).any() and not col.str.contains(".", regex=False).any():
@@ -267,7 +270,7 @@ def _where(source: str, idx: int, line_offset: int, lines=None) -> str:
 
 def _numeric_columns(d: pd.DataFrame, source: str, line_offset: int, line_numbers) -> None:
     """The numeric columns of ``d`` as floats (in place); a non-numeric, empty or infinite cell names its line."""
-    cols = list(_NUMERIC) + (["speed_mm_s"] if "speed_mm_s" in d.columns else [])
+    cols = list(_NUMERIC) + [c for c in _OPTIONAL if c in d.columns]
     for c in cols:
         num = _to_numeric(d[c])
         bad = num.isna() & d[c].notna()
@@ -615,6 +618,10 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
     x_all = d["displacement_mm"].to_numpy()
     p2_all, valve_all = d["p2_MPa"].to_numpy(), d["valve_deg"].to_numpy()
     speed_all = d["speed_mm_s"].to_numpy() if "speed_mm_s" in d.columns else None
+    clock_all = d["clock_s"].to_numpy(float) if "clock_s" in d.columns else None
+    if clock_all is not None and not np.all(np.isfinite(clock_all)):
+        i = int(np.flatnonzero(~np.isfinite(clock_all))[0])
+        raise RecordingsError(f"{_where(source, i, line_offset, line_numbers)}: column clock_s is not finite (the absolute time of every sample, s)")
     n = len(d)
     vel = np.zeros(n)
     tsr = np.zeros(n)
@@ -659,7 +666,7 @@ def _derive(d: pd.DataFrame, bounds: np.ndarray, names: np.ndarray, source: str,
                 if abs(t[i] - tz) < 0.1 * dt_med:
                     turning[a + i] = True
         tsr[a:b] = _time_since_reversal(t, v)
-        ctime[a:b] = offset + (t - t[0])
+        ctime[a:b] = offset + (t - t[0]) if clock_all is None else clock_all[a:b] - clock_all.min()
         offset += (t[-1] - t[0]) + float(np.median(np.diff(t)))
         exp_index[a:b] = k
         speed = float(speed_all[a]) if speed_all is not None else float(p[0])

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..spring.gas_spring import GasSpring
 from .design import assemble
+from .dependence import dependence_profile, describe_dependence
 from .effects import REGISTRY, is_effect_id
 from .effects.force_lag import ForceFilter
 from .fit_data import FitData
@@ -618,9 +619,10 @@ def effect_reports(D: FitData, sel, trials: dict, final: ModelFit, shape_se: dic
         if acc:
             vals, errs = final.effect_values(eid), final.effect_errors(eid)
             sh = final.shapes.get(eid, np.nan)
-            expl = "Accepted: " + eff.describe(vals, errs, sh, shape_se.get(eid, np.nan))
+            contrib = final.contribution(D, eid)
+            expl = "Accepted: " + eff.describe(vals, errs, sh, shape_se.get(eid, np.nan)) + " " + describe_dependence(dependence_profile(D, contrib))
             params = param_estimates(final, eid, shape_se)
-            sig = tuple(eff.signature(D, vals, sh, final.contribution(D, eid))) if eff.catalogue else ()
+            sig = tuple(eff.signature(D, vals, sh, contrib)) if eff.catalogue else ()
         else:
             if ev is None:
                 why = "not tested: " + ("too few experiments for a cross-validated test" if not plan.can_select else "not applicable to this campaign")
@@ -658,8 +660,13 @@ def where_sentences(learner: LearnerCheck, where_final, noise: float, held: Held
     for w in learner.where if learner.flag else ():
         out.append(f"along {w.feature} ({100 * w.importance_share:.0f} % of residual variance; largest at "
                    f"{w.range[0]:.3g}..{w.range[1]:.3g}: {w.largest_structure_rms_N:.1f} N RMS)")
+    # when the learner flags, it has measured which states carry the structure (permutation importance): the
+    # residual map then names only those (a large residual is above twice the noise in the bins of every state)
+    carried = {w.feature for w in learner.where} if learner.flag else None
     for f in where_final:
         b = f.worst()
+        if carried is not None and f.name not in carried:
+            continue
         if b.rms_over_noise > 2.0 and b.n >= 0.05 * sum(x.n for x in f.bins):
             out.append(f"{f.name} {b.bin} {f.unit}: residual RMS {b.rms_N:.1f} N = {b.rms_over_noise:.1f} x noise (mean {b.mean_N:+.1f} N, measurement − model)")
     if held.assessable and held.final_N is not None and held.final_N > 2.0 * noise:
@@ -708,7 +715,7 @@ def format_summary(r: DiagnosisReport) -> str:
     acc = r.accepted
     if not acc:
         L.append("No candidate passed grouped cross-validation: eq. 14 explains the recordings to within the noise it can resolve."
-                 if not r.notes else "No effect accepted (see the notes above).")
+                 if not any("cannot" in n for n in r.notes) else "No effect accepted (see the notes above).")
     for e in acc:
         ev = e.evidence
         kind = "catalogue effect" if e.catalogue else "found beyond the catalogue"

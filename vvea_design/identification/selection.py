@@ -46,7 +46,10 @@ from .noise import noise_floor_N
 from .report import Evidence, HeldOutStep
 from .settings import DiagnoseSettings
 
-__all__ = ["Plan", "plan_split", "select_effects", "refine_filter_damping", "final_fits"]
+__all__ = ["Plan", "plan_split", "select_effects", "refine_filter_damping", "final_fits", "BLOWUP"]
+
+#: A candidate whose cross-validated squared error exceeds this many times the current model's has blown up numerically.
+BLOWUP = 100.0
 
 
 # ------------------------------------------------------------------ plan
@@ -225,6 +228,12 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
     tr = plan.train
     if eff.nuisance_per_experiment:  # parameters fitted on the held-out experiment itself: charge their expected gain on noise
         new_sse = new_sse + eff.nuisance_per_experiment * noise**2
+    blown = not np.all(np.isfinite(new_sse[tr])) or float(np.sum(new_sse[tr])) > BLOWUP * max(float(np.sum(base_sse[tr])), 1e-300)
+    if blown:  # a candidate fit that blows up numerically is rejected with its reason, never scored by its gain
+        why = (f"its cross-validated fit blows up numerically (held-out mean square {np.nansum(new_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 "
+               f"against {np.sum(base_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 without it): rejected")
+        ev = Evidence(rnd, float("nan"), float("nan"), 0, len(np.unique(plan.folds[tr])), 0, 0.0, 0.0, 0.0, False, None, False, (why,))
+        return _Trial(cand, None, shape, ev, None)
     d = base_sse[tr] - new_sse[tr]
     gain = float(d.sum() / max(base_sse[tr].sum(), 1e-300))
     sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
@@ -504,10 +513,16 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
             if n_improved < min(settings.min_folds, len(fold_ids)):
                 why.append(f"beside {', '.join(rest) or 'eq. 14'} it improves only {n_improved} of {len(fold_ids)} folds")
             if why and (worst is None or dmse < worst[1]):
-                worst = (c, dmse, why, fr)
+                worst = (c, dmse, why, fr, sse_wo)
         if worst is None:
             return sel, cur
-        c, _, why, fr = worst
+        c, _, why, fr, sse_c = worst
+        if REGISTRY[c].catalogue:  # naming discipline here too: a discovered term does not explain a catalogue name away
+            alt = _drop_discovered_instead(D, plan, sel, cur, c, sse_c, settings)
+            if alt is not None:
+                c, fr = alt
+                why = [f"it covers the same structure as the catalogue effect {worst[0]}, which explains the held-out experiments "
+                       f"as well (paired t <= {settings.name_t:g}): the catalogue name is kept"]
         sel = [e for e in sel if e != c]
         cur = fr
         t0 = trials.get(c)
@@ -515,6 +530,28 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
             ev = t0.evidence
             reasons = ev.reasons + ("explained away by the other accepted terms: " + "; ".join(why),)
             trials[c] = _Trial(c, t0.sse, t0.shape, Evidence(**{**asdict(ev), "passes": False, "reasons": reasons}), t0.fit, t0.signature)
+
+
+def _drop_discovered_instead(D: FitData, plan: Plan, sel, cur: ModelFit, c: str, sse_c: np.ndarray, settings: DiagnoseSettings):
+    """A discovered term accepted after the catalogue term ``c`` to drop instead of ``c`` (its fit), or None.
+
+    The model without the discovered term must explain the held-out experiments as well as the model
+    without ``c`` (paired t of the per-experiment CV error <= ``settings.name_t``, and its CV error at
+    most ``settings.min_gain`` larger); of those, the one whose removal costs least.
+    """
+    tr = plan.train
+    best = None
+    for d in sel[sel.index(c) + 1:]:
+        if REGISTRY[d].catalogue:
+            continue
+        rest = tuple(e for e in sel if e != d)
+        fd = fit_model(D, rest, experiments=tr, shapes={e: cur.shapes[e] for e in rest if e in cur.shapes})
+        sse_d = _cv_current(D, fd, plan)[3]
+        t = _paired_t(sse_d[tr], sse_c[tr])  # > 0: dropping d costs more than dropping c
+        extra = float((sse_d[tr].sum() - sse_c[tr].sum()) / max(sse_c[tr].sum(), 1e-300))  # and by this share of the error
+        if t <= settings.name_t and extra < settings.min_gain and (best is None or t < best[0]):
+            best = (t, d, fd)
+    return None if best is None else (best[1], best[2])
 
 
 # ------------------------------------------------------------------ final fits

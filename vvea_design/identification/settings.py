@@ -22,6 +22,7 @@ class DiagnoseSettings:
     min_snr: float = 0.25  #: minimum effect RMS / residual RMS
     name_t: float = 2.0  #: a catalogue effect loses its name when a discovery operator is better by this paired t
     keep_noise: float = 0.5  #: backward step: an accepted term stays only if its force RMS is at least keep_noise x the noise floor and, beside all other accepted terms, it lowers the held-out mean square by at least (keep_noise x noise floor)^2 and still passes the gain, consistency and fold tests
+    guard_min_drop_N: float = 0.0  #: held-out guard: a kept term lowers the held-out RMS by more than this (N)
     max_effects: int = 6  #: at most this many accepted terms
     seed: int = 0  #: seed of the experiment splits
     learner: bool = True  #: run the flexible-learner check

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fit_data import cached
+from ..dependence import per_charge_share
 from .base import Check, Effect, Param, fmt_estimate, register
 from .gas_nonlinearity import chamber_remainders
 
@@ -32,7 +33,22 @@ class Leakage(Effect):
         late = D.ctime >= np.quantile(D.ctime, 0.8) if D.n else np.zeros(0, bool)
         early = D.ctime <= np.quantile(D.ctime, 0.2) if D.n else np.zeros(0, bool)
         drift = float(np.sqrt(np.mean(contribution[late] ** 2)) - np.sqrt(np.mean(contribution[early] ** 2))) if D.n else 0.0
-        return [Check("grows over the campaign", drift > 0, f"RMS of the leak force in the last fifth of the campaign minus the first fifth: {drift:.3g} N (> 0; campaign {th:.2g} h)")]
+        # the name needs the dependence of a leak: a charge that FALLS over campaign time (never rises back), and a
+        # force that changes with campaign order, not a constant per charge level
+        xm = 0.5 * D.travel_mm
+        rate0 = values.get("q0", 0.0) + values.get("q", 0.0) * xm
+        rate_end = rate0 - 2.0 * th * (values.get("c0", 0.0) + values.get("c", 0.0) * xm)
+        falls = bool(rate0 > 0 and rate_end >= -0.1 * rate0)
+        share = per_charge_share(D, contribution) if D.n else 0.0
+        return [
+            Check("grows over the campaign", drift > 0, f"RMS of the leak force in the last fifth of the campaign minus the first fifth: {drift:.3g} N (> 0; campaign {th:.2g} h)"),
+            Check("the charge falls throughout the campaign", falls,
+                  f"loss rate at mid-stroke {rate0:.3g} N/MPa/h at the start and {rate_end:.3g} N/MPa/h at the end of the campaign "
+                  "(a leak never gives the charge back: the end rate must not be below -0.1 x the start rate)"),
+            Check("changes with campaign order, not with the charge alone", share < 0.8,
+                  f"a constant per charge level explains {100 * share:.0f} % of its force (< 80 %: otherwise it is an offset that "
+                  "follows the charge, not a loss over time)"),
+        ]
 
     def describe(self, values, errors, _, __):
         return (

@@ -23,6 +23,15 @@ class DirectionStiffness(Effect):
         return np.column_stack([D.x * up, D.x * ~up, D.p2 * D.x * D.s])
 
     def describe(self, values, errors, _, __):
+        ke, kr, dk = values["k_ext"], values["k_ret"], values["dk_p"]
+        se = float(np.hypot(errors.get("k_ext", np.nan), errors.get("k_ret", np.nan)))
+        same = abs(ke - kr) <= max(0.1 * max(abs(ke), abs(kr)), 2.0 * se if np.isfinite(se) else 0.0) and abs(dk) * 4.0 < 0.1 * max(abs(ke), abs(kr), 1e-12)
+        if same:  # fitted with direction columns, but it does not depend on the direction: say what it depends on
+            return (
+                f"An extra stiffness, the same in both directions and at every charge: {fmt_estimate(ke, errors.get('k_ext'), 'N/mm')} extending, "
+                f"{fmt_estimate(kr, errors.get('k_ret'), 'N/mm')} retracting: a spring in parallel with the gas (bladder, end stop, load "
+                "train) or a stiffness the gas law misses -- not a direction-dependent effect."
+            )
         return (
             f"The stiffness differs between extension and retraction: {fmt_estimate(values['k_ext'], errors.get('k_ext'), 'N/mm')} extra while "
             f"extending, {fmt_estimate(values['k_ret'], errors.get('k_ret'), 'N/mm')} while retracting (+ {fmt_estimate(values['dk_p'], errors.get('dk_p'), 'N/mm/MPa')} "
