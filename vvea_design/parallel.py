@@ -39,7 +39,34 @@ from .progress import progress_bar
 T = TypeVar("T")
 R = TypeVar("R")
 
-__all__ = ["parallel_map", "default_workers", "Terminated", "WorkerLost", "SchedulerUnreachable", "check_scheduler"]
+__all__ = ["parallel_map", "default_workers", "Terminated", "WorkerLost", "SchedulerUnreachable", "check_scheduler",
+           "note_interrupt", "interrupt_noted"]
+
+#: Set by the command line's SIGINT handler: a solver that swallows the KeyboardInterrupt its signal check raised
+#: (CasADi's IPOPT returns ``NonIpopt_Exception_Thrown``) can still tell that the user pressed Ctrl-C.
+_INTERRUPT = {"noted": False}
+
+
+def note_interrupt(noted: bool = True) -> None:
+    """Remember (or forget, ``noted=False``) that SIGINT arrived.
+
+    Parameters
+    ----------
+    noted : bool
+        True when the handler saw SIGINT; False to reset at the start of a command.
+    """
+    _INTERRUPT["noted"] = bool(noted)
+
+
+def interrupt_noted() -> bool:
+    """Whether SIGINT arrived since the last reset (:func:`note_interrupt`).
+
+    Returns
+    -------
+    bool
+        True after Ctrl-C.
+    """
+    return _INTERRUPT["noted"]
 
 
 class Terminated(BaseException):

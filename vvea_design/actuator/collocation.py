@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from ..parallel import interrupt_noted
 from ..plausibility import LIMITS
 from .model import Actuator
 
@@ -239,7 +240,9 @@ class _Collocation:
             sol = solver(**args)
             st = solver.stats()
             status = str(st.get("return_status", "unknown"))
-            if status == "User_Requested_Stop":  # IPOPT's own Ctrl-C handler stopped it: the user's interrupt
+            if status == "User_Requested_Stop" or (status == "NonIpopt_Exception_Thrown" and interrupt_noted()):
+                # IPOPT's own Ctrl-C handler stopped it, or CasADi's signal check raised the KeyboardInterrupt
+                # inside the solve and IPOPT swallowed it: the user's interrupt either way
                 raise KeyboardInterrupt("interrupted during an IPOPT solve")
             success = bool(st.get("success", False))
             iters = int(st.get("iter_count", -1))

@@ -129,13 +129,16 @@ def _signals() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    from ..jobs.studies import Terminated
+    from ..jobs.studies import Terminated, note_interrupt
+
+    note_interrupt(False)
 
     def on_term(signum, frame):
         raise Terminated(f"received signal {signum}")
 
     def on_int(signum, frame):
         _state["sigint"] = True
+        note_interrupt()  # a solver that swallows the KeyboardInterrupt below still learns of it
         raise KeyboardInterrupt
 
     old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)}

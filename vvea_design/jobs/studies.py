@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-from ..parallel import Terminated
+from ..parallel import Terminated, note_interrupt
 from .common import OptionError, PathLike, check_option, check_out, check_scheduler_option, design_of, folder, moved
 
 if TYPE_CHECKING:
@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from ..spring.design import Design
     from ..spring.gas_spring import GasSpring
 
-__all__ = ["RestToRestRun", "run_rest_to_rest", "cases_saved", "print_rest_to_rest", "Terminated",
+__all__ = ["RestToRestRun", "run_rest_to_rest", "cases_saved", "print_rest_to_rest", "Terminated", "note_interrupt",
            "SafetyRun", "run_safety", "design_study_settings", "run_design_study"]
 
 #: A rest-to-rest grid: a named one, a :class:`~vvea_design.actuator.rest_to_rest.Grid`,

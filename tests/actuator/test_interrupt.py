@@ -1,0 +1,53 @@
+"""Ctrl-C during an IPOPT solve is an interrupt, however CasADi reports it (campaign A int-04: a serial study
+used to finish and exit 0 after Ctrl-C, because CasADi's signal check raised the KeyboardInterrupt inside the
+solve and IPOPT returned ``NonIpopt_Exception_Thrown``, counted as one failed start)."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from vvea_design.actuator.collocation import _Collocation
+from vvea_design.parallel import interrupt_noted, note_interrupt
+
+
+class _Solver:
+    def __init__(self, status):
+        self.status = status
+
+    def __call__(self, **kw):
+        return {"x": np.zeros(3), "f": 0.0}
+
+    def stats(self):
+        return {"return_status": self.status, "success": False, "iter_count": 1}
+
+
+def _solve(status):
+    col = SimpleNamespace(nw=3)
+    z = np.zeros(3)
+    return _Collocation.solve(col, _Solver(status), z, None, z - 1, z + 1)
+
+
+@pytest.fixture(autouse=True)
+def _reset():
+    note_interrupt(False)
+    yield
+    note_interrupt(False)
+
+
+def test_a_swallowed_keyboard_interrupt_after_sigint_is_an_interrupt():
+    note_interrupt()
+    assert interrupt_noted()
+    with pytest.raises(KeyboardInterrupt):
+        _solve("NonIpopt_Exception_Thrown")
+
+
+def test_the_same_status_without_sigint_is_a_failed_solve():
+    w, f, status, success, iters, secs = _solve("NonIpopt_Exception_Thrown")
+    assert status == "NonIpopt_Exception_Thrown" and not success
+
+
+def test_ipopts_own_stop_is_an_interrupt():
+    with pytest.raises(KeyboardInterrupt):
+        _solve("User_Requested_Stop")
