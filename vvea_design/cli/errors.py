@@ -169,6 +169,8 @@ def guarded() -> Iterator[None]:
         warnings.showwarning = _show_note
         try:
             yield
+            if _state["sigint"]:  # a Ctrl-C that a library printed and dropped: still an interrupt (exit 130)
+                raise KeyboardInterrupt("interrupted (Ctrl-C)")
         except (typer.Exit, typer.Abort, SystemExit):
             raise
         except BaseException as exc:
