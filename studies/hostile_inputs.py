@@ -210,7 +210,9 @@ def _snapshot(w: Path) -> dict[str, tuple]:
     return snap
 
 
-def _group_members(pgid: int) -> list[int]:
+def _live_processes_where(field: int, value: int) -> list[int]:
+    """Pids whose ``/proc/PID/stat`` field (after the command name: 0 state, 1 ppid, 2 pgid) equals ``value``;
+    zombies left out."""
     pids = []
     for d in os.listdir("/proc"):
         if not d.isdigit():
@@ -219,27 +221,19 @@ def _group_members(pgid: int) -> list[int]:
             with open(f"/proc/{d}/stat") as fh:
                 s = fh.read()
             fields_ = s[s.rindex(")") + 2:].split()
-            if int(fields_[2]) == pgid and fields_[0] != "Z":
+            if int(fields_[field]) == value and fields_[0] != "Z":
                 pids.append(int(d))
         except (OSError, ValueError, IndexError):
             continue
     return pids
 
 
+def _group_members(pgid: int) -> list[int]:
+    return _live_processes_where(2, pgid)
+
+
 def _children(pid: int) -> list[int]:
-    out = []
-    for d in os.listdir("/proc"):
-        if not d.isdigit():
-            continue
-        try:
-            with open(f"/proc/{d}/stat") as fh:
-                s = fh.read()
-            f = s[s.rindex(")") + 2:].split()
-            if int(f[1]) == pid and f[0] != "Z":
-                out.append(int(d))
-        except (OSError, ValueError, IndexError):
-            continue
-    return out
+    return _live_processes_where(1, pid)
 
 
 def _descendants(pid: int) -> list[int]:

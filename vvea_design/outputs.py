@@ -437,6 +437,15 @@ def _own_entries_only(target: Path, command: str) -> bool:
     return present <= _previous_entries(target, command)
 
 
+def _stop_if_interrupted() -> None:
+    """Land nothing after a Ctrl-C that a library swallowed (a KeyboardInterrupt raised inside a weakref or
+    solver callback is printed and dropped; the command line's handler noted it, :mod:`vvea_design.parallel`)."""
+    from .parallel import interrupt_noted
+
+    if interrupt_noted():
+        raise KeyboardInterrupt("interrupted (Ctrl-C) while the results were made: nothing was written")
+
+
 def _commit_dir(tmp: Path, target: Path, command: str) -> None:
     """Move the finished temporary folder ``tmp`` into place as ``target`` (see the module doc)."""
     entries = sorted(e for e in os.listdir(tmp) if e != _marker(command))
@@ -545,6 +554,7 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
             raise OutputError(io_failure(exc, target)) from exc
         token = _OPEN.set((*_OPEN.get(), Path(os.path.realpath(tmp))))
         yield tmp
+        _stop_if_interrupted()
     except BaseException as exc:
         if token is not None:
             _OPEN.reset(token)
@@ -603,6 +613,7 @@ def output_files(*paths: str | os.PathLike, option: str = "--out") -> Iterator[l
         missing = [str(t) for t, tmp in zip(targets, tmps) if not tmp.exists()]
         if missing:
             raise RuntimeError(f"output_files: {', '.join(missing)} not written inside the block")
+        _stop_if_interrupted()
     except BaseException as exc:
         for tmp in tmps:
             _remove(tmp)

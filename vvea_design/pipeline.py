@@ -134,6 +134,10 @@ class _Steps:
 
     @contextlib.contextmanager
     def __call__(self, name: str) -> Iterator[None]:
+        from .parallel import interrupt_noted
+
+        if interrupt_noted():  # a Ctrl-C a library printed and dropped: stop before the next step
+            raise KeyboardInterrupt(f"interrupted (Ctrl-C) before the {name} step")
         if self.progress is not None:
             self.progress(name, STEPS.index(name), len(STEPS))
         t = time.perf_counter()

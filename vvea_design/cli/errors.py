@@ -24,6 +24,7 @@ import contextlib
 import errno
 import os
 import signal
+import sys
 import threading
 import warnings
 from collections.abc import Iterator
@@ -141,6 +142,15 @@ def _signals() -> Iterator[None]:
         note_interrupt()  # a solver that swallows the KeyboardInterrupt below still learns of it
         raise KeyboardInterrupt
 
+    old_hook = sys.unraisablehook
+
+    def quiet_interrupt(unraisable):
+        """A KeyboardInterrupt raised in a callback Python cannot propagate (a weakref's, during garbage
+        collection) is noted above and stops the command at its next step or landing: no trace for it."""
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            old_hook(unraisable)
+
+    sys.unraisablehook = quiet_interrupt
     old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)}
     if old[signal.SIGTERM] in (signal.SIG_DFL, None):
         signal.signal(signal.SIGTERM, on_term)
@@ -149,6 +159,7 @@ def _signals() -> Iterator[None]:
     try:
         yield
     finally:
+        sys.unraisablehook = old_hook
         for s, h in old.items():
             if h is not None:
                 signal.signal(s, h)
@@ -169,6 +180,8 @@ def guarded() -> Iterator[None]:
         warnings.showwarning = _show_note
         try:
             yield
+            if _state["sigint"]:  # a Ctrl-C that a library printed and dropped: still an interrupt (exit 130)
+                raise KeyboardInterrupt("interrupted (Ctrl-C)")
         except (typer.Exit, typer.Abort, SystemExit):
             raise
         except BaseException as exc:

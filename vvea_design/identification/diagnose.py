@@ -15,11 +15,11 @@ the files:
 4. **Final fits** (:func:`~vvea_design.identification.selection.final_fits`)
    -- all experiments, cluster-robust errors, fold jackknife for shape
    parameters, held-out RMS after each accepted term.
-4b. **Held-out guard** (:func:`~vvea_design.identification.guard.heldout_guard`)
+5. **Held-out guard** (:func:`~vvea_design.identification.guard.heldout_guard`)
    -- each accepted term is kept only if it lowers the error on the
    held-out experiments and (catalogue terms) passes its own signature
    checks; the final model is never worse there than eq. 14.
-5. **Leftover check** (:func:`~vvea_design.identification.noise.learner_check`)
+6. **Leftover check** (:func:`~vvea_design.identification.noise.learner_check`)
    -- gradient-boosted trees on the final residuals; ``unexplained_structure``
    when they still predict them beyond the noise floor, or the held-out error
    stays above twice the floor; the report then says where.

@@ -54,7 +54,7 @@ def _finish(fig, ax, rows, path, title, ylabel, handles=None) -> Path:
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")  # long campaign names below the axis
     plt.close(fig)
     return path
 
