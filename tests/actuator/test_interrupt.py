@@ -51,8 +51,6 @@ def test_the_same_status_without_sigint_is_a_failed_solve():
 def test_ipopts_own_stop_is_an_interrupt():
     with pytest.raises(KeyboardInterrupt):
         _solve("User_Requested_Stop")
-<<<<<<< HEAD
-=======
 
 
 def test_a_swallowed_interrupt_lands_no_output_folder(tmp_path):
@@ -110,4 +108,3 @@ def test_a_dropped_interrupt_prints_no_trace(capsys):
     finally:
         sys.unraisablehook = before
     assert seen == ["ValueError"]
->>>>>>> main
