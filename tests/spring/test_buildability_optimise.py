@@ -88,7 +88,7 @@ def test_requirements_name_the_joints_and_the_parasitic_damping_limit():
     assert Requirements.from_dict(req.to_dict()) == req
     with pytest.raises(SpecError, match="joints must be a non-empty list"):
         Requirements(joints=("weld",))
-    with pytest.raises(SpecError, match="max_parasitic_damping_N_s_per_mm must be > 0"):
+    with pytest.raises(SpecError, match=r"max_parasitic_damping_N_s_per_mm must be >= 0\.0001 and <= 10000 N s/mm, got 0"):
         Requirements(max_parasitic_damping_N_s_per_mm=0.0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -46,6 +46,15 @@ NOT_DESIGN_QUANTITIES = {
     "cross_port_d": "a CAD feature: the top cap's cross port, at most 1.5 mm (a round number like several)",
     "cuff": "a CAD feature: cad.clamp_groove_fraction of the clamp, 3 mm (a round number like several)",
     "bead_length": "a CAD feature: the sealing bead, at most cad.bead_length_mm = 1.5 mm",
+    "z_cap_face": "a level of the CAD's frame: the top cap's outside face (the housing's top, or the ring plug's top)",
+    "z_lead_in_bottom": "a level of the CAD's frame: where the outer tube's bottom lead-in starts (the base's top "
+                        "face when the tube has no thread)",
+    "z_lead_in_top": "a level of the CAD's frame: where the outer tube's top lead-in ends (the housing's top when "
+                     "the tube has no thread at that end)",
+    "y_port1": "a CAD feature: the chamber-1 valve's offset on the top face (0 on the axis in the bulkhead layout)",
+    "relief_seat_d": "a CAD feature: the relief seat drilling, fixed.relief_seat_mm capped by the relief bore",
+    "base_own_mm": "a section quantity of the buildability rules (the base below its joint zone, which holds the "
+                   "valve bores); under the gas-only rules there is no joint zone and it is the whole base_mm",
 }
 
 
@@ -134,6 +143,8 @@ def _layout_problems(lay: Layout, design: Design) -> list[str]:
     names = [n for n, v in inspect.getmembers(type(lay)) if isinstance(v, property) and not n.startswith("_")]
     values = _numbers(lay, [n for n in names if n not in DEPRECATED_NAMES])
     for name, v in values.items():
+        if name in COUNTS_AND_GRADES:  # a count named as the design file names it (ring_channels), not a length
+            continue
         if name in quantities:  # the design's name: the design's value
             if not math.isclose(v, quantities[name], rel_tol=1e-12, abs_tol=1e-12):
                 problems.append(f"Layout.{name} = {v} but the design's {name} = {quantities[name]}")

@@ -266,8 +266,8 @@ def design(
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")
     if unit.actuator_study is not None:
-        for line in design_study_lines(unit.actuator_study):
-            stdout.print(line)
+        for line in design_study_lines(unit.actuator_study):  # '[equal stiffness]' is a label, not rich markup
+            stdout.print(line, markup=False, highlight=False, soft_wrap=True)
     console.print("time per step: " + ", ".join(f"{k} {unit.seconds.get(k, 0.0):.1f} s" for k in STEPS))
     console.print(f"[bold green]done[/]: everything is in {out}/ (open {out / ('report.html' if 'report' in unit.files else 'unit.json')})")
 
@@ -282,7 +282,7 @@ for _module in (cli_cad, cli_bladder, cli_identify, cli_study):
 
 
 def main() -> None:
-    """Run the ``vvea`` command (the console-script entry point); exit codes and messages: :mod:`.errors`."""
+    """Run the ``vvea`` command (the console-script entry point); exit codes and messages: :mod:`vvea_design.cli.errors`."""
     argv = strip_debug(sys.argv[1:])  # --debug anywhere on the line
     try:
         app(args=argv, prog_name="vvea")
