@@ -36,6 +36,7 @@ from .jobs.studies import design_study_settings, run_design_study, target_stiffn
 from .spring.curve import SpringCurve, spring_curve
 from .spring.optimise import Infeasible, OptimisationResult
 from .spring.requirements import Requirements
+from .report.html.verification import VERIFICATION_KEYS, verification_rows
 
 if TYPE_CHECKING:  # the CAD kernel and CasADi load only when the job needs them (`vvea spring` stays light)
     from .actuator.design_study import DesignStudy
@@ -108,6 +109,7 @@ class UnitDesign:
             "bom": None if self.bom is None else self.bom.to_dict(),
             "drawings": None if self.drawings is None else self.drawings.to_dict(),
             "structure": None if self.structure is None else self.structure.to_dict(),
+            "verification": [dict(zip(VERIFICATION_KEYS, row)) for row in verification_rows(self)],
             "actuator_study": None if study is None else {
                 "runs": [r.to_dict() for r in study.runs],
                 "damping": study.damping.to_dict(),

@@ -469,7 +469,9 @@ def unit_report(unit: UnitResult) -> HtmlReport:
         Call ``.write(path)``.
     """
     ev = unit.optimisation.evaluation
-    sections: list[Section] = [_margins_section(unit), _requirements_section(unit)]
+    from .verification import verification_section
+
+    sections: list[Section] = [_margins_section(unit), verification_section(unit), _requirements_section(unit)]
     sections.append(Section("Force curve", figure_svg(
         _spring_figure(unit),
         f"The gas spring of {_layout_text(unit)}: isothermal (slow motion, n = 1; solid) and adiabatic (fast "
