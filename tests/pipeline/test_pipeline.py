@@ -69,6 +69,11 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     # (joints, the damper's loads, drawn tolerances: docs/layout.md, the cost of buildability) pays about 0.4 pp
     # over the gas-only rules' 1.587 % for that layout
     assert design["structure"]["sizing_rules"] == "buildable"
+    # every check with its load case, method, result and what it leaves out; FE, seals, assembly among them
+    checks = {c["check"]: c for c in unit["verification"]}
+    assert {"bladder", "every joint and port sealed", "assembly order"} <= set(checks)
+    assert all(c["result"].startswith(("PASS", "FAIL", "not run", "linearity", "run", "D =")) for c in checks.values())
+    assert "permeation" in checks["bladder"]["not_covered"]
     assert design["performance"]["linearity_error"] <= 0.0200
     assert all(m >= -1e-9 for m in design["constraints"].values())
     assert unit["performance"]["linearity_error"] == pytest.approx(design["performance"]["linearity_error"])
@@ -299,7 +304,7 @@ def test_report_renders_offline_with_no_console_error(browser_page):
     assert [u for u in log["requests"] if u.startswith("file:")] == [(out / "report.html").resolve().as_uri()]
     assert page.evaluate("window.vveaViewer.ready") is True
     titles = page.locator("h2").all_inner_texts()
-    for t in ("Design and constraint margins", "Requirements", "Force curve", "3-D model", "Bladder", "Actuator",
+    for t in ("Design and constraint margins", "What is verified", "Requirements", "Force curve", "3-D model", "Bladder", "Actuator",
               "Drawings", "Bill of materials", "Provenance"):
         assert t in titles
     body = page.inner_text("body")
