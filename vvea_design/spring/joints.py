@@ -47,7 +47,7 @@ __all__ = ["JOINTS", "PROPERTY_CLASSES", "ISO261_FINE_MM", "THREAD_PITCH_MM", "J
            "engagement_group_n_mm", "THREAD_CLASSES",
            "select_ring", "tie_rod_candidates", "tie_rod_preload", "static_gland_width_mm", "din472_table",
            "JOINT_SHOULDER_MM", "bd_warehouse_rows", "LEAD_IN_MIN_LENGTH_MM", "LEAD_IN_GAP_MM", "seal_lead_in_land_mm",
-           "seal_zone_mm"]
+           "seal_zone_mm", "static_male_cross_section_mm", "SERIES_MM"]
 
 #: The joint choices (the design's ``joint``; ``Requirements.joints`` lists which the optimiser tries).
 JOINTS = ("thread", "ring_top", "tie_rods")
@@ -161,6 +161,46 @@ def static_gland_width_mm(cross_section_mm: float) -> float:
 LEAD_IN_MIN_LENGTH_MM = {1.78: 2.10, 2.62: 3.10, 3.53: 4.00, 5.33: 6.00, 6.99: 7.20}
 #: Axial clearance between a lead-in chamfer's end and the seal groove the ring sits in after assembly, mm.
 LEAD_IN_GAP_MM = 0.3
+
+
+#: The O-ring series the CAD's glands are drawn in (``cad.seals.SERIES``), mm.
+SERIES_MM = (1.78, 2.62)
+
+
+@lru_cache(maxsize=4)
+def _male_static_windows(cross_section_mm: float) -> np.ndarray:
+    """Bore intervals (rows lo, hi, mm) a ring of the series seals as a static male gland: the ring's inner
+    diameter stretched 0-5 % onto the groove's root, the radial squeeze in the ISO 3601 static window."""
+    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv")
+               if abs(float(r["w"]) - cross_section_mm) < 1e-6)
+    lo_d = cross_section_mm * (1 - float(row["sq_r_p_max"]) / 100)
+    hi_d = cross_section_mm * (1 - float(row["sq_r_p_min"]) / 100)
+    ids = [float(r["iso3601:id"]) for r in bd_warehouse_rows("o-ring_parameters.csv")
+           if abs(float(r["iso3601:w"]) - cross_section_mm) < 1e-6]
+    return np.array([(d + 2 * lo_d, 1.05 * d + 2 * hi_d) for d in ids])
+
+
+def static_male_cross_section_mm(bore_mm, preferred_mm: float = 1.78) -> Array:
+    """Cross-section of the O-ring the CAD seats in a static male gland sealing ``bore_mm``: the preferred series
+    where one of its rings fits (ISO 3601-1 sizes, the static squeeze window, 0-5 % stretch), else the other.
+
+    Parameters
+    ----------
+    bore_mm : float or array
+        Bore the ring seals on, mm.
+    preferred_mm : float
+        The preferred series, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    ndarray
+        Cross-section, mm.
+    """
+    b = np.asarray(bore_mm, dtype=float)
+    win = _male_static_windows(preferred_mm)
+    fits = ((b[..., None] >= win[:, 0] - 1e-12) & (b[..., None] <= win[:, 1] + 1e-12)).any(axis=-1)
+    other = next(w for w in SERIES_MM if w != preferred_mm)
+    return np.where(fits, preferred_mm, other)
 
 
 def seal_lead_in_land_mm(cross_section_mm: float, land_mm: float) -> float:

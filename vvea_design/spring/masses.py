@@ -26,7 +26,8 @@ import numpy as np
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array
 from .joints import (LEAD_IN_GAP_MM, LEAD_IN_MIN_LENGTH_MM, RUNOUT_PITCHES, THREAD_PITCH_MM, bd_warehouse_rows,
-                     seal_lead_in_land_mm, static_gland_width_mm)
+                     SERIES_MM, seal_lead_in_land_mm, static_gland_width_mm,
+                     static_male_cross_section_mm)
 
 __all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm", "lead_in_mm3"]
 
@@ -86,6 +87,12 @@ def _static_gland_depth_mm(cross_section_mm: float) -> float:
         if abs(float(r["w"]) - cross_section_mm) < 1e-6:
             return 0.5 * (float(r["d_r_min"]) + float(r["d_r_max"]))
     raise ValueError(f"no ISO 3601 static gland of cross-section {cross_section_mm:g} mm")
+
+
+def _static_gland(cs: Array) -> tuple[Array, Array]:
+    """Nominal depth and width of the static glands of rings of cross-sections ``cs`` (mm), mm."""
+    dep = sum(np.where(cs == w, _static_gland_depth_mm(w), 0.0) for w in SERIES_MM)
+    return dep, sum(np.where(cs == w, static_gland_width_mm(w), 0.0) for w in SERIES_MM)
 
 
 def lead_in_mm3(r_mm, cross_section_mm: float, gland_depth_mm: float, outward: bool, room_mm=None) -> Array:
@@ -182,15 +189,16 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
     sr = pi * (rbo**2 - rio**2) * h - pi * (rbo**2 - rbi**2) * cuff - pi * (rbi**2 - (rbi - bead) ** 2) * lb
     collector = pi * ((r_rc + 0.6 * ring_d) ** 2 - (r_rc - 0.6 * ring_d) ** 2) * hg
     out["support_ring"] = sr - f.ring_channels * pi * (ring_d / 2) ** 2 * (h - hg) - collector
-    seal_root = rb - _static_gland_depth_mm(c["oring_cross_section_mm"])
+    cs = static_male_cross_section_mm(2 * rb, c["oring_cross_section_mm"])  # the clamp spigots' and collar's seals
+    s_dep, s_wid = _static_gland(cs)
+    seal_root = rb - s_dep
     fp = np.fmin(c["fill_port_mm"], 0.6 * (seal_root - rbo - bead))
     r_port2 = 0.5 * (rbo + bead + seal_root)
     # --- outer tube
     out["housing_outer_tube"] = pi * (ro**2 - rb**2) * g["L_in"]
     if spec != "buildable":  # the bore's lead-ins at both ends, in the spigots' room (the joint's: _joint_deltas)
-        w = c["oring_cross_section_mm"]
-        room = h - 0.5 - static_gland_width_mm(w) - LEAD_IN_GAP_MM  # the spigot's land above the groove: 0.5 mm
-        li = lead_in_mm3(rb, w, _static_gland_depth_mm(w), True, room)
+        room = h - 0.5 - s_wid - LEAD_IN_GAP_MM  # the spigot's land above the groove: 0.5 mm
+        li = sum(np.where(cs == w, lead_in_mm3(rb, w, _static_gland_depth_mm(w), True, room), 0.0) for w in SERIES_MM)
         out["housing_outer_tube"] = out["housing_outer_tube"] - (1 if layout.has_top_annulus else 2) * li
     # --- inner tube (+ bulkhead web and fill tube, or the collar)
     pd, pw = dynamic_gland_mm(c["oring_cross_section_mm"])
@@ -199,20 +207,18 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
         r_fb, r_fo = f.fill_tube_bore_mm / 2, f.fill_tube_outer_mm / 2
         it = it + pi * (rp**2 - r_fb**2) * g["bulkhead"] + pi * (r_fo**2 - r_fb**2) * g["top_space"]
     if layout.has_top_annulus:
-        dep, wid = dynamic_gland_mm(c["oring_cross_section_mm"])
         it = it + pi * (rb**2 - rio**2) * (g["collar"] + h) - pi * (rbo**2 - rbi**2) * cuff - b["beads"]
-        it = it - g["cross_slot_volume"] - pi * (rb**2 - (rb - dep) ** 2) * wid
+        it = it - g["cross_slot_volume"] - pi * (rb**2 - seal_root**2) * s_wid  # the collar's static seal
     out["housing_inner_tube"] = it
     out["housing_top_cap"] = _top_cap_mm3(g, f, layout, b, fp, r_port2, z1, t_cap, h)
     if spec != "buildable" and not layout.has_top_annulus:  # the static seal's groove in the cap's clamp spigot
-        out["housing_top_cap"] = out["housing_top_cap"] - pi * (rb**2 - seal_root**2) * static_gland_width_mm(
-            c["oring_cross_section_mm"])
+        out["housing_top_cap"] = out["housing_top_cap"] - pi * (rb**2 - seal_root**2) * s_wid
     base = _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0)
     # the base's spigot around the lower cuff (out to the bore), its groove for the cuff's outer bead, and without
     # a joint its static seal's groove (annulus_top: the chamber-2 port runs up through it)
     base = base + pi * (rb**2 - rbo**2) * h - pi * ((rbo + bead) ** 2 - rbo**2) * lb
     if spec != "buildable":
-        base = base - pi * (rb**2 - seal_root**2) * static_gland_width_mm(c["oring_cross_section_mm"])
+        base = base - pi * (rb**2 - seal_root**2) * s_wid
     if layout.has_top_annulus:
         base = base - pi * (fp / 2) ** 2 * h
     out["housing_base"] = base
