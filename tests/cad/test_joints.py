@@ -145,3 +145,17 @@ def test_a_gas_only_spigot_gets_a_standard_lead_in_or_an_error():
     assert lay.z_base_top + li.length_mm <= lay.z_base_seal[0] + 1e-9
     with pytest.raises(CadError, match="fixed.bladder_clamp_mm"):
         Layout(replace(d, fixed=replace(d.fixed, bladder_clamp_mm=4.0)))
+
+
+def test_a_cross_port_drilled_through_the_joint_is_an_open_leak_path():
+    """The bulkhead layout's chamber-2 cross port sits in the top cap's lower part: with a thread joint that is
+    inside the outer tube, above the cap's seal. The leak audit says so (open, not an expander plug's seal)."""
+    from vvea_design.cad.leaks import leak_paths
+    from vvea_design.spring.design import Design
+
+    lay = Layout(Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0))
+    assert lay.has_cross_port and lay.z_cross_port < lay.joint.z_tube_top
+    cross = [p for p in leak_paths(lay) if p.where == "port: chamber-2 cross port"]
+    assert len(cross) == 1 and not cross[0].is_sealed and "OPEN" in cross[0].note
+    plain = [p for p in leak_paths(Layout(REFERENCE)) if p.where == "port: chamber-2 cross port"]
+    assert len(plain) == 1 and plain[0].is_sealed  # the gas-only cap: the port in the cap, closed by its plug
