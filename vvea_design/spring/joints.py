@@ -46,7 +46,8 @@ __all__ = ["JOINTS", "PROPERTY_CLASSES", "ISO261_FINE_MM", "THREAD_PITCH_MM", "J
            "RingJoint", "TieRodJoint", "SeatJoint", "thread_geometry", "iso965_tolerances_mm", "select_thread",
            "engagement_group_n_mm", "THREAD_CLASSES",
            "select_ring", "tie_rod_candidates", "tie_rod_preload", "static_gland_width_mm", "din472_table",
-           "JOINT_SHOULDER_MM", "bd_warehouse_rows"]
+           "JOINT_SHOULDER_MM", "bd_warehouse_rows", "LEAD_IN_MIN_LENGTH_MM", "LEAD_IN_GAP_MM", "seal_lead_in_land_mm",
+           "seal_zone_mm", "static_male_cross_section_mm", "SERIES_MM"]
 
 #: The joint choices (the design's ``joint``; ``Requirements.joints`` lists which the optimiser tries).
 JOINTS = ("thread", "ring_top", "tie_rods")
@@ -152,6 +153,105 @@ def static_gland_width_mm(cross_section_mm: float) -> float:
         if abs(float(r["w"]) - cross_section_mm) < 1e-6:
             return float(r["g_w_0"])
     raise ValueError(f"no ISO 3601 static gland of cross-section {cross_section_mm:g} mm in bd_warehouse's table")
+
+
+#: Shortest lead-in chamfer (mm along the axis) at 15 deg by O-ring cross-section (mm): the installation chamfers
+#: of the seal makers' design guides (ISO 3601-2: 15 ... 20 deg, radial depth over the ring's protrusion). The CAD
+#: draws them (:func:`vvea_design.cad.seals.lead_in`); the joints' seal zones reserve their room.
+LEAD_IN_MIN_LENGTH_MM = {1.78: 2.10, 2.62: 3.10, 3.53: 4.00, 5.33: 6.00, 6.99: 7.20}
+#: Axial clearance between a lead-in chamfer's end and the seal groove the ring sits in after assembly, mm.
+LEAD_IN_GAP_MM = 0.3
+
+
+#: The O-ring series the CAD's glands are drawn in (``cad.seals.SERIES``), mm.
+SERIES_MM = (1.78, 2.62)
+
+
+@lru_cache(maxsize=4)
+def _male_static_windows(cross_section_mm: float) -> np.ndarray:
+    """Bore intervals (rows lo, hi, mm) a ring of the series seals as a static male gland: the ring's inner
+    diameter stretched 0-5 % onto the groove's root, the radial squeeze in the ISO 3601 static window."""
+    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv")
+               if abs(float(r["w"]) - cross_section_mm) < 1e-6)
+    lo_d = cross_section_mm * (1 - float(row["sq_r_p_max"]) / 100)
+    hi_d = cross_section_mm * (1 - float(row["sq_r_p_min"]) / 100)
+    ids = [float(r["iso3601:id"]) for r in bd_warehouse_rows("o-ring_parameters.csv")
+           if abs(float(r["iso3601:w"]) - cross_section_mm) < 1e-6]
+    return np.array([(d + 2 * lo_d, 1.05 * d + 2 * hi_d) for d in ids])
+
+
+def static_male_cross_section_mm(bore_mm, preferred_mm: float = 1.78) -> Array:
+    """Cross-section of the O-ring the CAD seats in a static male gland sealing ``bore_mm``: the preferred series
+    where one of its rings fits (ISO 3601-1 sizes, the static squeeze window, 0-5 % stretch), else the other.
+
+    Parameters
+    ----------
+    bore_mm : float or array
+        Bore the ring seals on, mm.
+    preferred_mm : float
+        The preferred series, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    ndarray
+        Cross-section, mm.
+    """
+    b = np.asarray(bore_mm, dtype=float)
+    win = _male_static_windows(preferred_mm)
+    fits = ((b[..., None] >= win[:, 0] - 1e-12) & (b[..., None] <= win[:, 1] + 1e-12)).any(axis=-1)
+    other = next(w for w in SERIES_MM if w != preferred_mm)
+    return np.where(fits, preferred_mm, other)
+
+
+def seal_lead_in_land_mm(cross_section_mm: float, land_mm: float) -> float:
+    """Land of a joint's static O-ring groove on the side the ring enters the bore: the bore's lead-in chamfer
+    (:data:`LEAD_IN_MIN_LENGTH_MM`, ISO 3601-2) and :data:`LEAD_IN_GAP_MM` before the groove, at least ``land_mm``.
+
+    The ring passes the step from the joint (thread, tube end) into the sealing bore there; the chamfer must end
+    before the groove so the ring never seals on it. A 15 deg chamfer of this length has room for any ring of the
+    cross-section (a deeper one is raised towards 20 deg within the length).
+
+    Parameters
+    ----------
+    cross_section_mm : float
+        O-ring cross-section, mm (1.78, 2.62 ...).
+    land_mm : float
+        The plain land of the groove's other side (``fixed.seal_land_mm``), mm.
+
+    Returns
+    -------
+    float
+        Axial land between the zone's entry end and the groove, mm.
+
+    Raises
+    ------
+    ValueError
+        If the cross-section has no lead-in length in the table.
+    """
+    for w, length in LEAD_IN_MIN_LENGTH_MM.items():
+        if abs(w - cross_section_mm) < 1e-6:
+            return max(float(land_mm), length + LEAD_IN_GAP_MM)
+    raise ValueError(f"no lead-in chamfer length for an O-ring of cross-section {cross_section_mm:g} mm")
+
+
+def seal_zone_mm(cross_section_mm: float, land_mm: float) -> float:
+    """Axial room of a joint's static O-ring: the entry land with the bore's lead-in (:func:`seal_lead_in_land_mm`),
+    the ISO 3601 static gland (bd_warehouse) and a plain land, mm.
+
+    Parameters
+    ----------
+    cross_section_mm : float
+        O-ring cross-section, mm.
+    land_mm : float
+        Plain land beside the groove (``fixed.seal_land_mm``), mm.
+
+    Returns
+    -------
+    float
+        The zone's length, mm.
+    """
+    return (seal_lead_in_land_mm(cross_section_mm, land_mm) + static_gland_width_mm(cross_section_mm)
+            + float(land_mm))
 
 
 # ----------------------------------------------------------------------------------------------- threads
