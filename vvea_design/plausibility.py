@@ -177,11 +177,11 @@ LIMITS: dict[str, Limit] = {
                        typical=130.0),
     "thin_mm": Limit(0.1, 100.0, "mm", "a wall, gap, sleeve, seal, land or bore of the unit is between 0.1 mm and "
                      "100 mm", quantity="length", typical=2.0),
-    "gap_mm": Limit(0.01, 100.0, "mm", "a radial clearance is 0 (none) or between 0.01 mm and 100 mm",
+    "gap_mm": Limit(0.05, 100.0, "mm", "a radial clearance is 0 (none) or between 0.05 mm and 100 mm",
                     quantity="length", typical=0.5, zero_ok=True),
-    "axial_mm": Limit(0.5, 1000.0, "mm", "an end cap, base, piston, clamp or fluid column is between 0.5 mm and "
-                      "a metre long", quantity="length", typical=8.0),
-    "pulley_radius_mm": Limit(1.0, 1000.0, "mm", "a tendon pulley has a radius between 1 mm and 1 m",
+    "axial_mm": Limit(1.0, 1000.0, "mm", "an end cap, base, piston or clamp is between 1 mm and a metre long",
+                      quantity="length", typical=8.0),
+    "pulley_radius_mm": Limit(5.0, 1000.0, "mm", "a tendon pulley has a radius between 5 mm and 1 m",
                               quantity="length", typical=60.0),
     "gas_volume_mm3": Limit(10.0, 1e10, "mm³", "a chamber holds between 10 mm³ and 10 m³ of gas",
                             quantity="volume", typical=3e4),
@@ -293,7 +293,7 @@ FIELD_LIMITS: dict[str, str] = {
     "piston_height_mm": "axial_mm",
     "piston_pocket_wall_mm": "thin_mm",
     "min_piston_floor_mm": "thin_mm",
-    "fluid_clearance_mm": "axial_mm",
+    "fluid_clearance_mm": "thin_mm",
     "bladder_thickness_mm": "thin_mm",
     "bladder_clamp_mm": "axial_mm",
     "bladder_min_gap_mm": "gap_mm",
@@ -331,7 +331,7 @@ UNITS: dict[str, dict[str, float]] = {
     "speed": {"mm/s": 1.0, "m/s": 1e3, "cm/s": 10.0, "mm/min": 1.0 / 60.0, "um/s": 1e-3, "µm/s": 1e-3},
     # quantities of the requirements and fixed parameters (their tool unit first)
     "length_m": {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254},
-    "volume": {"mm³": 1.0, "cm³": 1e3, "l": 1e6, "m³": 1e9, "in³": 16387.064},
+    "volume": {"mm³": 1.0, "cm³": 1e3, "l": 1e6, "m³": 1e9},
     "stiffness": {"N/mm": 1.0, "N/m": 1e-3, "kN/m": 1.0, "lbf/in": 0.17512685},
     "mass": {"g": 1.0, "kg": 1e3, "mg": 1e-3, "lb": 453.59237},
     "fraction": {"": 1.0, "%": 0.01},
@@ -347,7 +347,7 @@ UNIT_NAMES: dict[str, str] = {
     "ms": "milliseconds", "us": "microseconds", "µs": "microseconds", "min": "minutes",
     "rad": "radians", "m/s": "metres per second", "cm/s": "centimetres per second", "mm/min": "millimetres per minute",
     "um/s": "micrometres per second", "µm/s": "micrometres per second",
-    "cm³": "cubic centimetres", "l": "litres", "m³": "cubic metres", "in³": "cubic inches", "N/m": "newtons per metre",
+    "cm³": "cubic centimetres", "l": "litres", "m³": "cubic metres", "N/m": "newtons per metre",
     "lbf/in": "pound-force per inch", "kg": "kilograms", "mg": "milligrams", "lb": "pounds", "%": "percent",
     "deg": "degrees", "mm": "millimetres",
 }

@@ -459,7 +459,30 @@ def stale_derived_values(data: dict, design: Design) -> list[str]:
         for key, fn in CHECKED_PERFORMANCE.items():
             if key in perf:
                 out += _disagreements(perf[key], _clean(fn(design)), f"performance.{key}")
+    ev = _evaluation_against_spec(data, design)
+    if ev is not None:  # every other figure and every margin, re-evaluated against the file's own spec
+        if isinstance(perf, dict):
+            fresh = _clean(ev.performance())
+            out += _disagreements({k: v for k, v in perf.items() if k not in CHECKED_PERFORMANCE},
+                                  fresh, "performance")
+        if isinstance(data.get("constraints"), dict):
+            margins = {k: v for k, v in _clean(dict(ev.margins)).items() if "strain" not in k}
+            out += _disagreements(data["constraints"], margins, "constraints")
     return out
+
+
+def _evaluation_against_spec(data: dict, design: Design) -> Evaluation | None:
+    """The design evaluated against the requirements stored with it (None without a valid ``spec``)."""
+    spec = data.get("spec")
+    if not isinstance(spec, dict):
+        return None
+    try:
+        req = Requirements.from_dict(spec, source="spec")
+        if req.fixed.sizing_rules != design.fixed.sizing_rules:  # a file older than its rules: re-derived otherwise
+            return None
+        return evaluate_design(design, req, bladder_strain=0.0 if req.max_bladder_strain is not None else None)
+    except (SpecError, DesignError, ValueError, TypeError, KeyError):
+        return None
 
 
 def _check_stored_derived(data: dict, design: Design, src: str) -> None:

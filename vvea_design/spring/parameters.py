@@ -201,8 +201,12 @@ class FixedParameters:
         bad = set(data) - known
         if bad:
             raise DesignError(f"unknown fixed parameter(s) {sorted(bad)}; known: {sorted(known)}")
+        merged = {**data, **override}
+        for name, value in merged.items():  # what a user typed: in the range a real unit has, before the rest
+            if name in FLOAT_FIELDS and isinstance(value, (int, float)) and not isinstance(value, bool):
+                check_field(name, value, f"fixed.{name}", DesignError)
         try:
-            out = cls(**{**data, **override})
+            out = cls(**merged)
         except TypeError as exc:  # pragma: no cover - guarded by the key check
             raise DesignError(str(exc)) from None
         out.check_plausible()
@@ -229,3 +233,8 @@ class FixedParameters:
             raise DesignError(f"fixed.wall_sizing_n ({show(self.wall_sizing_n)}) is below the spring's polytropic "
                               f"exponent n_polytropic ({show(self.n_polytropic)}): the walls would be sized for a "
                               "lower peak pressure than the spring itself makes; set wall_sizing_n >= n_polytropic")
+
+
+#: The numeric (float) fields of :class:`FixedParameters`: each has its range in
+#: :data:`vvea_design.plausibility.FIELD_LIMITS`.
+FLOAT_FIELDS = frozenset(f.name for f in fields(FixedParameters) if f.type in ("float", float))
