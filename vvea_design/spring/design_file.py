@@ -265,7 +265,8 @@ def _check_envelope(data: Any, src: str) -> None:
             raise DesignFileError(f"{src}: parameters.{key} must be a finite number, got {v!r}")
     for key in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "p2_MPa", "travel_mm",
                 "V2_top_mm3", "V1_annulus_mm3"):  # a value in another unit names it (plausibility.FIELD_LIMITS)
-        if isinstance(params.get(key), (int, float)) and not isinstance(params.get(key), bool):
+        v = params.get(key)
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0:  # <= 0: the design names it
             check_field(key, params[key], f"{src}: parameters.{key}", DesignFileError)
 
 
@@ -486,7 +487,8 @@ def _evaluation_against_spec(data: dict, design: Design) -> Evaluation | None:
 
 
 def _check_stored_derived(data: dict, design: Design, src: str) -> None:
-    """Refuse a file whose geometry or performance hold numbers of another design, or that leaves its envelope."""
+    """Refuse a file that leaves its own envelope, or whose geometry or performance hold numbers of another design."""
+    _check_own_envelope(data, design, src)
     stale = stale_derived_values(data, design)
     if stale:
         more = f" and {len(stale) - 3} more" if len(stale) > 3 else ""
@@ -494,7 +496,6 @@ def _check_stored_derived(data: dict, design: Design, src: str) -> None:
             f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its parameters and "
             f"fixed: {'; '.join(stale[:3])}{more}. A design file must agree with itself: edit the decision "
             "variables (parameters) or fixed, never a derived value, and re-run `vvea optimise` to refresh the file")
-    _check_own_envelope(data, design, src)
 
 
 def _check_own_envelope(data: dict, design: Design, src: str) -> None:

@@ -167,6 +167,12 @@ REQUIREMENT_LIMITS: dict[str, str] = {
 }
 
 
+def _hint(name: str, req: "Requirements") -> str:
+    """``"; it looks like a percentage: ..."`` when the field's value fits its range in another unit, else ""."""
+    hint = LIMITS[FIELD_LIMITS[name]].unit_hint(getattr(req, name))
+    return f"; {hint}" if hint else ""
+
+
 class SpecError(ValueError):
     """A requirements file or value that is wrong (names the file, key and problem)."""
 
@@ -211,10 +217,14 @@ class Requirements:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise SpecError(f"{name} must be a positive number, got {show(v)}")
+        late = ("min_gas_fraction_at_full_stroke", "n_polytropic", "max_mass_g", "max_linearity_adiabatic",
+                "max_bladder_strain")  # their own checks first (their messages), then the plausible range
         for name in REQUIREMENT_LIMITS:
-            check_field(name, getattr(self, name), name, SpecError)
+            if name not in late:
+                check_field(name, getattr(self, name), name, SpecError)
         if not 0.0 <= self.min_gas_fraction_at_full_stroke < 1.0:
-            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {show(self.min_gas_fraction_at_full_stroke)}")
+            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got "
+                            f"{show(self.min_gas_fraction_at_full_stroke)}{_hint('min_gas_fraction_at_full_stroke', self)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
             raise SpecError(f"n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         try:
@@ -224,9 +234,13 @@ class Requirements:
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
             raise SpecError(f"max_mass_g must be > 0, got {show(self.max_mass_g)}")
         if self.max_linearity_adiabatic is not None and not (0 < self.max_linearity_adiabatic < 1):
-            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got {show(self.max_linearity_adiabatic)}")
+            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got "
+                            f"{show(self.max_linearity_adiabatic)}{_hint('max_linearity_adiabatic', self)}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):
-            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}")
+            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}"
+                            f"{_hint('max_bladder_strain', self)}")
+        for name in late:
+            check_field(name, getattr(self, name), name, SpecError)
         self._check_strain_limit()
         if not (abs(self.setpoint_x0_mm) < self.travel_mm):
             raise SpecError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
