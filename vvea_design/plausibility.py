@@ -324,7 +324,7 @@ TOOL_UNIT: dict[str, str] = {"length": "mm", "force": "N", "pressure": "MPa", "t
 #: value in that unit x factor).
 UNITS: dict[str, dict[str, float]] = {
     "length": {"mm": 1.0, "m": 1e3, "cm": 10.0, "um": 1e-3, "µm": 1e-3, "in": 25.4},
-    "force": {"N": 1.0, "kN": 1e3, "daN": 10.0, "mN": 1e-3, "lbf": 4.4482216152605},
+    "force": {"N": 1.0, "kN": 1e3, "daN": 10.0, "kgf": 9.80665, "mN": 1e-3, "lbf": 4.4482216152605},
     "pressure": {"MPa": 1.0, "bar": 0.1, "kPa": 1e-3, "Pa": 1e-6, "psi": 6.894757293168361e-3, "GPa": 1e3},
     "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "min": 60.0},
     "angle": {"deg": 1.0, "rad": 180.0 / math.pi},
@@ -342,7 +342,7 @@ UNITS: dict[str, dict[str, float]] = {
 #: How a unit is named in a message ("kN (kilonewtons)").
 UNIT_NAMES: dict[str, str] = {
     "m": "metres", "cm": "centimetres", "um": "micrometres", "µm": "micrometres", "in": "inches",
-    "kN": "kilonewtons", "daN": "decanewtons", "mN": "millinewtons", "lbf": "pound-force",
+    "kN": "kilonewtons", "daN": "decanewtons", "kgf": "kilogram-force", "mN": "millinewtons", "lbf": "pound-force",
     "bar": "bar", "kPa": "kilopascals", "Pa": "pascals", "psi": "pounds per square inch", "GPa": "gigapascals",
     "ms": "milliseconds", "us": "microseconds", "µs": "microseconds", "min": "minutes",
     "rad": "radians", "m/s": "metres per second", "cm/s": "centimetres per second", "mm/min": "millimetres per minute",
