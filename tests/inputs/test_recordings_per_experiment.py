@@ -95,3 +95,20 @@ def test_property_one_unit_scaled_experiment_is_refused(exp, scale, jitter):
         recordings_from_frame(d, "camp.csv")
     assert "camp.csv" in str(exc.value)
     assert np.isfinite(d[col]).all()
+
+
+WHOLE = [("lbf", "force_N", 1 / 4.4482216152605, "lbf"), ("daN", "force_N", 0.1, "daN"),
+         ("kgf", "force_N", 1 / 9.80665, "kgf"), ("kN", "force_N", 1e-3, "kN"), ("cm", "displacement_mm", 0.1, "cm"),
+         ("inch", "displacement_mm", 1 / 25.4, "inches"), ("m", "displacement_mm", 1e-3, "metres"),
+         ("ms", "time_s", 1e3, "ms"), ("bar", "p2_MPa", 10.0, "bar"), ("Pa", "p2_MPa", 1e6, "Pa"),
+         ("psi", "p2_MPa", 1 / 6.894757293168361e-3, "psi")]
+
+
+@pytest.mark.parametrize("case, col, factor, word", WHOLE, ids=[w[0] for w in WHOLE])
+def test_a_whole_campaign_in_another_unit_names_it_even_without_a_design(case, col, factor, word):
+    d = BASE.copy()
+    d[col] = d[col] * factor
+    with pytest.raises(RecordingsError) as exc:
+        recordings_from_frame(d, "camp.csv")
+    msg = str(exc.value)
+    assert word in msg and col in msg, msg

@@ -17,7 +17,9 @@ real bench and the unit on it can give (:mod:`vvea_design.plausibility`), in thi
    cycle's length against a day, the bench's slowest speed;
 7. **force scale and sign** — the slope of force against displacement of each experiment against the
    reference unit's g·p2 (g = mean stiffness per MPa of the ``--design`` unit, else of the paper's Fig. 5
-   unit): its median must be positive and within a factor 3 (with a design; 50 without);
+   unit): its median must be positive and within a factor 3 (with a design; 50 without, and outside 1/3 ... 3
+   not within 35 % of a force unit's factor: lbf, kgf, daN, kN); the ``speed_mm_s`` labels a length factor
+   (10, 25.4) above the motion name a displacement in cm or inches;
 8. **one experiment unlike the others** — after the campaign passed as a whole, each experiment is compared
    with the others: its force slope (a sign flipped, or a factor a force unit explains: kN, daN, kgf, lbf),
    its displacement span (a factor of m, in, µm), its p2 (bar, kPa, psi among MPa), its time base (ms: the
@@ -287,7 +289,7 @@ def _odd_experiment(d, e, F, names, source, ref, given, notes):
                 unit = likely_unit("force", r[k] / r0, tolerance=1.5)
                 if unit and abs(math.log(r[k] / r0)) > math.log(2.5):
                     return (f"{source}: experiment {names[k]!r}: its force rises {show(r[k] / r0)} times as steeply "
-                            f"as in the others (per MPa of p2): it looks like {unit_label(unit)}; convert that "
+                            f"as in the others (per MPa of p2): it looks like {_force_label(unit)}; convert that "
                             "experiment's force_N to N or leave it out (--force-unit N uses the file as it is)")
     return _odd_time(d, e, names, source, given)
 
@@ -335,6 +337,13 @@ def _odd_time(d, e, names, source, given):
                     f"others: its time_s looks like {unit_label(unit)}; convert that experiment's time or leave it out "
                     "(--time-unit s uses the file as it is)")
     return None
+
+
+def _force_label(unit: str) -> str:
+    """A force unit for a message; daN and kgf (2 % apart) cannot be told from the scale: both are named."""
+    if unit in ("daN", "kgf"):
+        return f"{unit_label('daN')} or {unit_label('kgf')} (2 % apart; the scale cannot tell them)"
+    return unit_label(unit)
 
 
 def _force_ratio(e, ref) -> float:
@@ -424,6 +433,12 @@ def _time_and_speed(d, e, F, names, source, ref, given, notes):
                 return (f"{source}: column speed_mm_s is {show(R)} times the speed of the motion (displacement over "
                         f"time, median {show(v_med)} mm/s): it looks like {unit_label(s_unit)}: x {show(f)} makes it "
                         "agree; " + _override("speed_mm_s", s_unit))
+            l_unit = likely_unit("length", 1.0 / R, tolerance=1.5) if "displacement_mm" not in given else None
+            if l_unit and R > 1:  # the motion is slower than its labels by a length factor: x in cm or inches
+                f = unit_factor("length", l_unit)
+                return (f"{source}: the speed_mm_s labels are {show(R)} times the speed of the motion (displacement "
+                        f"over time, median {show(v_med)} mm/s): column displacement_mm looks like "
+                        f"{unit_label(l_unit)}: x {show(f)} makes them agree; " + _override("displacement_mm", l_unit))
             notes.append(f"{source}: the speed_mm_s labels are {show(R)} times the speed of the motion (median "
                          f"{show(v_med)} mm/s); they are labels only (the velocity comes from time_s and "
                          "displacement_mm)")
@@ -458,13 +473,14 @@ def _force(d, e, F, names, source, ref, given, notes):
     if "force_N" in given or r0 <= 0:
         return None
     band = 3.0 if ref.design_given else 50.0
-    if 1 / band <= r0 <= band:
+    close = likely_unit("force", r0, tolerance=1.35)  # r0 sits on a force unit's factor (lbf, kgf, daN, kN)
+    if 1 / band <= r0 <= band and not (close and not 1 / 3 <= r0 <= 3):
         return None
     unit = likely_unit("force", r0, tolerance=3.0)
     head = (f"{source}: column force_N is {show(r0)} times what g·p2·x predicts: ~{show(predicted)} N at "
             f"{show(span)} mm and p2 = {show(p)} MPa ({src}), the file peaks at {show(peak)}")
     if unit:
         f = unit_factor("force", unit)
-        return f"{head}; it looks like {unit_label(unit)}: " + _override("force_N", unit)
+        return f"{head}; it looks like {_force_label(unit)}: " + _override("force_N", unit)
     return (head + "; is " + ("--design the unit on the bench" if ref.design_given else "the unit this far from the "
             "paper's (give its --design)") + ", or the column in another unit? (pass --force-unit N to use it as it is)")
