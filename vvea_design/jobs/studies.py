@@ -57,8 +57,10 @@ def _grid(grid: GridLike, option: str = "grid", named: bool = True) -> Grid | st
         return Grid(tuple(float(x) for x in amplitudes), tuple(float(x) for x in periods))
     except (TypeError, ValueError) as exc:
         names = f"one of {sorted(GRIDS)} or " if named else ""
-        raise OptionError(option, f"must be {names}'A1,A2,..:T1,T2,..' (rad:s), got {grid!r} ({exc})",
-                          "{option} {reason}") from None
+        from ..messages import show
+
+        raise OptionError(option, f"must be {names}'A1,A2,..:T1,T2,..' (rad:s), got {show(grid)} "
+                          f"({str(exc)[:400]})", "{option} {reason}") from None
 
 
 def cases_saved(out: PathLike) -> int:
