@@ -215,3 +215,23 @@ def test_hint_names_no_unit_when_none_fits():
     assert "looks like" not in str(exc.value)
     assert math.isfinite(LIMITS["charge_MPa"].high)
     assert Path(REPO / "docs" / "reliability.md").exists()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["spring", "{d}", "-o", "{t}/sp", "--p2", "40"], ("--p2", "bar", "4 MPa")),
+    (["spring", "{d}", "-o", "{t}/sp", "--p2", "4000000"], ("--p2", "pascals")),
+    (["study", "rest-to-rest", "-o", "{t}/st", "--grid", "0.5:1", "--design", "{d}", "--pulley-radius-m", "63.9"],
+     ("--pulley-radius-m", "millimetres")),
+])
+def test_a_command_line_number_in_another_unit_names_it(tmp_path, argv, words):
+    from typer.testing import CliRunner
+
+    from vvea_design.cli.main import app
+
+    d = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+    res = CliRunner().invoke(app, [a.format(d=d, t=tmp_path) for a in argv], env={"COLUMNS": "400"})
+    text = " ".join(res.output.replace("│", " ").split())
+    assert res.exit_code == 2, text
+    for w in words:
+        assert w in text, (w, text)
+    assert list(tmp_path.iterdir()) == []

@@ -331,8 +331,9 @@ def check_option(key: str, value: Any, option: str) -> Any:
         from ..messages import show
 
         real = isinstance(value, (int, float)) and not isinstance(value, bool)
-        raise OptionError(option, f"{why}, got {show(value)}" + (f" ({lim.why})" if real else ""),
-                          "{option} {reason}")
+        hint = lim.unit_hint(value) if real else ""
+        raise OptionError(option, f"{why}, got {show(value)}" + (f" ({lim.why})" if real else "")
+                          + (f"; {hint}" if hint else ""), "{option} {reason}")
     return value
 
 
