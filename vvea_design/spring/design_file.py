@@ -495,7 +495,9 @@ def _check_stored_derived(data: dict, design: Design, src: str) -> None:
         raise DesignFileError(
             f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its parameters and "
             f"fixed: {'; '.join(stale[:3])}{more}. A design file must agree with itself: edit the decision "
-            "variables (parameters) or fixed, never a derived value, and re-run `vvea optimise` to refresh the file")
+            "variables (parameters) or fixed, never a derived value; after such an edit delete the blocks "
+            "geometry, performance, constraints and constraint_details (every command recomputes them) or re-run "
+            "`vvea optimise`")
 
 
 def _check_own_envelope(data: dict, design: Design, src: str) -> None:
@@ -510,7 +512,7 @@ def _check_own_envelope(data: dict, design: Design, src: str) -> None:
         if isinstance(limit, bool) or not isinstance(limit, (int, float)) or not math.isfinite(limit):
             continue
         stored = margins.get(claim)
-        claims_fit = claim == "outer_diameter" or not isinstance(stored, (int, float)) or stored >= 0
+        claims_fit = claim == "outer_diameter" or (isinstance(stored, (int, float)) and stored >= 0)
         if claims_fit and value > limit * (1 + 1e-9) + 1e-9:
             raise DesignFileError(
                 f"{src}: the design's {claim.replace('_', ' ')} ({value:.6g} mm) lies outside its own envelope "
