@@ -235,3 +235,19 @@ def test_a_command_line_number_in_another_unit_names_it(tmp_path, argv, words):
     for w in words:
         assert w in text, (w, text)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("kw, name", [
+    (dict(travel_mm=40 / 25.4), "travel_mm"),
+    (dict(max_outer_diameter_mm=59.5 / 25.4), "max_outer_diameter_mm"),
+    (dict(max_housing_length_mm=132.5 / 25.4), "max_housing_length_mm"),
+])
+def test_the_large_lengths_in_inches_are_named_by_the_consistency_checks(kw, name):
+    with pytest.raises(SpecError) as exc:
+        Requirements(**kw)
+    assert name in str(exc.value) and "inches" in str(exc.value), str(exc.value)
+
+
+def test_a_generous_envelope_is_no_inch_error():
+    assert Requirements(travel_mm=40, max_housing_length_mm=5000).travel_mm == 40
+    assert Requirements(travel_mm=10, max_housing_length_mm=500).travel_mm == 10

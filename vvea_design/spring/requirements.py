@@ -167,6 +167,19 @@ REQUIREMENT_LIMITS: dict[str, str] = {
 }
 
 
+#: A travel below this share of the housing length whose value in inches would fit the housing is refused as
+#: inches (the paper's unit strokes 30 % of its length).
+TRAVEL_SHARE_MIN = 0.02
+
+
+def _inch_hint(name: str, value: float) -> str:
+    """``"; it looks like inches: 1.575 in is 40 mm"`` when ``value`` x 25.4 is a plausible ``name``, else ""."""
+    mm = value * 25.4
+    if LIMITS[FIELD_LIMITS[name]].problem(mm) is None:
+        return f"; it looks like inches: {show(value)} in is {show(mm)} mm; give it in mm"
+    return ""
+
+
 def _hint(name: str, req: "Requirements") -> str:
     """``"; it looks like a percentage: ..."`` when the field's value fits its range in another unit, else ""."""
     hint = LIMITS[FIELD_LIMITS[name]].unit_hint(getattr(req, name))
@@ -303,7 +316,8 @@ class Requirements:
                 f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
                 f"lower search bound of outer_diameter_mm ({show(lo_D)}); "
                 + ("set [bounds] outer_diameter_mm = [low, high] to search units that small"
-                   if "outer_diameter_mm" not in self.bounds else "lower that bound or widen the envelope"))
+                   if "outer_diameter_mm" not in self.bounds else "lower that bound or widen the envelope")
+                + _inch_hint("max_outer_diameter_mm", self.max_outer_diameter_mm))
         if (self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic
                 or self.fixed.wall_safety_factor != self.min_wall_safety_factor):
             try:
@@ -316,6 +330,10 @@ class Requirements:
             raise SpecError(f"[fixed] wall_sizing_n ({show(self.fixed.wall_sizing_n)}) is below the exponent "
                             f"{show(max(self.objective_exponents))} the objective evaluates the spring at: the walls "
                             "would be sized for a lower peak pressure than the spring is designed for")
+        self._check_room()
+
+    def _check_room(self) -> None:
+        """The envelope leaves room for the servo's mass and the stroke; a travel that short reads as inches."""
         if self.max_mass_g is not None and self.max_mass_g <= self.fixed.servo_and_valve_mass_g:
             raise SpecError(f"max_mass_g ({show(self.max_mass_g)} g) leaves nothing for the unit: the servo, valve and "
                             f"fittings alone weigh fixed.servo_and_valve_mass_g = "
@@ -326,7 +344,16 @@ class Requirements:
             raise SpecError(
                 f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
                 f"+ travel + fluid clearance already take {min_len:.1f} mm"
+                + _inch_hint("max_housing_length_mm", self.max_housing_length_mm)
             )
+        room = self.max_housing_length_mm - (min_len - self.travel_mm)  # what the stroke may take at most
+        if (self.travel_mm < TRAVEL_SHARE_MIN * self.max_housing_length_mm and 25.4 * self.travel_mm <= room
+                and _inch_hint("travel_mm", self.travel_mm)):
+            raise SpecError(  # a stroke that short in that envelope, and the same number in inches fits it
+                f"travel_mm = {show(self.travel_mm)} is {100 * self.travel_mm / self.max_housing_length_mm:.2g} % of "
+                f"max_housing_length_mm ({show(self.max_housing_length_mm)}), where a spring-damper unit strokes "
+                f"a good share of its length" + _inch_hint("travel_mm", self.travel_mm)
+                + " (or narrow the envelope to the short-stroke unit you mean)")
 
     def _check_strain_limit(self) -> None:
         """A bladder strain limit beyond what its silicone survives even once (a third of its elongation at break)."""
