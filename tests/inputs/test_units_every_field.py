@@ -251,3 +251,16 @@ def test_the_large_lengths_in_inches_are_named_by_the_consistency_checks(kw, nam
 def test_a_generous_envelope_is_no_inch_error():
     assert Requirements(travel_mm=40, max_housing_length_mm=5000).travel_mm == 40
     assert Requirements(travel_mm=10, max_housing_length_mm=500).travel_mm == 10
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from([("piston_diameter_mm", 1e-3), ("outer_diameter_mm", 1e-3), ("V1_mm3", 1e-9),
+                        ("V2_mm3", 1e-9), ("V1_mm3", 1e-3), ("p2_MPa", 1e6), ("p2_MPa", 1e3),
+                        ("travel_mm", 1e-3)]), st.floats(0.9, 1.1))
+def test_property_a_unit_scaled_design_parameter_is_refused(scale, jitter):
+    key, factor = scale
+    data = json.loads(json.dumps(DESIGN))
+    data["parameters"][key] *= factor * jitter
+    with pytest.raises(DesignFileError) as exc:
+        load_design_dict(data, "d.json")
+    assert "d.json" in str(exc.value) and "\n" not in str(exc.value)
