@@ -19,6 +19,10 @@ __all__ = ["show", "show_margin", "MARGIN_TOL"]
 #: Feasibility tolerance of the optimiser: a constraint margin >= -MARGIN_TOL counts as met, and a margin
 #: (or another scaled number) smaller than this in size is zero up to round-off (dimensionless).
 MARGIN_TOL = 1e-9
+#: Longest list :func:`show` writes out whole (values).
+MAX_ITEMS = 12
+#: Longest text :func:`show` writes out whole (characters).
+MAX_CHARS = 200
 
 
 def show(value: Any) -> str:
@@ -34,7 +38,9 @@ def show(value: Any) -> str:
     str
         Real numbers with up to 6 significant digits (``inf``/``nan`` as
         such), integers whole, strings quoted, lists/tuples and numpy arrays
-        element by element; anything else as ``repr``.
+        element by element; anything else as ``repr``. A message stays a few lines: a list of more than
+        :data:`MAX_ITEMS` values shows its first and last ones and its length, a string or ``repr`` of more
+        than :data:`MAX_CHARS` characters its start and its length.
 
     >>> import numpy as np
     >>> show(np.float64(3.25)), show((np.float32(1), 2)), show("wood"), show(None)
@@ -48,10 +54,18 @@ def show(value: Any) -> str:
         v = float(value)
         return f"{v:.6g}" if math.isfinite(v) else str(v)
     if isinstance(value, (list, tuple)):
+        if len(value) > MAX_ITEMS:
+            return ("[" + ", ".join(show(v) for v in value[:5]) + ", ..., " + ", ".join(show(v) for v in value[-2:])
+                    + f"] ({len(value)} values)")
         return "[" + ", ".join(show(v) for v in value) + "]"
     if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array / scalar of another kind
         return show(value.tolist())
-    return repr(value)
+    return _clip(repr(value))
+
+
+def _clip(text: str) -> str:
+    """``text``, or its first characters and its length when it is longer than :data:`MAX_CHARS`."""
+    return text if len(text) <= MAX_CHARS else f"{text[:80]}... ({len(text)} characters)"
 
 
 def show_margin(value: Any, spec: str = ".4g", tol: float = MARGIN_TOL) -> str:

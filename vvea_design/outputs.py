@@ -437,6 +437,19 @@ def _own_entries_only(target: Path, command: str) -> bool:
     return present <= _previous_entries(target, command)
 
 
+def _foreign_entries(tmp: Path, target: Path, command: str) -> list[str]:
+    """Entries ``command`` is about to write into ``target`` that exist there but are not its own earlier output.
+
+    Its own earlier output is what the manifest (``.vvea-<command>.json``) of its last run there names; anything
+    else of the same name (a user's ``spring.csv`` beside the input, another command's file) is not replaced.
+    """
+    if not target.is_dir():
+        return []
+    previous = _previous_entries(target, command)
+    return sorted(e for e in os.listdir(tmp) if e != _marker(command) and e not in previous
+                  and os.path.lexists(target / e))
+
+
 def _stop_if_interrupted() -> None:
     """Land nothing after a Ctrl-C that a library swallowed (a KeyboardInterrupt raised inside a weakref or
     solver callback is printed and dropped; the command line's handler noted it, :mod:`vvea_design.parallel`)."""
@@ -499,7 +512,7 @@ def _as_output_error(exc: OSError, tmp_paths: list[Path], target: Path) -> Outpu
 # ---------------------------------------------------------------------------
 
 @contextlib.contextmanager
-def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> Iterator[Path]:
+def output_dir(path: str | os.PathLike, command: str, option: str = "--out", names: tuple[str, ...] = ()) -> Iterator[Path]:
     """Yield a temporary folder; when the block ends without an exception it becomes ``path`` (see the module doc).
 
     Validates the location first (:func:`check_output_dir`): enter the block
@@ -516,6 +529,9 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
         that tells a later run which entries are its own.
     option : str
         The command-line option named in messages (``""`` for none).
+    names : tuple of str
+        Entries the command will write, when known: one that ``path`` already holds and that is not the
+        command's own earlier output (named by its manifest) is refused before the block, not after the work.
 
     Returns
     -------
@@ -525,12 +541,21 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
     Raises
     ------
     OutputError
-        The location cannot be written (before the block), a write into the
-        temporary failed, or the results could not be moved into place.
+        The location cannot be written (before the block), it holds a file of the same name as an output
+        that the command did not write (a user's ``spring.csv``: before the block when listed in ``names``,
+        else when the results land; nothing is replaced), a write into the temporary failed, or the results
+        could not be moved into place.
     """
     if not re.fullmatch(r"[A-Za-z0-9_-]+", command):
         raise ValueError(f"command must be a plain name, got {command!r}")
     target = check_output_dir(path, option)
+    if names and target.is_dir() and not _inside_open(target):
+        previous = _previous_entries(target, command)
+        foreign = sorted(n for n in names if n not in previous and os.path.lexists(target / n))
+        if foreign:
+            raise _refused(target, option, f"already holds {', '.join(foreign)}, which this command did not write "
+                           f"(no {_marker(command)} manifest of an earlier run names it); refusing to overwrite: "
+                           "move it away or choose another output folder")
     if _inside_open(target):  # an enclosing block lands the whole tree: write in place
         target.mkdir(parents=True, exist_ok=True)
         yield target
@@ -566,6 +591,13 @@ def output_dir(path: str | os.PathLike, command: str, option: str = "--out") -> 
                 raise err from exc
         raise
     _OPEN.reset(token)
+    foreign = _foreign_entries(tmp, target, command)
+    if foreign:  # no input, no file of the user's, is ever an output
+        _remove(tmp)
+        shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+        raise _refused(target, option, f"already holds {shown}, which this command did not write (no "
+                       f"{_marker(command)} manifest of an earlier run names it); refusing to overwrite: move "
+                       "it away or choose another output folder")
     try:
         _commit_dir(tmp, target, command)
     except OSError as exc:

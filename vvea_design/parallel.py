@@ -78,7 +78,10 @@ class Terminated(BaseException):
 
 
 class WorkerLost(RuntimeError):
-    """A worker process ended without returning its result (killed by a signal, or out of memory).
+    """A worker process ended without returning its result (killed by a signal, or it exited).
+
+    The message names the lost worker (its process id and how it ended) and the peak memory a worker
+    reached, measured; memory is named as the likely cause only when that peak was most of the machine's.
 
     The results finished before it were handed to ``on_result``; the exit status for it is 4 (a failed
     computation).
@@ -87,6 +90,73 @@ class WorkerLost(RuntimeError):
 
 class SchedulerUnreachable(ValueError):
     """The Dask scheduler address given cannot be reached (names the address and why)."""
+
+
+def _lost_workers(pool: ProcessPoolExecutor) -> list[tuple[int, int | None]]:
+    """(pid, exit code) of the pool's workers that ended on their own (not the pool's SIGTERM to the rest)."""
+    procs = dict(getattr(pool, "_processes", None) or {})
+    ended = [(pid, p.exitcode) for pid, p in procs.items() if p.exitcode not in (None, 0)]
+    first = [w for w in ended if w[1] != -signal.SIGTERM]
+    return first or ended
+
+
+def _memory_total_bytes() -> int | None:
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError):
+        return None
+    return None
+
+
+def lost_worker_message(description: str, lost: list[tuple[int, int | None]], done: int, total: int) -> str:
+    """One line for a worker that died: which one, how it ended, the measured peak memory, what was kept.
+
+    Parameters
+    ----------
+    description : str
+        What the workers computed (the progress bar's label).
+    lost : list of (int, int or None)
+        Process id and exit code of each worker that ended on its own (negative: the signal number).
+    done, total : int
+        Items finished (kept) and items in all.
+
+    Returns
+    -------
+    str
+        ``"actuator study: worker process 1234 was killed by signal SIGKILL (kill -9, a job scheduler or the
+        system) before returning its result; peak memory of a worker 161 MiB of 15.6 GiB; 3 of 16 item(s)
+        finished and were kept"``. Memory is called the likely cause only when the measured peak was more than
+        half of the machine's memory.
+    """
+    try:
+        import resource
+
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024  # bytes (Linux: KiB)
+    except (ImportError, OSError):  # pragma: no cover - not Linux
+        peak = 0
+    mem = _memory_total_bytes()
+    mib = f"{peak / 2**20:.0f} MiB" + (f" of {mem / 2**30:.1f} GiB" if mem else "")
+    if lost:
+        pid, code = lost[0]
+        if code is not None and code < 0:
+            try:
+                name = signal.Signals(-code).name
+            except ValueError:
+                name = f"signal {-code}"
+            how = f"was killed by {name}" + (" (kill -9, a job scheduler or the system)" if name == "SIGKILL" else "")
+        else:
+            how = f"exited with status {code}"
+        who = f"worker process {pid}" + (f" (and {len(lost) - 1} more)" if len(lost) > 1 else "")
+    else:
+        who, how = "a worker process", "ended"
+    cause = ""
+    if peak and mem and peak > 0.5 * mem:
+        cause = f"; its memory peak ({mib}) makes memory the likely cause: lower --workers or the problem size"
+    return (f"{description}: {who} {how} before returning its result; peak memory of a worker {mib}{cause}; "
+            f"{done} of {total} item(s) finished and were kept")
 
 
 def check_scheduler(address: str, timeout_s: float = 5.0) -> str:
@@ -258,7 +328,7 @@ def parallel_map(
     Raises
     ------
     WorkerLost
-        A worker process died without a result (killed, out of memory).
+        A worker process died without a result (names it, how it ended and the measured peak memory).
     SchedulerUnreachable
         ``scheduler`` is given and nothing answers there within 5 s.
     ValueError
@@ -304,11 +374,10 @@ def parallel_map(
                         _stop_now(pool)
                         raise
                     except BrokenProcessPool:
+                        lost = _lost_workers(pool)
                         _stop_now(pool)
                         done = sum(1 for f in futs if f.done() and not f.cancelled() and f.exception() is None)
-                        raise WorkerLost(f"{description}: a worker process died before returning its result "
-                                         f"(killed by a signal, or out of memory); {done} of {len(work)} item(s) "
-                                         "finished and were kept") from None
+                        raise WorkerLost(lost_worker_message(description, lost, done, len(work))) from None
                     except BaseException:
                         # an error in one item: do not run (and then throw away) the queued items
                         pool.shutdown(wait=True, cancel_futures=True)

@@ -33,6 +33,12 @@ def test_check_catches_an_edited_design(design_json):
     data = json.loads(design_json.read_text())
     data["parameters"]["V2_mm3"] *= 0.6  # a designer shrinks the gas volume by hand
     design_json.write_text(json.dumps(data))
+    # issue 24: the stored derived values (geometry, performance) now disagree with the edit: refused, named
+    res = runner.invoke(app, ["check", str(design_json), "--max-linearity", "0.02"])
+    assert res.exit_code == 2 and "disagree" in res.output and "delete the blocks" in res.output, res.output
+    for block in ("geometry", "performance", "constraints", "constraint_details"):  # as the message says
+        data.pop(block, None)
+    design_json.write_text(json.dumps(data))
     res = runner.invoke(app, ["check", str(design_json), "--max-linearity", "0.02"])
     assert res.exit_code == 1 and "FAIL" in res.output
 

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..messages import show
 from ..plausibility import LIMITS
 
 from ..outputs import output_files
@@ -49,7 +50,12 @@ class Grid:
         for name in ("A_rad", "T_s"):
             v = getattr(self, name)
             if len(v) == 0 or any(not (math.isfinite(x) and x > 0) for x in v):
-                raise ValueError(f"Grid.{name} must be a non-empty list of positive numbers, got {v!r}")
+                raise ValueError(f"Grid.{name} must be a non-empty list of positive numbers, got {show(list(v))}")
+        # every amplitude a joint swing (rad, not deg), every period a motion's length (s, not ms)
+        for name, key, unit in (("A_rad", "amplitude_rad", "rad"), ("T_s", "period_s", "s")):
+            for x in getattr(self, name):
+                LIMITS[key].check(x, f"Grid.{name} (the grid's {'amplitudes' if unit == 'rad' else 'periods'}, "
+                                     f"{unit})", ValueError)
         LIMITS["grid_cases"].check(len(self.A_rad) * len(self.T_s), "the grid's cases (amplitudes x periods)",
                                    ValueError, hint=f"{len(self.A_rad)} amplitudes x {len(self.T_s)} periods")
 

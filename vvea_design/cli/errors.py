@@ -13,8 +13,8 @@ exit code and **one** line on stderr (:data:`EXIT_CODES`; ``docs/reliability.md`
     143  terminated (SIGTERM)
 
 Full tracebacks only with ``vvea --debug ...`` (or ``VVEA_DEBUG=1``). Warnings the library raises for the user
-(a design file's stale derived values, :class:`~vvea_design.spring.design_file.StaleDerivedValues`) are printed
-as ``note: ...`` lines. The exceptions are matched by class name (:data:`ERROR_CODES`), so this module imports
+(a design file written before the buildability rules,
+:class:`~vvea_design.spring.design_file.LegacyDesignFile`) are printed as ``note: ...`` lines. The exceptions are matched by class name (:data:`ERROR_CODES`), so this module imports
 none of the wings: a new input error slots in with one line.
 """
 

@@ -17,7 +17,17 @@ real bench and the unit on it can give (:mod:`vvea_design.plausibility`), in thi
    cycle's length against a day, the bench's slowest speed;
 7. **force scale and sign** — the slope of force against displacement of each experiment against the
    reference unit's g·p2 (g = mean stiffness per MPa of the ``--design`` unit, else of the paper's Fig. 5
-   unit): its median must be positive and within a factor 3 (with a design; 50 without).
+   unit): its median must be positive and within a factor 3 (with a design; 50 without, and outside 1/3 ... 3
+   not within 35 % of a force unit's factor: lbf, kgf, daN, kN); the ``speed_mm_s`` labels a length factor
+   (10, 25.4) above the motion name a displacement in cm or inches;
+8. **one experiment unlike the others** — after the campaign passed as a whole, each experiment is compared
+   with the others: its force slope (a sign flipped, or a factor a force unit explains: kN, daN, kgf, lbf),
+   its displacement span (a factor of m, in, µm), its p2 (bar, kPa, psi among MPa), its time base (ms: the
+   ``speed_mm_s`` label against its own motion, relative to the others'); the offending experiment is named.
+
+Also (3b) the **displacement's zero**: the format's x runs from 0 (the stroke end where the force is set) to
+the travel; an experiment running well below 0 (a zero at mid-stroke) or, with ``--design``, beyond the
+unit's travel is refused naming the experiment and the offset.
 
 A column whose scale points to another unit is refused with a message naming the column, the likely unit
 (:func:`vvea_design.plausibility.likely_unit`) and the override: ``units={"force_N": "kN"}`` in Python,
@@ -170,7 +180,8 @@ def check_scale(d: pd.DataFrame, starts: np.ndarray, names, source: str, referen
     """
     e = _per_experiment(d, starts)
     F = d["force_N"].to_numpy(float)
-    checks = (_force_constant, _dominant, _displacement, _pressure, _valve, _time_and_speed, _force)
+    checks = (_force_constant, _dominant, _displacement, _offset, _pressure, _valve, _time_and_speed, _force,
+              _odd_experiment)
     notes: list[str] = []
     for check in checks:
         msg = check(d, e, F, np.asarray(names), source, reference, given, notes)
@@ -226,6 +237,115 @@ def _displacement(d, e, F, names, source, ref, given, notes):
     return None
 
 
+def _offset(d, e, F, names, source, ref, given, notes):
+    """An experiment whose displacement zero is not at the stroke end (x from 0 to the travel)."""
+    if "displacement_mm" in given or "sign:displacement_mm" in given:
+        return None
+    span, xmin, xmax = e["span"], e["xmin"], e["xmax"]
+    low = -(0.05 * span + 0.5)
+    bad = np.flatnonzero(xmin < low)
+    if ref.design_given:
+        bad = np.union1d(bad, np.flatnonzero(xmax > 1.1 * ref.travel_mm + 0.5))
+    if not bad.size:
+        return None
+    k = int(bad[0])
+    more = f" (and {bad.size - 1} more experiment(s))" if bad.size > 1 else ""
+    limit = f"0 ... {show(ref.travel_mm)} mm, the travel of {ref.label}" if ref.design_given else "0 ... its span"
+    return (f"{source}: experiment {names[k]!r} runs x = {show(xmin[k])} ... {show(xmax[k])} mm{more}: the format's "
+            f"displacement runs from 0 (one stroke end) to the travel ({limit}); its zero looks offset by "
+            f"{show(xmin[k])} mm" + (" (a zero at mid-stroke?)" if xmin[k] < 0 else "")
+            + ": subtract the offset from displacement_mm of that experiment (--displacement-unit mm uses the file "
+            "as it is)")
+
+
+def _odd_experiment(d, e, F, names, source, ref, given, notes):
+    """One experiment unlike the others: a sign, a force, length, pressure or time unit of its own."""
+    n_exp = len(e["n"])
+    if n_exp < 3:
+        return None
+    med_span = float(np.median(e["span"]))
+    if "displacement_mm" not in given and med_span > 0:
+        for k in range(n_exp):
+            ratio = float(e["span"][k]) / med_span
+            unit = likely_unit("length", ratio * 1.0, tolerance=1.5) if ratio > 0 else None
+            if unit and abs(math.log(ratio)) > math.log(20.0):
+                return (f"{source}: experiment {names[k]!r} spans {show(e['span'][k])} mm where the others span "
+                        f"{show(med_span)} mm (median): its displacement looks like {unit_label(unit)}; convert that "
+                        "experiment to mm or leave it out (--displacement-unit mm uses the file as it is)")
+    msg = _odd_pressure(e, names, source, given)
+    if msg:
+        return msg
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = e["slope"] / (ref.g * e["p2"])
+    ok = np.isfinite(r)
+    if ok.sum() >= 3 and "force_N" not in given:
+        r0 = float(np.median(r[ok]))
+        if r0 > 0:
+            for k in np.flatnonzero(ok):
+                if r[k] < 0 and "sign:force_N" not in given:
+                    return (f"{source}: experiment {names[k]!r}: force_N falls as displacement_mm grows while it rises "
+                            f"in the others (slope {show(r[k] / r0)} times theirs): its force's sign looks flipped; "
+                            "flip that experiment's force or leave it out (--force-unit N uses the file as it is)")
+                unit = likely_unit("force", r[k] / r0, tolerance=1.5)
+                if unit and abs(math.log(r[k] / r0)) > math.log(2.5):
+                    return (f"{source}: experiment {names[k]!r}: its force rises {show(r[k] / r0)} times as steeply "
+                            f"as in the others (per MPa of p2): it looks like {_force_label(unit)}; convert that "
+                            "experiment's force_N to N or leave it out (--force-unit N uses the file as it is)")
+    return _odd_time(d, e, names, source, given)
+
+
+def _odd_pressure(e, names, source, given):
+    """One experiment's p2 in another pressure unit than the others' (bar among MPa)."""
+    if "p2_MPa" in given:
+        return None
+    p = e["p2"]
+    if len(p) < 3 or not np.all(p > 0):
+        return None
+    for k in range(len(p)):
+        others = np.delete(p, k)
+        lo, hi, med = float(np.min(others)), float(np.max(others)), float(np.median(others))
+        if lo / 2 <= p[k] <= 2 * hi:
+            continue
+        best, dist = None, math.inf
+        for unit, f in _candidates("pressure"):
+            if lo / 1.2 <= p[k] * f <= 1.2 * hi and abs(math.log(p[k] * f / med)) < dist:
+                best, dist = unit, abs(math.log(p[k] * f / med))
+        if best:
+            return (f"{source}: experiment {names[k]!r} is charged to p2 = {show(p[k])} where the others lie in "
+                    f"{show(lo)} ... {show(hi)} MPa: its p2 looks like {unit_label(best)} (x "
+                    f"{show(unit_factor('pressure', best))} gives {show(p[k] * unit_factor('pressure', best))} MPa); "
+                    "convert that experiment's p2_MPa or leave it out (--pressure-unit MPa uses the file as it is)")
+    return None
+
+
+def _odd_time(d, e, names, source, given):
+    """One experiment on another time base (ms): its speed label against its own motion, relative to the others'."""
+    if "speed_mm_s" not in d.columns or "time_s" in given or "speed_mm_s" in given:
+        return None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        motion = e["span"] / (0.5 * e["duration"])
+        R = d["speed_mm_s"].to_numpy(float)[np.r_[0, np.cumsum(e["n"])[:-1]]] / motion
+    ok = np.isfinite(R) & (R > 0)
+    if ok.sum() < 3:
+        return None
+    R0 = float(np.median(R[ok]))
+    for k in np.flatnonzero(ok):
+        unit = likely_unit("time", R[k] / R0, tolerance=1.5)
+        if unit and abs(math.log(R[k] / R0)) > math.log(20.0):
+            return (f"{source}: experiment {names[k]!r} lasts {show(e['duration'][k])} s for a {show(e['span'][k])} "
+                    f"mm stroke at its speed label {show(R[k] * motion[k])} mm/s, {show(R[k] / R0)} times off the "
+                    f"others: its time_s looks like {unit_label(unit)}; convert that experiment's time or leave it out "
+                    "(--time-unit s uses the file as it is)")
+    return None
+
+
+def _force_label(unit: str) -> str:
+    """A force unit for a message; daN and kgf (2 % apart) cannot be told from the scale: both are named."""
+    if unit in ("daN", "kgf"):
+        return f"{unit_label('daN')} or {unit_label('kgf')} (2 % apart; the scale cannot tell them)"
+    return unit_label(unit)
+
+
 def _force_ratio(e, ref) -> float:
     """Median over experiments of (force-displacement slope) / (g p2): about 1 for a right file."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -243,6 +363,11 @@ def _pressure(d, e, F, names, source, ref, given, notes):
     pmax, pmin = float(np.max(p)), float(np.min(p))
     if lim.low <= pmin and pmax <= cap:
         return None
+    inside = (p >= lim.low) & (p <= cap)
+    if inside.sum() > len(p) / 2:  # most experiments are fine: name the one(s) in another unit, not the column
+        msg = _odd_pressure(e, names, source, given)
+        if msg:
+            return msg
     r0 = _force_ratio(e, ref)
     best, score = None, math.inf
     for unit, f in _candidates("pressure"):
@@ -308,6 +433,12 @@ def _time_and_speed(d, e, F, names, source, ref, given, notes):
                 return (f"{source}: column speed_mm_s is {show(R)} times the speed of the motion (displacement over "
                         f"time, median {show(v_med)} mm/s): it looks like {unit_label(s_unit)}: x {show(f)} makes it "
                         "agree; " + _override("speed_mm_s", s_unit))
+            l_unit = likely_unit("length", 1.0 / R, tolerance=1.5) if "displacement_mm" not in given else None
+            if l_unit and R > 1:  # the motion is slower than its labels by a length factor: x in cm or inches
+                f = unit_factor("length", l_unit)
+                return (f"{source}: the speed_mm_s labels are {show(R)} times the speed of the motion (displacement "
+                        f"over time, median {show(v_med)} mm/s): column displacement_mm looks like "
+                        f"{unit_label(l_unit)}: x {show(f)} makes them agree; " + _override("displacement_mm", l_unit))
             notes.append(f"{source}: the speed_mm_s labels are {show(R)} times the speed of the motion (median "
                          f"{show(v_med)} mm/s); they are labels only (the velocity comes from time_s and "
                          "displacement_mm)")
@@ -342,13 +473,14 @@ def _force(d, e, F, names, source, ref, given, notes):
     if "force_N" in given or r0 <= 0:
         return None
     band = 3.0 if ref.design_given else 50.0
-    if 1 / band <= r0 <= band:
+    close = likely_unit("force", r0, tolerance=1.35)  # r0 sits on a force unit's factor (lbf, kgf, daN, kN)
+    if 1 / band <= r0 <= band and not (close and not 1 / 3 <= r0 <= 3):
         return None
     unit = likely_unit("force", r0, tolerance=3.0)
     head = (f"{source}: column force_N is {show(r0)} times what g·p2·x predicts: ~{show(predicted)} N at "
             f"{show(span)} mm and p2 = {show(p)} MPa ({src}), the file peaks at {show(peak)}")
     if unit:
         f = unit_factor("force", unit)
-        return f"{head}; it looks like {unit_label(unit)}: " + _override("force_N", unit)
+        return f"{head}; it looks like {_force_label(unit)}: " + _override("force_N", unit)
     return (head + "; is " + ("--design the unit on the bench" if ref.design_given else "the unit this far from the "
             "paper's (give its --design)") + ", or the column in another unit? (pass --force-unit N to use it as it is)")

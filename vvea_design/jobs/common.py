@@ -207,7 +207,7 @@ def spring_of(design: Design | GasSpring | PathLike | dict) -> tuple[GasSpring, 
 
 
 @contextlib.contextmanager
-def folder(out: PathLike | None, command: str) -> Iterator[Path | None]:
+def folder(out: PathLike | None, command: str, names: tuple[str, ...] = ()) -> Iterator[Path | None]:
     """The folder a job writes into: None without ``out``, else a temporary that becomes ``out`` whole.
 
     Parameters
@@ -216,6 +216,9 @@ def folder(out: PathLike | None, command: str) -> Iterator[Path | None]:
         The result folder (None: the job writes nothing).
     command : str
         The job's plain name (marker ``.vvea-<command>.json``, :func:`vvea_design.outputs.output_dir`).
+    names : tuple of str
+        The entries the job writes, when known: a file of that name in ``out`` that is not the job's own
+        earlier output is refused before any work (never overwritten).
 
     Returns
     -------
@@ -230,7 +233,7 @@ def folder(out: PathLike | None, command: str) -> Iterator[Path | None]:
     if out is None:
         yield None
         return
-    with output_dir(out, command, option="") as tmp:
+    with output_dir(out, command, option="", names=names) as tmp:
         yield tmp
 
 
@@ -328,8 +331,9 @@ def check_option(key: str, value: Any, option: str) -> Any:
         from ..messages import show
 
         real = isinstance(value, (int, float)) and not isinstance(value, bool)
-        raise OptionError(option, f"{why}, got {show(value)}" + (f" ({lim.why})" if real else ""),
-                          "{option} {reason}")
+        hint = lim.unit_hint(value) if real else ""
+        raise OptionError(option, f"{why}, got {show(value)}" + (f" ({lim.why})" if real else "")
+                          + (f"; {hint}" if hint else ""), "{option} {reason}")
     return value
 
 

@@ -109,7 +109,7 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     _, unit = _reference(design, progress)
     rec = _recordings(recordings, progress, units, negate, unit)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None, enabled=progress), \
-            folder(out, "identify") as tmp:
+            folder(out, "identify", names=("table3.csv", "identification.json")) as tmp:
         if tmp is not None:
             return write_identification(rec, tmp)
         with tempfile.TemporaryDirectory() as scratch:

@@ -243,7 +243,7 @@ def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None
         _within_walls(design, p2_MPa)
         spring = spring.with_pressures(p2_MPa)
     written: dict[str, Path] = {}
-    with folder(out, "spring") as tmp:
+    with folder(out, "spring", names=("spring.csv", "spring.png")) as tmp:
         if tmp is not None:
             written = write_spring_files(spring, tmp, layout=layout)
     if out is not None:

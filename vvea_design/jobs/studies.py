@@ -57,8 +57,10 @@ def _grid(grid: GridLike, option: str = "grid", named: bool = True) -> Grid | st
         return Grid(tuple(float(x) for x in amplitudes), tuple(float(x) for x in periods))
     except (TypeError, ValueError) as exc:
         names = f"one of {sorted(GRIDS)} or " if named else ""
-        raise OptionError(option, f"must be {names}'A1,A2,..:T1,T2,..' (rad:s), got {grid!r} ({exc})",
-                          "{option} {reason}") from None
+        from ..messages import show
+
+        raise OptionError(option, f"must be {names}'A1,A2,..:T1,T2,..' (rad:s), got {show(grid)} "
+                          f"({str(exc)[:400]})", "{option} {reason}") from None
 
 
 def cases_saved(out: PathLike) -> int:
@@ -250,6 +252,8 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
                                      gamma_max_deg=gamma_max_deg).items() if v is not None}
     if design is not None and isinstance(design, (str, Path)) and not Path(design).exists():
         raise OptionError("design", f"file {design} does not exist", "{option}: {reason}")
+    if p2_MPa is not None and design is not None:
+        _within_rating(design, p2_MPa)
     settings = _settings(design, mapping)
     check_out(out)
     from ..actuator.multistart import DEFAULT_MESH
@@ -279,6 +283,32 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
     return RestToRestRun(summary, text, {k: out / v for k, v in names.items()})
 
 
+def _within_rating(design: Any, p2_MPa: float) -> None:
+    """Refuse a study charge above the design's rating: the ``max_charge_MPa`` its walls are sized for.
+
+    The rating is the stored requirements' ``max_charge_MPa`` (a design file's ``spec``), else the design's own
+    charge; a bare gas spring has no rating.
+    """
+    from ..spring.design import Design
+    from ..spring.design_file import read_design_json
+
+    rated, what = None, ""
+    if isinstance(design, (str, Path)):
+        data = read_design_json(design)
+        spec = data.get("spec") if isinstance(data.get("spec"), dict) else {}
+        rated = spec.get("max_charge_MPa")
+        what = f"{design}: spec.max_charge_MPa"
+        if not isinstance(rated, (int, float)) or isinstance(rated, bool):
+            rated, what = data["parameters"]["p2_MPa"], f"{design}: parameters.p2_MPa"
+    elif isinstance(design, Design):
+        rated, what = design.p2_MPa, "the design's p2_MPa"
+    if rated is not None and p2_MPa > float(rated) * (1 + 1e-9):
+        raise OptionError("p2_MPa", f"= {p2_MPa:g} MPa is above the design's rating ({what} = {float(rated):g} MPa, "
+                          "the charge its walls are sized for at its safety factor); a study at a higher charge "
+                          "would describe a unit that is not built: recharge at most to the rating, or optimise a "
+                          "design for the higher charge (max_charge_MPa)", "{option} {reason}")
+
+
 def _check_mapping(pulley_radius_m: float | None, p2_MPa: float | None, gamma_min_deg: float | None,
                    gamma_max_deg: float | None) -> None:
     """The design mapping's numbers in the ranges a real actuator has, the throttle range the right way up."""
@@ -286,6 +316,13 @@ def _check_mapping(pulley_radius_m: float | None, p2_MPa: float | None, gamma_mi
     check_option("charge_MPa", p2_MPa, "p2_MPa")
     check_option("valve_deg", gamma_min_deg, "gamma_min_deg")
     check_option("valve_deg", gamma_max_deg, "gamma_max_deg")
+    highest = max((g for g in (gamma_min_deg, gamma_max_deg) if g is not None), default=None)
+    if highest is not None and 0 < highest < 2 * math.pi and any(g != int(g) for g in (gamma_min_deg, gamma_max_deg)
+                                                                 if g is not None):
+        which = "gamma_max_deg" if gamma_max_deg is not None else "gamma_min_deg"
+        raise OptionError(which, f"= {highest:g}: a throttle range that ends below {2 * math.pi:.4g} deg with "
+                          f"fractional angles looks like radians ({highest:g} rad is {math.degrees(highest):.4g} deg); "
+                          "give the angles in degrees (the paper's range is 50 ... 120 deg)", "{option} {reason}")
     if gamma_min_deg is not None and gamma_max_deg is not None and gamma_min_deg > gamma_max_deg:
         raise OptionError("gamma_min_deg", f"({gamma_min_deg:g} deg) must not exceed the highest throttle angle "
                           f"({gamma_max_deg:g} deg)",

@@ -70,6 +70,8 @@ from .layouts import DECISION_VARIABLES, LAYOUTS
 from .problem import Evaluation, evaluate_design
 from .requirements import Requirements, SpecError
 from ..inputs import decode_text, parse_json, read_input_bytes
+from ..messages import show
+from ..plausibility import check_field
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DesignFileError", "design_to_dict", "save_design", "load_design",
            "load_design_dict", "spring_from_json", "read_design_json", "load_requirements_from_design", "reevaluate",
@@ -261,6 +263,11 @@ def _check_envelope(data: Any, src: str) -> None:
         v = params[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             raise DesignFileError(f"{src}: parameters.{key} must be a finite number, got {v!r}")
+    for key in ("piston_diameter_mm", "outer_diameter_mm", "V1_mm3", "V2_mm3", "p2_MPa", "travel_mm",
+                "V2_top_mm3", "V1_annulus_mm3"):  # a value in another unit names it (plausibility.FIELD_LIMITS)
+        v = params.get(key)
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0:  # <= 0: the design names it
+            check_field(key, params[key], f"{src}: parameters.{key}", DesignFileError)
 
 
 def spring_from_json(path_or_data: str | Path | dict) -> GasSpring:
@@ -425,7 +432,8 @@ class LegacyDesignFile(UserWarning):
 
 
 class StaleDerivedValues(UserWarning):
-    """A design file's ``geometry`` or ``performance`` holds numbers of another design: they are ignored."""
+    """Formerly warned for stale derived values; a design file whose ``geometry`` or ``performance`` holds numbers
+    of another design is now refused (:class:`DesignFileError`). Kept so that filters naming it still import."""
 
 
 def stale_derived_values(data: dict, design: Design) -> list[str]:
@@ -452,21 +460,64 @@ def stale_derived_values(data: dict, design: Design) -> list[str]:
         for key, fn in CHECKED_PERFORMANCE.items():
             if key in perf:
                 out += _disagreements(perf[key], _clean(fn(design)), f"performance.{key}")
+    ev = _evaluation_against_spec(data, design)
+    if ev is not None:  # every other figure and every margin, re-evaluated against the file's own spec
+        if isinstance(perf, dict):
+            fresh = _clean(ev.performance())
+            out += _disagreements({k: v for k, v in perf.items() if k not in CHECKED_PERFORMANCE},
+                                  fresh, "performance")
+        if isinstance(data.get("constraints"), dict):
+            margins = {k: v for k, v in _clean(dict(ev.margins)).items() if "strain" not in k}
+            out += _disagreements(data["constraints"], margins, "constraints")
     return out
 
 
+def _evaluation_against_spec(data: dict, design: Design) -> Evaluation | None:
+    """The design evaluated against the requirements stored with it (None without a valid ``spec``)."""
+    spec = data.get("spec")
+    if not isinstance(spec, dict):
+        return None
+    try:
+        req = Requirements.from_dict(spec, source="spec")
+        if req.fixed.sizing_rules != design.fixed.sizing_rules:  # a file older than its rules: re-derived otherwise
+            return None
+        return evaluate_design(design, req, bladder_strain=0.0 if req.max_bladder_strain is not None else None)
+    except (SpecError, DesignError, ValueError, TypeError, KeyError):
+        return None
+
+
 def _check_stored_derived(data: dict, design: Design, src: str) -> None:
-    """Warn (:class:`StaleDerivedValues`) when geometry or performance hold numbers of another design."""
+    """Refuse a file that leaves its own envelope, or whose geometry or performance hold numbers of another design."""
+    _check_own_envelope(data, design, src)
     stale = stale_derived_values(data, design)
     if stale:
-        import warnings
-
         more = f" and {len(stale) - 3} more" if len(stale) > 3 else ""
-        warnings.warn(f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its "
-                      f"parameters and fixed: {'; '.join(stale[:3])}{more}. They are ignored: every command "
-                      "recomputes them (an edited wall or volume in geometry/performance has no effect; edit "
-                      "parameters or fixed, or re-run `vvea optimise` to refresh the file)",
-                      StaleDerivedValues, stacklevel=3)
+        raise DesignFileError(
+            f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its parameters and "
+            f"fixed: {'; '.join(stale[:3])}{more}. A design file must agree with itself: edit the decision "
+            "variables (parameters) or fixed, never a derived value; after such an edit delete the blocks "
+            "geometry, performance, constraints and constraint_details (every command recomputes them) or re-run "
+            "`vvea optimise`")
+
+
+def _check_own_envelope(data: dict, design: Design, src: str) -> None:
+    """The design lies inside the envelope of its own ``spec`` (where the file claims it does)."""
+    spec = data.get("spec")
+    if not isinstance(spec, dict):
+        return
+    margins = data.get("constraints") if isinstance(data.get("constraints"), dict) else {}
+    for key, value, claim in (("max_outer_diameter_mm", design.outer_diameter_mm, "outer_diameter"),
+                              ("max_housing_length_mm", design.housing_length_mm, "housing_length")):
+        limit = spec.get(key)
+        if isinstance(limit, bool) or not isinstance(limit, (int, float)) or not math.isfinite(limit):
+            continue
+        stored = margins.get(claim)
+        claims_fit = claim == "outer_diameter" or (isinstance(stored, (int, float)) and stored >= 0)
+        if claims_fit and value > limit * (1 + 1e-9) + 1e-9:
+            raise DesignFileError(
+                f"{src}: the design's {claim.replace('_', ' ')} ({value:.6g} mm) lies outside its own envelope "
+                f"(spec.{key} = {show(limit)} mm) although the file says it fits; a value of parameters, fixed or "
+                "spec was edited: edit the decision variables within the envelope, or re-run `vvea optimise`")
 
 
 def load_design(path: str | Path) -> Design:

@@ -9,7 +9,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 
 from ..messages import show
-from ..plausibility import LIMITS
+from ..plausibility import LIMITS, check_field
 from ..materials.structural import get_material
 
 __all__ = ["FixedParameters", "DesignError", "CHANNEL_GAP_MM", "SIZING_RULES"]
@@ -201,7 +201,40 @@ class FixedParameters:
         bad = set(data) - known
         if bad:
             raise DesignError(f"unknown fixed parameter(s) {sorted(bad)}; known: {sorted(known)}")
+        merged = {**data, **override}
+        for name, value in merged.items():  # what a user typed: in the range a real unit has, before the rest
+            if name in FLOAT_FIELDS and isinstance(value, (int, float)) and not isinstance(value, bool):
+                check_field(name, value, f"fixed.{name}", DesignError)
         try:
-            return cls(**{**data, **override})
+            out = cls(**merged)
         except TypeError as exc:  # pragma: no cover - guarded by the key check
             raise DesignError(str(exc)) from None
+        out.check_plausible()
+        return out
+
+    def check_plausible(self) -> None:
+        """Raise :class:`DesignError` unless every number is one a real unit can have (what a user typed).
+
+        Every length, volume, mass and factor lies in its range of
+        :data:`vvea_design.plausibility.FIELD_LIMITS` (a value whose scale points to another unit, a rod of
+        0.008 "mm", names that unit), and the walls are sized for at least the spring's own exponent
+        (``wall_sizing_n >= n_polytropic``). Applied by :meth:`from_dict` (a ``[fixed]`` table, a design file's
+        ``fixed``); the toolkit's own variants (walls at their bare minimum for a sizing study) are not checked.
+
+        Raises
+        ------
+        DesignError
+            The first implausible field (names it, its range, why, and the likely unit).
+        """
+        for f in fields(self):
+            if f.type in ("float", float):
+                check_field(f.name, getattr(self, f.name), f"fixed.{f.name}", DesignError)
+        if self.wall_sizing_n < self.n_polytropic:
+            raise DesignError(f"fixed.wall_sizing_n ({show(self.wall_sizing_n)}) is below the spring's polytropic "
+                              f"exponent n_polytropic ({show(self.n_polytropic)}): the walls would be sized for a "
+                              "lower peak pressure than the spring itself makes; set wall_sizing_n >= n_polytropic")
+
+
+#: The numeric (float) fields of :class:`FixedParameters`: each has its range in
+#: :data:`vvea_design.plausibility.FIELD_LIMITS`.
+FLOAT_FIELDS = frozenset(f.name for f in fields(FixedParameters) if f.type in ("float", float))

@@ -39,7 +39,7 @@ from .parameters import DesignError, FixedParameters
 from ..materials.silicones import allowable_strain, get_silicone
 from ..inputs import decode_text, read_input_bytes
 from ..messages import show
-from ..plausibility import LIMITS
+from ..plausibility import FIELD_LIMITS, LIMITS, check_field
 
 __all__ = [
     "Requirements",
@@ -154,18 +154,36 @@ _OPTIONAL = ("max_mass_g", "max_bladder_strain", "max_linearity_adiabatic", "max
 _TOP_LEVEL_IN_FIXED = ("travel_mm", "n_polytropic")
 
 
-#: Which range of :data:`vvea_design.plausibility.LIMITS` each numeric requirement must lie in (table-driven: a
-#: new requirement slots in with one line; ``None`` values of optional ones are not checked). A target no design
-#: can reach (a stiffness of 1e9 N/mm) is no bad input: the optimiser reports it infeasible (exit 3).
+#: Which range of :data:`vvea_design.plausibility.LIMITS` each numeric requirement must lie in: the entries of
+#: :data:`vvea_design.plausibility.FIELD_LIMITS` (the one table) for the top-level requirements (``None`` values
+#: of optional ones are not checked). A value out of range whose scale points to another unit (metres, bar,
+#: percent) names that unit. A target no design can reach (a stiffness of 1e9 N/mm) within the range is no bad
+#: input: the optimiser reports it infeasible (exit 3).
 REQUIREMENT_LIMITS: dict[str, str] = {
-    "travel_mm": "travel_mm",
-    "max_outer_diameter_mm": "diameter_mm",
-    "max_housing_length_mm": "length_mm",
-    "max_charge_MPa": "charge_MPa",
-    "min_wall_safety_factor": "wall_safety_factor",
-    "max_mass_g": "mass_g",
-    "max_parasitic_damping_N_s_per_mm": "linear_damping_N_s_per_mm",
+    name: FIELD_LIMITS[name] for name in (
+        "travel_mm", "max_outer_diameter_mm", "max_housing_length_mm", "max_charge_MPa",
+        "min_mean_stiffness_N_per_mm", "min_wall_safety_factor", "min_gas_fraction_at_full_stroke", "max_mass_g",
+        "max_bladder_strain", "n_polytropic", "max_linearity_adiabatic", "max_parasitic_damping_N_s_per_mm")
 }
+
+
+#: A travel below this share of the housing length whose value in inches would fit the housing is refused as
+#: inches (the paper's unit strokes 30 % of its length).
+TRAVEL_SHARE_MIN = 0.02
+
+
+def _inch_hint(name: str, value: float) -> str:
+    """``"; it looks like inches: 1.575 in is 40 mm"`` when ``value`` x 25.4 is a plausible ``name``, else ""."""
+    mm = value * 25.4
+    if LIMITS[FIELD_LIMITS[name]].problem(mm) is None:
+        return f"; it looks like inches: {show(value)} in is {show(mm)} mm; give it in mm"
+    return ""
+
+
+def _hint(name: str, req: "Requirements") -> str:
+    """``"; it looks like a percentage: ..."`` when the field's value fits its range in another unit, else ""."""
+    hint = LIMITS[FIELD_LIMITS[name]].unit_hint(getattr(req, name))
+    return f"; {hint}" if hint else ""
 
 
 class SpecError(ValueError):
@@ -212,12 +230,14 @@ class Requirements:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise SpecError(f"{name} must be a positive number, got {show(v)}")
-        for name, key in REQUIREMENT_LIMITS.items():
-            v = getattr(self, name)
-            if v is not None:
-                LIMITS[key].check(v, name, SpecError)
+        late = ("min_gas_fraction_at_full_stroke", "n_polytropic", "max_mass_g", "max_linearity_adiabatic",
+                "max_bladder_strain")  # their own checks first (their messages), then the plausible range
+        for name in REQUIREMENT_LIMITS:
+            if name not in late:
+                check_field(name, getattr(self, name), name, SpecError)
         if not 0.0 <= self.min_gas_fraction_at_full_stroke < 1.0:
-            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got {show(self.min_gas_fraction_at_full_stroke)}")
+            raise SpecError(f"min_gas_fraction_at_full_stroke must be in [0, 1), got "
+                            f"{show(self.min_gas_fraction_at_full_stroke)}{_hint('min_gas_fraction_at_full_stroke', self)}")
         if not 1.0 <= self.n_polytropic <= 1.4:
             raise SpecError(f"n_polytropic must be in [1, 1.4], got {show(self.n_polytropic)}")
         try:
@@ -227,9 +247,14 @@ class Requirements:
         if self.max_mass_g is not None and not (self.max_mass_g > 0):
             raise SpecError(f"max_mass_g must be > 0, got {show(self.max_mass_g)}")
         if self.max_linearity_adiabatic is not None and not (0 < self.max_linearity_adiabatic < 1):
-            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got {show(self.max_linearity_adiabatic)}")
+            raise SpecError(f"max_linearity_adiabatic must be a fraction in (0, 1), got "
+                            f"{show(self.max_linearity_adiabatic)}{_hint('max_linearity_adiabatic', self)}")
         if self.max_bladder_strain is not None and not (0 < self.max_bladder_strain < 10):
-            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}")
+            raise SpecError(f"max_bladder_strain must be a fraction in (0, 10), got {show(self.max_bladder_strain)}"
+                            f"{_hint('max_bladder_strain', self)}")
+        for name in late:
+            check_field(name, getattr(self, name), name, SpecError)
+        self._check_strain_limit()
         if not (abs(self.setpoint_x0_mm) < self.travel_mm):
             raise SpecError(f"setpoint_x0_mm ({show(self.setpoint_x0_mm)}) must lie inside the travel "
                             f"(|x0| < {show(self.travel_mm)})")
@@ -269,6 +294,9 @@ class Requirements:
             if not (math.isfinite(lo) and math.isfinite(hi)) or not low_ok or hi <= lo:
                 raise SpecError(f"[bounds] {name} = {show([lo, hi])} must satisfy 0 < low < high"
                                 + (" (low may be 0)" if name in zero_low else ""))
+            for end, v in (("low", lo), ("high", hi)):
+                if not (end == "low" and v == 0 and name in zero_low):
+                    check_field(name, v, f"[bounds] {name} ({end} end)", SpecError)
         if self.bounds:  # a range equal to the one that follows the requirements is no override
             derived = default_bounds(self)
             object.__setattr__(self, "bounds", {k: v for k, v in self.bounds.items()
@@ -288,11 +316,24 @@ class Requirements:
                 f"contradictory envelope: max_outer_diameter_mm ({show(self.max_outer_diameter_mm)}) is not above the "
                 f"lower search bound of outer_diameter_mm ({show(lo_D)}); "
                 + ("set [bounds] outer_diameter_mm = [low, high] to search units that small"
-                   if "outer_diameter_mm" not in self.bounds else "lower that bound or widen the envelope"))
+                   if "outer_diameter_mm" not in self.bounds else "lower that bound or widen the envelope")
+                + _inch_hint("max_outer_diameter_mm", self.max_outer_diameter_mm))
         if (self.fixed.travel_mm != self.travel_mm or self.fixed.n_polytropic != self.n_polytropic
                 or self.fixed.wall_safety_factor != self.min_wall_safety_factor):
-            object.__setattr__(self, "fixed", replace(self.fixed, travel_mm=self.travel_mm, n_polytropic=self.n_polytropic,
-                                                      wall_safety_factor=self.min_wall_safety_factor))
+            try:
+                object.__setattr__(self, "fixed", replace(self.fixed, travel_mm=self.travel_mm,
+                                                          n_polytropic=self.n_polytropic,
+                                                          wall_safety_factor=self.min_wall_safety_factor))
+            except DesignError as exc:  # e.g. fixed.wall_sizing_n below the top-level n_polytropic
+                raise SpecError(f"[fixed] {exc}") from None
+        if max(self.objective_exponents) > self.fixed.wall_sizing_n:
+            raise SpecError(f"[fixed] wall_sizing_n ({show(self.fixed.wall_sizing_n)}) is below the exponent "
+                            f"{show(max(self.objective_exponents))} the objective evaluates the spring at: the walls "
+                            "would be sized for a lower peak pressure than the spring is designed for")
+        self._check_room()
+
+    def _check_room(self) -> None:
+        """The envelope leaves room for the servo's mass and the stroke; a travel that short reads as inches."""
         if self.max_mass_g is not None and self.max_mass_g <= self.fixed.servo_and_valve_mass_g:
             raise SpecError(f"max_mass_g ({show(self.max_mass_g)} g) leaves nothing for the unit: the servo, valve and "
                             f"fittings alone weigh fixed.servo_and_valve_mass_g = "
@@ -303,7 +344,30 @@ class Requirements:
             raise SpecError(
                 f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
                 f"+ travel + fluid clearance already take {min_len:.1f} mm"
+                + _inch_hint("max_housing_length_mm", self.max_housing_length_mm)
             )
+        room = self.max_housing_length_mm - (min_len - self.travel_mm)  # what the stroke may take at most
+        if (self.travel_mm < TRAVEL_SHARE_MIN * self.max_housing_length_mm and 25.4 * self.travel_mm <= room
+                and _inch_hint("travel_mm", self.travel_mm)):
+            raise SpecError(  # a stroke that short in that envelope, and the same number in inches fits it
+                f"travel_mm = {show(self.travel_mm)} is {100 * self.travel_mm / self.max_housing_length_mm:.2g} % of "
+                f"max_housing_length_mm ({show(self.max_housing_length_mm)}), where a spring-damper unit strokes "
+                f"a good share of its length" + _inch_hint("travel_mm", self.travel_mm)
+                + " (or narrow the envelope to the short-stroke unit you mean)")
+
+    def _check_strain_limit(self) -> None:
+        """A bladder strain limit beyond what its silicone survives even once (a third of its elongation at break)."""
+        if self.max_bladder_strain is None:
+            return
+        from ..materials.silicones import allowable_strain
+
+        static = allowable_strain(self.bladder_material, "static")
+        if self.max_bladder_strain > static:
+            pct = (f"; it looks like a percentage: {show(self.max_bladder_strain)} % is "
+                   f"{show(self.max_bladder_strain / 100)} (give a fraction)" if self.max_bladder_strain >= 1 else "")
+            raise SpecError(f"max_bladder_strain = {show(self.max_bladder_strain)} is beyond what "
+                            f"{self.bladder_material} survives even once (its static allowable, a third of its "
+                            f"elongation at break, is {show(round(static, 4))}){pct}")
 
     @property
     def buildable(self) -> bool:
