@@ -12,7 +12,7 @@ from vvea_design.cli.main import app
 from vvea_design.jobs.common import OptionError
 from vvea_design.jobs.studies import _within_rating, run_rest_to_rest
 
-DESIGN_FILE = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+DESIGN_FILE = REPO / "cad" / "design.json"
 RATED = json.loads(DESIGN_FILE.read_text())["spec"]["max_charge_MPa"]
 
 

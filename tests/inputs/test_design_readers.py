@@ -19,7 +19,7 @@ from vvea_design.spring.design_file import DesignFileError, load_design, load_de
 from vvea_design.testing import check_linearity
 
 runner = CliRunner()
-SOURCE = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+SOURCE = REPO / "cad" / "design.json"
 RECORDINGS = SHARED_RECORDINGS / "campaign_a.csv"
 
 #: The argv of every command that reads a design ({d}: the design file, {t}: a scratch folder).

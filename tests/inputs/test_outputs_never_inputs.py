@@ -13,7 +13,7 @@ from vvea_design.cli.main import app
 from vvea_design.outputs import OutputError, output_dir
 
 runner = CliRunner()
-DESIGN = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+DESIGN = REPO / "cad" / "design.json"
 
 
 def _run(*argv):

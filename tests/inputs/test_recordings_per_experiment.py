@@ -17,7 +17,7 @@ from vvea_design.identification.recordings import RecordingsError, recordings_fr
 from vvea_design.spring.design_file import load_design
 
 BASE = pd.read_csv(SHARED_RECORDINGS / "campaign_a.csv")
-DESIGN_FILE = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+DESIGN_FILE = REPO / "cad" / "design.json"
 DESIGN = load_design(DESIGN_FILE)
 ONE = "E005"
 

@@ -107,7 +107,7 @@ def test_a_bound_in_another_unit_is_refused(tmp_path, name, lo, hi, word):
     assert word in str(exc.value), str(exc.value)
 
 
-DESIGN = json.loads((REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json").read_text())
+DESIGN = json.loads((REPO / "cad" / "design.json").read_text())
 
 
 @pytest.mark.parametrize("key, factor, word", [
@@ -228,7 +228,7 @@ def test_a_command_line_number_in_another_unit_names_it(tmp_path, argv, words):
 
     from vvea_design.cli.main import app
 
-    d = REPO / "studies" / "results" / "fe_units" / "defaults" / "design.json"
+    d = REPO / "cad" / "design.json"
     res = CliRunner().invoke(app, [a.format(d=d, t=tmp_path) for a in argv], env={"COLUMNS": "400"})
     text = " ".join(res.output.replace("│", " ").split())
     assert res.exit_code == 2, text
