@@ -196,6 +196,7 @@ class PieceModel:
         # a cylindrical face on another piece is not sealed there: the joint's gas or fluid gets in up to its seal
         radial = (media == "contact") & (np.abs(self.normal[0]) > 0.7)
         media[radial] = sur.joint_gap(p[1][radial])
+        media[radial & sur.beyond_seals(p[0], p[1])] = "air"  # the static seal holds it back
         return media
 
     def drawn(self, faces) -> Bearing | None:
