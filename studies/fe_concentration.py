@@ -5,8 +5,8 @@ The closed-form sizing (:mod:`vvea_design.spring.sizing`) sizes each pressure-be
 radii) finds the peak at the piece's grooves, shoulders and roots. This study closes the loop:
 
 1. optimise each unit of :func:`fe_units.units` (seed 0) with the factors in the data file, draw it, FE-check it;
-2. per wall and load case the ratio of the FE peak (Tresca) to the sizing's stress of the same case (which
-   already holds the factor the sizing used); the new factor of a piece's feature (the feature at the peak:
+2. per wall that fails in some unit, per load case, the ratio of the FE peak (Tresca) to the sizing's stress of
+   the same case (which already holds the factor the sizing used); the new factor of a piece's feature (the feature at the peak:
    ``shoulder``, ``groove root``, ``plain wall`` ...) is the old one times the largest ratio over the units and
    the cases whose peak reaches half the allowable, times ``1 + MARGIN``, never below 1 and never below the
    old one while a unit fails;
@@ -77,7 +77,10 @@ def new_factors(rows: list[dict], old: dict) -> tuple[dict, dict]:
     """Per piece and feature the factor the rows measure (the largest over units and cases), with where."""
     factors: dict = {}
     prov: dict = {}
+    failing = {r["wall"] for r in rows if not r["passes"]}
     for r in rows:
+        if r["wall"] not in failing:
+            continue  # the FE finds it safe in every unit: its factor stays
         if r["wall"] not in PIECES or not math.isfinite(r["ratio"]):
             continue  # a wall the sizing does not size (the solid piston) or a case it has no stress for
         if r["required_safety"] / r["safety"] < MIN_UTILISATION:

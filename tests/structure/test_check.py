@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import pytest
 
-from tests.cad.cases import OTHERS, POCKET, REFERENCE
+from tests.cad.cases import JOINTS, OTHERS, POCKET, REFERENCE
 from vvea_design.cad.assembly import CadModel
 from vvea_design.cad.layout import Layout
 from vvea_design.cad.parts import piston
@@ -91,14 +91,17 @@ def test_the_result_is_json_and_names_the_governing_case(reference):
 
 
 def test_the_sharp_bulkhead_root_is_found():
-    """The bulkhead's root in the bore is drawn sharp: at the default R0.2 its peak is several times the
-    plate's nominal stress; rounded more generously it drops."""
+    """The bulkhead's root in the bore is drawn sharp: at a turning tool's least nose radius (R0.2) its peak is
+    several times the plate's nominal stress; with the drawing's root radius (R1, the default) it drops."""
     first = default_load_cases(REFERENCE)[:1]
-    res = check_structure(_model(REFERENCE), cases=first)
+    res = check_structure(_model(REFERENCE), cases=first, corner_radius_mm=0.2)
     sharp = res.wall("bulkhead").governing
     assert sharp.peak.feature == "shoulder" and res.wall("bulkhead").concentration > 2.5
-    rounder = check_structure(_model(REFERENCE), cases=first, corner_radius_mm=0.8)
-    assert rounder.wall("bulkhead").governing.peak.tresca_MPa < 0.8 * sharp.peak.tresca_MPa
+    rounder = check_structure(_model(REFERENCE), cases=first)
+    assert rounder.corner_radius_mm is None
+    g = rounder.wall("bulkhead").governing
+    assert g.peak.corner_radius_mm == pytest.approx(1.0, abs=0.01)
+    assert g.peak.tresca_MPa < 0.8 * sharp.peak.tresca_MPa
 
 
 @pytest.mark.parametrize("name, design, wall", [("annulus_top", OTHERS["annulus_top_short"], "collar"),
@@ -115,12 +118,15 @@ def test_the_other_layouts_walls(name, design, wall):
 def test_the_threaded_tube_carries_the_caps_load():
     """With the thread joint the outer tube is closed-ended: its axial membrane stress is the cap's load over
     its wall; with tie rods the end pieces bear on the nuts' ring and the tube carries only the rods' clamp force."""
-    case = default_load_cases(REFERENCE)[:1]
-    res = check_structure(_model(REFERENCE), cases=case)
+    threaded = JOINTS["thread_inner_tube"]  # the CAD draws its threads (the gas-only reference has none)
+    case = default_load_cases(threaded)[:1]
+    res = check_structure(_model(threaded), cases=case)
     tube = next(p for p in res.pieces if p.piece == "housing_outer_tube")
     cap = next(p for p in res.pieces if p.piece == "housing_top_cap")
     name = case[0].name
     assert "thread" in cap.bearings[name] and not cap.not_drawn
+    assert "thread" in next(p for p in res.pieces if p.piece == "housing_base").bearings[name]
+    assert "thread" in tube.bearings[name]
     assert tube.reactions_N[name] == pytest.approx(-(abs(cap.reactions_N[name]) + max(case[0].external_force_N, 0)),
                                                    rel=1e-6)
     # tie rods (a buildable design's joint record; the CAD draws the gas-only reference's section)

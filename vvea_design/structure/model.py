@@ -197,6 +197,7 @@ class PieceModel:
         radial = (media == "contact") & (np.abs(self.normal[0]) > 0.7)
         media[radial] = sur.joint_gap(p[1][radial])
         media[radial & sur.beyond_seals(p[0], p[1])] = "air"  # the static seal holds it back
+        media[radial & sur.annulus_fit(p[0], p[1])] = "chamber_2"  # a fit in the outer bore: the annulus' gas
         return media
 
     def drawn(self, faces) -> Bearing | None:

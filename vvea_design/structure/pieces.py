@@ -151,11 +151,10 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
 
 
 def _thread_z(lay: Layout, end: str) -> tuple[float, float]:
-    """The z range of an end piece's engaged thread as the CAD draws it (``top_cap`` or ``base``), mm."""
+    """The z range of an end piece's engaged thread as the CAD draws it (``top_cap`` or ``base``; nan: the CAD
+    draws no thread there, the next joint face listed is used), mm."""
     zone = lay.joint.cap_thread if end == "top_cap" else lay.joint.base_thread
-    if zone is None:
-        raise ValueError(f"the {end}'s joint is a thread but the CAD draws none")
-    return zone.thread
+    return (math.nan, math.nan) if zone is None else zone.thread  # none drawn: the bearing selects nothing
 
 
 def _section(model: CadModel, part: str, corner_radius_mm: float | None, z_range=None) -> MeridianSection:

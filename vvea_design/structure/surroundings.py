@@ -165,6 +165,29 @@ class Surroundings:
             out |= (z >= lay.z_cap) & (r > lay.cap_seal.groove_diameter_mm / 2 - 0.05) & (z > lay.z_cap_seal[1] + 1e-3)
         return out
 
+    def annulus_fit(self, r_mm, z_mm) -> np.ndarray:
+        """Points of a fit in the outer tube's bore between the base's seal and mid-length (the base's bladder
+        clamp in the bore): open to the annulus only, so at chamber-2 pressure (the fluid under the piston
+        reaches the base's joints through its own bores, not the outer bore; the bladder's fluid is at chamber 2).
+
+        Parameters
+        ----------
+        r_mm, z_mm : array_like
+            Points, mm.
+
+        Returns
+        -------
+        ndarray of bool
+            True in such a fit; all False for a design without a joint.
+        """
+        r = np.atleast_1d(np.asarray(r_mm, dtype=float))
+        z = np.atleast_1d(np.asarray(z_mm, dtype=float))
+        lay = self.lay
+        if not lay.has_joint:
+            return np.zeros(r.shape, dtype=bool)
+        return ((r >= lay.outer_bore_radius_mm - 0.05) & (z > lay.z_base_seal[1] + 1e-3)
+                & (z < 0.5 * (lay.z_base_top + lay.z_cap)))
+
     def joint_gap(self, z_mm) -> np.ndarray:
         """The gap medium of the joint nearest a level (the base's below mid-length, the top's above).
 
