@@ -8,9 +8,11 @@ largest angular gap between them, so the section is the piece's axisymmetric bod
 is measured, not assumed: ``volume_fraction`` is the solid's volume over the section's revolved volume
 (Pappus), 1.0 for a body of revolution, below it by the share of material the holes take.
 
-Machined internal corners are never sharp: a corner the CAD draws sharp is given the least radius a turning
-tool leaves (:data:`DEFAULT_CORNER_RADIUS_MM`, to be stated on the drawing as "internal corners R0.2 min
-unless stated"), so the stress at it is finite and converges with the mesh (:func:`with_corner_radii`).
+Machined internal corners are never sharp: a corner the CAD draws sharp is given the root radius the drawing
+states for it (:meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`: R1 at steps and shoulders unless
+stated, the ISO 3601 gland's root radius at O-ring grooves, R1.5 at the rod's shoulder; the FE check's
+default) or one radius for all (a study's; :data:`DEFAULT_CORNER_RADIUS_MM` is a turning tool's least nose
+radius), so the stress at it is finite and converges with the mesh (:func:`with_corner_radii`).
 
 Frame: the section lies in the plane ``(x, y) = (r, z)``, mm, r >= 0.
 """
