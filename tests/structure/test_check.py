@@ -9,7 +9,7 @@ import pytest
 
 from tests.cad.cases import JOINTS, OTHERS, POCKET, REFERENCE
 from vvea_design.cad.assembly import CadModel
-from vvea_design.cad.layout import Layout
+from vvea_design.cad.layout import BULKHEAD_ROOT_RADIUS_MM, Layout
 from vvea_design.cad.parts import piston
 from vvea_design.cad.registry import PartContext
 from vvea_design.materials.structural import get_material
@@ -92,7 +92,7 @@ def test_the_result_is_json_and_names_the_governing_case(reference):
 
 def test_the_sharp_bulkhead_root_is_found():
     """The bulkhead's root in the bore is drawn sharp: at a turning tool's least nose radius (R0.2) its peak is
-    several times the plate's nominal stress; with the drawing's root radius (R1, the default) it drops."""
+    several times the plate's nominal stress; with the drawing's root radius (R3, the default) it drops."""
     first = default_load_cases(REFERENCE)[:1]
     res = check_structure(_model(REFERENCE), cases=first, corner_radius_mm=0.2)
     sharp = res.wall("bulkhead").governing
@@ -100,7 +100,7 @@ def test_the_sharp_bulkhead_root_is_found():
     rounder = check_structure(_model(REFERENCE), cases=first)
     assert rounder.corner_radius_mm is None
     g = rounder.wall("bulkhead").governing
-    assert g.peak.corner_radius_mm == pytest.approx(1.0, abs=0.01)
+    assert g.peak.corner_radius_mm == pytest.approx(BULKHEAD_ROOT_RADIUS_MM, abs=0.01)
     assert g.peak.tresca_MPa < 0.8 * sharp.peak.tresca_MPa
 
 
