@@ -172,7 +172,18 @@ def thread_zones(lay: Layout) -> tuple[tuple[float, float, float, float], ...]:
     stress at the ends of that band is the model's, not the thread roots'. The thread is checked by its standard
     (ISO 965-1 stripping and the tube's wall under the root, the joint's safety factors); the FE peak of the
     pieces is taken outside these boxes, the wall under the thread kept (the box stops at the thread's major
-    radius plus half a millimetre)."""
+    radius plus half a millimetre).
+
+    Parameters
+    ----------
+    lay : Layout
+        The CAD's levels and its joint as drawn (mm).
+
+    Returns
+    -------
+    tuple of tuple of float
+        One box per drawn thread, ``(r0, r1, z0, z1)`` in mm; empty without a threaded joint.
+    """
     out = []
     for t in (lay.joint.base_thread, lay.joint.cap_thread) if lay.has_joint else ():
         if t is not None:

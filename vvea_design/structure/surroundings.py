@@ -152,7 +152,7 @@ class Surroundings:
         -------
         ndarray of bool
             True beyond the base's seal (below its groove) or the top cap's (above its groove), outside the
-            groove's root radius; all False for a design without a joint.
+            groove's root radius; all False for a design without a joint (flags, dimensionless).
         """
         r = np.atleast_1d(np.asarray(r_mm, dtype=float))
         z = np.atleast_1d(np.asarray(z_mm, dtype=float))
@@ -178,7 +178,7 @@ class Surroundings:
         Returns
         -------
         ndarray of bool
-            True in such a fit; all False for a design without a joint.
+            True in such a fit; all False for a design without a joint (flags, dimensionless).
         """
         r = np.atleast_1d(np.asarray(r_mm, dtype=float))
         z = np.atleast_1d(np.asarray(z_mm, dtype=float))
