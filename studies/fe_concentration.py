@@ -46,6 +46,8 @@ from vvea_design.spring import concentration as conc  # noqa: E402
 from vvea_design.spring.sizing import PIECES  # noqa: E402
 
 DATA = ROOT / "vvea_design" / "spring" / "data" / "stress_concentration.json"
+SOURCE = ("piece factors: FE peak over the sizing's closed form, measured on the optimised units ({units}) by "
+          "studies/fe_concentration.py until each passes the FE check; feature kinds fitted from FE")
 OUT = ROOT / "studies" / "results" / "fe_concentration"
 #: Margin on each measured ratio and on the loop's verdict: what the main job's coarse mesh may underestimate a
 #: peak by (studies/fe_convergence.py) and the optimiser's next unit differing a little from the one measured.
@@ -134,6 +136,27 @@ def new_factors(rows: list[dict], old: dict) -> tuple[dict, dict]:
     return out, prov
 
 
+def evidence(rows: list[dict], factors: dict) -> dict:
+    """Per piece and feature whose factor exceeds 1: the case of these rows (the units measured with it) with the
+    largest FE peak over the closed form (the sizing's stress without its factor), and what it measured."""
+    out: dict = {}
+    for piece, feats in factors.items():
+        k = max(feats.values(), default=1.0)
+        mine = [r for r in rows if r["wall"] == piece and math.isfinite(r["ratio"])
+                and r["required_safety"] / r["safety"] >= MIN_UTILISATION]
+        if k <= 1.0 or not mine:
+            continue
+        r = max(mine, key=lambda r: r["ratio"] * r["factor_used"])
+        closed = r["sizing_stress_MPa"] / r["factor_used"]
+        feat = next(f for f, v in feats.items() if v == k)
+        out[piece] = {feat: {"unit": r["unit"], "case": r["case"], "feature_at_peak": r["feature"],
+                             "peak_tresca_MPa": r["peak_tresca_MPa"], "closed_form_MPa": closed,
+                             "peak_over_closed_form": r["peak_tresca_MPa"] / closed, "factor": k,
+                             "fe_safety": r["safety"], "required_safety": r["required_safety"],
+                             "r_mm": r["r_mm"], "z_mm": r["z_mm"]}}
+    return out
+
+
 def write(factors: dict, prov: dict, source: str) -> None:
     """Rewrite the piece factors of the data file (its feature kinds kept)."""
     data = json.loads(DATA.read_text())
@@ -164,6 +187,7 @@ def main(argv=None) -> int:
         (args.out / "history.json").write_text(json.dumps(history, indent=1) + "\n")
         if passes:
             print(f"every wall of {', '.join(args.units)} passes the FE with the factors used", flush=True)
+            write(old, evidence(rows, old), SOURCE.format(units=", ".join(args.units)))
             break
         factors, prov = new_factors(rows, old)
         for p in factors:  # a factor only grows while some unit fails: the loop converges from below
@@ -171,8 +195,7 @@ def main(argv=None) -> int:
                 factors[p][f] = max(factors[p].get(f, 1.0), v)
         factors = secant(history, factors)
         write(factors, {p: {f: {**v, "iteration": it} for f, v in fs.items()} for p, fs in prov.items()},
-              "piece factors: FE peak over the sizing's stress of the optimised units "
-              f"({', '.join(args.units)}), studies/fe_concentration.py; feature kinds fitted from FE")
+              SOURCE.format(units=", ".join(args.units)) + " (still iterating)")
     return 0 if history[-1]["passes"] else 1
 
 

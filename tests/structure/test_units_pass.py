@@ -33,7 +33,8 @@ def _assert_passes(design, fe):
 
 
 def test_the_shipped_factors_are_measured():
-    """The factors the sizing reads are FE ratios >= 1 with their provenance (unit, case, stresses)."""
+    """The factors the sizing reads are FE ratios >= 1 with their provenance: the unit and case, the FE peak over
+    the sizing's closed form there (the factor covers it), the FE safety that unit kept."""
     import json
 
     data = json.loads((REPO / "vvea_design" / "spring" / "data" / "stress_concentration.json").read_text())
@@ -46,7 +47,11 @@ def test_the_shipped_factors_are_measured():
         for feature, k in data["factors"][piece].items():
             if k > 1.0:
                 p = prov[feature]
-                assert p["peak_tresca_MPa"] > p["sizing_stress_MPa"] > 0 and p["unit"] and p["case"]
+                assert p["unit"] and p["case"] and p["factor"] == k
+                assert p["peak_tresca_MPa"] > p["closed_form_MPa"] > 0
+                assert p["peak_over_closed_form"] == pytest.approx(p["peak_tresca_MPa"] / p["closed_form_MPa"])
+                assert 1.0 < p["peak_over_closed_form"] <= k
+                assert p["fe_safety"] >= p["required_safety"]
 
 
 def test_the_optimised_default_unit_passes_the_fe():
