@@ -1,7 +1,7 @@
 """The linearity cost of buildability: each envelope optimised under the gas-only rules and under the buildability
 rules, and what binds.
 
-    python studies/buildability_cost.py [--out DIR] [--quick] [--case NAME ...] [--plot-only]
+    python studies/buildability_cost.py [--out DIR] [--quick] [--case NAME ...] [--rules buildable] [--plot-only]
 
 The gas-only rules (``[fixed] sizing_rules = "gas_only"``) size the walls for the gas peak at nominal size, with no
 joints and no damper loads: the rules of the published 1.3265 % optimum. The buildability rules (the default) size
@@ -80,7 +80,8 @@ def _row(name: str, rules: str, req: Requirements, quick: bool) -> dict:
     return row
 
 
-def main(out: Path = OUT, quick: bool = False, only: list[str] | None = None) -> list[dict]:
+def main(out: Path = OUT, quick: bool = False, only: list[str] | None = None,
+         rules_run: tuple[str, ...] = ("gas_only", "buildable")) -> list[dict]:
     """Optimise every case under both rules, write the table and print it.
 
     Parameters
@@ -92,6 +93,9 @@ def main(out: Path = OUT, quick: bool = False, only: list[str] | None = None) ->
     only : list of str, optional
         Run only the cases whose name contains one of these strings; the folder's other rows (from its
         ``cost.json``) are kept.
+    rules_run : tuple of str
+        The rules optimised (``buildable`` alone after a change of the buildability rules or of the shipped
+        stress-concentration factors: the gas-only rows do not depend on them); the others kept from ``cost.json``.
 
     Returns
     -------
@@ -101,11 +105,12 @@ def main(out: Path = OUT, quick: bool = False, only: list[str] | None = None) ->
     """
     todo = [(name, rules, req if rules == "buildable" else _gas_only(req))
             for name, req in cases().items() for rules in ("gas_only", "buildable")
-            if not only or any(o in name for o in only)]
+            if (not only or any(o in name for o in only)) and rules in rules_run]
     if not todo:
         raise SystemExit(f"--case {only}: no case matches; the cases are {list(cases())}")
     earlier = out / "cost.json"
-    kept = [] if not only or not earlier.is_file() else json.loads(earlier.read_text(encoding="utf-8"))
+    partial_run = only or tuple(rules_run) != ("gas_only", "buildable")
+    kept = [] if not partial_run or not earlier.is_file() else json.loads(earlier.read_text(encoding="utf-8"))
     rows = []
     with progress_bar("buildability cost", total=len(todo)) as advance:
         for name, rules, req in todo:
@@ -203,8 +208,10 @@ if __name__ == "__main__":
     ap.add_argument("--case", action="append", help="run only the cases whose name contains this (repeatable); "
                     "the folder's other rows are kept")
     ap.add_argument("--plot-only", action="store_true", help="redraw cost.png from the folder's cost.json")
+    ap.add_argument("--rules", choices=("gas_only", "buildable"), action="append",
+                    help="optimise only under these rules (repeatable); the folder's other rows are kept")
     a = ap.parse_args()
     if a.plot_only:
         plot(json.loads((a.out / "cost.json").read_text(encoding="utf-8")), a.out / "cost.png")
     else:
-        main(a.out, a.quick, a.case)
+        main(a.out, a.quick, a.case, tuple(a.rules) if a.rules else ("gas_only", "buildable"))

@@ -137,12 +137,14 @@ def main(argv=None) -> int:
     (out / "fits.json").write_text(json.dumps({"seconds": time.perf_counter() - t0, "fits": summary}, indent=2) + "\n")
     figure(points, fits, out / "kt.png")
     if not args.quick:
+        old = json.loads(DATA.read_text()) if DATA.exists() else {}  # the piece factors (fe_concentration.py) kept
         write_factors(DATA, points, fits, {
             "command": "python studies/fe_stress_concentration.py",
             "mesh": {"elements_per_radius": SPEC.elements_per_radius, "elements_per_wall": SPEC.elements_per_wall,
                      "growth": SPEC.growth},
             "material": "isotropic, nu = 0.33 (the factors are nearly independent of E and weakly of nu)",
-            "criteria": "tresca: largest principal difference; von_mises"})
+            "criteria": "tresca: largest principal difference; von_mises"},
+            old.get("factors"), old.get("source", ""), old.get("factors_provenance"))
         print(f"wrote {DATA.relative_to(ROOT)}")
     for k, fk in fits.items():
         f = fk["tresca"]

@@ -1,4 +1,5 @@
-"""The FE verdict of the optimised units: the defaults, ``examples/paper_tight.toml`` and a 70 x 160 mm envelope.
+"""The FE verdict of the optimised units: the defaults, ``examples/paper_tight.toml``, a 70 x 160 mm envelope and
+``examples/small_40.toml`` (40 x 120 mm).
 
 Each is optimised (seed 0, the buildability rules), drawn, and every pressure-bearing piece is checked by the
 main job's FE (:func:`vvea_design.jobs.structure.check_structure`, coarse mesh) under every load case. The
@@ -32,7 +33,8 @@ def units() -> dict:
     """The requirements of each unit checked."""
     return {"defaults": Requirements(),
             "paper_tight": load_requirements(ROOT / "examples" / "paper_tight.toml"),
-            "envelope_70x160": replace(Requirements(), max_outer_diameter_mm=70.0, max_housing_length_mm=160.0)}
+            "envelope_70x160": replace(Requirements(), max_outer_diameter_mm=70.0, max_housing_length_mm=160.0),
+            "small_40": load_requirements(ROOT / "examples" / "small_40.toml")}
 
 
 def check_unit(name: str, req: Requirements, out: Path, reuse: bool = False) -> dict:

@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from vvea_design.spring.concentration import concentration_factor
 from vvea_design.spring import joints as J
 from vvea_design.spring.design import Design, DesignError, FixedParameters
 from vvea_design.spring.loads import CASE_NAMES, lame_tresca_MPa, plate_centre_moment_per_MPa
@@ -240,7 +241,9 @@ def test_the_piston_floor_carries_the_relief_valves_fluid():
     # thickness it is below 2 already, and under the relief valve's fluid it falls to the 1.16 .. 1.38
     old = replace(d, fixed=replace(fixed, sizing_rules="gas_only"))
     assert old.wall_safety_factors()["piston_floor"] == pytest.approx(2.0)
-    per = old.piece_loads()["piston_floor"].safety_factor_per_case
+    # (the closed form's numbers: the check reports the stress times the FE's concentration factor, taken out here)
+    k = concentration_factor("piston_floor")
+    per = {c: v * k for c, v in old.piece_loads()["piston_floor"].safety_factor_per_case.items()}
     assert 1.9 < per["gas_full_stroke"] < 2.0 and 1.16 <= per["relief"] <= 1.38
     # a stronger relief valve thickens the floor
     stiff = replace(d, fixed=replace(fixed, relief_force_N=4000.0))

@@ -35,7 +35,21 @@ LEAD_IN_GAP_MM = _LEAD_IN_GAP_MM
 #: bottom chamfer at full stroke (axial gap, mm).
 PISTON_LEAD_IN_GAP_MM = 0.3
 
-__all__ = ["CadParameters", "Layout", "CadError", "DEPRECATED_NAMES"]
+#: Root radius of the machined pieces' internal corners (steps, shoulders, the roots of plates in tubes) where
+#: the drawing states no other ("internal corners R1 unless stated"; at most 0.45 of the shorter edge meeting
+#: there), mm. The FE check of the pieces (:mod:`vvea_design.structure`) rounds the drawn corners with the same
+#: radii (:meth:`Layout.corner_radius_mm`).
+ROOT_RADIUS_MM = 1.0
+#: Root radius of the rod's shoulder into the piston (the rod carries the piston's whole load: the largest
+#: concentration of the steel part), mm.
+ROD_SHOULDER_RADIUS_MM = 1.5
+#: Root radius of the bulkhead's web in the inner tube's bore, both faces (the thin tube wall takes the web's
+#: edge moment there: a thicker web alone barely lowers the root's peak), mm. Chamber 1 keeps the piston tens of
+#: mm below it.
+BULKHEAD_ROOT_RADIUS_MM = 3.0
+
+__all__ = ["CadParameters", "Layout", "CadError", "DEPRECATED_NAMES", "ROOT_RADIUS_MM", "ROD_SHOULDER_RADIUS_MM",
+           "BULKHEAD_ROOT_RADIUS_MM"]
 
 #: Old names of :class:`Layout`'s radii and sizes -> their names, the design's (one vocabulary); the old ones
 #: remain as read-only aliases while the CAD's modules move over.
@@ -243,6 +257,36 @@ class Layout:
     def z_rod_seal(self) -> tuple[float, float]:
         """Axial extent of the rod seal groove in the base (from the underside), mm."""
         return 1.5, 1.5 + self.rod_seal.width_mm
+
+    def corner_radius_mm(self, part: str, r_mm: float, z_mm: float) -> float:
+        """Root radius the drawing gives an internal corner of a machined part: an O-ring groove's root the
+        largest of its ISO 3601 gland's window (bd_warehouse's table), the rod's shoulder
+        :data:`ROD_SHOULDER_RADIUS_MM`, the bulkhead's roots in the bore :data:`BULKHEAD_ROOT_RADIUS_MM`, every
+        other :data:`ROOT_RADIUS_MM`.
+
+        Parameters
+        ----------
+        part : str
+            The CAD part (``housing_base``, ``piston`` ...).
+        r_mm, z_mm : float
+            The corner, mm.
+
+        Returns
+        -------
+        float
+            The radius, mm.
+        """
+        glands = {"piston": (self.piston_seal,), "housing_base": (self.rod_seal, self.base_seal),
+                  "housing_top_cap": (self.cap_seal,), "housing_inner_tube": (self.collar_seal,)}.get(part, ())
+        for g in glands:
+            if g is not None and g.spec is not None and abs(r_mm - g.groove_diameter_mm / 2) < 0.02:
+                return g.spec.radius_max_mm
+        if part == "piston" and abs(r_mm - self.rod_radius_mm) < 0.02:
+            return ROD_SHOULDER_RADIUS_MM
+        if (part == "housing_inner_tube" and self.has_bulkhead and abs(r_mm - self.piston_radius_mm) < 0.02
+                and min(abs(z_mm - self.z_bulkhead0), abs(z_mm - self.z_bulkhead1)) < 0.02):
+            return BULKHEAD_ROOT_RADIUS_MM
+        return ROOT_RADIUS_MM
 
     @cached_property
     def joint(self) -> JointGeometry:

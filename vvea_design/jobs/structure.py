@@ -31,8 +31,8 @@ def check_structure(unit: Design | CadSet | Any | PathLike, *, out: PathLike | N
     """FE check of every pressure-bearing piece of a unit under its governing load cases.
 
     Tubes, caps, base, bulkhead or collar and the piston (cupped or not) are meshed from the CAD's meridian
-    sections (their grooves, steps and re-entrant corners rounded to ``corner_radius_mm`` where drawn
-    sharp), loaded by each load case of the design (chamber gases, the fluid at the relief setting and at the
+    sections (their grooves, steps and re-entrant corners rounded with the drawing's root radii, or
+    ``corner_radius_mm``, where drawn sharp), loaded by each load case of the design (chamber gases, the fluid at the relief setting and at the
     largest damping force, the proof pressure; the joints' reactions on their faces) and checked against the
     yield stress of their material with the criterion's equivalent stress (Tresca).
 
@@ -44,7 +44,8 @@ def check_structure(unit: Design | CadSet | Any | PathLike, *, out: PathLike | N
     out : path-like, optional
         Folder for a stress-field PNG per piece (written whole); None: no pictures.
     corner_radius_mm : float, optional
-        Radius given to internal corners the CAD draws sharp, mm (None: the FE's default, 0.2 mm).
+        Radius given to every internal corner the CAD draws sharp, mm (None: the drawing's root radii, R1 at
+        steps, the ISO 3601 gland's at O-ring grooves, R1.5 at the rod's shoulder).
     elements_per_wall : float, optional
         Quadratic elements across the thinnest wall (None: the main job's coarse mesh).
     progress : callable, optional
@@ -73,10 +74,9 @@ def check_structure(unit: Design | CadSet | Any | PathLike, *, out: PathLike | N
     check_out(out)
     from ..structure import check_structure as check
     from ..structure.meshing import MeshSpec
-    from ..structure.section import DEFAULT_CORNER_RADIUS_MM
 
     model = _model_of(unit)
-    kw = {"corner_radius_mm": DEFAULT_CORNER_RADIUS_MM if corner_radius_mm is None else corner_radius_mm,
+    kw = {"corner_radius_mm": corner_radius_mm,
           "mesh": MeshSpec() if elements_per_wall is None else MeshSpec(elements_per_wall=elements_per_wall),
           "progress": progress}
     if out is None:

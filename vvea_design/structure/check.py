@@ -3,7 +3,8 @@ section, solved under every load case; per wall of the design the governing case
 the safety factor on yield, pass or fail at the case's required factor; and a picture of each piece's stress.
 
 The peak includes the concentrations at grooves, shoulders and edges the CAD draws (internal corners drawn
-sharp get :data:`~vvea_design.structure.section.DEFAULT_CORNER_RADIUS_MM`); the nominal (membrane plus
+sharp get the drawing's root radii, :meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`: R1 at steps and
+shoulders, the ISO 3601 gland's radius at O-ring groove roots, R1.5 at the rod's shoulder); the nominal (membrane plus
 bending, linearised on a stress-classification line) is reported beside it with the closed form the sizing
 uses, so that "the FE and the sizing agree away from the features" and "the features take the factor" are
 both visible. The check is stricter than a design-by-analysis check to EN 13445-3 annex B (which limits the
@@ -27,7 +28,8 @@ from .loads import LoadCase, default_load_cases
 from .meshing import MeshSpec, element_size_mm
 from .model import CaseSolution, PieceModel
 from .pieces import PieceSpec, build_piece, piece_specs
-from .section import DEFAULT_CORNER_RADIUS_MM, outline_polygon
+from ..cad.layout import ROD_SHOULDER_RADIUS_MM, ROOT_RADIUS_MM
+from .section import outline_polygon
 
 __all__ = ["CaseCheck", "WallCheck", "PieceCheck", "StructureResult", "check_structure", "CRITERIA"]
 
@@ -182,7 +184,7 @@ class StructureResult:
     pieces: tuple[PieceCheck, ...]
     cases: tuple[LoadCase, ...]
     mesh: MeshSpec
-    corner_radius_mm: float
+    corner_radius_mm: float | None  #: one radius given to every sharp internal corner (None: the drawing's)
     criterion: str
     seconds: float
     notes: tuple[str, ...] = field(default=())
@@ -231,7 +233,8 @@ class StructureResult:
                 "mesh": {"elements_per_wall": self.mesh.elements_per_wall,
                          "elements_per_radius": self.mesh.elements_per_radius, "growth": self.mesh.growth,
                          "max_size_mm": self.mesh.max_size_mm},
-                "corner_radius_mm": self.corner_radius_mm, "seconds": self.seconds,
+                "corner_radius_mm": self.corner_radius_mm, "root_radii": "drawing" if self.corner_radius_mm is None
+                else "uniform", "seconds": self.seconds,
                 "cpu_seconds": _num(self.cpu_seconds), "notes": list(self.notes)}
 
 
@@ -275,7 +278,7 @@ def _check_case(pm: PieceModel, spec: PieceSpec, cs: CaseSolution, criterion: st
 
 
 def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, *, mesh: MeshSpec = MeshSpec(),
-                    criterion: str = "tresca", corner_radius_mm: float = DEFAULT_CORNER_RADIUS_MM,
+                    criterion: str = "tresca", corner_radius_mm: float | None = None,
                     out_dir: str | Path | None = None, progress=None) -> StructureResult:
     """FE check of every pressure-bearing piece of a unit under its load cases.
 
@@ -289,8 +292,9 @@ def check_structure(model: CadModel, cases: tuple[LoadCase, ...] | None = None, 
         Mesh sizes (the coarse default is the main job's; ``studies/fe_convergence.py`` measures its error).
     criterion : str
         ``"tresca"`` (default) or ``"von_mises"``: the stress the safety factor is taken on.
-    corner_radius_mm : float
-        Radius given to internal corners the CAD draws sharp, mm.
+    corner_radius_mm : float, optional
+        Radius given to every internal corner the CAD draws sharp, mm; None (default): the drawing's root radii
+        (:meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`).
     out_dir : path-like, optional
         Folder for a stress-field PNG per piece (None: no pictures).
     progress : callable, optional
@@ -381,9 +385,16 @@ def _governing_solution(spec: PieceSpec, solved: list[CaseSolution], walls, crit
     return best
 
 
-def _notes(pieces: list[PieceCheck], corner_radius_mm: float) -> tuple[str, ...]:
-    out = [f"internal corners drawn sharp are modelled with R{corner_radius_mm:g} (a turning tool's least nose "
-           "radius): the drawing should state it",
+def _notes(pieces: list[PieceCheck], corner_radius_mm: float | None) -> tuple[str, ...]:
+    out = [("internal corners drawn sharp are modelled with the drawing's root radii: "
+            f"R{ROOT_RADIUS_MM:g} at steps and shoulders unless stated (at most 0.45 of the shorter edge meeting "
+            f"there), R{ROD_SHOULDER_RADIUS_MM:g} at the rod's shoulder into the piston, the ISO 3601 gland's root "
+            "radius at O-ring grooves" if corner_radius_mm is None else
+            f"internal corners drawn sharp are modelled with R{corner_radius_mm:g} (a study's radius, not the "
+            "drawing's)"),
+           "threads are drawn as their pitch cylinders (ISO 6410-1) and the joint's load is smeared over the "
+           "engaged flanks: the peak is taken outside a pitch round them, the thread itself is checked by ISO 965-1 "
+           "(stripping, the wall under the root: the joint's safety factors)",
            "pressure enters the cylindrical fits of the joints up to their seal (the higher of the spaces they "
            "separate); the tendon's pull on the top cap's eye is carried by its joint (in the tube's end load), "
            "not applied to the cap (no eye is drawn)"]

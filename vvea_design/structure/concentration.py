@@ -354,7 +354,7 @@ def fit_kt(points: list[KtPoint], criterion: str) -> KtFit:
 
 def write_factors(path: str | Path, points: dict[str, list[KtPoint]], fits: dict[str, dict[str, KtFit]],
                   provenance: dict, piece_factors: dict[str, dict[str, float]] | None = None,
-                  pieces_source: str = "") -> Path:
+                  pieces_source: str = "", pieces_provenance: dict | None = None) -> Path:
     """Write the data file the spring sizing reads (format :data:`FORMAT`, version :data:`FORMAT_VERSION`).
 
     ``factors`` (what :mod:`vvea_design.spring.concentration` reads): per pressure-bearing piece, per feature,
@@ -378,6 +378,9 @@ def write_factors(path: str | Path, points: dict[str, list[KtPoint]], fits: dict
         Piece -> feature -> factor (dimensionless, clipped to >= 1); None: neutral 1.0 for every piece.
     pieces_source : str
         How the piece factors were found (the units checked).
+    pieces_provenance : dict, optional
+        Piece -> feature -> where each factor was measured (``studies/fe_concentration.py``), kept as
+        ``factors_provenance``.
 
     Returns
     -------
@@ -401,6 +404,8 @@ def write_factors(path: str | Path, points: dict[str, list[KtPoint]], fits: dict
                            "(1 + max_relative_error). The nominal stress of each "
                            "kind is stated with it."),
            "model": "Kt = exp(c0 + c1*ln(x1) + c2*ln(x2) + c3*ln(x1)*ln(x2))", "provenance": provenance, "kinds": {}}
+    if pieces_provenance:
+        out["factors_provenance"] = pieces_provenance
     for kind, fk in fits.items():
         k = KINDS[kind]
         any_fit = next(iter(fk.values()))

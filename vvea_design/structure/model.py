@@ -196,6 +196,8 @@ class PieceModel:
         # a cylindrical face on another piece is not sealed there: the joint's gas or fluid gets in up to its seal
         radial = (media == "contact") & (np.abs(self.normal[0]) > 0.7)
         media[radial] = sur.joint_gap(p[1][radial])
+        media[radial & sur.beyond_seals(p[0], p[1])] = "air"  # the static seal holds it back
+        media[radial & sur.annulus_fit(p[0], p[1])] = "chamber_2"  # a fit in the outer bore: the annulus' gas
         return media
 
     def drawn(self, faces) -> Bearing | None:

@@ -46,10 +46,10 @@ from .closed_form import lame, plate_simply_supported
 from .evaluate import Region, StressLine
 from .meshing import MeshSpec, mesh_section
 from .model import Bearing, PieceModel
-from .section import DEFAULT_CORNER_RADIUS_MM, MeridianSection, outline_polygon, section_of_solid, with_corner_radii
+from .section import MeridianSection, outline_polygon, section_of_solid, with_corner_radii
 from .surroundings import Surroundings
 
-__all__ = ["PieceSpec", "piece_specs", "build_piece"]
+__all__ = ["PieceSpec", "piece_specs", "build_piece", "thread_zones"]
 
 #: Rod stub kept below the piston, in rod diameters (its cut section takes the piston's load).
 ROD_STUB_DIAMETERS = 1.5
@@ -131,10 +131,9 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     push = -1 if top else +1
     out = []
     if joint is not None and joint.kind == "thread":
-        zone = joint.runout_mm + joint.engagement_length_mm
-        # the engaged flanks, clear of the run-out at the spigot's shoulder (DIN 76-1: no full thread there)
-        ro = joint.runout_mm
-        zr = (lay.z_cap - zone, lay.z_cap - ro) if top else (lay.z_base_top + ro, lay.z_base_top + zone)
+        # the engaged flanks as drawn, clear of the run-out at the spigot's shoulder (DIN 76-1: no full thread
+        # there) and below (base) / above (cap) the seal zone at the spigot's tip
+        zr = _thread_z(lay, end)
         out.append(Bearing(f"{joint.designation} thread on its spigot, smeared over {joint.engagement_length_mm:.1f} "
                            "mm of engagement", (joint.minor_diameter_mm / 2 - 0.5, joint.major_diameter_mm / 2 + 0.5),
                            zr, push, faces="radial"))
@@ -151,8 +150,46 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     return tuple(out)
 
 
-def _section(model: CadModel, part: str, corner_radius_mm: float, z_range=None) -> MeridianSection:
-    return with_corner_radii(section_of_solid(model.solids[part], part, z_range_mm=z_range), corner_radius_mm)
+def _thread_z(lay: Layout, end: str) -> tuple[float, float]:
+    """The z range of an end piece's engaged thread as the CAD draws it (``top_cap`` or ``base``; nan: the CAD
+    draws no thread there, the next joint face listed is used), mm."""
+    zone = lay.joint.cap_thread if end == "top_cap" else lay.joint.base_thread
+    return (math.nan, math.nan) if zone is None else zone.thread  # none drawn: the bearing selects nothing
+
+
+def _section(model: CadModel, part: str, corner_radius_mm: float | None, z_range=None) -> MeridianSection:
+    """A part's meridian section, its internal corners rounded: with the drawing's root radii
+    (:meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`) or, given ``corner_radius_mm``, that one."""
+    at = None if corner_radius_mm is not None else partial(model.layout.corner_radius_mm, part)
+    return with_corner_radii(section_of_solid(model.solids[part], part, z_range_mm=z_range),
+                             0.0 if corner_radius_mm is None else corner_radius_mm, at)
+
+
+def thread_zones(lay: Layout) -> tuple[tuple[float, float, float, float], ...]:
+    """The boxes ``(r0, r1, z0, z1)`` round the drawn threads' flanks (a pitch beyond their engaged length), mm.
+
+    The CAD draws a thread as its pitch cylinder (ISO 6410-1) and the FE smears the joint's load over it: the
+    stress at the ends of that band is the model's, not the thread roots'. The thread is checked by its standard
+    (ISO 965-1 stripping and the tube's wall under the root, the joint's safety factors); the FE peak of the
+    pieces is taken outside these boxes, the wall under the thread kept (the box stops at the thread's major
+    radius plus half a millimetre).
+
+    Parameters
+    ----------
+    lay : Layout
+        The CAD's levels and its joint as drawn (mm).
+
+    Returns
+    -------
+    tuple of tuple of float
+        One box per drawn thread, ``(r0, r1, z0, z1)`` in mm; empty without a threaded joint.
+    """
+    out = []
+    for t in (lay.joint.base_thread, lay.joint.cap_thread) if lay.has_joint else ():
+        if t is not None:
+            out.append((t.internal_minor_mm / 2 - 0.5, t.major_mm / 2 + 0.5, t.thread[0] - t.pitch_mm,
+                        t.thread[1] + t.pitch_mm))
+    return tuple(out)
 
 
 def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec:
@@ -163,14 +200,15 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
                       "Lamé, chamber-2 pressure in the bore: hoop stress at the bore")
     joints = _joints(model.design)
     top, base = joints.get("top_cap"), joints.get("base")
+    if lay.has_joint:  # the tube's ends as drawn (threaded ends reach over the end pieces' spigots)
+        z0, zc = lay.joint.z_tube_bottom, lay.joint.z_tube_top
     top_end = Bearing("its top end", (rb, R), (zc, zc), 0)
     bottom_end = Bearing("its bottom end on the base", (rb, R), (z0, z0), 0)
     bearings, applied, how = [], (), "its ends bear on base and top cap"
     if top is not None and top.kind in ("thread", "ring_top"):
         if top.kind == "thread":
-            zone = top.runout_mm + top.engagement_length_mm
             band = (top.minor_diameter_mm / 2 - 0.5, top.major_diameter_mm / 2 + 0.5)
-            applied = (((Bearing(f"the top cap's {top.designation} thread", band, (zc - zone, zc - top.runout_mm),
+            applied = (((Bearing(f"the top cap's {top.designation} thread", band, _thread_z(lay, "top_cap"),
                                  0, faces="radial"),
                          top_end), "top_cap"),)
         else:
@@ -178,16 +216,15 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
                                  (zc, zc + 10.0), 0), top_end), "top_cap"),)
         how = "closed-ended: it carries the top cap's load (and the tendon's pull) to the base's joint"
     if base is not None and base.kind == "thread":
-        zone = base.runout_mm + base.engagement_length_mm
         band = (base.minor_diameter_mm / 2 - 0.5, base.major_diameter_mm / 2 + 0.5)
-        bearings.append(Bearing(f"the base's {base.designation} thread", band, (z0 + base.runout_mm, z0 + zone), 0,
+        bearings.append(Bearing(f"the base's {base.designation} thread", band, _thread_z(lay, "base"), 0,
                                 faces="radial"))
     bearings.append(bottom_end)
     if top is not None and top.kind == "tie_rods":
         applied = (((top_end,), -float(top.preload_max_N)),)
         how = f"clamped by the tie rods' preload ({top.preload_max_N:.0f} N, VDI 2230-1 F_Mzul), no pressure end load"
     return PieceSpec("housing_outer_tube", "outer tube", model.design.fixed.housing_material, sec, tuple(bearings),
-                     (Region("outer_tube", ((0, R + 1, -1e9, 1e9),), (line,)),), how, applied)
+                     (Region("outer_tube", ((0, R + 1, -1e9, 1e9),), (line,), thread_zones(lay)),), how, applied)
 
 
 def _inner_tube(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceSpec:
@@ -246,7 +283,7 @@ def _top_cap(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceS
     joint = _joints(d).get("top_cap")
     bearings = _end_bearings(lay, joint, "top_cap")
     return PieceSpec("housing_top_cap", "top cap", d.fixed.housing_material, sec, bearings,
-                     (Region("top_cap", ((0, R + 1, -1e9, 1e9),), (line,)),),
+                     (Region("top_cap", ((0, R + 1, -1e9, 1e9),), (line,), thread_zones(lay)),),
                      f"{'no joint record' if joint is None else joint.designation}: {bearings[0].what}")
 
 
@@ -260,11 +297,11 @@ def _base(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> PieceSpec
     joint = _joints(d).get("base")
     bearings = _end_bearings(lay, joint, "base")
     return PieceSpec("housing_base", "base", d.fixed.housing_material, sec, bearings,
-                     (Region("base", ((0, R + 1, -1e9, 1e9),), (line,)),),
+                     (Region("base", ((0, R + 1, -1e9, 1e9),), (line,), thread_zones(lay)),),
                      f"{'no joint record' if joint is None else joint.designation}: {bearings[0].what}")
 
 
-def _piston(model: CadModel, lay: Layout, corner_radius_mm: float) -> PieceSpec:
+def _piston(model: CadModel, lay: Layout, corner_radius_mm: float | None) -> PieceSpec:
     d = model.design
     rr, rp = lay.rod_radius_mm, lay.piston_radius_mm
     zpb, zpt = lay.z_piston_bottom(0.0), lay.z_piston_top(0.0)
@@ -295,15 +332,16 @@ def _piston(model: CadModel, lay: Layout, corner_radius_mm: float) -> PieceSpec:
                      "its load goes into the rod (the stub's section takes the reaction)")
 
 
-def piece_specs(model: CadModel, corner_radius_mm: float = DEFAULT_CORNER_RADIUS_MM) -> tuple[PieceSpec, ...]:
+def piece_specs(model: CadModel, corner_radius_mm: float | None = None) -> tuple[PieceSpec, ...]:
     """The pressure-bearing pieces of a CAD model, with their sections cut from the CAD solids.
 
     Parameters
     ----------
     model : CadModel
         The built CAD set (the machined pieces and the piston at x = 0), mm.
-    corner_radius_mm : float
-        Radius given to internal corners the CAD draws sharp, mm.
+    corner_radius_mm : float, optional
+        Radius given to every internal corner the CAD draws sharp, mm; None (default): the drawing's root radii
+        (:meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`).
 
     Returns
     -------

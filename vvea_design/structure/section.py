@@ -8,9 +8,11 @@ largest angular gap between them, so the section is the piece's axisymmetric bod
 is measured, not assumed: ``volume_fraction`` is the solid's volume over the section's revolved volume
 (Pappus), 1.0 for a body of revolution, below it by the share of material the holes take.
 
-Machined internal corners are never sharp: a corner the CAD draws sharp is given the least radius a turning
-tool leaves (:data:`DEFAULT_CORNER_RADIUS_MM`, to be stated on the drawing as "internal corners R0.2 min
-unless stated"), so the stress at it is finite and converges with the mesh (:func:`with_corner_radii`).
+Machined internal corners are never sharp: a corner the CAD draws sharp is given the root radius the drawing
+states for it (:meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`: R1 at steps and shoulders unless
+stated, the ISO 3601 gland's root radius at O-ring grooves, R1.5 at the rod's shoulder; the FE check's
+default) or one radius for all (a study's; :data:`DEFAULT_CORNER_RADIUS_MM` is a turning tool's least nose
+radius), so the stress at it is finite and converges with the mesh (:func:`with_corner_radii`).
 
 Frame: the section lies in the plane ``(x, y) = (r, z)``, mm, r >= 0.
 """
@@ -265,7 +267,8 @@ def _tangent_away(edge, c) -> tuple[float, float]:
     return v[0] / n, v[1] / n
 
 
-def with_corner_radii(section: MeridianSection, radius_mm: float = DEFAULT_CORNER_RADIUS_MM) -> MeridianSection:
+def with_corner_radii(section: MeridianSection, radius_mm: float = DEFAULT_CORNER_RADIUS_MM,
+                      radius_at=None) -> MeridianSection:
     """The section with every sharp re-entrant corner rounded (at most 0.45 of its shorter neighbouring edge).
 
     One OpenCASCADE 2-D fillet builder (``BRepFilletAPI_MakeFillet2d``) rounds them all.
@@ -276,6 +279,9 @@ def with_corner_radii(section: MeridianSection, radius_mm: float = DEFAULT_CORNE
         A section whose corners the CAD drew sharp.
     radius_mm : float
         The radius given, mm.
+    radius_at : callable, optional
+        ``radius_at(r_mm, z_mm)`` -> the radius the drawing gives the corner there, mm (the layout's root radii,
+        :meth:`~vvea_design.cad.layout.Layout.corner_radius_mm`); None: ``radius_mm`` everywhere.
 
     Returns
     -------
@@ -288,7 +294,7 @@ def with_corner_radii(section: MeridianSection, radius_mm: float = DEFAULT_CORNE
 
     face = section.face
     corners = reentrant_corners(face)
-    if not corners or radius_mm <= 0:
+    if not corners or (radius_mm <= 0 and radius_at is None):
         return replace(section, corners=corners)
     edges = list(face.edges())
     plan = []
@@ -296,7 +302,8 @@ def with_corner_radii(section: MeridianSection, radius_mm: float = DEFAULT_CORNE
         v = next(v for v in face.vertices() if abs(v.X - c.r_mm) + abs(v.Y - c.z_mm) < 1e-7)
         p = v.center()
         lengths = [e.length for e in edges if min((e.start_point() - p).length, (e.end_point() - p).length) < 1e-7]
-        plan.append((c, v, min(radius_mm, 0.45 * min(lengths))))
+        want = radius_mm if radius_at is None else radius_at(c.r_mm, c.z_mm)
+        plan.append((c, v, min(want, 0.45 * min(lengths))))
     mk = BRepFilletAPI_MakeFillet2d(face.wrapped)
     done = []
     for c, v, r in plan:

@@ -14,8 +14,10 @@ Every boundary facet of a piece's mesh is labelled by the point a hair outside i
   the fluid, between them ``air`` (vented by the seals); the rod's bore in the base carries fluid down to the
   rod seal groove's lower flank and air below;
 * ``gap:<a>|<b>``: a void inside a joint (an O-ring gland, a thread's clearance, an undercut) takes the highest
-  pressure of the spaces that joint separates (the FE does not know which side the seal holds: the
-  conservative side).
+  pressure of the spaces that joint separates (conservative: either may reach it), except beyond the static
+  O-ring of the end pieces' joints (ISO 3601 glands, the base's and the top cap's): the pressure stops at the
+  ring, its gland is loaded, the thread, run-out and tube end on the far side are ``air`` (the seal's job; a
+  seal that leaks is found by the proof test, not by the walls).
 
 Pressures per medium come from the load case (:class:`~vvea_design.structure.loads.LoadCase`). Lengths mm.
 """
@@ -107,6 +109,8 @@ class Surroundings:
         if lay.has_bulkhead:
             out[cap & (r < lay.fill_tube_bore_radius_mm + 0.05)] = "chamber_1"
         out[cb] = "air"
+        # beyond the end pieces' static seals (their pressure side is the housing's inside): atmosphere
+        out[self.beyond_seals(r, z)] = "air"
         # --- the bore: chamber 1 above the piston, fluid below, the seals between
         bore = (z > z0) & (z < zc) & (r < rp)
         zpb, zpt = lay.z_piston_bottom(x), lay.z_piston_top(x)
@@ -134,6 +138,55 @@ class Surroundings:
             collar = ann & (z > lay.z_free1) & (z < lay.z_collar1)
             out[collar] = np.where(z[collar] > lay.z_collar_seal[0] - 0.05, _TOP_GAP, "chamber_2")
         return out
+
+    def beyond_seals(self, r_mm, z_mm) -> np.ndarray:
+        """Points of the end pieces' joints on the far side of their static O-rings (the thread, its run-out, the
+        tube's ends): at atmospheric pressure while the seal holds.
+
+        Parameters
+        ----------
+        r_mm, z_mm : array_like
+            Points, mm.
+
+        Returns
+        -------
+        ndarray of bool
+            True beyond the base's seal (below its groove) or the top cap's (above its groove), outside the
+            groove's root radius; all False for a design without a joint (flags, dimensionless).
+        """
+        r = np.atleast_1d(np.asarray(r_mm, dtype=float))
+        z = np.atleast_1d(np.asarray(z_mm, dtype=float))
+        lay = self.lay
+        out = np.zeros(r.shape, dtype=bool)
+        if not lay.has_joint:
+            return out
+        out |= (z <= lay.z_base_top) & (r > lay.base_seal.groove_diameter_mm / 2 - 0.05) & (z < lay.z_base_seal[0] - 1e-3)
+        if lay.cap_seal is not None:
+            out |= (z >= lay.z_cap) & (r > lay.cap_seal.groove_diameter_mm / 2 - 0.05) & (z > lay.z_cap_seal[1] + 1e-3)
+        return out
+
+    def annulus_fit(self, r_mm, z_mm) -> np.ndarray:
+        """Points of a fit in the outer tube's bore between the base's seal and mid-length (the base's bladder
+        clamp in the bore): open to the annulus only, so at chamber-2 pressure (the fluid under the piston
+        reaches the base's joints through its own bores, not the outer bore; the bladder's fluid is at chamber 2).
+
+        Parameters
+        ----------
+        r_mm, z_mm : array_like
+            Points, mm.
+
+        Returns
+        -------
+        ndarray of bool
+            True in such a fit; all False for a design without a joint (flags, dimensionless).
+        """
+        r = np.atleast_1d(np.asarray(r_mm, dtype=float))
+        z = np.atleast_1d(np.asarray(z_mm, dtype=float))
+        lay = self.lay
+        if not lay.has_joint:
+            return np.zeros(r.shape, dtype=bool)
+        return ((r >= lay.outer_bore_radius_mm - 0.05) & (z > lay.z_base_seal[1] + 1e-3)
+                & (z < 0.5 * (lay.z_base_top + lay.z_cap)))
 
     def joint_gap(self, z_mm) -> np.ndarray:
         """The gap medium of the joint nearest a level (the base's below mid-length, the top's above).

@@ -92,7 +92,7 @@ def structure_section(result: "StructureResult | None") -> Section | None:
     body += paragraph(
         "Axisymmetric linear-elastic FE (scikit-fem, quadratic triangles meshed by gmsh) of each machined piece's "
         "meridian section, cut from its CAD solid; the peak includes the grooves, shoulders and edges the CAD "
-        f"draws (internal corners drawn sharp taken as R{result.corner_radius_mm:g}); the nominal is the "
+        f"draws (internal corners drawn sharp taken {_radii(result)}); the nominal is the "
         "membrane-plus-bending stress linearised on a line through the wall (EN 13445-3 annex C practice), "
         "shown beside the sizing's closed form. Checking the peak against the factor is stricter than a "
         "design-by-analysis check to EN 13445-3 annex B, which leaves peaks to the fatigue check. Verified "
@@ -109,3 +109,10 @@ def structure_section(result: "StructureResult | None") -> Section | None:
     cpu = result.cpu_seconds
     body += paragraph(f"FE time {result.seconds:.1f} s" + ("" if cpu != cpu else f" (CPU {cpu:.1f} s)") + ".", "note")
     return Section("Strength (FE)", body, anchor="strength")
+
+
+def _radii(result) -> str:
+    """How the check rounded the corners the CAD draws sharp (the drawing's root radii or one radius)."""
+    if result.corner_radius_mm is None:
+        return "with the drawing's root radii (R1 at steps, the ISO 3601 gland's at O-ring grooves)"
+    return f"as R{result.corner_radius_mm:g}"
