@@ -286,11 +286,17 @@ def part_notes() -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        Two notes (ISO 2768-m, ISO 8015, ISO 13715 edges, Ra 3.2 unless stated).
+        Three notes (ISO 2768-m, ISO 8015, ISO 13715 edges; Ra 3.2 unless stated; the internal corners' root
+        radii that the FE check assumes, mm).
     """
+    from .layout import BULKHEAD_ROOT_RADIUS_MM, ROD_SHOULDER_RADIUS_MM, ROOT_RADIUS_MM
+
     return ("All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated "
             "(burr-free).",
-            "Surfaces Ra 3.2 unless stated; sealing surfaces free of scratches across the axis (ISO 3601-2).")
+            "Surfaces Ra 3.2 unless stated; sealing surfaces free of scratches across the axis (ISO 3601-2).",
+            f"Internal corners R{ROOT_RADIUS_MM:g} unless stated; rod shoulder R{ROD_SHOULDER_RADIUS_MM:g}; "
+            f"bulkhead roots in the bore R{BULKHEAD_ROOT_RADIUS_MM:g}; O-ring groove roots to ISO 3601-2. The "
+            "strength check (FE) assumes these radii: do not machine sharper.")
 
 
 def radial_extent_mm(solid: Solid) -> tuple[float, float, float]:
