@@ -294,9 +294,8 @@ def part_notes() -> tuple[str, ...]:
     return ("All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated "
             "(burr-free).",
             "Surfaces Ra 3.2 unless stated; sealing surfaces free of scratches across the axis (ISO 3601-2).",
-            f"Internal corners R{ROOT_RADIUS_MM:g} unless stated; rod shoulder R{ROD_SHOULDER_RADIUS_MM:g}; "
-            f"bulkhead roots in the bore R{BULKHEAD_ROOT_RADIUS_MM:g}; O-ring groove roots to ISO 3601-2. The "
-            "strength check (FE) assumes these radii: do not machine sharper.")
+            f"Inside corners R{ROOT_RADIUS_MM:g} unless stated; rod shoulder R{ROD_SHOULDER_RADIUS_MM:g}; bulkhead "
+            f"roots R{BULKHEAD_ROOT_RADIUS_MM:g} (the FE check assumes them).")
 
 
 def radial_extent_mm(solid: Solid) -> tuple[float, float, float]:
