@@ -23,16 +23,24 @@ def test_joint_levels_follow_the_design(name):
     for t in (j.base_thread, j.cap_thread):
         if t is None:
             continue
-        zones = sorted([t.runout, t.thread, t.seal])
+        zones = sorted([t.runout, t.thread, t.relief, t.seal])
         assert all(a[1] == pytest.approx(b[0]) for a, b in zip(zones, zones[1:]))  # contiguous
+        assert t.relief[1] - t.relief[0] == pytest.approx(t.pitch_mm)  # the internal run-out, DIN 76-1 short
         assert t.external_minor_mm < t.pitch_diameter_mm < t.major_mm
         assert t.pitch_diameter_mm / 2 > lay.r_bore  # the O-ring passes the thread into the bore
+        # ... clear of the internal thread's crests (ISO 3601-2): its free ring and the bore's lead-in inside D1
+        for g in (lay.base_seal, lay.cap_seal):
+            assert g.free_sealing_radius_mm < t.internal_minor_mm / 2
+        assert lay.r_bore + lay.lead_in_outer_bottom.depth_mm <= t.internal_minor_mm / 2
     g0, g1 = lay.z_base_seal
     assert j.base_seal[0] <= g0 < g1 <= j.base_seal[1]
     g0, g1 = lay.z_cap_seal
     assert j.cap_seal[0] <= g0 < g1 <= j.cap_seal[1]
     if j.ring is not None:
         assert j.ring.plug[1] == pytest.approx(j.ring.groove[0]) and j.ring.groove[1] < lay.z_top
+        # the cap's O-ring seals in the bore below the counterbore and passes the ring's groove clear of it
+        assert lay.cap_seal.sliding_diameter_mm == pytest.approx(2 * lay.r_bore)
+        assert lay.cap_seal.free_sealing_radius_mm < j.ring.bore_mm / 2
         assert lay.z_cap_face == pytest.approx(j.ring.plug[1])
     if j.rods is not None:
         r = j.rods

@@ -62,8 +62,10 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     for w in fe["walls"].values():
         assert w["safety"] == pytest.approx(w["yield_MPa"] / w["peak_tresca_MPa"]) and w["governing_case"]
     assert all((out / p["figure"]).is_file() for p in fe["pieces"].values())
+    manifest = json.loads((out / "cad" / "manifest.json").read_text())
+    assert manifest["assembly"]["passes"]  # no O-ring over a thread crest or a sharp edge (ISO 3601-2)
     assert unit["passes"] == (all(m >= -1e-9 for m in unit["constraint_margins"].values())
-                              and unit["bladder"]["passes"] and fe["passes"])
+                              and unit["bladder"]["passes"] and fe["passes"] and manifest["assembly"]["passes"])
     design = json.loads((out / "design.json").read_text())
     # the paper's hand-tuned 1.86 % is a unit sized for the gas alone; the inner_tube unit that holds together
     # (joints, the damper's loads, drawn tolerances: docs/layout.md, the cost of buildability) pays about 0.4 pp

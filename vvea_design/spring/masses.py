@@ -24,7 +24,7 @@ import numpy as np
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array
 from .hydraulics import COLLECTOR_LAND_MM, collector_width_mm
-from .joints import RUNOUT_PITCHES, THREAD_PITCH_MM, bd_warehouse_rows
+from .joints import INTERNAL_RUNOUT_PITCHES, RUNOUT_PITCHES, THREAD_PITCH_MM, bd_warehouse_rows
 
 __all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm"]
 
@@ -254,15 +254,21 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
             L = q["thread_" + key]
             if end == "housing_top_cap" and js.kind == "ring_top":
                 continue
-            run = RUNOUT_PITCHES * P
+            run, rel = RUNOUT_PITCHES * P, INTERNAL_RUNOUT_PITCHES * P
+            D1 = q["thread_minor_mm"] / 2
+            # the tube over the thread, its internal run-out (at the minor bore D1, the spigot plain at the bore
+            # there: an empty relief between them) and the seal zone
             moved = pi * (ro**2 - d2**2) * (L + run) + pi * (ro**2 - rb**2) * seal
-            dv[end] = dv[end] - moved - pi * (d2**2 - d3**2) * run - gland
-            dv["housing_outer_tube"] = dv["housing_outer_tube"] + moved
+            dv[end] = dv[end] - moved - pi * (d2**2 - d3**2) * run - gland - pi * (ro**2 - rb**2) * rel
+            dv["housing_outer_tube"] = dv["housing_outer_tube"] + moved + pi * (ro**2 - D1**2) * rel
     if js.kind == "ring_top":  # g["cap"] is the plug and the tube beyond it (the CAD's z_top - z_cap)
         d1, d2r, m = q["ring_bore_mm"] / 2, q["ring_groove_diameter_mm"] / 2, q["ring_groove_width_mm"]
         plug = g["cap"] - js.top_extra_mm
-        dv["housing_outer_tube"] = dv["housing_outer_tube"] + pi * (ro**2 - d1**2) * g["cap"] - pi * (d2r**2 - d1**2) * m
-        dv["housing_top_cap"] = dv["housing_top_cap"] + pi * d1**2 * plug - pi * ro**2 * g["cap"] - gland
+        sz = js.top_zone_mm  # the plug's seal zone at the bore, below the counterbore
+        dv["housing_outer_tube"] = (dv["housing_outer_tube"] + pi * (ro**2 - d1**2) * g["cap"]
+                                    - pi * (d2r**2 - d1**2) * m + pi * (d1**2 - rb**2) * sz)
+        dv["housing_top_cap"] = (dv["housing_top_cap"] + pi * d1**2 * plug - pi * ro**2 * g["cap"] - gland
+                                 - pi * (d1**2 - rb**2) * sz)
         own["retaining_ring"] = np.asarray(q["ring_mass_g"], dtype=float)
     if js.kind == "tie_rods":
         rt = js.tube_outer_radius_mm

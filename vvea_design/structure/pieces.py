@@ -131,10 +131,8 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     push = -1 if top else +1
     out = []
     if joint is not None and joint.kind == "thread":
-        zone = joint.runout_mm + joint.engagement_length_mm
-        # the engaged flanks, clear of the run-out at the spigot's shoulder (DIN 76-1: no full thread there)
-        ro = joint.runout_mm
-        zr = (lay.z_cap - zone, lay.z_cap - ro) if top else (lay.z_base_top + ro, lay.z_base_top + zone)
+        # the engaged flanks, clear of the run-outs (DIN 76-1: no full thread there): the CAD's levels
+        zr = (lay.joint.cap_thread if top else lay.joint.base_thread).thread
         out.append(Bearing(f"{joint.designation} thread on its spigot, smeared over {joint.engagement_length_mm:.1f} "
                            "mm of engagement", (joint.minor_diameter_mm / 2 - 0.5, joint.major_diameter_mm / 2 + 0.5),
                            zr, push, faces="radial"))
@@ -168,9 +166,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
     bearings, applied, how = [], (), "its ends bear on base and top cap"
     if top is not None and top.kind in ("thread", "ring_top"):
         if top.kind == "thread":
-            zone = top.runout_mm + top.engagement_length_mm
             band = (top.minor_diameter_mm / 2 - 0.5, top.major_diameter_mm / 2 + 0.5)
-            applied = (((Bearing(f"the top cap's {top.designation} thread", band, (zc - zone, zc - top.runout_mm),
+            applied = (((Bearing(f"the top cap's {top.designation} thread", band, lay.joint.cap_thread.thread,
                                  0, faces="radial"),
                          top_end), "top_cap"),)
         else:
@@ -178,9 +175,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
                                  (zc, zc + 10.0), 0), top_end), "top_cap"),)
         how = "closed-ended: it carries the top cap's load (and the tendon's pull) to the base's joint"
     if base is not None and base.kind == "thread":
-        zone = base.runout_mm + base.engagement_length_mm
         band = (base.minor_diameter_mm / 2 - 0.5, base.major_diameter_mm / 2 + 0.5)
-        bearings.append(Bearing(f"the base's {base.designation} thread", band, (z0 + base.runout_mm, z0 + zone), 0,
+        bearings.append(Bearing(f"the base's {base.designation} thread", band, lay.joint.base_thread.thread, 0,
                                 faces="radial"))
     bearings.append(bottom_end)
     if top is not None and top.kind == "tie_rods":
