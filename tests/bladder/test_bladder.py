@@ -25,7 +25,15 @@ from vvea_design.bladder.membrane import TAUT
 from vvea_design.materials.silicones import CRITERIA, SILICONES, StrainCriterion, allowable_strain, get_silicone
 from tests.helpers import REPO
 
-EXAMPLE = Design(35.18, 59.5, 47107.0, 99735.0)
+#: The hand example: the old gas-only optimum, under the gas-only rules it was sized by (the membrane-physics tests
+#: below pin its numbers). Under the default buildable rules the same parameters leave no room for the bladder
+#: (test_the_old_optimum_does_not_fit_under_the_buildable_rules).
+GAS_ONLY = FixedParameters(sizing_rules="gas_only")
+EXAMPLE = Design(35.18, 59.5, 47107.0, 99735.0, fixed=GAS_ONLY)
+#: A unit the optimiser builds: the default optimum under the buildability rules (`vvea optimise`, seed 0: bulkhead,
+#: thread joint).
+OPTIMUM = Design(32.590048463374174, 59.00923543940918, 30391.70736111289, 75289.11744253983, layout="bulkhead",
+                 V2_top_mm3=0.0)
 N = 48  # elements in the default tests (the study runs the fine meshes)
 
 REQUIRED_KEYS = {"membrane", "volume_change_mm3", "max_principal_strain", "pressure_MPa", "strain_bound",
@@ -35,6 +43,11 @@ REQUIRED_KEYS = {"membrane", "volume_change_mm3", "max_principal_strain", "press
 @pytest.fixture(scope="module")
 def example():
     return check_bladder(EXAMPLE, n_elements=N)
+
+
+@pytest.fixture(scope="module")
+def optimum():
+    return check_bladder(OPTIMUM, n_elements=N)
 
 
 def test_result_is_consistent_with_the_design(example):
@@ -99,10 +112,12 @@ def test_strains_grow_with_the_stroke(example):
 
 @pytest.mark.parametrize("design", [
     EXAMPLE,
+    Design(30.0, 59.5, 60000.0, 80000.0, fixed=GAS_ONLY),
+    Design(25.0, 50.0, 30000.0, 40000.0, fixed=GAS_ONLY),
+    Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(bladder_cast_fill=0.2, sizing_rules="gas_only")),
     Design(30.0, 59.5, 60000.0, 80000.0),
-    Design(25.0, 50.0, 30000.0, 40000.0),
-    Design(35.18, 59.5, 47107.0, 99735.0, fixed=FixedParameters(bladder_cast_fill=0.2)),
-], ids=["example", "long", "small", "cast-early"])
+    OPTIMUM,
+], ids=["example", "long", "small", "cast-early", "long-buildable", "optimum"])
 def test_fast_strain_bound_is_conservative_against_the_fine_check(design):
     fast = strain_bound(design)
     fine = check_bladder(design, n_elements=192).strain_bound
@@ -110,10 +125,57 @@ def test_fast_strain_bound_is_conservative_against_the_fine_check(design):
 
 
 def test_strain_bound_is_infinite_for_a_bladder_that_does_not_fit():
-    d = Design(35.18, 59.5, 47107.0, 400000.0)  # V2 beyond the annulus capacity
+    d = Design(35.18, 59.5, 47107.0, 400000.0, fixed=GAS_ONLY)  # V2 beyond the annulus capacity
     assert math.isinf(strain_bound(d))
     with pytest.raises(BladderError, match="V2_mm3"):
         check_bladder(d)
+
+
+def test_the_old_optimum_does_not_fit_under_the_buildable_rules():
+    """The gas-only optimum's parameters under the default (buildable) rules: the joints' zones and the thicker
+    walls take the room its bladder was cast in. The optimiser rejects it (bladder_room_compressed < 0), the
+    bladder check names the field, the fast bound is infinite."""
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
+
+    d = Design(35.18, 59.5, 47107.0, 99735.0)
+    assert d.fixed.sizing_rules == "buildable"
+    ev = evaluate_design(d, Requirements())
+    assert not ev.feasible and ev.margins["bladder_room_compressed"] < 0
+    assert math.isinf(strain_bound(d))
+    with pytest.raises(BladderError, match="V2_mm3|cannot give up"):
+        check_bladder(d)
+
+
+def test_a_unit_the_optimiser_accepts_has_a_bladder_that_takes_the_stroke():
+    """No missing constraint: every buildable design of a random sample that meets the optimiser's bladder-room
+    constraints (bladder_room_compressed, bladder_room_expanded: the sleeve's equal-volume radius clears the inner
+    tube and the outer bore at both stroke ends) has a sleeve that can give up and take the stroke's volume change
+    (a finite strain bound: the membrane check's volume limits hold); and the default optimum passes the fine
+    check at its stroke ends."""
+    from vvea_design.spring.parameters import DesignError
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
+
+    req = Requirements()
+    rng = np.random.default_rng(0)
+    checked = 0
+    for _ in range(120):
+        layout = str(rng.choice(["inner_tube", "bulkhead"]))
+        extra = {"V2_top_mm3": float(rng.uniform(0, 3000))} if layout == "bulkhead" else {}
+        p = (rng.uniform(28, 38), rng.uniform(56, 62), rng.uniform(20000, 60000), rng.uniform(50000, 110000))
+        try:
+            d = Design(*p, layout=layout, **extra)
+            ev = evaluate_design(d, req)
+        except (ValueError, DesignError):  # parameters with no geometry (the optimiser's bounds exclude them)
+            continue
+        if min(ev.margins["bladder_room_compressed"], ev.margins["bladder_room_expanded"]) < 0:
+            continue
+        checked += 1
+        assert math.isfinite(strain_bound(d)), d
+    assert checked >= 10
+    ev = evaluate_design(OPTIMUM, req)
+    assert ev.feasible and min(ev.margins["bladder_room_compressed"], ev.margins["bladder_room_expanded"]) >= 0
 
 
 def test_silicone_library_and_criteria():
@@ -172,17 +234,17 @@ def test_paper_bladder_reconstruction_runs_with_the_paper_stroke():
     assert 0 < r.ends["expanded"].max_principal_strain < r.strain_bound < 1
 
 
-def test_report_files(tmp_path, example):
+def test_report_files(tmp_path, optimum):
     from vvea_design.bladder.check import BladderReport, BladderResult
 
-    report = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N)
+    report = write_bladder_report(OPTIMUM, tmp_path / "out", n_elements=N)
     assert isinstance(report, BladderReport) and isinstance(report.result, BladderResult)
     assert (tmp_path / "out" / "bladder.json").is_file()
     assert (tmp_path / "out" / "bladder.png").stat().st_size > 10_000
     rows = (tmp_path / "out" / "bladder_profile.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 * N
     on_disk = json.loads((tmp_path / "out" / "bladder.json").read_text())
-    assert on_disk["strain_bound"] == pytest.approx(example.strain_bound)
+    assert on_disk["strain_bound"] == pytest.approx(optimum.strain_bound)
     assert on_disk == report.to_dict()
     assert dict(report.files) == {"json": "bladder.json", "csv": "bladder_profile.csv", "png": "bladder.png"}
     assert on_disk["files"] == dict(report.files)
@@ -192,15 +254,15 @@ def test_report_files(tmp_path, example):
         report.path("pdf")
 
 
-def test_report_of_a_computed_check_solves_nothing_again(tmp_path, example, monkeypatch):
+def test_report_of_a_computed_check_solves_nothing_again(tmp_path, optimum, monkeypatch):
     """`vvea design` checks the bladder once and writes that check (no second FE solve)."""
     import vvea_design.bladder.check as check
 
     monkeypatch.setattr(check, "check_bladder", lambda *a, **k: pytest.fail("solved the bladder again"))
-    report = write_bladder_report(EXAMPLE, tmp_path / "out", n_elements=N, result=example)
-    assert report.result is example
+    report = write_bladder_report(OPTIMUM, tmp_path / "out", n_elements=N, result=optimum)
+    assert report.result is optimum
     d = report.to_dict()
-    assert d["strain_bound"] == pytest.approx(example.strain_bound)
+    assert d["strain_bound"] == pytest.approx(optimum.strain_bound)
     assert json.loads((tmp_path / "out" / "bladder.json").read_text()) == d
 
 
@@ -214,7 +276,7 @@ def _design_json(path):
     from vvea_design.spring.requirements import Requirements
 
     req = Requirements()
-    return save_design(path, evaluate_design(EXAMPLE, req), req)
+    return save_design(path, evaluate_design(OPTIMUM, req), req)
 
 
 def test_cli_writes_bladder_json(tmp_path):
@@ -292,7 +354,7 @@ def test_plot_bladder_returns_a_figure_with_verdict_and_allowable():
     from vvea_design.spring.design import Design
 
     backend = matplotlib.get_backend()
-    res = check_bladder(Design(35.18, 59.5, 47107.0, 99735.0), n_elements=24)
+    res = check_bladder(OPTIMUM, n_elements=24)
     fig = plot_bladder(res, title="t")
     assert matplotlib.get_backend() == backend
     strain_ax = fig.axes[2]

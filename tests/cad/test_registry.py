@@ -29,11 +29,15 @@ def test_every_part_has_its_bom_hook_or_a_reason():
 
 
 def test_every_drawn_part_has_its_drawing_hook():
-    """The sheets committed in cad/ are exactly the parts whose entry carries a drawing hook (plus the unit)."""
+    """The sheets committed in cad/ are exactly the parts whose entry carries a drawing hook, plus the two sheets of
+    the whole unit: its section and the exploded assembly order (issue 23, item 7), which no part entry owns."""
+    from vvea_design.report.assembly_sheet import SHEET_NAME
+
     drawn = [p.name for p in PARTS if p.drawing is not None]
     assert drawn == list(DRAWN)
+    assert SHEET_NAME == "assembly_order" and SHEET_NAME not in {p.name for p in PARTS}
     committed = sorted(f.stem.removeprefix("drawing_") for f in (REPO / "cad").glob("drawing_*.svg"))
-    assert committed == sorted([*DRAWN, "unit_section"])
+    assert committed == sorted([*DRAWN, "unit_section", SHEET_NAME])
     for p in PARTS:
         assert p.drawing is None or callable(p.drawing), p.name
         assert p.hatch in registry.HATCHES, p.name

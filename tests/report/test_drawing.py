@@ -128,9 +128,13 @@ def test_write_drawings_files(reference_cad_run):
     out, exit_code, output = reference_cad_run
     assert exit_code == 0, output
     svg = sorted(out.glob("drawing_*.svg"))
-    assert len(svg) == 6
+    # the unit's section, one sheet per drawn part, and the exploded assembly order (issue 23, item 7)
+    drawn = [p.name for p in PARTS if p.drawing is not None]
+    assert sorted(p.stem.removeprefix("drawing_") for p in svg) == sorted(["unit_section", *drawn, "assembly_order"])
+    assert len(svg) == 7
     pdf = (out / "drawings.pdf").read_bytes()
-    assert pdf.startswith(b"%PDF") and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= 6
+    assert pdf.startswith(b"%PDF") and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= 7
+    assert "assembly order" in (out / "drawing_assembly_order.svg").read_text()
     for p in svg:
         root = ET.fromstring(p.read_bytes())
         assert root.tag.endswith("svg")

@@ -17,6 +17,8 @@ from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design
+from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM
+from ..spring.joints import seal_lead_in_land_mm
 from .errors import CadError
 from .joints import JointGeometry, joint_geometry
 from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
@@ -26,8 +28,9 @@ from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, s
 #: defaults; the CAD draws the design's values.
 HYDRAULIC_FIELDS = ("throttle_bore_mm", "relief_bore_mm", "relief_seat_mm", "fluid_channel_mm", "ring_channel_mm",
                     "ring_channels")
-#: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm.
-LEAD_IN_GAP_MM = 0.3
+#: Axial gap between the end of a lead-in chamfer and the seal groove's flank at the installed position, mm (the
+#: spring side's: the joints' seal zones reserve it, :func:`~vvea_design.spring.joints.seal_lead_in_land_mm`).
+LEAD_IN_GAP_MM = _LEAD_IN_GAP_MM
 #: Where the chamfer-angle room for a lead-in stops: the piston's lower ring must never run onto the inner tube's
 #: bottom chamfer at full stroke (axial gap, mm).
 PISTON_LEAD_IN_GAP_MM = 0.3
@@ -294,25 +297,44 @@ class Layout:
 
     @property
     def z_base_seal(self) -> tuple[float, float]:
-        """Axial extent of the base seal's groove: centred in the joint's seal zone, or without a joint at the top
-        of the CAD's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's lead-in below it stays clear, mm."""
+        """Axial extent of the base seal's groove: in the joint's seal zone above the entry land the design reserves
+        for the outer tube's lead-in (:attr:`seal_entry_land_mm`), or without a joint at the top of the CAD's spigot
+        (land :data:`SPIGOT_LAND_MM`), so the outer tube's lead-in below it stays clear, mm."""
         w = self.base_seal.width_mm
         if self.has_joint:
-            zc = 0.5 * sum(self.joint.base_seal)
-            return zc - 0.5 * w, zc + 0.5 * w
+            lo = self.joint.base_seal[0] + self.seal_entry_land_mm(self.base_seal)
+            return lo, lo + w
         top = self.z_free0 - SPIGOT_LAND_MM
         return top - w, top
 
     @property
     def z_cap_seal(self) -> tuple[float, float]:
-        """Axial extent of the cap seal's groove: centred in the joint's seal zone, or without a joint at the bottom
-        of the cap's spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's top lead-in above it stays clear, mm."""
+        """Axial extent of the cap seal's groove: in the joint's seal zone below the entry land the design reserves
+        for the outer tube's top lead-in (:attr:`seal_entry_land_mm`), or without a joint at the bottom of the cap's
+        spigot (land :data:`SPIGOT_LAND_MM`), so the outer tube's top lead-in above it stays clear, mm."""
         w = self.cap_seal.width_mm
         if self.has_joint:
-            zc = 0.5 * sum(self.joint.cap_seal)
-            return zc - 0.5 * w, zc + 0.5 * w
+            hi = self.joint.cap_seal[1] - self.seal_entry_land_mm(self.cap_seal)
+            return hi - w, hi
         lo = self.z_free1 + SPIGOT_LAND_MM
         return lo, lo + w
+
+    def seal_entry_land_mm(self, gland: Gland) -> float:
+        """The joint's seal zone between its entry end (the thread's step or the tube's end, where the ring enters
+        the bore) and the groove of ``gland``: the lead-in's room the design reserves for its ring (ISO 3601-2,
+        :func:`~vvea_design.spring.joints.seal_lead_in_land_mm`).
+
+        Parameters
+        ----------
+        gland : Gland
+            The joint's static seal (its ring's cross-section sets the lead-in).
+
+        Returns
+        -------
+        float
+            Axial land, mm.
+        """
+        return seal_lead_in_land_mm(gland.oring.cross_section_mm, self.design.fixed.seal_land_mm)
 
     @cached_property
     def lead_in_piston(self) -> LeadIn:
@@ -348,17 +370,23 @@ class Layout:
         return j.cap_seal[1] if j.ring is not None else j.z_tube_top
 
     def _tube_lead_in(self, rings: list[Gland], room: float, where: str) -> LeadIn:
-        """A lead-in for the rings passing an end of the outer tube, in ``room`` mm; without room (a joint's seal
-        zone that leaves none) the 20 deg chamfer the rings need, reaching over the ring: the assembly check and
-        the leak audit then report it."""
+        """A lead-in (ISO 3601-2, 15 ... 20 deg) for the rings passing an end of the outer tube, in ``room`` mm.
+
+        With a joint the design reserved the room (:attr:`seal_entry_land_mm`): a chamfer that does not fit is a
+        :class:`CadError` naming ``fixed.seal_land_mm``. Under the gas-only rules the spigot is the bladder clamp,
+        whose length the design fixes without the seal: a 20 deg chamfer may use the CAD's own clearance to the
+        groove (:data:`LEAD_IN_GAP_MM`), ending at the groove's flank at most; else a :class:`CadError` naming
+        ``fixed.bladder_clamp_mm``."""
         ring = max(rings, key=lambda g: g.protrusion_mm + g.oring.cross_section_tolerance_mm)
         try:
             return ring.lead_in(room)
         except SealError as exc:
             if self.has_joint:
-                depth = round(ring.protrusion_mm + ring.oring.cross_section_tolerance_mm + 0.1, 2)
-                return LeadIn(20.0, round(depth / math.tan(math.radians(20.0)), 2), depth)
-            raise CadError(f"fixed.bladder_clamp_mm ({where}): {exc}") from None
+                raise CadError(f"fixed.seal_land_mm ({where}, the joint's seal zone): {exc}") from None
+            try:
+                return ring.lead_in(room + LEAD_IN_GAP_MM)
+            except SealError:
+                raise CadError(f"fixed.bladder_clamp_mm ({where}): {exc}") from None
 
     @cached_property
     def lead_in_outer_bottom(self) -> LeadIn:

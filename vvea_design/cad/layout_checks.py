@@ -114,6 +114,8 @@ def _check_seals_and_ports(lay: Layout) -> None:
             seals.append((lay.cap_seal, lay.z_cap_seal, lay.z_free1, lay.z_cap, "top cap's spigot"))
         land, field = SPIGOT_LAND_MM, "fixed.bladder_clamp_mm"
     for g, (g0, g1), lo, hi, name in seals:
+        if lay.has_joint and abs(g.oring.cross_section_mm - f.joint_seal_cross_section_mm) > 1e-9:
+            field = "fixed.joint_seal_cross_section_mm"  # the zone was sized for the design's ring, not this one
         if g0 < lo + land - 1e-9 or g1 > hi - land + 1e-9:
             raise CadError(f"{field} = {getattr(f, field.split('.')[1]):g} mm: the {name} ({hi - lo:.2f} mm) "
                            f"cannot hold the {g.width_mm:g} mm groove of O-ring {g.oring.code} with "

@@ -43,6 +43,7 @@ from .drafting import SheetContent
 from .features import (Feature, base_features, inner_tube_features, outer_tube_features, piston_features,
                        top_cap_features)
 from .gas import gas_chamber_1, gas_chamber_2
+from .housing_joints import outer_tube_profile
 from .layout import Layout
 from .mould import Mould, mould, mould_core_volume_mm3
 from .parts import housing, housing_pieces, lead_in_ring_mm3, piston, piston_volume_mm3
@@ -274,11 +275,42 @@ def _const(name: str, density: float | None, process: str) -> Callable[[Design],
     return lambda d: PartMaterial(name, density, process)
 
 
+def revolved_volume_mm3(pts) -> float:
+    """Volume of a closed meridian polygon (r, z) revolved about the axis (a sum of frusta), mm³.
+
+    Parameters
+    ----------
+    pts : sequence of (float, float)
+        The corners (r >= 0, z), mm, in order.
+
+    Returns
+    -------
+    float
+        Volume, mm³.
+    """
+    v = 0.0
+    for (r0, z0), (r1, z1) in zip(pts, [*pts[1:], pts[0]]):
+        v += (z1 - z0) * (r0 * r0 + r0 * r1 + r1 * r1)
+    return abs(v) * math.pi / 3
+
+
 def _outer_tube_mm3(lay: Layout) -> float:
-    v = math.pi * (lay.r_outer**2 - lay.r_bore**2) * (lay.z_cap - lay.z_base_top)
-    for li in (lay.lead_in_outer_bottom, lay.lead_in_outer_top):  # the bore's lead-in chamfers at both ends
-        if li is not None:
-            v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
+    """The outer tube as drawn: its meridian outline (the ends over the joint's threads at the pitch cylinder, the
+    ring's counterbore; the plain tube between the base and the cap without a joint), less the bore's lead-in
+    chamfers and the retaining ring's groove, mm³."""
+    v = revolved_volume_mm3(outer_tube_profile(lay))
+    j = lay.joint
+    li = lay.lead_in_outer_bottom  # the bore's lead-in chamfers at both ends (behind a thread: at the step)
+    v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
+    if lay.lead_in_counterbore is not None:  # ring_top: at the counterbore's mouth, where the plug enters
+        li = lay.lead_in_counterbore
+        v -= lead_in_ring_mm3(j.ring.bore_mm / 2, li.depth_mm, li.length_mm, outward=True)
+    if lay.lead_in_outer_top is not None:  # where the cap's ring enters the bore (ring_top: the counterbore's step)
+        li = lay.lead_in_outer_top
+        v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
+    if j.ring is not None:  # the retaining ring's groove in the counterbore
+        v -= math.pi * ((j.ring.groove_diameter_mm / 2) ** 2 - (j.ring.bore_mm / 2) ** 2) * (j.ring.groove[1]
+                                                                                              - j.ring.groove[0])
     return v
 
 

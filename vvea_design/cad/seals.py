@@ -44,6 +44,8 @@ from functools import lru_cache
 
 from bd_warehouse.o_rings import ORing as _BdORing
 
+from ..spring.joints import LEAD_IN_MIN_LENGTH_MM as _LEAD_IN_MIN_LENGTH_MM
+
 __all__ = ["ORing", "Gland", "GlandSpec", "LeadIn", "ORING_SIZES", "DYNAMIC_GLANDS", "STATIC_GLANDS", "SERIES",
            "LEAD_IN_MIN_LENGTH_MM", "FINISH_RA_UM", "COMPOUND", "ORING_STANDARD", "get_oring", "gland_spec", "piston_gland",
            "rod_gland", "static_male_gland", "static_female_gland", "lead_in", "SealError"]
@@ -63,8 +65,8 @@ ORING_STANDARD = "ISO 3601-1 class A (= AS568)"
 COMPOUND = "NBR 70 IRHD (ISO 3601-5; mineral oil HM and nitrogen, -30...+100 °C)"
 #: Shortest lead-in chamfer (mm along the axis) at 15 deg by cross-section (mm): the installation chamfers of the
 #: seal makers' design guides; ISO 3601-2's rule (radial depth > the ring's protrusion) may ask more
-#: (:func:`lead_in`).
-LEAD_IN_MIN_LENGTH_MM = {1.78: 2.10, 2.62: 3.10, 3.53: 4.00, 5.33: 6.00, 6.99: 7.20}
+#: (:func:`lead_in`). The spring side's table (the joints' seal zones reserve this room).
+LEAD_IN_MIN_LENGTH_MM = _LEAD_IN_MIN_LENGTH_MM
 #: ISO 3601-2 surface roughness Ra (µm) for pulsating pressure: the counter-surface the ring seals on and the
 #: groove's flanks and root, static and dynamic (reciprocating) glands.
 FINISH_RA_UM = {"static": {"counter": 0.8, "groove": 1.6}, "dynamic": {"counter": 0.4, "groove": 1.6}}

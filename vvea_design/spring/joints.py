@@ -49,7 +49,8 @@ __all__ = ["JOINTS", "PROPERTY_CLASSES", "ISO261_FINE_MM", "THREAD_PITCH_MM", "J
            "JOINT_SHOULDER_MM", "bd_warehouse_rows", "RUNOUT_PITCHES", "INTERNAL_RUNOUT_PITCHES", "LEAD_IN_MARGIN_MM",
            "seal_passage_mm", "CROSS_PORT_SHOULDER_MM",
            "EXCLUDED_PAIRS", "joint_fits_layout",
-           "standard_seal_bore_radius_mm"]
+           "standard_seal_bore_radius_mm", "LEAD_IN_MIN_LENGTH_MM", "LEAD_IN_GAP_MM", "seal_lead_in_land_mm",
+           "seal_zone_mm", "static_male_cross_section_mm", "SERIES_MM"]
 
 #: The joint choices (the design's ``joint``; ``Requirements.joints`` lists which the optimiser tries).
 JOINTS = ("thread", "ring_top", "tie_rods")
@@ -194,6 +195,105 @@ def static_gland_width_mm(cross_section_mm: float) -> float:
     raise ValueError(f"no ISO 3601 static gland of cross-section {cross_section_mm:g} mm in bd_warehouse's table")
 
 
+#: Shortest lead-in chamfer (mm along the axis) at 15 deg by O-ring cross-section (mm): the installation chamfers
+#: of the seal makers' design guides (ISO 3601-2: 15 ... 20 deg, radial depth over the ring's protrusion). The CAD
+#: draws them (:func:`vvea_design.cad.seals.lead_in`); the joints' seal zones reserve their room.
+LEAD_IN_MIN_LENGTH_MM = {1.78: 2.10, 2.62: 3.10, 3.53: 4.00, 5.33: 6.00, 6.99: 7.20}
+#: Axial clearance between a lead-in chamfer's end and the seal groove the ring sits in after assembly, mm.
+LEAD_IN_GAP_MM = 0.3
+
+
+#: The O-ring series the CAD's glands are drawn in (``cad.seals.SERIES``), mm.
+SERIES_MM = (1.78, 2.62)
+
+
+@lru_cache(maxsize=4)
+def _male_static_windows(cross_section_mm: float) -> np.ndarray:
+    """Bore intervals (rows lo, hi, mm) a ring of the series seals as a static male gland: the ring's inner
+    diameter stretched 0-5 % onto the groove's root, the radial squeeze in the ISO 3601 static window."""
+    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv")
+               if abs(float(r["w"]) - cross_section_mm) < 1e-6)
+    lo_d = cross_section_mm * (1 - float(row["sq_r_p_max"]) / 100)
+    hi_d = cross_section_mm * (1 - float(row["sq_r_p_min"]) / 100)
+    ids = [float(r["iso3601:id"]) for r in bd_warehouse_rows("o-ring_parameters.csv")
+           if abs(float(r["iso3601:w"]) - cross_section_mm) < 1e-6]
+    return np.array([(d + 2 * lo_d, 1.05 * d + 2 * hi_d) for d in ids])
+
+
+def static_male_cross_section_mm(bore_mm, preferred_mm: float = 1.78) -> Array:
+    """Cross-section of the O-ring the CAD seats in a static male gland sealing ``bore_mm``: the preferred series
+    where one of its rings fits (ISO 3601-1 sizes, the static squeeze window, 0-5 % stretch), else the other.
+
+    Parameters
+    ----------
+    bore_mm : float or array
+        Bore the ring seals on, mm.
+    preferred_mm : float
+        The preferred series, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    ndarray
+        Cross-section, mm.
+    """
+    b = np.asarray(bore_mm, dtype=float)
+    win = _male_static_windows(preferred_mm)
+    fits = ((b[..., None] >= win[:, 0] - 1e-12) & (b[..., None] <= win[:, 1] + 1e-12)).any(axis=-1)
+    other = next(w for w in SERIES_MM if w != preferred_mm)
+    return np.where(fits, preferred_mm, other)
+
+
+def seal_lead_in_land_mm(cross_section_mm: float, land_mm: float) -> float:
+    """Land of a joint's static O-ring groove on the side the ring enters the bore: the bore's lead-in chamfer
+    (:data:`LEAD_IN_MIN_LENGTH_MM`, ISO 3601-2) and :data:`LEAD_IN_GAP_MM` before the groove, at least ``land_mm``.
+
+    The ring passes the step from the joint (thread, tube end) into the sealing bore there; the chamfer must end
+    before the groove so the ring never seals on it. A 15 deg chamfer of this length has room for any ring of the
+    cross-section (a deeper one is raised towards 20 deg within the length).
+
+    Parameters
+    ----------
+    cross_section_mm : float
+        O-ring cross-section, mm (1.78, 2.62 ...).
+    land_mm : float
+        The plain land of the groove's other side (``fixed.seal_land_mm``), mm.
+
+    Returns
+    -------
+    float
+        Axial land between the zone's entry end and the groove, mm.
+
+    Raises
+    ------
+    ValueError
+        If the cross-section has no lead-in length in the table.
+    """
+    for w, length in LEAD_IN_MIN_LENGTH_MM.items():
+        if abs(w - cross_section_mm) < 1e-6:
+            return max(float(land_mm), length + LEAD_IN_GAP_MM)
+    raise ValueError(f"no lead-in chamfer length for an O-ring of cross-section {cross_section_mm:g} mm")
+
+
+def seal_zone_mm(cross_section_mm: float, land_mm: float) -> float:
+    """Axial room of a joint's static O-ring: the entry land with the bore's lead-in (:func:`seal_lead_in_land_mm`),
+    the ISO 3601 static gland (bd_warehouse) and a plain land, mm.
+
+    Parameters
+    ----------
+    cross_section_mm : float
+        O-ring cross-section, mm.
+    land_mm : float
+        Plain land beside the groove (``fixed.seal_land_mm``), mm.
+
+    Returns
+    -------
+    float
+        The zone's length, mm.
+    """
+    return (seal_lead_in_land_mm(cross_section_mm, land_mm) + static_gland_width_mm(cross_section_mm)
+            + float(land_mm))
+
+
 @lru_cache(maxsize=None)
 def seal_passage_mm(cross_section_mm: float) -> float:
     """Radial room a joint's static O-ring needs between the bore it seals on and any edge it passes on assembly
@@ -231,18 +331,6 @@ def seal_passage_mm(cross_section_mm: float) -> float:
     return math.ceil(round(reach * 100, 6)) / 100
 
 
-@lru_cache(maxsize=None)
-def _static_male_bore_windows(cross_section_mm: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per ISO 3601-1 ring of the cross-section, the bores (diameters, mm) a static male gland seals with it: the
-    groove root between the ring's inner diameter and 5 % stretch, the radial depth in the static squeeze window."""
-    w = float(cross_section_mm)
-    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv") if abs(float(r["w"]) - w) < 1e-6)
-    d_lo, d_hi = w * (1 - float(row["sq_r_p_max"]) / 100), w * (1 - float(row["sq_r_p_min"]) / 100)
-    ids = np.array(sorted(float(r["iso3601:id"]) for r in bd_warehouse_rows("o-ring_parameters.csv")
-                          if r.get("iso3601:w") and abs(float(r["iso3601:w"]) - w) < 1e-6))
-    return ids + 2 * d_lo + 1e-6, 1.05 * ids + 2 * d_hi - 1e-6
-
-
 def standard_seal_bore_radius_mm(radius_mm, cross_section_mm: float) -> Array:
     """The largest seal bore radius, at most ``radius_mm``, that an ISO 3601-1 O-ring of the cross-section seals in a
     static male gland (ISO 3601-2 squeeze window, 0 ... 5 % stretch on the groove root), mm.
@@ -263,7 +351,8 @@ def standard_seal_bore_radius_mm(radius_mm, cross_section_mm: float) -> Array:
     ndarray
         Bore radius, mm (<= ``radius_mm``).
     """
-    lo, hi = _static_male_bore_windows(float(cross_section_mm))
+    win = _male_static_windows(float(cross_section_mm))
+    lo, hi = win[:, 0] + 1e-6, win[:, 1] - 1e-6
     b = 2 * np.asarray(radius_mm, dtype=float)[..., None]
     fit = np.where(lo <= b, np.fmin(b, hi), -np.inf).max(axis=-1)
     return np.where(np.isfinite(fit), fit / 2, b[..., 0] / 2)

@@ -9,10 +9,12 @@ bladder's cuffs: :func:`part_volumes_mm3`); ``tests/spring/test_masses.py`` chec
 0.5 % per part. The feature sizes the CAD alone sets (ports, counterbores, the bladder's cuff and beads, the
 seal glands) are mirrored here from its defaults (:data:`CAD_FEATURES`; the test checks they are the CAD's).
 
-With ``joints=True`` (the buildability rules) the end pieces' joint zones are drawn as the joint records say:
-the top cap's and the base's spigots inside the outer tube (the seal gland's part at the bore, the thread as its
-pitch cylinder, the run-out undercut to the thread's minor diameter), the ring's counterbore and groove, the tie
-rods' tube inside the rod circle and the rods' holes. Lengths mm, volumes mm³, masses g; vectorised.
+With a joint (the buildability rules) the end pieces' joint zones are drawn as the joint records say: the top
+cap's and the base's spigots inside the outer tube (the static gland, the thread as its pitch cylinder, the run-out
+undercut to the thread's minor diameter), the bore's lead-in behind each thread or tube end, the ring's counterbore,
+groove and plug, the tie rods' tube inside the rod circle and the rods' holes. The O-ring sizes the CAD picks per
+bore are mirrored by the glands' nominal depths (bd_warehouse's ISO 3601 tables). Lengths mm, volumes mm³, masses
+g; vectorised.
 """
 
 from __future__ import annotations
@@ -23,10 +25,11 @@ import numpy as np
 
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array
-from .hydraulics import COLLECTOR_LAND_MM, collector_width_mm
-from .joints import INTERNAL_RUNOUT_PITCHES, RUNOUT_PITCHES, THREAD_PITCH_MM, bd_warehouse_rows
+from .joints import (INTERNAL_RUNOUT_PITCHES, LEAD_IN_GAP_MM, LEAD_IN_MIN_LENGTH_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
+                     bd_warehouse_rows, SERIES_MM, seal_lead_in_land_mm, static_gland_width_mm,
+                     static_male_cross_section_mm)
 
-__all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm"]
+__all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm", "lead_in_mm3"]
 
 #: The CAD's own feature sizes (``cad.CadParameters`` defaults) the volumes mirror, mm.
 CAD_FEATURES = {"fill_port_mm": 2.0, "fill_port_counterbore_mm": 4.2, "fill_port_counterbore_depth_mm": 4.0,
@@ -78,6 +81,51 @@ def dynamic_gland_mm(cross_section_mm: float) -> tuple[float, float]:
     raise ValueError(f"no ISO 3601 dynamic gland of cross-section {cross_section_mm:g} mm")
 
 
+def _static_gland_depth_mm(cross_section_mm: float) -> float:
+    """Nominal depth of an ISO 3601 static radial gland (bd_warehouse's table: the mean of its range), mm."""
+    for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv"):
+        if abs(float(r["w"]) - cross_section_mm) < 1e-6:
+            return 0.5 * (float(r["d_r_min"]) + float(r["d_r_max"]))
+    raise ValueError(f"no ISO 3601 static gland of cross-section {cross_section_mm:g} mm")
+
+
+def _static_gland(cs: Array) -> tuple[Array, Array]:
+    """Nominal depth and width of the static glands of rings of cross-sections ``cs`` (mm), mm."""
+    dep = sum(np.where(cs == w, _static_gland_depth_mm(w), 0.0) for w in SERIES_MM)
+    return dep, sum(np.where(cs == w, static_gland_width_mm(w), 0.0) for w in SERIES_MM)
+
+
+def lead_in_mm3(r_mm, cross_section_mm: float, gland_depth_mm: float, outward: bool, room_mm=None) -> Array:
+    """Material a lead-in chamfer (ISO 3601-2, as the CAD draws it) removes from the edge at radius ``r``, mm³.
+
+    Radial depth: the ring's protrusion over its gland (``cross_section - gland_depth``), its class A tolerance
+    (0.08 mm) and 0.1 mm; length: the makers' shortest 15 deg chamfer or the depth at 15 deg, at most ``room_mm``
+    (the angle then raised towards 20 deg, never under the 20 deg length).
+
+    Parameters
+    ----------
+    r_mm : float or array
+        Radius of the chamfered edge (bore or shaft), mm.
+    cross_section_mm, gland_depth_mm : float
+        The ring's cross-section and its gland's depth, mm.
+    outward : bool
+        True for a bore, False for a shaft.
+    room_mm : float or array, optional
+        The axial room the part has for the chamfer, mm.
+
+    Returns
+    -------
+    ndarray
+        Volume (a triangle revolved at its centroid), mm³.
+    """
+    depth = round(cross_section_mm - gland_depth_mm + 0.08 + 0.1, 2)
+    length = np.asarray(max(LEAD_IN_MIN_LENGTH_MM[cross_section_mm], depth / math.tan(math.radians(15.0))))
+    if room_mm is not None:
+        length = np.fmax(np.fmin(length, room_mm), depth / math.tan(math.radians(20.0)))
+    rc = np.asarray(r_mm) + (depth / 3 if outward else -depth / 3)
+    return math.pi * rc * depth * length
+
+
 def _bladder_terms(g: dict) -> dict:
     """Radii and levels of the bladder's cuffs and beads, as the CAD's layout derives them."""
     c = CAD_FEATURES
@@ -92,11 +140,13 @@ def _bladder_terms(g: dict) -> dict:
 def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, Array]:
     """Closed-form volume of every made part as the CAD draws it, mm³.
 
-    ``spec = "today"``: the CAD as it draws today (the end pieces and the tubes split by planes, the valves at
-    the top of the whole base, the support ring's collector and ring-side channel sized by its channels);
-    ``"buildable"``: the buildability rules' drawing without the joint's zones (:func:`part_masses_g` adds them):
-    the valves in the base's own part (``g["base_own"]``), the channels up through the base's spigot, the
-    collector groove across the annulus and the ring-side channel it takes (:mod:`~vvea_design.spring.hydraulics`).
+    Every layout and spec: the base's spigot around the bladder's lower cuff (out to the bore; the support ring
+    inside it, its collector groove and channels as the CAD cuts them), the lead-in chamfers (ISO 3601-2) of the
+    bores the O-rings enter (the piston's, the rod end's, the outer tube's). ``spec = "today"``: the gas-only
+    rules' drawing (the end pieces and the tubes split by planes, the static seals' grooves in the clamp spigots,
+    the valves at the top of the whole base); ``"buildable"``: the buildability rules' drawing without the joint's
+    zones (:func:`part_masses_g` adds them, the seals' glands and the tube's lead-ins with them): the valves in the
+    base's own part (``g["base_own"]``), the channels up through the base's spigot.
 
     Parameters
     ----------
@@ -134,35 +184,47 @@ def part_volumes_mm3(g: dict, fixed, layout, spec: str = "today") -> dict[str, A
     r_rc = 0.5 * (rio + rbi - bead)
     h = g["clamp"]
     hg = np.fmin(1.0, 0.2 * h)
-    sr = pi * (rb**2 - rio**2) * h - pi * (rbo**2 - rbi**2) * cuff - b["beads"]
-    buildable = spec == "buildable"
-    if buildable:  # the collector spans the annulus less a land at each tube
-        collector = pi * ((rb - COLLECTOR_LAND_MM) ** 2 - (rio + COLLECTOR_LAND_MM) ** 2) * hg
-    else:
-        collector = pi * ((r_rc + 0.6 * ring_d) ** 2 - (r_rc - 0.6 * ring_d) ** 2) * hg
-    sr = sr - f.ring_channels * pi * (ring_d / 2) ** 2 * (h - hg) - collector
-    fp = np.fmin(c["fill_port_mm"], 0.6 * (rb - rbo - bead))
-    r_port2 = 0.5 * (rbo + bead + rb)
-    if layout.has_top_annulus:
-        sr = sr - pi * (fp / 2) ** 2 * h
-    out["support_ring"] = sr
+    # the CAD's ring ends at the cuff's outer face (the base's spigot holds the cuff's outer bead), its collector
+    # groove under the channels
+    sr = pi * (rbo**2 - rio**2) * h - pi * (rbo**2 - rbi**2) * cuff - pi * (rbi**2 - (rbi - bead) ** 2) * lb
+    collector = pi * ((r_rc + 0.6 * ring_d) ** 2 - (r_rc - 0.6 * ring_d) ** 2) * hg
+    out["support_ring"] = sr - f.ring_channels * pi * (ring_d / 2) ** 2 * (h - hg) - collector
+    cs = static_male_cross_section_mm(2 * rb, c["oring_cross_section_mm"])  # the clamp spigots' and collar's seals
+    s_dep, s_wid = _static_gland(cs)
+    seal_root = rb - s_dep
+    fp = np.fmin(c["fill_port_mm"], 0.6 * (seal_root - rbo - bead))
+    r_port2 = 0.5 * (rbo + bead + seal_root)
     # --- outer tube
     out["housing_outer_tube"] = pi * (ro**2 - rb**2) * g["L_in"]
+    if spec != "buildable":  # the bore's lead-ins at both ends, in the spigots' room (the joint's: _joint_deltas)
+        room = h - 0.5 - s_wid - LEAD_IN_GAP_MM  # the spigot's land above the groove: 0.5 mm
+        li = sum(np.where(cs == w, lead_in_mm3(rb, w, _static_gland_depth_mm(w), True, room), 0.0) for w in SERIES_MM)
+        out["housing_outer_tube"] = out["housing_outer_tube"] - (1 if layout.has_top_annulus else 2) * li
     # --- inner tube (+ bulkhead web and fill tube, or the collar)
-    it = pi * (rio**2 - rp**2) * g["L_in"]
+    pd, pw = dynamic_gland_mm(c["oring_cross_section_mm"])
+    it = pi * (rio**2 - rp**2) * g["L_in"] - lead_in_mm3(rp, c["oring_cross_section_mm"], pd, True)  # the piston's
     if layout.has_bulkhead:
         r_fb, r_fo = f.fill_tube_bore_mm / 2, f.fill_tube_outer_mm / 2
         it = it + pi * (rp**2 - r_fb**2) * g["bulkhead"] + pi * (r_fo**2 - r_fb**2) * g["top_space"]
     if layout.has_top_annulus:
-        dep, wid = dynamic_gland_mm(c["oring_cross_section_mm"])
         it = it + pi * (rb**2 - rio**2) * (g["collar"] + h) - pi * (rbo**2 - rbi**2) * cuff - b["beads"]
-        it = it - g["cross_slot_volume"] - pi * (rb**2 - (rb - dep) ** 2) * wid
+        it = it - g["cross_slot_volume"] - pi * (rb**2 - seal_root**2) * s_wid  # the collar's static seal
     out["housing_inner_tube"] = it
     out["housing_top_cap"] = _top_cap_mm3(g, f, layout, b, fp, r_port2, z1, t_cap, h)
-    out["housing_base"] = _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0)
+    if spec != "buildable" and not layout.has_top_annulus:  # the static seal's groove in the cap's clamp spigot
+        out["housing_top_cap"] = out["housing_top_cap"] - pi * (rb**2 - seal_root**2) * s_wid
+    base = _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0)
+    # the base's spigot around the lower cuff (out to the bore), its groove for the cuff's outer bead, and without
+    # a joint its static seal's groove (annulus_top: the chamber-2 port runs up through it)
+    base = base + pi * (rb**2 - rbo**2) * h - pi * ((rbo + bead) ** 2 - rbo**2) * lb
+    if spec != "buildable":
+        base = base - pi * (rb**2 - seal_root**2) * s_wid
+    if layout.has_top_annulus:
+        base = base - pi * (fp / 2) ** 2 * h
+    out["housing_base"] = base
     # --- piston and rod
-    pd, pw = dynamic_gland_mm(c["oring_cross_section_mm"])
     pv = pi * rp**2 * f.piston_height_mm + pi * rr**2 * g["rod_length"]
+    pv = pv - lead_in_mm3(rr, c["oring_cross_section_mm"], pd, False)  # the rod end's, for the rod seal
     pv = pv - 2 * pi * (rp**2 - (rp - pd) ** 2) * pw - pi * (c["rod_thread_core_mm"] / 2) ** 2 * c["rod_thread_depth_mm"]
     out["piston"] = pv - pi * g["pocket_r"] ** 2 * g["pocket_depth"]
     return out
@@ -217,12 +279,8 @@ def _base_mm3(g, f, layout, spec, ring_d, r_rc, fp, r_port2, z0):
     x_in = rr + 1.5
     ch = np.fmin(f.fluid_channel_mm, 0.5 * (rp - rr)) / 2
     r_a = 0.5 * (rr + rp)
-    if buildable:  # the ring-side channel opens into the collector, on its mid radius
-        ring_ch = np.fmin(2 * ch, collector_width_mm(rb, rio) - COLLECTOR_LAND_MM) / 2
-        x_b = 0.5 * (rb + rio) - ring_ch - 0.5
-    else:
-        ring_ch = np.fmin(ch, ring_d / 2)
-        x_b = r_rc - ring_d / 2 - 0.5
+    ring_ch = np.fmin(ch, ring_d / 2)  # the ring-side channel under the support ring's channels, as the CAD drills
+    x_b = r_rc - ring_d / 2 - 0.5
     base = pi * ro**2 * z0 - pi * rr**2 * z0 - pi * ((rr + dep) ** 2 - rr**2) * wid
     base = base - pi * (throttle / 2) ** 2 * (ro - x_in) - pi * (relief / 2) ** 2 * (ro - x_b)
     base = base + pi * ((throttle / 2) ** 4 + (relief / 2) ** 4) / (8 * ro)  # the bores end on the curved outside
@@ -244,8 +302,12 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
     dv = {"housing_base": 0.0, "housing_outer_tube": 0.0, "housing_top_cap": 0.0}
     own: dict[str, Array] = {}
     seal = js.seal_zone_mm
-    dep, wid = dynamic_gland_mm(fixed.joint_seal_cross_section_mm)  # a static gland no deeper than the dynamic one
+    w = fixed.joint_seal_cross_section_mm
+    dep, wid = _static_gland_depth_mm(w), static_gland_width_mm(w)  # the spigots' static glands (ISO 3601)
     gland = pi * (rb**2 - (rb - dep) ** 2) * wid
+    room = seal_lead_in_land_mm(w, fixed.seal_land_mm) - LEAD_IN_GAP_MM  # the bore's lead-in at each entry step
+    # (ring_top: the cap's ring enters the bore at the counterbore's step, the base's behind its thread)
+    dv["housing_outer_tube"] = -2 * lead_in_mm3(rb, w, dep, True, room)
     P = THREAD_PITCH_MM
     if js.kind in ("thread", "ring_top"):
         d2, D = q["thread_pitch_diameter_mm"] / 2, q["thread_major_mm"]
@@ -264,16 +326,18 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
     if js.kind == "ring_top":  # g["cap"] is the plug and the tube beyond it (the CAD's z_top - z_cap)
         d1, d2r, m = q["ring_bore_mm"] / 2, q["ring_groove_diameter_mm"] / 2, q["ring_groove_width_mm"]
         plug = g["cap"] - js.top_extra_mm
-        sz = js.top_zone_mm  # the plug's seal zone at the bore, below the counterbore
+        sz = js.top_zone_mm  # the plug's seal zone at the bore, below the counterbore (its gland is at the bore)
         dv["housing_outer_tube"] = (dv["housing_outer_tube"] + pi * (ro**2 - d1**2) * g["cap"]
-                                    - pi * (d2r**2 - d1**2) * m + pi * (d1**2 - rb**2) * sz)
+                                    - pi * (d2r**2 - d1**2) * m - lead_in_mm3(d1, w, dep, True)
+                                    + pi * (d1**2 - rb**2) * sz)
         dv["housing_top_cap"] = (dv["housing_top_cap"] + pi * d1**2 * plug - pi * ro**2 * g["cap"] - gland
                                  - pi * (d1**2 - rb**2) * sz)
         own["retaining_ring"] = np.asarray(q["ring_mass_g"], dtype=float)
     if js.kind == "tie_rods":
         rt = js.tube_outer_radius_mm
         n, d, hole = q["rods_count"], q["rods_d"], q["rods_hole"]
-        dv["housing_outer_tube"] = -pi * (ro**2 - rt**2) * g["L_in"] + pi * (rt**2 - rb**2) * 2 * seal
+        dv["housing_outer_tube"] = (dv["housing_outer_tube"] - pi * (ro**2 - rt**2) * g["L_in"]
+                                    + pi * (rt**2 - rb**2) * 2 * seal)
         for end, t in (("housing_top_cap", g["cap"]), ("housing_base", g["base"])):
             dv[end] = dv[end] - pi * (ro**2 - rb**2) * seal - gland - n * pi * (hole / 2) ** 2 * (t - seal)
         s, m = q["rods_nut_s"], q["rods_nut_m"]

@@ -33,8 +33,9 @@ import numpy as np
 
 from ..materials.structural import get_material
 from .geometry import Array, Section
-from .joints import (CROSS_PORT_SHOULDER_MM, INTERNAL_RUNOUT_PITCHES, JOINT_SHOULDER_MM, RUNOUT_PITCHES, seal_passage_mm, standard_seal_bore_radius_mm, THREAD_PITCH_MM, E_STEEL_MPa, JointSizing, PROPERTY_CLASSES,
-                     select_ring, select_thread, static_gland_width_mm, tie_rod_candidates,
+from .joints import (CROSS_PORT_SHOULDER_MM, INTERNAL_RUNOUT_PITCHES, JOINT_SHOULDER_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
+                     E_STEEL_MPa, JointSizing, PROPERTY_CLASSES, seal_passage_mm, seal_zone_mm, select_ring,
+                     select_thread, standard_seal_bore_radius_mm, tie_rod_candidates,
                      tie_rod_preload)
 from .concentration import concentration_factor
 from .layouts.base import LayoutVariant
@@ -96,8 +97,9 @@ def _buckling_pressure(case: LoadCase) -> Array:
 
 
 def _seal_zone_mm(f: FixedParameters) -> float:
-    """Axial room of a joint's static O-ring: the ISO 3601 static gland (bd_warehouse) and a land each side, mm."""
-    return static_gland_width_mm(f.joint_seal_cross_section_mm) + 2 * f.seal_land_mm
+    """Axial room of a joint's static O-ring: the ISO 3601 static gland (bd_warehouse), a land, and on the side the
+    ring enters the bore the room of the bore's lead-in chamfer (:func:`~.joints.seal_zone_mm`, ISO 3601-2), mm."""
+    return seal_zone_mm(f.joint_seal_cross_section_mm, f.seal_land_mm)
 
 
 def _end_loads(loads: Loads, r_seal, layout: LayoutVariant, r_bore) -> tuple[Array, Array]:
