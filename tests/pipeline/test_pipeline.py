@@ -68,10 +68,10 @@ def test_design_writes_the_whole_folder(ecoflex_run):
                               and unit["bladder"]["passes"] and fe["passes"] and manifest["assembly"]["passes"])
     design = json.loads((out / "design.json").read_text())
     # the paper's hand-tuned 1.86 % is a unit sized for the gas alone; the inner_tube unit that holds together
-    # (joints, the damper's loads, drawn tolerances: docs/layout.md, the cost of buildability) pays about 0.4 pp
-    # over the gas-only rules' 1.587 % for that layout
+    # (joints, the damper's loads, drawn tolerances, O-rings that pass no thread: docs/layout.md, the cost of
+    # buildability) pays about 0.8 pp over the gas-only rules' 1.587 % for that layout
     assert design["structure"]["sizing_rules"] == "buildable"
-    assert design["performance"]["linearity_error"] <= 0.0200
+    assert design["performance"]["linearity_error"] <= 0.0240
     assert all(m >= -1e-9 for m in design["constraints"].values())
     assert unit["performance"]["linearity_error"] == pytest.approx(design["performance"]["linearity_error"])
     # actuator parameters from the design: K = 2 r^2 k (SI), k from the design's own spring

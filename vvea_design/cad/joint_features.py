@@ -57,8 +57,8 @@ def _thread(key: str, t, internal: bool, side: str, where: str) -> list:
         r1 = t.internal_minor_mm / 2
         run = t.relief[1] - t.relief[0]
         z_run = t.relief[1] if t.end == "base" else t.relief[0]
-        txt = (f"{where}: internal thread run-out Ø{2 * r1:.3f} (D1) x {run:.2f} (DIN 76-1 short); the O-rings pass "
-               "it clear of the crests (ISO 3601-2)")
+        txt = (f"{where}: internal thread run-out Ø{2 * r1:.3f} {cls} (D1) x {run:.2f} (DIN 76-1 short); the O-rings "
+               "pass it clear of the crests (ISO 3601-2)")
         out.append(_feature(f"{key}_runout", "groove", f"internal thread run-out ({where})", f"Ø{2 * r1:.3f}", cls,
                             Leader((r1, 0.5 * sum(t.relief)), txt, side), u_edges=_sym(r1), z_edges=(z_run,),
                             standard="DIN 76-1"))
@@ -200,7 +200,7 @@ def top_cap_joint_features(lay: Layout, feats: tuple) -> tuple:
         pd, pt = f"Ø{j.ring.bore_mm:.2f}", fit_tolerance(j.ring.bore_mm, SPIGOT_FIT)
         so, so_tol = f"Ø{2 * rb:.2f}", fit_tolerance(2 * rb, SPIGOT_FIT)
         f = [_feature("thickness", "length", "plug length", f"{zf - z1:.2f}", _GENERAL,
-                      Dim("z", (-r1, z1), (-r1, zf), "left"), z_edges=(z1, zf)),
+                      Dim("z", (-rb, z1), (-r1, zf), "left"), z_edges=(z1, zf)),
              _feature("outside", "diameter", "plug outside (in the tube's counterbore)", pd, pt,
                       Dim("u", (-r1, zf), (r1, zf), "top", f"{pd} {pt}"), u_edges=_sym(r1)),
              _feature("seal_spigot", "diameter", "seal spigot (in the outer-tube bore)", so, so_tol,
