@@ -80,7 +80,8 @@ def test_missing_file(tmp_path):
 @pytest.mark.parametrize("rules", ["gas_only", "buildable"])
 def test_margins_have_signs_and_details(rules):
     fixed = FixedParameters(sizing_rules=rules)
-    # a design feasible under each rules' requirements (the buildable one: a thread joint, shorter gas columns)
+    # a design feasible under each rules' requirements (the buildable one: a thread joint, shorter gas columns; its
+    # seal zones hold the bores' lead-ins)
     d = (Design(34.5, 59.5, 41500.0, 80000.0, fixed=fixed) if rules == "gas_only"
          else Design(31.5, 59.3, 26000.0, 65000.0, fixed=fixed))
     ev = evaluate_design(d, Requirements(fixed=fixed))

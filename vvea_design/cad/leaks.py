@@ -107,7 +107,20 @@ def leak_paths(lay: Layout) -> tuple[LeakPath, ...]:
                  "ISO 4026", "a thread sealant, not an O-ring: leak-test after setting"),
         LeakPath("port: throttle bore", "oil | outside", "the throttle core's own O-ring (bought servo-valve)", "-"),
     ]
-    if lay.has_cross_port:
+    if lay.has_cross_port and _cross_port_in_the_tube(lay):
+        out.append(LeakPath("port: chamber-2 cross port", "chamber 2 | outside (along the joint)", "", "",
+                            "OPEN: drilled from the outside through the outer tube's wall into the cap's spigot, above "
+                            "the cap's seal: chamber 2 reaches the joint's thread, and the plug in the tube locks the "
+                            "cap; needs the cross port above the tube's end (a thicker cap shoulder) or the valve "
+                            "over its port"))
+    elif lay.has_cross_port:
         out.append(LeakPath("port: chamber-2 cross port", "chamber 2 | outside", "expander plug (metal-to-metal)",
                             "SFC Koenig MB type"))
     return tuple(out)
+
+
+def _cross_port_in_the_tube(lay: Layout) -> bool:
+    """The top cap's cross port (or its plug's bore) lies below the outer tube's top end: drilled through the tube."""
+    if not lay.has_joint or lay.has_top_annulus:
+        return False
+    return lay.z_cross_port - 0.5 * lay.cad.plug_bore_mm < lay.joint.z_tube_top - 1e-9
