@@ -78,10 +78,12 @@ class UnitDesign:
 
     @property
     def passes(self) -> bool:
-        """Every constraint met, the bladder check passed and every pressure-bearing piece keeps its required
-        factor in the FE (when the CAD was made)."""
+        """Every constraint met, the bladder check passed, and when the CAD was made every pressure-bearing piece
+        keeps its required factor in the FE and the parts go together in order with no O-ring over a thread or a
+        sharp edge (the CAD's assembly check, ISO 3601-2)."""
+        cad_ok = self.cad_manifest is None or self.cad_manifest.assembly_passes is not False
         return bool(self.optimisation.evaluation.feasible and self.bladder.passes
-                    and (self.structure is None or self.structure.passes))
+                    and (self.structure is None or self.structure.passes) and cad_ok)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (no arrays of the CAD meshes).

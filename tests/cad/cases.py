@@ -56,10 +56,10 @@ DESIGNS = {"reference": REFERENCE, **OTHERS}
 #: the ring's counterbore and groove, the tie rods' holes); points near the default optimum's sizes.
 JOINTS = {
     "thread_inner_tube": Design(33.0, 59.3, 33000.0, 75000.0, joint="thread"),
-    "ring_top_inner_tube": Design(33.0, 59.3, 33000.0, 75000.0, joint="ring_top"),
+    "ring_top_inner_tube": Design(33.0, 59.3, 33000.0, 65000.0, joint="ring_top"),
     # a 70 mm envelope: no 1.78 mm ring fits its tube's bore in the stretch window, so the joints' seals are sized
     # for the 2.62 mm series (the seal zones reserve that ring's gland and lead-in)
     "tie_rods_inner_tube": Design(30.0, 70.0, 33000.0, 80000.0, joint="tie_rods",
                                   fixed=FixedParameters(joint_seal_cross_section_mm=2.62)),
-    "thread_annulus_top": Design(32.0, 59.3, 30000.0, 60000.0, layout="annulus_top", V1_annulus_mm3=4000.0),
+    "thread_annulus_top": Design(33.0, 59.3, 33000.0, 55000.0, layout="annulus_top", V1_annulus_mm3=4000.0),
 }

@@ -23,16 +23,24 @@ def test_joint_levels_follow_the_design(name):
     for t in (j.base_thread, j.cap_thread):
         if t is None:
             continue
-        zones = sorted([t.runout, t.thread, t.seal])
+        zones = sorted([t.runout, t.thread, t.relief, t.seal])
         assert all(a[1] == pytest.approx(b[0]) for a, b in zip(zones, zones[1:]))  # contiguous
+        assert t.relief[1] - t.relief[0] == pytest.approx(t.pitch_mm)  # the internal run-out, DIN 76-1 short
         assert t.external_minor_mm < t.pitch_diameter_mm < t.major_mm
         assert t.pitch_diameter_mm / 2 > lay.r_bore  # the O-ring passes the thread into the bore
+        # ... clear of the internal thread's crests (ISO 3601-2): its free ring and the bore's lead-in inside D1
+        for g in (lay.base_seal, lay.cap_seal):
+            assert g.free_sealing_radius_mm < t.internal_minor_mm / 2
+        assert lay.r_bore + lay.lead_in_outer_bottom.depth_mm <= t.internal_minor_mm / 2
     g0, g1 = lay.z_base_seal
     assert j.base_seal[0] <= g0 < g1 <= j.base_seal[1]
     g0, g1 = lay.z_cap_seal
     assert j.cap_seal[0] <= g0 < g1 <= j.cap_seal[1]
     if j.ring is not None:
         assert j.ring.plug[1] == pytest.approx(j.ring.groove[0]) and j.ring.groove[1] < lay.z_top
+        # the cap's O-ring seals in the bore below the counterbore and passes the ring's groove clear of it
+        assert lay.cap_seal.sliding_diameter_mm == pytest.approx(2 * lay.r_bore)
+        assert lay.cap_seal.free_sealing_radius_mm < j.ring.bore_mm / 2
         assert lay.z_cap_face == pytest.approx(j.ring.plug[1])
     if j.rods is not None:
         r = j.rods
@@ -115,17 +123,20 @@ def test_the_joints_seal_zones_hold_the_bores_lead_ins(name):
         assert li.length_mm + LEAD_IN_GAP_MM <= room + 1e-9
 
 
-def test_a_joint_ring_of_another_series_than_the_design_sized_is_an_error():
-    """A 70 mm envelope's tie-rod tube bore takes no 1.78 mm ring: the CAD would fall back to the 2.62 mm series,
-    whose gland and lead-in the design's seal zone was not sized for: a CadError naming the field (not a chamfer
-    drawn over the ring)."""
+def test_a_joint_ring_is_of_the_series_the_design_sized():
+    """A 70 mm envelope's tie-rod tube bore would take no 1.78 mm ring: the design lowers the bore to one a
+    standard ring of its series seals (``spring.joints.standard_seal_bore_radius_mm``), so the CAD never falls back
+    to the 2.62 mm series, whose gland and lead-in the seal zone was not sized for; a ring of another series would
+    be a CadError naming the field."""
     from dataclasses import replace
 
-    from vvea_design.cad.errors import CadError
+    from vvea_design.spring.joints import standard_seal_bore_radius_mm
 
     d = JOINTS["tie_rods_inner_tube"]
-    with pytest.raises(CadError, match="fixed.joint_seal_cross_section_mm"):
-        Layout(replace(d, fixed=replace(d.fixed, joint_seal_cross_section_mm=1.78)))
+    for w in (1.78, 2.62):
+        lay = Layout(replace(d, fixed=replace(d.fixed, joint_seal_cross_section_mm=w)))
+        assert lay.base_seal.oring.cross_section_mm == w and lay.cap_seal.oring.cross_section_mm == w
+        assert standard_seal_bore_radius_mm(lay.r_bore, w) == pytest.approx(lay.r_bore)
 
 
 def test_a_gas_only_spigot_gets_a_standard_lead_in_or_an_error():
@@ -146,15 +157,23 @@ def test_a_gas_only_spigot_gets_a_standard_lead_in_or_an_error():
         Layout(replace(d, fixed=replace(d.fixed, bladder_clamp_mm=4.0)))
 
 
-def test_a_cross_port_drilled_through_the_joint_is_an_open_leak_path():
-    """The bulkhead layout's chamber-2 cross port sits in the top cap's lower part: with a thread joint that is
-    inside the outer tube, above the cap's seal. The leak audit says so (open, not an expander plug's seal)."""
+def test_a_cross_port_drilled_through_the_joint_is_an_open_leak_path(monkeypatch):
+    """The bulkhead layout's chamber-2 cross port lies in the top cap above the outer tube's end (the design reserves
+    the cap's shoulder), closed by its plug; drilled lower it would pass through the tube inside the joint, above
+    the cap's seal: the leak audit says so (open, not an expander plug's seal)."""
+    from vvea_design.cad.layout_checks import SPIGOT_LAND_MM
     from vvea_design.cad.leaks import leak_paths
     from vvea_design.spring.design import Design
 
-    lay = Layout(Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0))
-    assert lay.has_cross_port and lay.z_cross_port < lay.joint.z_tube_top
+    d = Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0)
+    lay = Layout(d)
+    assert lay.has_cross_port and lay.z_cross_port - 0.5 * lay.cad.plug_bore_mm >= lay.joint.z_tube_top
     cross = [p for p in leak_paths(lay) if p.where == "port: chamber-2 cross port"]
+    assert len(cross) == 1 and cross[0].is_sealed
+    monkeypatch.setattr(Layout, "z_cross_port_floor", property(lambda self: self.z_cap + SPIGOT_LAND_MM))
+    low = Layout(d)
+    assert low.z_cross_port < low.joint.z_tube_top
+    cross = [p for p in leak_paths(low) if p.where == "port: chamber-2 cross port"]
     assert len(cross) == 1 and not cross[0].is_sealed and "OPEN" in cross[0].note
     plain = [p for p in leak_paths(Layout(REFERENCE)) if p.where == "port: chamber-2 cross port"]
     assert len(plain) == 1 and plain[0].is_sealed  # the gas-only cap: the port in the cap, closed by its plug

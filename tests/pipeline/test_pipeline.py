@@ -62,19 +62,21 @@ def test_design_writes_the_whole_folder(ecoflex_run):
     for w in fe["walls"].values():
         assert w["safety"] == pytest.approx(w["yield_MPa"] / w["peak_tresca_MPa"]) and w["governing_case"]
     assert all((out / p["figure"]).is_file() for p in fe["pieces"].values())
+    manifest = json.loads((out / "cad" / "manifest.json").read_text())
+    assert manifest["assembly"]["passes"]  # no O-ring over a thread crest or a sharp edge (ISO 3601-2)
     assert unit["passes"] == (all(m >= -1e-9 for m in unit["constraint_margins"].values())
-                              and unit["bladder"]["passes"] and fe["passes"])
+                              and unit["bladder"]["passes"] and fe["passes"] and manifest["assembly"]["passes"])
     design = json.loads((out / "design.json").read_text())
     # the paper's hand-tuned 1.86 % is a unit sized for the gas alone; the inner_tube unit that holds together
-    # (joints, the damper's loads, drawn tolerances: docs/layout.md, the cost of buildability) pays about 0.4 pp
-    # over the gas-only rules' 1.587 % for that layout
+    # (joints, the damper's loads, drawn tolerances, O-rings that pass no thread: docs/layout.md, the cost of
+    # buildability) pays about 0.8 pp over the gas-only rules' 1.587 % for that layout
     assert design["structure"]["sizing_rules"] == "buildable"
     # every check with its load case, method, result and what it leaves out; FE, seals, assembly among them
     checks = {c["check"]: c for c in unit["verification"]}
     assert {"bladder", "every joint and port sealed", "assembly order"} <= set(checks)
     assert all(c["result"].startswith(("PASS", "FAIL", "not run", "linearity", "run", "D =")) for c in checks.values())
     assert "permeation" in checks["bladder"]["not_covered"]
-    assert design["performance"]["linearity_error"] <= 0.0200
+    assert design["performance"]["linearity_error"] <= 0.0240
     assert all(m >= -1e-9 for m in design["constraints"].values())
     assert unit["performance"]["linearity_error"] == pytest.approx(design["performance"]["linearity_error"])
     # actuator parameters from the design: K = 2 r^2 k (SI), k from the design's own spring

@@ -168,7 +168,9 @@ def test_the_designs_threads_carry_their_end_loads():
     assert top.minor_diameter_mm >= 2 * D.outer_bore_radius_mm  # the bore passes the thread's minor diameter
     for j in (top, base):
         assert min(j.safety_factors.values()) >= j.required_safety_factor - 1e-9
-        assert j.zone_mm == pytest.approx(j.engagement_length_mm + j.runout_mm + j.seal_zone_mm)
+        # the spigot's run-out, the engaged thread, the tube's internal run-out (DIN 76-1 short, 1 P), the seal zone
+        assert j.zone_mm == pytest.approx(j.engagement_length_mm + j.runout_mm + J.INTERNAL_RUNOUT_PITCHES * j.pitch_mm
+                                          + j.seal_zone_mm)
     # the top cap carries the pressure on its seal and the tension on the eyes; the base the pressures on its top
     assert top.end_load_N > base.end_load_N > 0
     assert D.top_cap_mm >= top.zone_mm + J.JOINT_SHOULDER_MM - 1e-9

@@ -9,7 +9,7 @@ import pytest
 
 from vvea_design.schema import shipped_schema
 from vvea_design.spring.design_file import load_design, load_design_dict, save_design
-from vvea_design.spring.joints import JOINTS
+from vvea_design.spring.joints import JOINTS, joint_fits_layout
 from vvea_design.spring.optimise import optimise
 from vvea_design.spring.requirements import Requirements, SpecError
 from tests.helpers import REPO
@@ -26,8 +26,11 @@ def result():
 def test_the_default_optimum_holds_together_and_pays_for_it(result):
     ev, d = result.evaluation, result.design
     assert ev.feasible and d.fixed.sizing_rules == "buildable"
-    assert GAS_ONLY_OPTIMUM < ev.linearity_error <= 0.0186  # dearer than the gas-only optimum, below the paper's
-    assert d.layout == "bulkhead" and d.joint == "thread"
+    # dearer than the gas-only optimum; the joints' O-rings pass no thread (the seal bore inside the thread's minor
+    # diameter, a standard ring's bore, the internal run-out, the bulkhead cap's cross port above the tube) cost
+    # about 0.4 pp more: above the paper's hand-tuned 1.86 %, which was sized for the gas alone
+    assert GAS_ONLY_OPTIMUM < ev.linearity_error <= 0.0240
+    assert d.layout == "inner_tube" and d.joint == "thread"
     assert d.parasitic_damping_N_s_per_mm <= 1.5 + 1e-9
     for piece, p in d.piece_loads().items():  # the final check: every case at its least-material condition
         for case, sf in p.safety_factor_per_case.items():
@@ -39,7 +42,10 @@ def test_the_default_optimum_holds_together_and_pays_for_it(result):
 
 def test_every_layout_and_joint_is_searched(result):
     pairs = {(s.layout, s.joint) for s in result.searches}
-    assert pairs == {(lay, j) for lay in ("inner_tube", "bulkhead", "annulus_top") for j in JOINTS}
+    # every pair a workshop can build: the ring's plug leaves no side face for bulkhead's cross port
+    assert pairs == {(lay, j) for lay in ("inner_tube", "bulkhead", "annulus_top") for j in JOINTS
+                     if joint_fits_layout(j, lay)}
+    assert ("bulkhead", "ring_top") not in pairs and not joint_fits_layout("ring_top", "bulkhead")
     best = min((s for s in result.searches if s.feasible), key=lambda s: s.objective)
     assert (best.layout, best.joint) == (result.design.layout, result.design.joint)
     assert result.summary()["joint"] == result.design.joint
@@ -98,9 +104,11 @@ def test_requirements_name_the_joints_and_the_parasitic_damping_limit():
 def test_a_single_joint_and_the_gas_only_rules_search_what_they_say():
     from vvea_design.spring.parameters import FixedParameters
 
-    one = optimise(Requirements(layouts=("bulkhead",), joints=("ring_top",)), seed=0, progress=False, maxiter=20,
+    one = optimise(Requirements(layouts=("inner_tube",), joints=("ring_top",)), seed=0, progress=False, maxiter=20,
                    raise_infeasible=False)
-    assert {(s.layout, s.joint) for s in one.searches} == {("bulkhead", "ring_top")}
+    assert {(s.layout, s.joint) for s in one.searches} == {("inner_tube", "ring_top")}
+    with pytest.raises(ValueError, match="no pair a workshop can build"):  # the ring's plug has no cross port
+        optimise(Requirements(layouts=("bulkhead",), joints=("ring_top",)), seed=0, progress=False, maxiter=2)
     old = optimise(Requirements(layouts=("bulkhead",), fixed=FixedParameters(sizing_rules="gas_only")), seed=0,
                    progress=False, maxiter=20)
     assert len(old.searches) == 1 and "joint_capacity" not in old.evaluation.margins

@@ -73,8 +73,8 @@ def test_a_new_layout_module_is_found_without_editing_another_file(probe_layout)
     # the requirements, the design, the problem and the schema take it
     req = Requirements(layouts=("inner_tube", probe_layout))
     assert req.decision_variables(probe_layout) == DECISION_VARIABLES
-    plain = Design(35.18, 59.5, 47107.0, 99735.0)
-    d = Design(35.18, 59.5, 47107.0, 99735.0, layout=probe_layout)
+    plain = Design(31.5, 59.3, 26000.0, 65000.0)  # feasible under the buildability rules
+    d = Design(31.5, 59.3, 26000.0, 65000.0, layout=probe_layout)
     assert d.chamber1_length_mm == pytest.approx(plain.chamber1_length_mm - 500.0 / d.A1_mm2, rel=1e-12)
     assert d.housing_length_mm == pytest.approx(plain.housing_length_mm - 500.0 / d.A1_mm2, rel=1e-12)
     assert d.derived.layout_quantities["port_volume_mm3"] == 500.0

@@ -24,7 +24,7 @@ GAS_ONLY = FixedParameters(sizing_rules="gas_only")
 WIDE = FixedParameters(joint_seal_cross_section_mm=2.62)
 DRAWN = {
     "bulkhead, gas-only": Design(35.4, 59.5, 48800.0, 102000.0, layout="bulkhead", V2_top_mm3=3800.0, fixed=GAS_ONLY),
-    "inner_tube, buildable, ring": Design(33.0, 59.3, 33000.0, 75000.0, joint="ring_top"),
+    "inner_tube, buildable, ring": Design(33.0, 59.3, 33000.0, 65000.0, joint="ring_top"),
     # the buildable joints of every layout (issue 23: one mass, the optimiser's = the CAD's, part by part)
     "bulkhead, buildable, thread": Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0),
     "inner_tube, buildable, tie rods": Design(30.0, 70.0, 33000.0, 80000.0, joint="tie_rods", fixed=WIDE),
@@ -43,8 +43,7 @@ SLOW = {
     "bulkhead, buildable, pocket": Design(33.0, 59.3, 33000.0, 75000.0, layout="bulkhead", V2_top_mm3=500.0,
                                           fixed=FixedParameters(piston_pocket=True)),
     "inner_tube, buildable, thread": Design(33.0, 59.3, 33000.0, 75000.0, joint="thread"),
-    "bulkhead, buildable, ring": Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0,
-                                        joint="ring_top"),
+    # (bulkhead with ring_top is not built: spring.joints.EXCLUDED_PAIRS)
     "bulkhead, buildable, tie rods": Design(30.0, 70.0, 33000.0, 80000.0, layout="bulkhead", V2_top_mm3=658.0,
                                             joint="tie_rods", fixed=WIDE),
     "annulus_top, buildable, ring": Design(32.0, 59.3, 30000.0, 60000.0, layout="annulus_top",

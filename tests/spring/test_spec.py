@@ -83,7 +83,7 @@ def test_margins_have_signs_and_details(rules):
     # a design feasible under each rules' requirements (the buildable one: a thread joint, shorter gas columns; its
     # seal zones hold the bores' lead-ins)
     d = (Design(34.5, 59.5, 41500.0, 80000.0, fixed=fixed) if rules == "gas_only"
-         else Design(32.5, 59.3, 28000.0, 70000.0, layout="bulkhead", V2_top_mm3=500.0, fixed=fixed))
+         else Design(31.5, 59.3, 26000.0, 65000.0, fixed=fixed))
     ev = evaluate_design(d, Requirements(fixed=fixed))
     assert ev.feasible
     assert list(ev.margins) == constraint_names(Requirements(fixed=fixed), d.layout)

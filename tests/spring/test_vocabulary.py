@@ -30,7 +30,7 @@ DESIGNS = {
                                       fixed=POCKET),
     # the buildability rules (the default): a thread joint, the damper's loads, the tolerances
     "bulkhead, buildable": Design(33.155, 59.33, 33650.0, 80180.0, layout="bulkhead", V2_top_mm3=658.0),
-    "inner_tube, buildable, ring": Design(33.0, 59.3, 33000.0, 75000.0, joint="ring_top"),
+    "inner_tube, buildable, ring": Design(33.0, 59.3, 33000.0, 65000.0, joint="ring_top"),
 }
 
 #: The wall thickness attribute of each wall (the design file's ``fixed.min_<attribute>`` is its minimum).

@@ -18,7 +18,9 @@ __all__ = ["joint_bodies", "joint_regions", "joint_tools", "outer_tube_profile"]
 
 
 def outer_tube_profile(lay: Layout, r_out: float | None = None) -> list[tuple[float, float]]:
-    """Meridian outline (r, z) of the outer tube with its threaded or counterbored ends, mm.
+    """Meridian outline (r, z) of the outer tube with its threaded or counterbored ends, mm: behind each thread the
+    internal run-out at the thread's minor diameter ``D1`` (DIN 76-1), then the step into the bore (where the lead-in
+    chamfer is cut).
 
     Parameters
     ----------
@@ -42,16 +44,18 @@ def outer_tube_profile(lay: Layout, r_out: float | None = None) -> list[tuple[fl
     else:
         pts += [(rb, b0)]
     pts += [(ro, b0), (ro, zs)]
-    if j.cap_thread is not None:
+    if j.cap_thread is not None:  # thread, then the internal run-out at the thread's minor bore, then the bore
         t = j.cap_thread
-        pts += [(t.pitch_diameter_mm / 2, zs), (t.pitch_diameter_mm / 2, t.thread[0]), (rb, t.thread[0])]
-    elif j.ring is not None:
-        pts += [(j.ring.bore_mm / 2, zs), (j.ring.bore_mm / 2, lay.z_cap), (rb, lay.z_cap)]
+        pts += [(t.pitch_diameter_mm / 2, zs), (t.pitch_diameter_mm / 2, t.thread[0]),
+                (t.internal_minor_mm / 2, t.thread[0]), (t.internal_minor_mm / 2, t.relief[0]), (rb, t.relief[0])]
+    elif j.ring is not None:  # the counterbore above the cap plug's seal zone (the plug seals in the bore)
+        pts += [(j.ring.bore_mm / 2, zs), (j.ring.bore_mm / 2, j.cap_seal[1]), (rb, j.cap_seal[1])]
     else:
         pts += [(rb, zs)]
     if j.base_thread is not None:
         t = j.base_thread
-        pts += [(rb, t.thread[1]), (t.pitch_diameter_mm / 2, t.thread[1])]
+        pts += [(rb, t.relief[1]), (t.internal_minor_mm / 2, t.relief[1]), (t.internal_minor_mm / 2, t.thread[1]),
+                (t.pitch_diameter_mm / 2, t.thread[1])]
     return pts
 
 
@@ -69,12 +73,12 @@ def _base_spigot(lay: Layout) -> list[tuple[float, float]]:
 
 def _cap_spigot(lay: Layout) -> list[tuple[float, float]]:
     """The top cap's spigot inside the tube: seal zone, thread, run-out (or the seal zone only; ``ring_top``: the
-    plug)."""
+    plug, its seal zone at the bore below the counterbore)."""
     j, rb, z1 = lay.joint, lay.r_bore, lay.z_cap
     zs = j.z_tube_top
     if j.ring is not None:
-        r = j.ring.bore_mm / 2
-        return [(0.0, z1), (r, z1), (r, j.ring.plug[1]), (0.0, j.ring.plug[1])]
+        r, zc = j.ring.bore_mm / 2, j.cap_seal[1]
+        return [(0.0, z1), (rb, z1), (rb, zc), (r, zc), (r, j.ring.plug[1]), (0.0, j.ring.plug[1])]
     t = j.cap_thread
     if t is None:
         return [(0.0, z1), (rb, z1), (rb, zs), (0.0, zs)]

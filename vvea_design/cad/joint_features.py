@@ -53,6 +53,15 @@ def _thread(key: str, t, internal: bool, side: str, where: str) -> list:
            f"Ø{2 * r2:.3f}), ISO 261 / ISO 965-1")
     out = [_feature(key, "thread", f"{kind} thread ({where})", size, cls, Leader((r2, z_mid), txt, side),
                     u_edges=_sym(r2), z_edges=(z_step,), standard="ISO 261, ISO 965-1")]
+    if internal and t.relief[1] > t.relief[0]:  # the tube's run-out at the minor bore, then the step to the bore
+        r1 = t.internal_minor_mm / 2
+        run = t.relief[1] - t.relief[0]
+        z_run = t.relief[1] if t.end == "base" else t.relief[0]
+        txt = (f"{where}: internal thread run-out Ø{2 * r1:.3f} {cls} (D1) x {run:.2f} (DIN 76-1 short); the O-rings "
+               "pass it clear of the crests (ISO 3601-2)")
+        out.append(_feature(f"{key}_runout", "groove", f"internal thread run-out ({where})", f"Ø{2 * r1:.3f}", cls,
+                            Leader((r1, 0.5 * sum(t.relief)), txt, side), u_edges=_sym(r1), z_edges=(z_run,),
+                            standard="DIN 76-1"))
     if not internal:
         z_run = t.runout[1] if t.end == "base" else t.runout[0]
         run = t.runout[1] - t.runout[0]
@@ -99,26 +108,27 @@ def outer_tube_joint_features(lay: Layout) -> tuple:
         f += _thread("thread_top", j.cap_thread, True, "right", "top end")
         f.append(lead_in_feature("lead_in_top", "bore, top end", lay.lead_in_outer_top, rb, lay.z_lead_in_top,
                                   True, False, "right", lay.cap_seal))
-    elif j.ring is None and lay.lead_in_outer_top is not None:  # tie rods: a plain top end
+    elif lay.lead_in_outer_top is not None:  # tie rods: a plain top end; ring_top: the counterbore's step
         f.append(lead_in_feature("lead_in_top", "bore, top end", lay.lead_in_outer_top, rb, lay.z_lead_in_top,
                                   True, False, "right", lay.cap_seal))
     if j.ring is not None:
         r = j.ring
         d1, d2 = r.bore_mm / 2, r.groove_diameter_mm / 2
         cb_tol = fit_tolerance(r.bore_mm, SEAL_BORE_FIT)
-        f += [_feature("counterbore", "diameter", "counterbore (the cap plug's seal bore)", f"Ø{r.bore_mm:.2f}",
-                       cb_tol, Leader((d1, 0.5 * (lay.z_cap + r.plug[1])),
-                                      f"counterbore Ø{r.bore_mm:.2f} {cb_tol} x {zs - lay.z_cap:.2f} deep from the top "
-                                      "end, Ra 0.8 (O-ring counter-surface)", "right"),
-                       u_edges=_sym(d1), z_edges=(lay.z_cap,), finish="Ra 0.8", standard="ISO 3601-2"),
+        zc = j.cap_seal[1]
+        f += [_feature("counterbore", "diameter", "counterbore (the cap plug's seat)", f"Ø{r.bore_mm:.2f}",
+                       cb_tol, Leader((d1, 0.5 * (zc + r.plug[1])),
+                                      f"counterbore Ø{r.bore_mm:.2f} {cb_tol} x {zs - zc:.2f} deep from the top "
+                                      "end (the cap's O-ring passes it clear, ISO 3601-2)", "right"),
+                       u_edges=_sym(d1), z_edges=(zc,), standard="ISO 3601-2"),
               _feature("ring_groove", "groove", "retaining ring groove", f"Ø{r.groove_diameter_mm:.2f}", "H13",
                        Leader((d2, 0.5 * sum(r.groove)),
                               f"groove Ø{r.groove_diameter_mm:.2f} H13 x {r.groove_width_mm:.2f} H13, "
                               f"{zs - r.groove[1]:.2f} from the top end, for the ring {r.designation}", "left"),
                        u_edges=_sym(d2), z_edges=r.groove, probe=(0.5 * (d1 + d2), 0.0, 0.5 * sum(r.groove)),
                        standard="DIN 472"),
-              lead_in_feature("lead_in_top", "counterbore, top end", lay.lead_in_counterbore, d1, zs, True, False,
-                               "right", lay.cap_seal)]
+              lead_in_feature("lead_in_counterbore", "counterbore, top end", lay.lead_in_counterbore, d1, zs, True,
+                               False, "right", lay.cap_seal)]
     return tuple(f)
 
 
@@ -185,13 +195,19 @@ def top_cap_joint_features(lay: Layout, feats: tuple) -> tuple:
     """
     j, R, z1, zf = lay.joint, lay.r_outer, lay.z_cap, lay.z_cap_face
     keep = [f for f in feats if f.key not in ("thickness", "outside")]
-    if j.ring is not None:  # the cap is a plug in the tube's counterbore
-        r1 = j.ring.bore_mm / 2
+    if j.ring is not None:  # the cap is a plug in the tube's counterbore, its seal zone in the bore below
+        r1, rb, zc = j.ring.bore_mm / 2, lay.r_bore, j.cap_seal[1]
         pd, pt = f"Ø{j.ring.bore_mm:.2f}", fit_tolerance(j.ring.bore_mm, SPIGOT_FIT)
+        so, so_tol = f"Ø{2 * rb:.2f}", fit_tolerance(2 * rb, SPIGOT_FIT)
         f = [_feature("thickness", "length", "plug length", f"{zf - z1:.2f}", _GENERAL,
-                      Dim("z", (-r1, z1), (-r1, zf), "left"), z_edges=(z1, zf)),
+                      Dim("z", (-rb, z1), (-r1, zf), "left"), z_edges=(z1, zf)),
              _feature("outside", "diameter", "plug outside (in the tube's counterbore)", pd, pt,
-                      Dim("u", (-r1, zf), (r1, zf), "top", f"{pd} {pt}"), u_edges=_sym(r1))]
+                      Dim("u", (-r1, zf), (r1, zf), "top", f"{pd} {pt}"), u_edges=_sym(r1)),
+             _feature("seal_spigot", "diameter", "seal spigot (in the outer-tube bore)", so, so_tol,
+                      Leader((rb, 0.5 * (z1 + zc)), f"seal spigot {so} {so_tol} x {zc - z1:.2f}", "right"),
+                      u_edges=_sym(rb), z_edges=(zc,))]
+        if lay.has_top_annulus:
+            f += groove_feature("cap_seal", lay.cap_seal, *lay.z_cap_seal, z1, "the spigot's end", "left", -1.0)
         return tuple(f + keep)
     zs = j.z_tube_top
     f = [_feature("thickness", "length", "thickness above the tube", f"{lay.z_top - zs:.2f}", _GENERAL,

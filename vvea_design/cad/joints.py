@@ -8,8 +8,11 @@ Under the buildability rules (``fixed.sizing_rules = "buildable"``) the design s
 ``thread``
     The outer tube runs from the base's own part (``base_own``) to the top cap's shoulder. Each end piece's spigot
     inside it, from the shoulder inwards: the thread's run-out undercut (DIN 76-1, to the external minor
-    diameter ``d3``), the thread (drawn as its pitch cylinder ``d2``; ISO 261 fine, ISO 965-1 class), then the
-    seal zone at the bore with its static O-ring. The tube's ends are threaded over run-out and thread.
+    diameter ``d3``), the thread (drawn as its pitch cylinder ``d2``; ISO 261 fine, ISO 965-1 class), the tube's
+    internal thread run-out (DIN 76-1, the spigot plain there), then the seal zone at the bore with its static
+    O-ring. The tube's ends are threaded over run-out, thread and internal run-out; the bore (the seal's) lies
+    inside the thread's minor diameter by the ring's passage (ISO 3601-2), reached over the lead-in chamfer at the
+    seal zone's entry, so no O-ring touches a thread crest on assembly.
 ``ring_top``
     The base as for ``thread``. The top cap is a plug of the ring's bore ``d1`` in a counterbore of the tube's top
     end, its seal zone at the plug; a DIN 472 ring in its groove ``d2 x m`` above the plug, the tube's land above.
@@ -28,6 +31,7 @@ import math
 from dataclasses import dataclass
 
 from ..spring.design import Design
+from ..spring.joints import INTERNAL_RUNOUT_PITCHES
 
 __all__ = ["ThreadZone", "RingZone", "RodPattern", "JointGeometry", "joint_geometry"]
 
@@ -47,6 +51,14 @@ class ThreadZone:
     runout: tuple[float, float]  #: z range of the run-out undercut (next to the shoulder)
     thread: tuple[float, float]  #: z range of the engaged thread
     seal: tuple[float, float]  #: z range of the seal zone (the spigot's tip)
+    #: z range of the tube's internal thread run-out (DIN 76-1), between the engaged thread and the seal zone: the
+    #: tube keeps the thread's minor bore there, the spigot is plain at its seal diameter
+    relief: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def internal(self) -> tuple[float, float]:
+        """z range of the tube's internal thread with its run-out (engaged thread and relief), mm."""
+        return min(self.thread[0], self.relief[0]), max(self.thread[1], self.relief[1])
 
 
 @dataclass(frozen=True)
@@ -115,13 +127,15 @@ class JointGeometry:
 def _thread_zone(end: str, rec, z_shoulder: float, inward: float, seal_mm: float) -> ThreadZone:
     """Levels of a threaded spigot from its shoulder ``z_shoulder`` going ``inward`` (+1 up, -1 down)."""
     run, L = rec.runout_mm, rec.engagement_length_mm
+    D, P = rec.major_diameter_mm, rec.pitch_mm
     z_a = z_shoulder
     z_b = z_a + inward * run
     z_c = z_b + inward * L
-    z_d = z_c + inward * seal_mm
-    D, P = rec.major_diameter_mm, rec.pitch_mm
+    z_r = z_c + inward * INTERNAL_RUNOUT_PITCHES * P
+    z_d = z_r + inward * seal_mm
     return ThreadZone(end, rec.designation, D, P, rec.pitch_diameter_mm, D - 1.226869 * P, rec.minor_diameter_mm, L,
-                      tuple(sorted((z_a, z_b))), tuple(sorted((z_b, z_c))), tuple(sorted((z_c, z_d))))
+                      tuple(sorted((z_a, z_b))), tuple(sorted((z_b, z_c))), tuple(sorted((z_r, z_d))),
+                      tuple(sorted((z_c, z_r))))
 
 
 def _rod_angles(count: int, hole_r: float, circle_r: float) -> tuple[float, ...]:

@@ -301,10 +301,10 @@ class Layout:
 
     @property
     def cap_seal_bore_mm(self) -> float:
-        """Diameter the top cap's static O-ring seals on: the outer bore, or (``ring_top``) the counterbore of
-        the tube's top end that holds the cap plug, mm."""
-        ring = self.joint.ring
-        return ring.bore_mm if ring is not None else 2 * self.outer_bore_radius_mm
+        """Diameter the top cap's static O-ring seals on: the outer bore (``ring_top`` too: the cap plug's seal
+        zone lies below the tube's counterbore, so the ring passes the retaining ring's groove and the counterbore
+        clear of their edges, ISO 3601-2), mm."""
+        return 2 * self.outer_bore_radius_mm
 
     @cached_property
     def cap_seal(self) -> Gland | None:
@@ -400,15 +400,18 @@ class Layout:
     @property
     def z_lead_in_bottom(self) -> float:
         """Where the outer tube's bottom lead-in starts: the tube's bottom end, or behind a threaded end the step
-        from the thread to the bore (the O-ring passes the thread first), mm."""
+        from the thread's run-out (at its minor diameter, clear of the O-ring) to the bore, mm."""
         t = self.joint.base_thread
-        return t.thread[1] if t is not None else self.joint.z_tube_bottom
+        return t.relief[1] if t is not None else self.joint.z_tube_bottom
 
     @property
     def z_lead_in_top(self) -> float:
-        """Where the outer tube's top lead-in starts (its top end, or the step behind its top thread), mm."""
-        t = self.joint.cap_thread
-        return t.thread[0] if t is not None else self.joint.z_tube_top
+        """Where the outer tube's top lead-in starts (its top end, the step behind its top thread's run-out, or
+        ``ring_top`` the counterbore's step), mm."""
+        t, j = self.joint.cap_thread, self.joint
+        if t is not None:
+            return t.relief[0]
+        return j.cap_seal[1] if j.ring is not None else j.z_tube_top
 
     def _tube_lead_in(self, rings: list[Gland], room: float, where: str) -> LeadIn:
         """A lead-in (ISO 3601-2, 15 ... 20 deg) for the rings passing an end of the outer tube, in ``room`` mm.
@@ -440,16 +443,17 @@ class Layout:
     @cached_property
     def lead_in_outer_top(self) -> LeadIn | None:
         """Lead-in chamfer at the outer tube's top bore end: the cap seal's ring enters the bore there (``None``
-        without a cap seal, and for ``ring_top``: its plug's ring enters the counterbore, see
-        :attr:`lead_in_counterbore`). It ends :data:`LEAD_IN_GAP_MM` above the cap seal's groove."""
-        if self.cap_seal is None or self.joint.ring is not None:
+        without a cap seal; ``ring_top``: at the counterbore's step). It ends :data:`LEAD_IN_GAP_MM` above the cap
+        seal's groove."""
+        if self.cap_seal is None:
             return None
         room = self.z_lead_in_top - self.z_cap_seal[1] - LEAD_IN_GAP_MM
         return self._tube_lead_in([self.cap_seal], room, "the top cap's spigot")
 
     @cached_property
     def lead_in_counterbore(self) -> LeadIn | None:
-        """``ring_top``: the lead-in at the mouth of the tube's top counterbore, where the cap plug's ring enters."""
+        """``ring_top``: the chamfer at the mouth of the tube's top counterbore, where the cap plug enters (its ring
+        passes it clear)."""
         if self.joint.ring is None:
             return None
         return self.cap_seal.lead_in(self.z_top - self.joint.ring.groove[1])
@@ -670,12 +674,22 @@ class Layout:
 
     @property
     def z_cross_port(self) -> float:
-        """Axis height of the cross port: in the top cap between the joint face and the valves' tapped holes,
-        centred on the plug's bore; in ``annulus_top`` in the base above the valve's tapped hole."""
+        """Axis height of the cross port: in the top cap between :attr:`z_cross_port_floor` and the valves' tapped
+        holes, centred on the plug's bore; in ``annulus_top`` in the base above the valve's tapped hole."""
         c = self.cad
         if self.has_top_annulus:
             return c.fill_port_counterbore_depth_mm + 0.3 + 0.5 * c.plug_bore_mm
-        return 0.5 * (self.z_cap + SPIGOT_LAND_MM + self.z_cap_face - c.fill_port_counterbore_depth_mm - 0.3)
+        return 0.5 * (self.z_cross_port_floor + self.z_cap_face - c.fill_port_counterbore_depth_mm - 0.3)
+
+    @property
+    def z_cross_port_floor(self) -> float:
+        """Lowest level of the top cap's cross port and its plug: above the cap's underside, or with a joint above
+        the outer tube's top end (the plug is fitted from the outside; a drilling through the tube would also be
+        passed by the cap's O-ring), mm."""
+        lo = self.z_cap + SPIGOT_LAND_MM
+        if self.has_joint and self.joint.z_tube_top > self.z_cap:
+            lo = max(lo, self.joint.z_tube_top + SPIGOT_LAND_MM)
+        return lo
 
     @property
     def y_cross_riser(self) -> float:

@@ -143,7 +143,7 @@ def _check_seals_and_ports(lay: Layout) -> None:
             lo_ok, hi_ok = zc - rp >= c.fill_port_counterbore_depth_mm, zc + rp <= lay.z_base_top - 1.0
             where = f"the base ({lay.design.base_mm:g} mm; fixed.min_base_mm)"
         else:
-            lo_ok = zc - rp >= lay.z_cap + SPIGOT_LAND_MM - 1e-9
+            lo_ok = zc - rp >= lay.z_cross_port_floor - 1e-9
             hi_ok = zc + rp <= lay.z_cap_face - c.fill_port_counterbore_depth_mm - 0.3 + 1e-9
             where = f"the top cap ({lay.design.top_cap_mm:g} mm; fixed.min_top_cap_mm = {f.min_top_cap_mm:g})"
         if not (lo_ok and hi_ok):

@@ -215,6 +215,12 @@ class CadManifest:
     fill: Mapping[str, object] | None = None  #: the oil fill (mm³) and the nitrogen charges (MPa, mm³, g)
     assembly: Mapping[str, object] | None = None  #: the assembly order checked (:class:`~vvea_design.cad.sequence.AssemblyCheck`)
 
+    @property
+    def assembly_passes(self) -> bool | None:
+        """The assembly check's verdict (the parts go together in order, no O-ring over a thread or a sharp edge);
+        None when it was not run."""
+        return None if self.assembly is None else bool(self.assembly.get("passes"))
+
     def to_dict(self) -> dict:
         """The content of ``manifest.json`` (plain JSON types, units in the keys).
 

@@ -139,14 +139,13 @@ def _top_tools(lay: Layout) -> list[Solid]:
     tap_z = zt - c.fill_port_counterbore_depth_mm
     if lay.cap_seal is not None:  # the cap's static seal to the outer bore, and the tube's lead-in above it
         tools.append(ring(lay.cap_seal.groove_diameter_mm / 2, lay.cap_seal_bore_mm / 2, *lay.z_cap_seal))
-        if lay.lead_in_counterbore is not None:  # ring_top: the plug's ring enters the tube's counterbore
+        if lay.lead_in_counterbore is not None:  # ring_top: the chamfer at the counterbore's mouth
             li = lay.lead_in_counterbore
-            tools.append(_lead_in_tool(lay.cap_seal_bore_mm / 2, lay.z_top, li.depth_mm, li.length_mm, outward=True,
-                                       upward=False))
-        else:
-            li = lay.lead_in_outer_top
-            tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_top, li.depth_mm, li.length_mm, outward=True,
-                                       upward=False))
+            tools.append(_lead_in_tool(lay.joint.ring.bore_mm / 2, lay.z_top, li.depth_mm, li.length_mm,
+                                       outward=True, upward=False))
+        li = lay.lead_in_outer_top  # where the ring enters the bore (behind a thread or the counterbore)
+        tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_top, li.depth_mm, li.length_mm, outward=True,
+                                   upward=False))
     # chamber 1: the fill tube's bore on the axis (bulkhead) or a port over the piston; its valve's tapped hole
     if lay.has_bulkhead:
         tools.append(cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0 - 0.01, zt + 1))

@@ -302,10 +302,10 @@ def _outer_tube_mm3(lay: Layout) -> float:
     j = lay.joint
     li = lay.lead_in_outer_bottom  # the bore's lead-in chamfers at both ends (behind a thread: at the step)
     v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
-    if lay.lead_in_counterbore is not None:  # ring_top: at the counterbore's mouth, for the plug's ring
+    if lay.lead_in_counterbore is not None:  # ring_top: at the counterbore's mouth, where the plug enters
         li = lay.lead_in_counterbore
-        v -= lead_in_ring_mm3(lay.cap_seal_bore_mm / 2, li.depth_mm, li.length_mm, outward=True)
-    elif lay.lead_in_outer_top is not None:
+        v -= lead_in_ring_mm3(j.ring.bore_mm / 2, li.depth_mm, li.length_mm, outward=True)
+    if lay.lead_in_outer_top is not None:  # where the cap's ring enters the bore (ring_top: the counterbore's step)
         li = lay.lead_in_outer_top
         v -= lead_in_ring_mm3(lay.r_bore, li.depth_mm, li.length_mm, outward=True)
     if j.ring is not None:  # the retaining ring's groove in the counterbore

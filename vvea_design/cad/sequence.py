@@ -13,7 +13,9 @@ on the parts' meridian sections:
 * **O-rings**: every O-ring that one side carries past the other sweeps the band between the surface it
   seals on and its free radius (cross-section tolerance included). Every outline edge of the other part
   in that band, over the ring's path, must be the sealing surface itself or a lead-in chamfer at 15 ... 20
-  deg that reaches beyond the band (ISO 3601-2); anything else is a sharp edge the ring is dragged over.
+  deg that reaches beyond the band (ISO 3601-2); anything else is a sharp edge the ring is dragged over. The
+  internal threads are drawn at their pitch cylinder: their crests (the minor diameter ``D1``, ISO 965-1) are
+  checked as cylinders of their own (:func:`thread_crests`), so a ring that would ride over a thread is caught.
 
 Lengths in mm; z along the axis, r from it.
 """
@@ -30,7 +32,7 @@ from .layout import Layout
 from .seals import Gland
 
 __all__ = ["AssemblyStep", "RingCrossing", "StepCheck", "AssemblyCheck", "assembly_plan", "check_assembly",
-           "ring_paths", "ELASTIC", "sweep_overlap_mm", "part_profile"]
+           "ring_paths", "thread_crests", "ELASTIC", "sweep_overlap_mm", "part_profile"]
 
 #: Parts that are not swept as rigid bodies: the bladder's cuffs snap into their grooves (elastic).
 ELASTIC = ("bladder",)
@@ -132,7 +134,8 @@ class AssemblyCheck:
         """
         return {"passes": self.passes,
                 "method": "each insertion swept along the axis on the parts' meridian sections (valve and port "
-                          "planes united); O-rings' bands checked for lead-in chamfers 15-20 deg (ISO 3601-2); the "
+                          "planes united); O-rings' bands checked for lead-in chamfers 15-20 deg (ISO 3601-2) and for "
+                          "the internal threads' crests (D1, ISO 965-1); the "
                           "bladder is elastic (snap-in beads), not swept",
                 "steps": [s.to_dict() for s in self.steps]}
 
@@ -315,9 +318,33 @@ def ring_paths(lay: Layout) -> dict[str, tuple[Gland, str, str, tuple[tuple[floa
     return out
 
 
+def thread_crests(lay: Layout) -> dict[str, tuple[tuple[float, float, float], ...]]:
+    """The internal threads' crests the CAD does not draw (threads are drawn at their pitch cylinder): per part,
+    ``(r, z0, z1)`` of each internal thread's minor diameter ``D1`` (ISO 965-1's smallest, H position) over the
+    thread and its run-out, mm.
+
+    Parameters
+    ----------
+    lay : Layout
+        The design's layout (its joint).
+
+    Returns
+    -------
+    dict
+        Part name -> crest cylinders ``(r, z0, z1)``, mm.
+    """
+    out = []
+    for t in (lay.joint.base_thread, lay.joint.cap_thread):
+        if t is not None:
+            z0, z1 = t.internal
+            out.append((t.internal_minor_mm / 2, z0, z1))
+    return {"housing_outer_tube": tuple(out)} if out else {}
+
+
 def _crossing(step: AssemblyStep, kind: str, gland: Gland, counter: str, zgs, ring_moves: bool,
-              profile) -> RingCrossing:
-    """The edges of ``counter`` an O-ring's band meets over its path in ``step``."""
+              profile, crests=()) -> RingCrossing:
+    """The edges of ``counter`` an O-ring's band meets over its path in ``step`` (``crests``: its internal
+    threads' crest cylinders ``(r, z0, z1)``, which its drawn outline does not show)."""
     rs = gland.sliding_diameter_mm / 2
     rf = gland.free_sealing_radius_mm
     lo_r, hi_r = min(rs, rf), max(rs, rf)
@@ -328,6 +355,10 @@ def _crossing(step: AssemblyStep, kind: str, gland: Gland, counter: str, zgs, ri
     z_hi = max(max(z1 for _, z1 in zgs) + max(sh, 0.0), max(z1 for _, z1 in zgs))
     edges, ok = [], True
     seen = set()
+    for r, c0, c1 in crests:  # a ring whose band reaches a thread's crests is dragged over them
+        if lo_r + 1e-6 < r < hi_r - 1e-6 and c1 >= z_lo - 1e-6 and c0 <= z_hi + 1e-6:
+            ok = False
+            edges.append(f"thread crests D1 r = {r:.3f} at z = {c0:.2f}...{c1:.2f}")
     for loops in profile:
         for lp in loops:
             for a, b in zip(lp[:-1], lp[1:]):
@@ -379,6 +410,7 @@ def check_assembly(solids: Mapping[str, object], lay: Layout,
     names = {n for st in plan for n in (*st.moving, *st.against)}
     prof = {n: part_profile(solids[n]) for n in sorted(names)}
     paths = ring_paths(lay)
+    crests = thread_crests(lay)
     out = []
     for st in plan:
         if not st.moving:
@@ -391,9 +423,9 @@ def check_assembly(solids: Mapping[str, object], lay: Layout,
         crossings = []
         for kind, (g, groove_part, counter, zgs) in paths.items():
             if groove_part in st.moving and counter in st.against:
-                crossings.append(_crossing(st, kind, g, counter, zgs, True, prof[counter]))
+                crossings.append(_crossing(st, kind, g, counter, zgs, True, prof[counter], crests.get(counter, ())))
             elif counter in st.moving and groove_part in st.against:
                 # the counter part moves: take its profile at its start and run the ring backwards over it
-                crossings.append(_crossing(st, kind, g, counter, zgs, False, prof[counter]))
+                crossings.append(_crossing(st, kind, g, counter, zgs, False, prof[counter], crests.get(counter, ())))
         out.append(StepCheck(st, float(ov), where, tuple(crossings)))
     return AssemblyCheck(tuple(out))

@@ -262,6 +262,9 @@ def design(
         stdout.print(f"strength (FE, {fe.criterion} peak / yield): " + ", ".join(
             f"{w.wall} {w.governing.safety:.2f} (>= {w.governing.required_safety:g}, {w.governing.case})"
             for w in fe.walls) + f" -> {'PASSES' if fe.passes else 'FAILS'}", markup=False, highlight=False)
+    if unit.cad_manifest is not None and unit.cad_manifest.assembly_passes is not None:
+        stdout.print("assembly (in order along the axis; no O-ring over a thread or a sharp edge, ISO 3601-2) -> "
+                     f"{'PASSES' if unit.cad_manifest.assembly_passes else 'FAILS'}", markup=False, highlight=False)
     a = unit.actuator
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")

@@ -20,7 +20,7 @@ import numpy as np
 from ..materials.structural import get_material
 from .geometry import Section
 from .hydraulics import Hydraulics, hydraulics_record
-from .joints import (ISO261_FINE_MM, RUNOUT_PITCHES, THREAD_CLASSES, THREAD_PITCH_MM, TIE_ROD_SIZES, RingJoint,
+from .joints import (INTERNAL_RUNOUT_PITCHES, ISO261_FINE_MM, RUNOUT_PITCHES, seal_passage_mm, THREAD_CLASSES, THREAD_PITCH_MM, TIE_ROD_SIZES, RingJoint,
                      SeatJoint, ThreadJoint, TieRodJoint, select_thread, thread_geometry)
 from .loads import Loads, PieceLoad, load_cases
 from .records import Record
@@ -96,13 +96,14 @@ def _post_hoc_section(design, loads: Loads) -> Section:
     js = size_joint("thread", ro, loads, design.variant, built, ri_l)
     rb = _f(sec.outer_bore_radius_mm)
     P = THREAD_PITCH_MM
-    D = next((d for d in ISO261_FINE_MM if thread_geometry(d, P)["D1"] >= 2 * rb), ISO261_FINE_MM[-1])
+    passage = seal_passage_mm(f.joint_seal_cross_section_mm)  # the O-rings pass the thread's crests (ISO 3601-2)
+    D = next((d for d in ISO261_FINE_MM if thread_geometry(d, P)["D1"] >= 2 * (rb + passage)), ISO261_FINE_MM[-1])
     top, base = _end_loads(loads, np.asarray(rb + it_tolerance_mm(2 * rb, f.bore_tolerance_grade) / 2), design.variant,
                            ri_l)
     th = select_thread(ro - it_tolerance_mm(2 * ro, f.outside_tolerance_grade) / 2, top, base,
                        get_material(f.housing_material).yield_MPa, f.wall_safety_factor, candidates=(D,))
     q = dict(js.quantities, **{"thread_" + k: v for k, v in th.items()}, top_end_load_N=top, base_end_load_N=base)
-    P_zone = RUNOUT_PITCHES * P + js.seal_zone_mm
+    P_zone = (RUNOUT_PITCHES + INTERNAL_RUNOUT_PITCHES) * P + js.seal_zone_mm
     js = replace(js, quantities=q, top_support_radius_mm=th["pitch_diameter_mm"] / 2,
                  base_support_radius_mm=th["pitch_diameter_mm"] / 2, bore_cap_radius_mm=np.asarray(np.inf),
                  top_zone_mm=th["engagement_top_mm"] + P_zone, base_zone_mm=th["engagement_base_mm"] + P_zone,
@@ -165,7 +166,7 @@ def _thread_records(design, js, loads: Loads, ends=("top_cap", "base")) -> list:
             joint=end, kind="thread", designation=f"M{D:g}x{P:g}-{cls}", standard="ISO 261, ISO 965-1, ISO 68-1",
             tolerance_class=cls, major_diameter_mm=D, pitch_mm=P, pitch_diameter_mm=_f(q["thread_pitch_diameter_mm"]),
             minor_diameter_mm=_f(q["thread_minor_mm"]), engagement_length_mm=L, runout_mm=RUNOUT_PITCHES * P,
-            seal_zone_mm=js.seal_zone_mm, zone_mm=L + RUNOUT_PITCHES * P + js.seal_zone_mm,
+            seal_zone_mm=js.seal_zone_mm, zone_mm=L + (RUNOUT_PITCHES + INTERNAL_RUNOUT_PITCHES) * P + js.seal_zone_mm,
             end_load_N=_f(q[f"{key}_end_load_N"]), governing_case=_governing_case(loads, fn),
             safety_factors={"tube_wall_under_the_root": _f(q["thread_wall_safety"]),
                             "stripping": _f(q[f"thread_stripping_{key}_safety"])},

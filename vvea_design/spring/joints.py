@@ -46,11 +46,39 @@ __all__ = ["JOINTS", "PROPERTY_CLASSES", "ISO261_FINE_MM", "THREAD_PITCH_MM", "J
            "RingJoint", "TieRodJoint", "SeatJoint", "thread_geometry", "iso965_tolerances_mm", "select_thread",
            "engagement_group_n_mm", "THREAD_CLASSES",
            "select_ring", "tie_rod_candidates", "tie_rod_preload", "static_gland_width_mm", "din472_table",
-           "JOINT_SHOULDER_MM", "bd_warehouse_rows", "LEAD_IN_MIN_LENGTH_MM", "LEAD_IN_GAP_MM", "seal_lead_in_land_mm",
+           "JOINT_SHOULDER_MM", "bd_warehouse_rows", "RUNOUT_PITCHES", "INTERNAL_RUNOUT_PITCHES", "LEAD_IN_MARGIN_MM",
+           "seal_passage_mm", "CROSS_PORT_SHOULDER_MM",
+           "EXCLUDED_PAIRS", "joint_fits_layout",
+           "standard_seal_bore_radius_mm", "LEAD_IN_MIN_LENGTH_MM", "LEAD_IN_GAP_MM", "seal_lead_in_land_mm",
            "seal_zone_mm", "static_male_cross_section_mm", "SERIES_MM"]
 
 #: The joint choices (the design's ``joint``; ``Requirements.joints`` lists which the optimiser tries).
 JOINTS = ("thread", "ring_top", "tie_rods")
+
+#: Joint and layout pairs a workshop cannot build, with the reason: ``ring_top``'s cap is a plug inside the tube, so
+#: the ``bulkhead`` layout's chamber-2 cross port (drilled from the outside and plugged) would pass through the tube
+#: wall, where the cap's O-ring also passes it. The optimiser does not try them.
+EXCLUDED_PAIRS = {("bulkhead", "ring_top"): "the top cap's cross port would be drilled through the outer tube "
+                                            "around the retaining ring's plug"}
+
+
+def joint_fits_layout(joint: str, layout: str) -> bool:
+    """Whether ``joint`` can be built with ``layout`` (:data:`EXCLUDED_PAIRS`).
+
+    Parameters
+    ----------
+    joint : str
+        One of :data:`JOINTS`.
+    layout : str
+        A layout's name (``inner_tube``, ``bulkhead``, ``annulus_top``).
+
+    Returns
+    -------
+    bool
+        False for the pairs in :data:`EXCLUDED_PAIRS`.
+    """
+    return (layout, joint) not in EXCLUDED_PAIRS
+
 
 #: ISO 898-1 property classes: (R_p0.2 min, R_m min) in MPa (d <= 16 mm for 8.8).
 PROPERTY_CLASSES: dict[str, tuple[float, float]] = {"8.8": (640.0, 800.0), "10.9": (940.0, 1040.0),
@@ -63,9 +91,21 @@ ISO261_FINE_MM = (12, 14, 15, 16, 17, 18, 20, 22, 24, 25, 26, 27, 28, 30, 32, 33
 THREAD_PITCH_MM = 1.5
 #: Axial shoulder of full outside diameter an end piece keeps beyond its joint zone (the tube end bears on it), mm.
 JOINT_SHOULDER_MM = 2.0
+#: Axial shoulder of the top cap above the outer tube when the cap holds the chamber-2 cross port (``bulkhead``): the
+#: cross port is drilled from the outside and plugged, so it must lie above the tube's end, mm. From the CAD's
+#: feature sizes (``cad.CadParameters``): a 0.5 mm land over the tube, the plug's bore (Ø3.0), 0.3 mm and the
+#: valves' tapped holes (4.0 mm deep) under the top face.
+CROSS_PORT_SHOULDER_MM = 0.5 + 3.0 + 0.3 + 4.0
 #: Thread run-out of the spigot's external thread, in pitches (DIN 76-1's short run-out x1, about 1.25 P: the
 #: thread is cut on a lathe up to the undercut at the shoulder).
 RUNOUT_PITCHES = 1.25
+#: Run-out of the outer tube's internal thread at its inner end, in pitches (DIN 76-1's short run-out of an internal
+#: thread, x1 = 1 P: the thread is cut on a lathe). The tube keeps the thread's minor bore ``D1`` over it; deeper in,
+#: the bore steps down to the seal bore over the O-ring's lead-in (:func:`seal_passage_mm`).
+INTERNAL_RUNOUT_PITCHES = 1.0
+#: Radial margin of a lead-in chamfer over the O-ring's largest protrusion (ISO 3601-2: the ring meets only the
+#: chamfer, never the edge behind it), mm.
+LEAD_IN_MARGIN_MM = 0.1
 #: The tie rods' metric coarse sizes (ISO 261) with an ISO 4032 nut in bd_warehouse's table.
 TIE_ROD_SIZES = ("M3-0.5", "M4-0.7", "M5-0.8", "M6-1", "M8-1.25")
 #: Tie-rod counts tried.
@@ -252,6 +292,70 @@ def seal_zone_mm(cross_section_mm: float, land_mm: float) -> float:
     """
     return (seal_lead_in_land_mm(cross_section_mm, land_mm) + static_gland_width_mm(cross_section_mm)
             + float(land_mm))
+
+
+@lru_cache(maxsize=None)
+def seal_passage_mm(cross_section_mm: float) -> float:
+    """Radial room a joint's static O-ring needs between the bore it seals on and any edge it passes on assembly
+    (the internal thread's crests, a retaining ring's bore), mm.
+
+    The free ring on a male gland reaches its largest protrusion, ``w`` times the static gland's largest squeeze
+    (ISO 3601-2 via bd_warehouse's table), plus the cross-section's tolerance (ISO 3601-1 class A), beyond the seal
+    bore; the bore's lead-in chamfer (15 ... 20 deg) reaches :data:`LEAD_IN_MARGIN_MM` further, rounded up to
+    0.01 mm. A thread or groove whose smallest diameter lies outside this ring is never touched by the O-ring:
+    ``D1 >= seal bore + 2 seal_passage_mm``.
+
+    Parameters
+    ----------
+    cross_section_mm : float
+        O-ring cross-section ``w``, mm (1.78, 2.62 ...).
+
+    Returns
+    -------
+    float
+        Radial room, mm.
+
+    Raises
+    ------
+    ValueError
+        If bd_warehouse's tables have no such cross-section.
+    """
+    w = float(cross_section_mm)
+    row = next((r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv") if abs(float(r["w"]) - w) < 1e-6),
+               None)
+    tol = [float(r["iso3601:w_tol"]) for r in bd_warehouse_rows("o-ring_parameters.csv")
+           if r.get("iso3601:w") and abs(float(r["iso3601:w"]) - w) < 1e-6]
+    if row is None or not tol:
+        raise ValueError(f"no ISO 3601 static gland of cross-section {w:g} mm in bd_warehouse's tables")
+    reach = w * float(row["sq_r_p_max"]) / 100 + max(tol) + LEAD_IN_MARGIN_MM
+    return math.ceil(round(reach * 100, 6)) / 100
+
+
+def standard_seal_bore_radius_mm(radius_mm, cross_section_mm: float) -> Array:
+    """The largest seal bore radius, at most ``radius_mm``, that an ISO 3601-1 O-ring of the cross-section seals in a
+    static male gland (ISO 3601-2 squeeze window, 0 ... 5 % stretch on the groove root), mm.
+
+    The ring sizes leave gaps (the 1.78 mm series steps about 3 mm in diameter above Ø25): a bore in a gap is
+    lowered to the top of the window below it, so the joint's seal is the standard ring the design reserved room
+    for (its gland width, its passage past the thread). Where no ring fits at all the radius is returned as is.
+
+    Parameters
+    ----------
+    radius_mm : float or array
+        Largest bore radius allowed, mm.
+    cross_section_mm : float
+        O-ring cross-section, mm (``fixed.joint_seal_cross_section_mm``).
+
+    Returns
+    -------
+    ndarray
+        Bore radius, mm (<= ``radius_mm``).
+    """
+    win = _male_static_windows(float(cross_section_mm))
+    lo, hi = win[:, 0] + 1e-6, win[:, 1] - 1e-6
+    b = 2 * np.asarray(radius_mm, dtype=float)[..., None]
+    fit = np.where(lo <= b, np.fmin(b, hi), -np.inf).max(axis=-1)
+    return np.where(np.isfinite(fit), fit / 2, b[..., 0] / 2)
 
 
 # ----------------------------------------------------------------------------------------------- threads

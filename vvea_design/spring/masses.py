@@ -25,8 +25,8 @@ import numpy as np
 
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array
-from .joints import (LEAD_IN_GAP_MM, LEAD_IN_MIN_LENGTH_MM, RUNOUT_PITCHES, THREAD_PITCH_MM, bd_warehouse_rows,
-                     SERIES_MM, seal_lead_in_land_mm, static_gland_width_mm,
+from .joints import (INTERNAL_RUNOUT_PITCHES, LEAD_IN_GAP_MM, LEAD_IN_MIN_LENGTH_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
+                     bd_warehouse_rows, SERIES_MM, seal_lead_in_land_mm, static_gland_width_mm,
                      static_male_cross_section_mm)
 
 __all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm", "lead_in_mm3"]
@@ -306,7 +306,8 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
     dep, wid = _static_gland_depth_mm(w), static_gland_width_mm(w)  # the spigots' static glands (ISO 3601)
     gland = pi * (rb**2 - (rb - dep) ** 2) * wid
     room = seal_lead_in_land_mm(w, fixed.seal_land_mm) - LEAD_IN_GAP_MM  # the bore's lead-in at each entry step
-    dv["housing_outer_tube"] = -(1 if js.kind == "ring_top" else 2) * lead_in_mm3(rb, w, dep, True, room)
+    # (ring_top: the cap's ring enters the bore at the counterbore's step, the base's behind its thread)
+    dv["housing_outer_tube"] = -2 * lead_in_mm3(rb, w, dep, True, room)
     P = THREAD_PITCH_MM
     if js.kind in ("thread", "ring_top"):
         d2, D = q["thread_pitch_diameter_mm"] / 2, q["thread_major_mm"]
@@ -315,17 +316,22 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
             L = q["thread_" + key]
             if end == "housing_top_cap" and js.kind == "ring_top":
                 continue
-            run = RUNOUT_PITCHES * P
+            run, rel = RUNOUT_PITCHES * P, INTERNAL_RUNOUT_PITCHES * P
+            D1 = q["thread_minor_mm"] / 2
+            # the tube over the thread, its internal run-out (at the minor bore D1, the spigot plain at the bore
+            # there: an empty relief between them) and the seal zone
             moved = pi * (ro**2 - d2**2) * (L + run) + pi * (ro**2 - rb**2) * seal
-            dv[end] = dv[end] - moved - pi * (d2**2 - d3**2) * run - gland
-            dv["housing_outer_tube"] = dv["housing_outer_tube"] + moved
+            dv[end] = dv[end] - moved - pi * (d2**2 - d3**2) * run - gland - pi * (ro**2 - rb**2) * rel
+            dv["housing_outer_tube"] = dv["housing_outer_tube"] + moved + pi * (ro**2 - D1**2) * rel
     if js.kind == "ring_top":  # g["cap"] is the plug and the tube beyond it (the CAD's z_top - z_cap)
         d1, d2r, m = q["ring_bore_mm"] / 2, q["ring_groove_diameter_mm"] / 2, q["ring_groove_width_mm"]
         plug = g["cap"] - js.top_extra_mm
+        sz = js.top_zone_mm  # the plug's seal zone at the bore, below the counterbore (its gland is at the bore)
         dv["housing_outer_tube"] = (dv["housing_outer_tube"] + pi * (ro**2 - d1**2) * g["cap"]
-                                    - pi * (d2r**2 - d1**2) * m - lead_in_mm3(d1, w, dep, True))
-        dv["housing_top_cap"] = (dv["housing_top_cap"] + pi * d1**2 * plug - pi * ro**2 * g["cap"]
-                                 - pi * (d1**2 - (d1 - dep) ** 2) * wid)
+                                    - pi * (d2r**2 - d1**2) * m - lead_in_mm3(d1, w, dep, True)
+                                    + pi * (d1**2 - rb**2) * sz)
+        dv["housing_top_cap"] = (dv["housing_top_cap"] + pi * d1**2 * plug - pi * ro**2 * g["cap"] - gland
+                                 - pi * (d1**2 - rb**2) * sz)
         own["retaining_ring"] = np.asarray(q["ring_mass_g"], dtype=float)
     if js.kind == "tie_rods":
         rt = js.tube_outer_radius_mm

@@ -31,6 +31,7 @@ from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 from ..progress import progress_bar
 from .derive import derive
 from .design import Design, DesignError
+from .joints import EXCLUDED_PAIRS, joint_fits_layout
 from .layouts import get_layout
 from .problem import Evaluation, binding_bounds, design_from_vector, evaluate_design, evaluate_population
 from .requirements import Requirements
@@ -381,6 +382,16 @@ def _best_polish(prob, starts, bounds) -> tuple[np.ndarray, bool]:
     return x, polished
 
 
+def _choices(req: Requirements, layouts) -> list[tuple[str, str]]:
+    """The (layout, joint) pairs searched: every pair a workshop can build (:data:`~.joints.EXCLUDED_PAIRS`)."""
+    out = [(lay, joint) for lay in layouts for joint in req.joint_choices
+           if not req.buildable or joint_fits_layout(joint, lay)]
+    if not out:
+        raise ValueError(f"requirements.joints {list(req.joint_choices)} and layouts {list(layouts)}: no pair a "
+                         f"workshop can build ({EXCLUDED_PAIRS})")
+    return out
+
+
 def optimise(
     req: Requirements | None = None,
     *,
@@ -454,7 +465,7 @@ def optimise(
         surrogate = population_strain
     t0 = time.perf_counter()
     found = []
-    choices = [(lay, joint) for lay in layouts for joint in req.joint_choices]
+    choices = _choices(req, layouts)
     with progress_bar("optimising linearity", total=maxiter * len(choices), enabled=progress) as advance:
         for lay, joint in choices:
             x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance, joint=joint)

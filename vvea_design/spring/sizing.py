@@ -33,8 +33,9 @@ import numpy as np
 
 from ..materials.structural import get_material
 from .geometry import Array, Section
-from .joints import (JOINT_SHOULDER_MM, RUNOUT_PITCHES, THREAD_PITCH_MM, E_STEEL_MPa, JointSizing, PROPERTY_CLASSES,
-                     select_ring, select_thread, seal_zone_mm, tie_rod_candidates,
+from .joints import (CROSS_PORT_SHOULDER_MM, INTERNAL_RUNOUT_PITCHES, JOINT_SHOULDER_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
+                     E_STEEL_MPa, JointSizing, PROPERTY_CLASSES, seal_passage_mm, seal_zone_mm, select_ring,
+                     select_thread, standard_seal_bore_radius_mm, tie_rod_candidates,
                      tie_rod_preload)
 from .concentration import concentration_factor
 from .layouts.base import LayoutVariant
@@ -143,16 +144,22 @@ def _thread_joint(ro, loads, layout, f, Re, sf, seal, ring_top: bool, r_bore) ->
     top, base = _end_loads(loads, r_seal, layout, r_bore)
     th = select_thread(r_t_l, top, base, Re, sf, base_only=ring_top)
     P = THREAD_PITCH_MM
-    cap = th["minor_mm"] / 2 - it_tolerance_mm(th["minor_mm"], f.bore_tolerance_grade) / 2
-    base_zone = th["engagement_base_mm"] + RUNOUT_PITCHES * P + seal
+    # the O-rings pass the internal thread on assembly: its crests (D1) clear the free ring and the bore's lead-in
+    # (ISO 3601-2), the bore at its largest included
+    passage = seal_passage_mm(f.joint_seal_cross_section_mm)
+    cap = th["minor_mm"] / 2 - passage - it_tolerance_mm(th["minor_mm"], f.bore_tolerance_grade) / 2
+    run = (RUNOUT_PITCHES + INTERNAL_RUNOUT_PITCHES) * P  # the spigot's and the tube's thread run-outs (DIN 76-1)
+    base_zone = th["engagement_base_mm"] + run + seal
     q = {"thread_" + k: v for k, v in th.items()}
     q.update(top_end_load_N=top, base_end_load_N=base)
     if not ring_top:
         return JointSizing("thread", ro * np.ones_like(r_t_l), cap, th["pitch_diameter_mm"] / 2,
-                           th["pitch_diameter_mm"] / 2, th["engagement_top_mm"] + RUNOUT_PITCHES * P + seal,
+                           th["pitch_diameter_mm"] / 2, th["engagement_top_mm"] + run + seal,
                            base_zone, np.zeros_like(r_t_l), th["utilisation"], seal, q)
     rg = select_ring(r_t_l, top, Re, sf)
-    cap_ring = rg["bore_mm"] / 2 - it_tolerance_mm(rg["bore_mm"], f.bore_tolerance_grade) / 2
+    # the cap plug seals in the bore below its counterbore: the O-ring passes the ring's groove and the counterbore
+    # clear (ISO 3601-2)
+    cap_ring = rg["bore_mm"] / 2 - passage - it_tolerance_mm(rg["bore_mm"], f.bore_tolerance_grade) / 2
     q.update({"ring_" + k: v for k, v in rg.items()})
     return JointSizing("ring_top", ro * np.ones_like(r_t_l), np.fmin(cap, cap_ring), rg["bore_mm"] / 2,
                        th["pitch_diameter_mm"] / 2, seal * np.ones_like(r_t_l), base_zone,
@@ -308,6 +315,9 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
         rb_gas = rb_l - it_tolerance_mm(2 * np.nan_to_num(rb_l), f.bore_tolerance_grade) / 2
         rb = np.fmin(np.where(np.isfinite(rb_gas), rb_gas, r_t - f.min_outer_wall_mm), r_t - f.min_outer_wall_mm)
         rb = np.fmin(rb, np.where(np.isfinite(js.bore_cap_radius_mm), js.bore_cap_radius_mm, rb))
+        # the joints' static O-rings seal on the bore: a standard ring's bore (ISO 3601-1 sizes leave gaps)
+        rb = np.where(np.isfinite(rb), standard_seal_bore_radius_mm(np.nan_to_num(rb), f.joint_seal_cross_section_mm),
+                      rb)
         rb_seal = rb + it_tolerance_mm(2 * rb, f.bore_tolerance_grade) / 2
         # end pieces: plates on the seal's circle supported at the joint
         t_cap_req = _plate_required_mm(loads.effective(cap_pressure), rb_seal, js.top_support_radius_mm, nu,
@@ -315,6 +325,8 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
         t_base_req = np.sqrt(6 * _base_moment_eff(loads, ri_l, rb_seal, js.base_support_radius_mm, nu) * K("base") / sa)
         tc = f.thickness_tolerance_class
         shoulder = 0.0 if joint == "ring_top" else JOINT_SHOULDER_MM
+        if layout.has_bulkhead and joint != "ring_top":  # the cap's cross port lies above the tube's end
+            shoulder = max(shoulder, CROSS_PORT_SHOULDER_MM)
         sec0 = Section(A1_mm2, A2_mm2, ro, rb, ri, rio, {}, sa, kp, np.zeros_like(ri), np.zeros_like(ri),
                        np.zeros_like(ri), np.zeros_like(ri, dtype=bool), tc, f.bore_tolerance_grade,
                        f.outside_tolerance_grade, r_t, js)

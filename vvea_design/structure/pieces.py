@@ -123,6 +123,24 @@ def _joints(design) -> dict:
     return out
 
 
+def _thread_levels(lay: Layout, joint, top: bool) -> tuple[float, float]:
+    """z range of a thread's engaged flanks: the CAD's thread zone, or where the CAD draws no joint (a design of the
+    gas-only rules with its what-if thread records) the engagement next to the tube's end, mm."""
+    t = lay.joint.cap_thread if top else lay.joint.base_thread
+    if t is not None:
+        return t.thread
+    zone, ro = joint.runout_mm + joint.engagement_length_mm, joint.runout_mm
+    return (lay.z_cap - zone, lay.z_cap - ro) if top else (lay.z_base_top + ro, lay.z_base_top + zone)
+
+
+def _thread_band(lay: Layout, joint, top: bool) -> tuple[float, float]:
+    """Radii a thread's smeared flanks are found between: around its minor and major diameters, or where the CAD
+    draws no joint from the outer bore (the plain tube's wall stands in for the thread), mm."""
+    drawn = (lay.joint.cap_thread if top else lay.joint.base_thread) is not None
+    lo = joint.minor_diameter_mm / 2 if drawn else min(joint.minor_diameter_mm / 2, lay.outer_bore_radius_mm)
+    return lo - 0.5, joint.major_diameter_mm / 2 + 0.5
+
+
 def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     """Where an end piece (``top_cap`` or ``base``) takes its reaction, in order of preference."""
     rb, R = lay.outer_bore_radius_mm, lay.outer_radius_mm
@@ -131,11 +149,10 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     push = -1 if top else +1
     out = []
     if joint is not None and joint.kind == "thread":
-        # the engaged flanks as drawn, clear of the run-out at the spigot's shoulder (DIN 76-1: no full thread
-        # there) and below (base) / above (cap) the seal zone at the spigot's tip
-        zr = _thread_z(lay, end)
+        # the engaged flanks, clear of the run-outs (DIN 76-1: no full thread there): the CAD's levels
+        zr = _thread_levels(lay, joint, top)
         out.append(Bearing(f"{joint.designation} thread on its spigot, smeared over {joint.engagement_length_mm:.1f} "
-                           "mm of engagement", (joint.minor_diameter_mm / 2 - 0.5, joint.major_diameter_mm / 2 + 0.5),
+                           "mm of engagement", _thread_band(lay, joint, top),
                            zr, push, faces="radial"))
     elif joint is not None and joint.kind == "ring_top" and top:
         seat = joint.groove_diameter_mm - joint.bore_mm  # the ring's seat: about twice the groove's depth
@@ -148,13 +165,6 @@ def _end_bearings(lay: Layout, joint, end: str) -> tuple[Bearing, ...]:
     out.append(Bearing(("its top face" if top else "its underside") + " over the tube wall (a plate held at the outer "
                        "bore: the joint's own face is not drawn)", (rb, R), (z_face, z_face), push))
     return tuple(out)
-
-
-def _thread_z(lay: Layout, end: str) -> tuple[float, float]:
-    """The z range of an end piece's engaged thread as the CAD draws it (``top_cap`` or ``base``; nan: the CAD
-    draws no thread there, the next joint face listed is used), mm."""
-    zone = lay.joint.cap_thread if end == "top_cap" else lay.joint.base_thread
-    return (math.nan, math.nan) if zone is None else zone.thread  # none drawn: the bearing selects nothing
 
 
 def _section(model: CadModel, part: str, corner_radius_mm: float | None, z_range=None) -> MeridianSection:
@@ -207,8 +217,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
     bearings, applied, how = [], (), "its ends bear on base and top cap"
     if top is not None and top.kind in ("thread", "ring_top"):
         if top.kind == "thread":
-            band = (top.minor_diameter_mm / 2 - 0.5, top.major_diameter_mm / 2 + 0.5)
-            applied = (((Bearing(f"the top cap's {top.designation} thread", band, _thread_z(lay, "top_cap"),
+            band = _thread_band(lay, top, True)
+            applied = (((Bearing(f"the top cap's {top.designation} thread", band, _thread_levels(lay, top, True),
                                  0, faces="radial"),
                          top_end), "top_cap"),)
         else:
@@ -216,8 +226,8 @@ def _outer_tube(model: CadModel, lay: Layout, sec: MeridianSection) -> PieceSpec
                                  (zc, zc + 10.0), 0), top_end), "top_cap"),)
         how = "closed-ended: it carries the top cap's load (and the tendon's pull) to the base's joint"
     if base is not None and base.kind == "thread":
-        band = (base.minor_diameter_mm / 2 - 0.5, base.major_diameter_mm / 2 + 0.5)
-        bearings.append(Bearing(f"the base's {base.designation} thread", band, _thread_z(lay, "base"), 0,
+        band = _thread_band(lay, base, False)
+        bearings.append(Bearing(f"the base's {base.designation} thread", band, _thread_levels(lay, base, False), 0,
                                 faces="radial"))
     bearings.append(bottom_end)
     if top is not None and top.kind == "tie_rods":
