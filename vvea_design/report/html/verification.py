@@ -84,7 +84,8 @@ def _fe_row(unit: UnitResult) -> tuple:
     g = worst.governing
     return ("every pressure-bearing piece, FE (the final check)", f"every case; governing for the worst piece: {g.case}",
             f"axisymmetric linear-elastic FE (scikit-fem on gmsh sections of the CAD), {fe.criterion} peak / yield, "
-            f"corners rounded to R{fe.corner_radius_mm:g} mm at least",
+            + ("inside corners at the drawing's root radii" if fe.corner_radius_mm is None
+               else f"inside corners at R{fe.corner_radius_mm:g} mm"),
             f"{_verdict(fe.passes)}: least factor {g.safety:.2f} of {g.required_safety:g} ({worst.wall}, "
             f"{g.peak.feature})",
             "fatigue, thread flanks (the thread is a smeared ring), contact and preload at the joints, "
