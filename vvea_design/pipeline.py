@@ -80,8 +80,9 @@ class UnitDesign:
     def passes(self) -> bool:
         """Every constraint met, the bladder check passed, and when the CAD was made every pressure-bearing piece
         keeps its required factor in the FE and the parts go together in order with no O-ring over a thread or a
-        sharp edge (the CAD's assembly check, ISO 3601-2)."""
-        cad_ok = self.cad_manifest is None or self.cad_manifest.assembly_passes is not False
+        sharp edge (the CAD's assembly check, ISO 3601-2) and every joint and port is sealed (the leak audit)."""
+        m = self.cad_manifest
+        cad_ok = m is None or (m.assembly_passes is not False and not m.unsealed_paths)
         return bool(self.optimisation.evaluation.feasible and self.bladder.passes
                     and (self.structure is None or self.structure.passes) and cad_ok)
 

@@ -221,6 +221,12 @@ class CadManifest:
         None when it was not run."""
         return None if self.assembly is None else bool(self.assembly.get("passes"))
 
+    @property
+    def unsealed_paths(self) -> tuple[str, ...]:
+        """Where a leak path of the audit has no seal (``where: between``); empty when every joint and port is
+        sealed or the audit was not run."""
+        return tuple(f"{p['where']}: {p['between']}" for p in self.leak_paths if not p.get("sealed"))
+
     def to_dict(self) -> dict:
         """The content of ``manifest.json`` (plain JSON types, units in the keys).
 

@@ -265,6 +265,11 @@ def design(
     if unit.cad_manifest is not None and unit.cad_manifest.assembly_passes is not None:
         stdout.print("assembly (in order along the axis; no O-ring over a thread or a sharp edge, ISO 3601-2) -> "
                      f"{'PASSES' if unit.cad_manifest.assembly_passes else 'FAILS'}", markup=False, highlight=False)
+    if unit.cad_manifest is not None:
+        open_paths = unit.cad_manifest.unsealed_paths
+        stdout.print("seals (every joint and port, the CAD's leak audit) -> " + (
+            "PASSES" if not open_paths else "FAILS, not sealed: " + "; ".join(open_paths)), markup=False,
+            highlight=False)
     a = unit.actuator
     stdout.print(f"actuator: K = {a.K_Nm_per_rad:.1f} N m/rad, D = {a.D_min_Nms_per_rad:.3g} ... "
                  f"{a.D_max_Nms_per_rad:.4g} N m s/rad")

@@ -100,7 +100,8 @@ def _seal_rows(unit: UnitResult) -> list[tuple]:
     sealed = sum(bool(p.get("sealed")) for p in leaks)
     rows = [("every joint and port sealed", "proof pressure (the glands' extrusion gap at proof is not checked)",
              "ISO 3601-1 rings in ISO 3601-2 glands, NBR for the oil and nitrogen (ISO 3601-5)",
-             f"{_verdict(bool(leaks) and sealed == len(leaks))}: {sealed} of {len(leaks)} leak paths sealed",
+             f"{_verdict(bool(leaks) and sealed == len(leaks))}: {sealed} of {len(leaks)} leak paths sealed"
+             + "".join(f"; not sealed: {p['where']} ({p['between']})" for p in leaks if not p.get("sealed")),
              "seal friction and wear, long-term compression set")]
     a = m.assembly or {}
     if a:
