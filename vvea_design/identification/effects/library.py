@@ -327,10 +327,10 @@ class StateTerms(Effect):
     def params(self, D):
         return tuple(Param(f"c[{t}]", _unit(t), *FREE, f"force per unit of {_words(t)}") for t in self.terms)
 
-    def columns(self, D, _, ctx):
+    def columns(self, D, shape, ctx):
         return term_columns(D, self.terms, ctx)
 
-    def describe(self, values, errors, _, __):
+    def describe(self, values, errors, shape, shape_se):
         states: list = []
         for t in self.terms:
             states += [s for s in term_states(t) if s not in states]
