@@ -383,9 +383,15 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
         named = []
         for t in cat:
             vt = _paired_t(t.sse[plan.train], best_disc.sse[plan.train]) if best_disc is not None else None
-            ok = vt is None or vt <= settings.name_t
+            # the name needs the catalogue form to explain at least half of what the best discovered explanation explains
+            small = best_disc is not None and t.evidence.cv_gain < 0.5 * best_disc.evidence.cv_gain
+            ok = vt is None or (vt <= settings.name_t and not small)
             ev = t.evidence
-            reasons = ev.reasons + (() if ok else (f"a discovered explanation ({best_disc.id}) fits held-out experiments better (paired t {vt:.1f} > {settings.name_t:g})",))
+            why = (f"a discovered explanation ({best_disc.id}) fits held-out experiments better (paired t {vt:.1f} > {settings.name_t:g})"
+                   if vt is not None and vt > settings.name_t else
+                   f"it removes less than half the held-out error a discovered explanation ({best_disc.id}) removes "
+                   f"({100 * ev.cv_gain:.1f} % against {100 * best_disc.evidence.cv_gain:.1f} %)" if small else "")
+            reasons = ev.reasons + (() if ok else (why,))
             trials[t.id] = _Trial(t.id, t.sse, t.shape, Evidence(**{**asdict(ev), "vs_best_discovered_t": vt, "passes": ok, "reasons": reasons}), t.fit, t.signature)
             if ok:
                 named.append(trials[t.id])
