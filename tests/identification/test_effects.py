@@ -54,11 +54,9 @@ def test_the_candidates_keep_their_order():
     round goes to the first)."""
     assert EFFECT_IDS == ("gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction",
                           "leakage")
-    assert DISCOVERY_IDS == ("force_lag", "force_filter_lag", "force_filter_lag_z078", "force_bessel_lag", "force_filter_lag_z093",
-                             "force_critical_lag", "damping_lag", "motion_memory", "presliding_hysteresis", "position_ripple",
+    assert DISCOVERY_IDS == ("force_lag", "force_filter_lag", "damping_lag", "motion_memory", "presliding_hysteresis", "position_ripple",
                              "time_ripple", "direction_stiffness", "spring_polynomial", "pressure_damping",
-                             "friction_along_stroke", "campaign_trend", "charge_offset", "charge_drift", "damping_drift",
-                             "friction_map", "start_pulse")
+                             "friction_along_stroke", "campaign_trend")
     assert tuple(REGISTRY) == EFFECT_IDS + DISCOVERY_IDS
     assert DiagnoseSettings().candidates == EFFECT_IDS and DiagnoseSettings().discovery == DISCOVERY_IDS
     ranks = [sys.modules[m].RANK for m in fx.discover()]

@@ -20,6 +20,10 @@ from vvea_design.identification.report import Evidence
 from vvea_design.identification.settings import DiagnoseSettings
 
 
+#: A force proportional to the charge plus a constant: a candidate of the state library (made from its id).
+OFFSET = "states[p|1]"
+
+
 def _frame():
     return simulate(small_spec(seed=7, noise_N=3.0)).frame.copy()
 
@@ -49,15 +53,15 @@ def split_offset():
 def test_guard_removes_a_term_that_raises_the_heldout_error(split_offset):
     D, plan = split_offset
     assert len(plan.test) > 0
-    trials = {"charge_offset": _Trial("charge_offset", None, np.nan, _evidence(), None)}
-    kept, removed = heldout_guard(D, plan, ["charge_offset"], {}, trials)
+    trials = {OFFSET: _Trial(OFFSET, None, np.nan, _evidence(), None)}
+    kept, removed = heldout_guard(D, plan, [OFFSET], {}, trials)
     assert kept == []
-    assert "does not lower the error on the held-out experiments" in removed["charge_offset"]
-    ev = trials["charge_offset"].evidence
+    assert "does not lower the error on the held-out experiments" in removed[OFFSET]
+    ev = trials[OFFSET].evidence
     assert ev.passes is False and "held-out guard" in ev.reasons[-1]
     # with the term the held-out error is indeed worse than eq. 14's
     base = heldout_rmse(D, fit_model(D, (), experiments=plan.train), plan.test)
-    with_term = heldout_rmse(D, fit_model(D, ("charge_offset",), experiments=plan.train), plan.test)
+    with_term = heldout_rmse(D, fit_model(D, (OFFSET,), experiments=plan.train), plan.test)
     assert with_term > base
 
 
@@ -66,8 +70,8 @@ def test_guard_keeps_a_term_that_lowers_the_heldout_error():
     frame["force_N"] += 25.0 * frame["p2_MPa"]  # the same offset on every experiment
     D = _data(frame)
     plan = plan_split(D, DiagnoseSettings())
-    kept, removed = heldout_guard(D, plan, ["charge_offset"], {}, {})
-    assert kept == ["charge_offset"] and removed == {}
+    kept, removed = heldout_guard(D, plan, [OFFSET], {}, {})
+    assert kept == [OFFSET] and removed == {}
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ import pytest
 
 from vvea_design.identification import signals
 from vvea_design.identification.effects import REGISTRY
-from vvea_design.identification.effects.force_lag import _bilinear_2nd_order
+from vvea_design.identification.effects.force_lag import _bilinear_2nd_order, filter_id
 from vvea_design.identification.fit_data import FitData
 
 
@@ -114,7 +114,7 @@ def test_sensor_filter_runs_the_damping_columns_with_the_velocity_between_sample
 
     dt, speed, accel, lag = 0.067, 4.0, 40.0, 0.026
     D, t_rev = _ramp_experiment(dt, speed, accel)
-    eff = REGISTRY["force_critical_lag"]
+    eff = REGISTRY[filter_id(1.0)]  # a critically damped sensor filter (made from its id)
     X = np.column_stack([D.p2 * D.x, D.s, D.v])  # eq. 14's columns (one valve)
     got = eff.transform(D, X.copy(), lag, {}, eq14_first=True)[:, 2]
     lin = eff.transform(D, X.copy(), lag, {})[:, 2]

@@ -16,8 +16,12 @@
    checks and the best passing discovery operator is not significantly
    better on held-out experiments (paired t <= ``name_t``); otherwise the
    discovery operator is accepted and reported with ``catalogue: false``.
-   A sensor filter of a standard type gets its damping ratio fitted
-   (:func:`refine_filter_damping`).
+   The accepted second-order sensor filter gets its damping ratio fitted
+   (:func:`refine_filter_damping`). Each round also offers the state
+   library's candidate (:func:`~vvea_design.identification.effects.library.select_terms`:
+   a sparse sum of terms in the measured states, STLSQ with a grouped-CV
+   threshold); after the first round only the candidates that showed some
+   structure are tested again (:func:`_settles`).
 3. **Backward step** (:func:`_backward_step`): at the end every accepted
    term is re-tested beside all the other accepted terms and
    dropped when they explain it away (its force or its held-out gain below
@@ -39,6 +43,7 @@ import numpy as np
 from .design import assemble
 from .effects import REGISTRY, Effect, effect_columns
 from .effects.force_lag import ZETA_RANGE, ForceFilter, filter_id
+from .effects.library import select_terms, states_id
 from .fit_data import FitData
 from .fitting import ModelFit, fit_model, relief_context
 from .least_squares import blocks, extend_blocks, solve_bounded
@@ -289,6 +294,27 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
     return _Trial(cand, new_sse, shape, ev, fit_c, sig)
 
 
+def _library_candidate(D: FitData, ctx: dict, plan: Plan, X0: np.ndarray) -> str | None:
+    """This round's candidate from the state library: the terms STLSQ keeps beside the current model's design ``X0`` (None: no term)."""
+    terms = select_terms(D, ctx, plan.folds, X0)
+    return states_id(terms) if terms else None
+
+
+def _settles(t: _Trial) -> bool:
+    """A candidate that lowered the cross-validated error by nothing at all (or could not be fitted) is not tested again.
+
+    A term added later takes its own share of the residual; a candidate whose columns explained nothing
+    of the residual beside the current model (cross-validated gain <= 0, paired t <= 0) does not start
+    to explain it then, short of a term that masked it, so later rounds keep its last score (its
+    evidence says which round) instead of refitting it: the rounds after the first test only the
+    candidates that showed some structure (the time of a diagnosis is mostly the candidates' fits).
+    """
+    ev = t.evidence
+    if t.sse is None or ev is None:
+        return True
+    return bool(ev.cv_gain <= 0.0 and ev.paired_t <= 0.0)
+
+
 def _paired_t(a: np.ndarray, b: np.ndarray) -> float:
     """Paired t by which ``b`` has smaller squared error than ``a``."""
     d = a - b
@@ -336,17 +362,20 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
     cur = fit_model(D, (), experiments=plan.train)
     if not plan.can_select:
         return sel, {}, trials
+    settled: set = set()  # candidates that explained nothing in a round: not tested again (see _settles)
     for rnd in range(1, settings.max_effects + 1):
         ctx, X0, base_blk, base_sse = _cv_current(D, cur, plan)
         round_trials = []
-        for c in cands:
-            if c in sel:
+        lib = _library_candidate(D, ctx, plan, X0) if settings.library else None
+        for c in cands + ([lib] if lib is not None else []):
+            if c in sel or c in settled:
                 continue
             say(f"round {rnd}: testing {c}")
             tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
             trials[c] = tri
             round_trials.append(tri)
         del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
+        settled |= {t.id for t in round_trials if _settles(t)}
         passing = [t for t in round_trials if t.evidence is not None and t.evidence.passes]
         disc = [t for t in passing if not REGISTRY[t.id].catalogue]
         cat = [t for t in passing if REGISTRY[t.id].catalogue]
@@ -354,9 +383,15 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
         named = []
         for t in cat:
             vt = _paired_t(t.sse[plan.train], best_disc.sse[plan.train]) if best_disc is not None else None
-            ok = vt is None or vt <= settings.name_t
+            # the name needs the catalogue form to explain at least half of what the best discovered explanation explains
+            small = best_disc is not None and t.evidence.cv_gain < 0.5 * best_disc.evidence.cv_gain
+            ok = vt is None or (vt <= settings.name_t and not small)
             ev = t.evidence
-            reasons = ev.reasons + (() if ok else (f"a discovered explanation ({best_disc.id}) fits held-out experiments better (paired t {vt:.1f} > {settings.name_t:g})",))
+            why = (f"a discovered explanation ({best_disc.id}) fits held-out experiments better (paired t {vt:.1f} > {settings.name_t:g})"
+                   if vt is not None and vt > settings.name_t else
+                   f"it removes less than half the held-out error a discovered explanation ({best_disc.id}) removes "
+                   f"({100 * ev.cv_gain:.1f} % against {100 * best_disc.evidence.cv_gain:.1f} %)" if small else "")
+            reasons = ev.reasons + (() if ok else (why,))
             trials[t.id] = _Trial(t.id, t.sse, t.shape, Evidence(**{**asdict(ev), "vs_best_discovered_t": vt, "passes": ok, "reasons": reasons}), t.fit, t.signature)
             if ok:
                 named.append(trials[t.id])
@@ -370,12 +405,12 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
         cur = best.fit
         if REGISTRY[best.id].shape is not None:  # the CV chose the shape on a coarse grid: refine it on the training experiments
             cur = fit_model(D, cur.effects, experiments=plan.train, shapes={k: v for k, v in cur.shapes.items() if k != best.id}, ctx=cur.ctx)
-        if isinstance(REGISTRY[best.id], ForceFilter):  # a sensor filter of a standard type: fit its damping ratio too
+        if isinstance(REGISTRY[best.id], ForceFilter):  # the second-order sensor filter: fit its damping ratio too
             fid, cur = refine_filter_damping(D, cur, best.id, plan.train)
             if fid != best.id:
                 sel[-1] = fid
                 trials[fid] = trials.pop(best.id)
-                cands = [c for c in cands if c != best.id]  # the standard type it grew from is not tested again beside it
+                cands = [c for c in cands if c != best.id]  # the filter it grew from is not tested again beside it
     sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
 
@@ -383,7 +418,7 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
 def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray, xtol: float = 0.002):
     """Fit the damping ratio of the sensor filter ``eid`` of ``cur`` (and its lag again), on the experiments ``rows``.
 
-    The standard filter types (Butterworth ... critical) are tested in the
+    One second-order filter (damping ratio 0.707 to start) is tested in the
     selection; the accepted one's damping ratio shapes the response at every
     start and reversal of the motion, where a stiff valve's force changes
     fastest, so it is fitted within :data:`ZETA_RANGE` (bounded scalar

@@ -28,7 +28,8 @@ class DiagnoseSettings:
     learner: bool = True  #: run the flexible-learner check
     learner_min_gain: float = 0.10  #: learner must explain this share of residual variance ...
     learner_min_ratio: float = 1.0  #: ... and an RMS of at least this times the noise
-    learner_rows: int = 12000  #: rows sub-sampled for the learner
+    learner_rows: int = 8000  #: rows sub-sampled for the learner
     candidates: tuple = EFFECT_IDS  #: catalogue effect ids to test
     discovery: tuple = DISCOVERY_IDS  #: discovery operators to test (empty: catalogue only)
+    library: bool = True  #: each selection round also tests the sparse state-library candidate (effects.library)
     min_experiments_cv: int = 6  #: fewer experiments than this: no selection (nothing can be cross-validated)

@@ -49,7 +49,10 @@ Two kinds of effects live in the registry:
   frequency found by a periodogram of the residual (:mod:`.ripple`);
   direction-dependent stiffness and state polynomials (:mod:`.polynomials`);
   campaign-time trends (:mod:`.trend`). Each translates its fitted
-  parameters into a physical signature and a sentence.
+  parameters into a physical signature and a sentence. Beside them, each
+  selection round offers a sparse sum of terms of a general library of the
+  measured states and their histories (:mod:`.library`, ids ``states[...]``
+  made on lookup), described by the states it follows.
 
 Residual sign convention everywhere: residual = measurement − model (N).
 """

@@ -1,8 +1,9 @@
 """Discovered family: dynamics of the force reading (sensor or amplifier), the whole model lagged.
 
-``force_lag`` (first order) and second-order filters of standard damping
-ratios (Butterworth ... critically damped), their shape the lag ``2 ζ/ω_n``;
-a filter whose damping ratio was fitted is made from its id
+``force_lag`` (first order) and one second-order filter (``force_filter_lag``,
+its shape the lag ``2 ζ/ω_n``); the accepted filter's damping ratio is fitted
+over :data:`ZETA_RANGE` (a general second-order sensor, not a list of
+standard filter types); a filter whose damping ratio was fitted is made from its id
 (:func:`filter_id`, e.g. ``force_filter_lag_z0733``) on first lookup.
 """
 
@@ -158,12 +159,11 @@ register(ForceLag("force_lag", "force-reading lag", "The measured force is a lag
                   Param("tau", "s", 0.0, np.inf, "lag time constant"), catalogue=False))
 
 
-for _zeta, _kind, _id in ((0.7071, "Butterworth", "force_filter_lag"), (0.78, "between Butterworth and Bessel", "force_filter_lag_z078"),
-                          (0.8660, "Bessel", "force_bessel_lag"), (0.93, "between Bessel and critical", "force_filter_lag_z093"),
-                          (1.0, "critically damped", "force_critical_lag")):
-    register(ForceFilter(_id, f"second-order force-reading filter ({_kind})", "The measured force is the unit's force through a second-order filter.",
-                         f"f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta = {_zeta:.4g} ({_kind}),  lag = 2 zeta/wn", (),
-                         Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=_zeta, kind=_kind))
+# one second-order filter is a candidate (a Butterworth start); the damping ratio of the accepted one is fitted
+# over ZETA_RANGE (selection.refine_filter_damping), not chosen from a list of standard types
+register(ForceFilter("force_filter_lag", "second-order force-reading filter", "The measured force is the unit's force through a second-order filter.",
+                     "f_meas = H(s) f,  H = wn^2/(s^2 + 2 zeta wn s + wn^2),  zeta fitted (starts at 0.707),  lag = 2 zeta/wn", (),
+                     Param("lag", "s", 0.0, np.inf, "filter lag 2 zeta/omega_n"), catalogue=False, zeta=0.7071, kind="Butterworth"))
 
 
 register_maker(_FILTER_ID, lambda m: fitted_filter(int(m.group(1)) / 1000.0))
