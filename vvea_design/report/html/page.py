@@ -190,7 +190,7 @@ WIDE_TABLE_COLUMNS = 6
 
 
 def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: Sequence[int] = (),
-          num_columns: Sequence[int] = ()) -> str:
+          num_columns: Sequence[int] = (), cards: bool = False) -> str:
     """An HTML table; numbers right-aligned with 4 significant digits.
 
     On a narrow screen (under 640 px: a phone) every cell may wrap, and a table of
@@ -207,6 +207,8 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
         Columns whose cells are HTML already (not escaped).
     num_columns : sequence of int
         Columns of numbers given as text (already formatted): right-aligned like numbers.
+    cards : bool
+        Show each row as a card on a phone whatever the number of columns (for columns of long text).
 
     Returns
     -------
@@ -224,7 +226,7 @@ def table(header: Sequence[str], rows: Iterable[Sequence[Any]], *, raw_columns: 
             label = f' data-label="{labels[i]}"' if i < len(labels) else ""
             cells.append(f'<td class="num"{label}>{text}</td>' if num else f"<td{label}>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
-    wide = ' class="wide"' if len(labels) >= WIDE_TABLE_COLUMNS else ""
+    wide = ' class="wide"' if cards or len(labels) >= WIDE_TABLE_COLUMNS else ""
     return (f'<div class="tw"><table{wide}><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
             "</div>")
 

@@ -8,12 +8,9 @@ fixed claim. A check that did not run (no CAD, no FE, no actuator study) says so
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from .page import Section, paragraph, table
-
-if TYPE_CHECKING:
-    from .unit import UnitResult
 
 __all__ = ["VERIFICATION_KEYS", "verification_rows", "verification_section"]
 
@@ -30,7 +27,7 @@ def _verdict(ok: bool | None) -> str:
     return "not run" if ok is None else ("PASS" if ok else "FAIL")
 
 
-def _design_dict(unit: UnitResult) -> dict[str, Any]:
+def _design_dict(unit: Any) -> dict[str, Any]:
     from ...spring.design_file import design_to_dict
 
     return design_to_dict(unit.optimisation.evaluation, unit.requirements)
@@ -75,7 +72,7 @@ def _joint_rows(d: dict[str, Any]) -> list[tuple]:
     return rows
 
 
-def _fe_row(unit: UnitResult) -> tuple:
+def _fe_row(unit: Any) -> tuple:
     fe = unit.structure
     if fe is None:
         return ("every pressure-bearing piece, FE", "-", "axisymmetric linear-elastic FE", "not run (no CAD)",
@@ -92,7 +89,7 @@ def _fe_row(unit: UnitResult) -> tuple:
             "non-axisymmetric ports (their share of the volume is in the FE table)")
 
 
-def _seal_rows(unit: UnitResult) -> list[tuple]:
+def _seal_rows(unit: Any) -> list[tuple]:
     m = unit.cad_manifest
     if m is None:
         return [("seals and assembly", "-", "ISO 3601", "not run (no CAD)", "-")]
@@ -125,7 +122,7 @@ def _hydraulics_row(d: dict[str, Any]) -> tuple | None:
             "oil heating, entrained air, the valve's own dynamics")
 
 
-def _bladder_row(unit: UnitResult) -> tuple:
+def _bladder_row(unit: Any) -> tuple:
     bl = unit.bladder
     ends = "; ".join(f"{k}: wrinkled {100 * e.wrinkled_fraction:.1f} % of its area"
                      for k, e in bl.ends.items())
@@ -136,13 +133,13 @@ def _bladder_row(unit: UnitResult) -> tuple:
             f" {ends}", "; ".join(BLADDER_LEAVES_OUT))
 
 
-def verification_rows(unit: UnitResult) -> list[tuple]:
+def verification_rows(unit: Any) -> list[tuple]:
     """Every check of the unit: (check, load case, method or standard, result, what it leaves out).
 
     Parameters
     ----------
-    unit : UnitResult
-        The main job's result.
+    unit : UnitDesign
+        The main job's result (:class:`~vvea_design.pipeline.UnitDesign`, or anything with its attributes).
 
     Returns
     -------
@@ -168,13 +165,13 @@ def verification_rows(unit: UnitResult) -> list[tuple]:
     return rows
 
 
-def verification_section(unit: UnitResult) -> Section:
+def verification_section(unit: Any) -> Section:
     """The report section listing every check, its load case and standard, and what it leaves out.
 
     Parameters
     ----------
-    unit : UnitResult
-        The main job's result.
+    unit : UnitDesign
+        The main job's result (:class:`~vvea_design.pipeline.UnitDesign`, or anything with its attributes).
 
     Returns
     -------
@@ -185,5 +182,6 @@ def verification_section(unit: UnitResult) -> Section:
     body = paragraph("Every check the tool ran on this unit, with the load case it used, the method or standard "
                      "behind it, its result and what it does not cover. A PASS holds only inside its own "
                      "column of assumptions; the last column is what a designer still has to judge or test.")
-    body += table(("check", "load case", "method / standard", "result", "not covered"), rows)
+    body += table(("check", "result", "load case", "method / standard", "not covered"),
+                  [(c, res, case, how, left) for c, case, how, res, left in rows], cards=True)
     return Section("What is verified", body, anchor="verified")
