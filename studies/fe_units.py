@@ -1,5 +1,5 @@
 """The FE verdict of the optimised units: the defaults, ``examples/paper_tight.toml``, a 70 x 160 mm envelope and
-``examples/small_40.toml`` (40 x 120 mm).
+``examples/small_40.toml`` (40 x 120 mm) and a short 65 x 120 mm envelope with 50 mm travel.
 
 Each is optimised (seed 0, the buildability rules), drawn, and every pressure-bearing piece is checked by the
 main job's FE (:func:`vvea_design.jobs.structure.check_structure`, coarse mesh) under every load case. The
@@ -34,7 +34,10 @@ def units() -> dict:
     return {"defaults": Requirements(),
             "paper_tight": load_requirements(ROOT / "examples" / "paper_tight.toml"),
             "envelope_70x160": replace(Requirements(), max_outer_diameter_mm=70.0, max_housing_length_mm=160.0),
-            "small_40": load_requirements(ROOT / "examples" / "small_40.toml")}
+            "small_40": load_requirements(ROOT / "examples" / "small_40.toml"),
+            # the cost-of-buildability study's short, long-stroke envelope
+            "short_65x120": Requirements(max_outer_diameter_mm=65.0, max_housing_length_mm=120.0, travel_mm=50.0,
+                                         min_mean_stiffness_N_per_mm=80.0)}
 
 
 def check_unit(name: str, req: Requirements, out: Path, reuse: bool = False) -> dict:
