@@ -11,8 +11,9 @@ message a regression gives, and runs a small pytest file that uses it.
 # %%
 # The design and its linearity
 # ----------------------------
-# ``cad/design.json`` is the reference design (the optimum of the paper's requirements). The
-# check computes the linearity from the file's ``parameters`` alone (paper eq. 5, the exact
+# ``cad/design.json`` is the reference design: the buildable optimum of the paper's requirements,
+# an ``inner_tube`` unit with M56x1.5 threaded joints (its seals sit clear of the threads, which
+# costs linearity: 2.34 %, where the paper's gas-only sizing reached about 1.3 %). The check computes the linearity from the file's ``parameters`` alone (paper eq. 5, the exact
 # metric), so an edited or stale ``performance`` block cannot fool it.
 import re
 import subprocess
@@ -39,14 +40,16 @@ print(f"{design_file.name}: {design.layout} layout, linearity error {100 * lin:.
 # %%
 # A limit it meets, and one it misses
 # -----------------------------------
-# Take the design's own error plus a margin as the limit. Below it, the assertion fails with a
-# message that names the design, its error, the limit and the force span — what pytest shows.
-vd.assert_linearity(design_file, max_linearity=0.0135)
-print("limit 1.35 %: passes")
+# Take the design's own error plus a margin as the limit: 2.40 % over the reference's 2.34 %
+# leaves room for round-off, not for a regression. A limit below the error, 2.30 %, shows what a
+# regression looks like: the assertion fails with a message that names the design, its error, the
+# limit and the force span — what pytest shows.
+vd.assert_linearity(design_file, max_linearity=0.0240)
+print("limit 2.40 %: passes")
 try:
-    vd.assert_linearity(design_file, max_linearity=0.0130)
+    vd.assert_linearity(design_file, max_linearity=0.0230)
 except AssertionError as exc:
-    print(f"limit 1.30 %: fails -> {exc}")
+    print(f"limit 2.30 %: fails -> {exc}")
 else:
     raise SystemExit("the tight limit should have failed")
 
@@ -59,7 +62,7 @@ tests = Path(tempfile.mkdtemp(prefix="vvea_example_"))
     import vvea_design as vd
 
     def test_unit_stays_linear():
-        vd.assert_linearity({str(design_file)!r}, max_linearity=0.0135)
+        vd.assert_linearity({str(design_file)!r}, max_linearity=0.0240)
 """))
 run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tests)],
                      capture_output=True, text=True, cwd=tests)

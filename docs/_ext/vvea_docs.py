@@ -7,11 +7,14 @@
   ``vvea_design.__all__``, grouped into functions, types and exceptions),
   ``reference/_modules.rst`` (a recursive autosummary of every public module) and
   ``reference/_schemas/<name>.md`` (a table of every key of each shipped JSON Schema in
-  ``vvea_design/schemas/``). Both are rewritten only when their text changes.
+  ``vvea_design/schemas/``). Both are rewritten only when their text changes. It also deletes
+  the autosummary stubs in ``reference/generated/`` of modules that no longer exist (autosummary
+  writes stubs but never removes one: a removed module's stale stub fails the ``-W`` build).
 """
 
 from __future__ import annotations
 
+import importlib
 import json
 import re
 from pathlib import Path
@@ -155,8 +158,39 @@ def schema_md(path: Path) -> str:
     return "\n".join(lines)
 
 
+def _resolves(name: str) -> bool:
+    """Whether a dotted name (``vvea_design.spring.design`` or an object in a module) still exists."""
+    parts = name.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for attr in parts[i:]:
+            if not hasattr(obj, attr):
+                return False
+            obj = getattr(obj, attr)
+        return True
+    return False
+
+
+def remove_stale_stubs() -> list[str]:
+    """Delete the autosummary stubs ``reference/generated/<dotted name>.rst`` whose name no longer resolves.
+
+    Returns
+    -------
+    list of str
+        The deleted stubs' file names.
+    """
+    stale = [p for p in sorted((DOCS / "reference" / "generated").glob("vvea_design*.rst")) if not _resolves(p.stem)]
+    for p in stale:
+        p.unlink()
+    return [p.name for p in stale]
+
+
 def generate(app=None, config=None) -> None:
     """Write the generated reference pages (``config-inited`` handler; also callable alone)."""
+    remove_stale_stubs()
     _write(DOCS / "reference" / "_face.rst", face_rst())
     _write(DOCS / "reference" / "_modules.rst", modules_rst())
     for path in sorted((DOCS.parent / "vvea_design" / "schemas").glob("*.schema.json")):

@@ -59,8 +59,8 @@ def test_a_swallowed_interrupt_lands_no_output_folder(tmp_path):
     from vvea_design.outputs import output_dir, output_files
 
     old = tmp_path / "out"
-    old.mkdir()
-    (old / "design.json").write_text("old")
+    with output_dir(old, "design") as tmp:  # an earlier run's folder (its manifest names design.json as its own)
+        (tmp / "design.json").write_text("old")
     note_interrupt()
     with pytest.raises(KeyboardInterrupt, match="nothing was written"):
         with output_dir(old, "design") as tmp:

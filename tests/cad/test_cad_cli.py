@@ -51,6 +51,8 @@ def test_cad_command_writes_the_set(reference_cad_run):
 def test_cad_command_bad_design_is_a_clear_error(app, design_json, tmp_path):
     data = json.loads(design_json.read_text())
     data["fixed"]["min_base_mm"] = 8.0
+    for block in ("geometry", "performance", "constraints", "constraint_details"):  # derived: rebuilt from the edit
+        del data[block]  # (left in, the stale blocks are refused first, before the CAD sees the base)
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(data))
     out = tmp_path / "never"

@@ -63,15 +63,26 @@ def test_classification_rules():
 def test_bounds_judge_and_linearity_judge(tmp_path):
     import json
 
-    d = json.loads((REPO / "cad" / "design.json").read_text())
+    from vvea_design.spring.design import Design
+    from vvea_design.spring.design_file import save_design
+    from vvea_design.spring.problem import evaluate_design
+    from vvea_design.spring.requirements import Requirements
+
+    # an explicit design with its outer diameter at the 59.5 mm envelope (the default optimum, cad/design.json, is
+    # an inner_tube unit at 59.06 mm: on no bound, it would not exercise the bound judge)
     (tmp_path / "out").mkdir()
-    (tmp_path / "out" / "d.json").write_text(json.dumps(d))
+    req = Requirements()
+    save_design(tmp_path / "out" / "d.json", evaluate_design(Design(34.5, 59.5, 41500.0, 90000.0), req), req)
+    d = json.loads((tmp_path / "out" / "d.json").read_text())
+    assert d["parameters"]["outer_diameter_mm"] == d["spec"]["max_outer_diameter_mm"] == 59.5
+    lin = d["performance"]["linearity_error"]
     c = _case(codes=(0,), mention=())
-    # the reference design: outer diameter at the 59.5 mm envelope, reported as the binding envelope constraint
+    # reported as the binding envelope constraint
     r = _result(c, 0, w=tmp_path, err="binding: outer_diameter, housing_length")
     assert hi.judge_bounds_not_silent()(r) is None
-    assert hi.judge_linearity_at_most(0.0133)(r) is None
-    assert hi.judge_linearity_at_most(0.0100)(r)[0] == "BAD"
+    assert hi.judge_linearity_at_most(lin)(r) is None  # at the limit: passes
+    bad = hi.judge_linearity_at_most(0.99 * lin)(r)  # just above it: BAD, with both numbers
+    assert bad[0] == "BAD" and f"linearity {100 * lin:.3f} %" in bad[1] and f"{99 * lin:.3f} % is reachable" in bad[1]
     # a 70 mm envelope with the diameter stuck at the 59.5 mm search bound and nothing saying so
     d["spec"]["max_outer_diameter_mm"] = 70.0
     (tmp_path / "out" / "d.json").write_text(json.dumps(d))
