@@ -16,6 +16,10 @@ GAS_ONLY = FixedParameters(sizing_rules="gas_only")
 with warnings.catch_warnings():  # a design file from before the buildability rules loads as gas_only, with a warning
     warnings.simplefilter("ignore", UserWarning)
     REFERENCE = load_design(REPO / "cad" / "design.json")
+#: The bulkhead optimum of the gas-only rules (the reference design file before the buildability rules, kept in
+#: studies/results/optimise/design.json): the tests about the bulkhead layout's pieces, spaces and cross ports draw it.
+BULKHEAD = Design(35.41803947015589, 59.49999999999998, 48819.594401338036, 102178.39086203951, layout="bulkhead",
+                  V2_top_mm3=4735.253321212185, fixed=GAS_ONLY)
 OTHERS = {
     # the optimum with the bladder's cast fill as a decision variable (`optimise_cast_fill = true`, FE strain
     # bound at the 25 % allowable; studies/bench_optimise.py): the bladder cast near x = 0

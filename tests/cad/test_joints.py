@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.cad.cases import JOINTS, REFERENCE
+from tests.cad.cases import BULKHEAD, JOINTS
 from vvea_design.cad.bill import BomContext, housing_joint
 from vvea_design.cad.layout import Layout
 from vvea_design.materials.structural import get_material
@@ -50,7 +50,7 @@ def test_joint_levels_follow_the_design(name):
 
 
 def test_a_gas_only_design_has_no_joint():
-    lay = Layout(REFERENCE)
+    lay = Layout(BULKHEAD)
     assert not lay.has_joint and lay.joint.kind == "none"
     assert housing_joint(BomContext(lay, {}, None)) == ()
 
@@ -175,5 +175,5 @@ def test_a_cross_port_drilled_through_the_joint_is_an_open_leak_path(monkeypatch
     assert low.z_cross_port < low.joint.z_tube_top
     cross = [p for p in leak_paths(low) if p.where == "port: chamber-2 cross port"]
     assert len(cross) == 1 and not cross[0].is_sealed and "OPEN" in cross[0].note
-    plain = [p for p in leak_paths(Layout(REFERENCE)) if p.where == "port: chamber-2 cross port"]
+    plain = [p for p in leak_paths(Layout(BULKHEAD)) if p.where == "port: chamber-2 cross port"]
     assert len(plain) == 1 and plain[0].is_sealed  # the gas-only cap: the port in the cap, closed by its plug

@@ -168,7 +168,9 @@ def test_cad(tmp_path, reference_cad_run):
         vd.build_cad(REPO / "cad" / "design.json", silicone="wood")
 
 
-def test_bladder(tmp_path, design_json):
+def test_bladder(tmp_path):
+    # the default optimum (its bladder takes the stroke; the fixture's design leaves the sleeve too little volume)
+    design_json = REPO / "cad" / "design.json"
     rep = vd.check_bladder(design_json, elements=16, out=tmp_path / "job", progress=False)
     cli = runner.invoke(app, ["bladder", str(design_json), "--elements", "16", "--out", str(tmp_path / "cli")])
     assert cli.exit_code == 0, cli.output

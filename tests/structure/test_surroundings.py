@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from tests.cad.cases import OTHERS, REFERENCE
+from tests.cad.cases import BULKHEAD, OTHERS, REFERENCE
 from vvea_design.cad.layout import Layout
 from vvea_design.structure.loads import CASE_POSITION, default_load_cases
 from vvea_design.structure.surroundings import Surroundings
@@ -11,7 +11,7 @@ from vvea_design.structure.surroundings import Surroundings
 
 @pytest.fixture(scope="module")
 def bulkhead():
-    return Layout(REFERENCE)  # the reference design is a bulkhead layout
+    return Layout(BULKHEAD)  # the gas-only bulkhead optimum (the default optimum is now an inner_tube unit)
 
 
 def test_the_spaces_of_a_bulkhead_unit(bulkhead):
