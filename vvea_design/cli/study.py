@@ -83,7 +83,8 @@ def rest_to_rest(
                                    workers=workers, scheduler=scheduler, restart=restart, progress=not no_progress)
     except (KeyboardInterrupt, Terminated) as exc:
         code = 130 if isinstance(exc, KeyboardInterrupt) else 143
-        console.print(f"\n[bold yellow]{'interrupted' if code == 130 else 'terminated'}[/]: {cases_saved(out)} "
+        what = "interrupted (Ctrl-C)" if code == 130 else "terminated (SIGTERM): the sweep is interrupted"
+        console.print(f"\n[bold yellow]{what}[/]: {cases_saved(out)} "
                       f"finished case(s) are saved in {out / 'results.csv'}. Run the same command again to resume "
                       f"the sweep (add --restart to start over).", soft_wrap=True)
         INTERRUPT_REPORTED["done"] = True
