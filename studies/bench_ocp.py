@@ -217,6 +217,37 @@ def bench_starts(amplitudes) -> dict:
     return res
 
 
+def bench_design_starts(amplitudes=(0.4, 1.0)) -> dict:
+    """The design study's starts, A/B in this process (workers=1): with and without the neighbour start.
+
+    On a sub-grid of :data:`~vvea_design.actuator.design_study.DESIGN_GRID` (``amplitudes`` x its periods) for
+    ``cad/design.json``: CPU seconds of the rest-to-rest solves and how many optima change.
+    """
+    from vvea_design.actuator.design_study import DESIGN_GRID, run_design_study
+    from vvea_design.actuator.rest_to_rest import Grid
+    from vvea_design.spring.design_file import load_design
+
+    design = load_design(ROOT / "cad" / "design.json")
+    grid = Grid(tuple(amplitudes), DESIGN_GRID.T_s)
+    out, frames = {}, {}
+    for label, starts in (("const-Dmin, neighbour (before)", ("const-Dmin", "neighbour")),
+                          ("const-Dmin (default)", ("const-Dmin",))):
+        c0 = time.process_time()
+        st = run_design_study(design, workers=1, grid=grid, starts=starts)
+        cpu = time.process_time() - c0
+        df = pd.DataFrame([c.to_dict() for c in st.cases])
+        df["case_id"] = [f"A{a:.6g}_T{t:.6g}" for a, t in zip(df.A_rad, df.T_s)]
+        df = df.rename(columns={"rmse_rad": "rmse"})
+        frames[label] = df
+        out[label] = {"starts": list(starts), "cases": len(grid.cases()), "cpu_s_whole_study": round(cpu, 2),
+                      "cpu_s_rest_to_rest_solves": round(st.timing.rest_to_rest_cpu_seconds, 2), "load_after": load()}
+        print(f"  {label}: {cpu:.1f} CPU-s (rest-to-rest solves {st.timing.rest_to_rest_cpu_seconds:.1f})", flush=True)
+    a, b = frames.values()
+    out["optima_changed"] = changes(a, b)
+    print(f"  optima changed without the neighbour start: {json.dumps(out['optima_changed'])}")
+    return out
+
+
 def bench_jit() -> dict:
     """The variable-damping NLP at N = 64 compiled with gcc against CasADi's virtual machine (same solves)."""
     import casadi as ca
@@ -426,6 +457,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--full", action="store_true", help="also the paper grid and the design study (wall time)")
     ap.add_argument("--jit", action="store_true", help="also compile one NLP with gcc (minutes)")
+    ap.add_argument("--design-starts", action="store_true",
+                    help="also the design study's starts A/B (with and without the neighbour start)")
     ap.add_argument("--amplitudes", default=",".join(map(str, SAMPLE_A)),
                     help="amplitudes (rad) of the A/B sample; every period of the paper grid each")
     ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
@@ -442,6 +475,9 @@ def main() -> None:
     if not a.no_starts:
         print("2./3. starts, A/B on the sample (CPU s, one process):")
         res["starts"] = bench_starts(tuple(float(x) for x in a.amplitudes.split(",")))
+    if a.design_starts:
+        print("2b. the design study's starts (CPU s, one process):")
+        res["design_starts"] = bench_design_starts()
     if a.jit:
         print("4. compiled functions:")
         res["jit"] = bench_jit()
