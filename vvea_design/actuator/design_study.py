@@ -69,6 +69,7 @@ __all__ = [
     "DESIGN_GRID",
     "DESIGN_MESH",
     "DESIGN_STARTS",
+    "DESIGN_IPOPT",
     "DESIGN_SAFETY_MESH",
     "DESIGN_REFERENCES",
     "CaseResult",
@@ -98,6 +99,10 @@ DESIGN_MESH = Mesh(64, 3)
 #: the D_min start alone comes within 0.2 % of the full multi-start for VVEA. Without it every case is its own
 #: work item (no chains), so the two workers share the grid evenly.
 DESIGN_STARTS = ("const-Dmin",)
+#: IPOPT options of the design study's rest-to-rest solves: the monotone barrier update, 23 % less CPU than the
+#: adaptive one on 2 x 4 cases of ``cad/design.json`` (``studies/bench_ocp.py --design-starts``); 6 of the 48
+#: optima changed, 3 better by up to 0.8 %, 3 worse by up to 0.3 %, none changed validity.
+DESIGN_IPOPT = (("ipopt.mu_strategy", "monotone"),)
 #: Mesh of the design's torque step (t95 within 0.3 % of the 200-interval mesh, docs/actuator.md).
 DESIGN_SAFETY_MESH = Mesh(100, 3, grading=0.8)
 #: Fixed dampings (N m s/rad) the design's variable-damping torque step is compared with (paper: 31 and 200).
@@ -530,7 +535,7 @@ def run_design_study(
     reg = DEFAULT_REGULARISATION
     items: list = [("safety", (act, safety_mesh, "design, variable D", DESIGN_SAFETY_FIXED_D)),
                    ("safety", (PAPER_SETTINGS["VVEA"], safety_mesh, "VVEA, variable D", ()))]
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), (), None, reg) for A, T in grid.cases()]
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), DESIGN_IPOPT, None, reg) for A, T in grid.cases()]
     # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
     ex = (min(grid.A_rad, key=lambda a: abs(a - 0.7)), min(grid.T_s, key=lambda t: abs(t - 1.0)))
     ex_case = next(c for c in cases if (c.A_rad, c.T_s) == ex)
