@@ -6,6 +6,8 @@ How to run it for the record (on an idle machine, nothing else running; the load
     python studies/bench_ocp.py --full               # + the A/B of the starts and their CPU shares (~15 min idle)
     python studies/bench_ocp.py                      # the A/B only (2 amplitudes x 15 periods), CPU time
     python studies/bench_ocp.py --full --jit         # + one NLP compiled with gcc (minutes of compiling)
+    python studies/bench_ocp.py --design-starts      # + the design study's starts and barrier update, A/B
+    python studies/bench_ocp.py --full --no-starts --multistart-monotone   # the grid with the monotone option
 
 Run it from the repository root with the package importable (``PYTHONPATH=$PWD`` in a worktree). It ends
 with a summary block: the paper grid's wall time (target <= 180 s), the design study's (target <= 8 s, cold
@@ -149,8 +151,27 @@ class _Shares:
             RestToRestSolver.solve, ms.verify_rest_to_rest = real_solve, real_verify
 
 
-def run_variant(starts, chained: bool, amplitudes) -> tuple[pd.DataFrame, float, dict]:
-    """The sample's cases with ``starts`` (in chains or each on its own): rows, CPU seconds, CPU by kind."""
+@contextlib.contextmanager
+def multistart_options(options: dict | None):
+    """The multi-start mesh's IPOPT options (``multistart.MULTISTART_IPOPT``) set to ``options`` for the block
+    (None: left as they are)."""
+    from vvea_design.actuator.multistart import MULTISTART_IPOPT
+
+    old = dict(MULTISTART_IPOPT)
+    if options is not None:
+        MULTISTART_IPOPT.clear()
+        MULTISTART_IPOPT.update(options)
+    try:
+        yield
+    finally:
+        MULTISTART_IPOPT.clear()
+        MULTISTART_IPOPT.update(old)
+
+
+def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None,
+                ) -> tuple[pd.DataFrame, float, dict]:
+    """The sample's cases with ``starts`` (in chains or each on its own) and the multi-start mesh's IPOPT options
+    ``coarse_options`` (None: the defaults): rows, CPU seconds, CPU by kind."""
     from vvea_design.actuator.model import PAPER_SETTINGS
     from vvea_design.actuator.multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, RestToRestCase, chains,
                                                  solve_case, solve_chain)
@@ -162,7 +183,7 @@ def run_variant(starts, chained: bool, amplitudes) -> tuple[pd.DataFrame, float,
     rows = []
     shares = _Shares(DEFAULT_MESH.n_intervals)
     c0 = time.process_time()
-    with shares.patch():
+    with shares.patch(), multistart_options(coarse_options):
         if chained:
             for ch in chains(cases):
                 for rs in solve_chain(ch)[0]:
@@ -196,25 +217,78 @@ def bench_starts(amplitudes) -> dict:
 
     res = {}
     frames = {}
-    for label, starts, chained in (("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False),
-                                   ("no cold, no cross", ("const-Dmin", "ramp"), False),
-                                   ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True)):
+    adaptive: dict = {}  # the defaults: IPOPT's adaptive barrier update (the solver of the default run, no rebuild)
+    for label, starts, chained, opts in (
+            ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive),
+            ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive),
+            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive),
+            ("option: the same, monotone barrier on the multi-start mesh", DEFAULT_STARTS, True,
+             {"ipopt.mu_strategy": "monotone"})):
         print(f"  {label} (load {load()}) ...", flush=True)
-        df, cpu, shares = run_variant(starts, chained, amplitudes)
+        df, cpu, shares = run_variant(starts, chained, amplitudes, opts)
         frames[label] = df
         n = df.case_id.nunique()
         st = table5_statistics(df)
         res[label] = {"starts": list(starts), "chains": chained, "cases": n, "cpu_s": round(cpu, 2),
                       "cpu_per_case_s": round(cpu / n, 3), "cpu_by_kind_s": shares,
                       "table5_counted": {k: p.fraction_X_beats_Y for k, p in st.counted.items()},
-                      "meanrmse": {k: p.meanrmse_Y_over_X for k, p in st.counted.items()}, "load_after": load()}
+                      "meanrmse": {k: p.meanrmse_Y_over_X for k, p in st.counted.items()}, "load_after": load(),
+                      "multistart_ipopt_options": opts}
         print(f"    {cpu:.1f} CPU-s, {cpu / n:.2f} CPU-s per case; " +
               ", ".join(f"{k} {v:.1f}" for k, v in shares.items()), flush=True)
     base = next(iter(frames.values()))
-    for label, df in list(frames.items())[1:]:
+    items = list(frames.items())
+    for (_, prev), (label, df) in zip(items, items[1:]):
         res[label]["optima_vs_earlier"] = changes(base, df)
+        res[label]["optima_vs_previous"] = changes(prev, df)
         print(f"  optima of '{label}' against the earlier multi-start's: {json.dumps(res[label]['optima_vs_earlier'])}")
+        print(f"  ... against the variant before it: {json.dumps(res[label]['optima_vs_previous'])}")
     return res
+
+
+def bench_design_starts(amplitudes=(0.4, 1.0)) -> dict:
+    """The design study's starts and IPOPT options, A/B in this process (workers=1): with and without the
+    neighbour start, adaptive or monotone barrier.
+
+    On a sub-grid of :data:`~vvea_design.actuator.design_study.DESIGN_GRID` (``amplitudes`` x its periods) for
+    ``cad/design.json``: CPU seconds of the rest-to-rest solves and how many optima change. Each variant builds its
+    own solver (the options are part of the solver), so the first call of a variant includes a build from the
+    disk cache.
+    """
+    import vvea_design.actuator.design_study as ds
+    from vvea_design.actuator.rest_to_rest import Grid
+    from vvea_design.spring.design_file import load_design
+
+    design = load_design(ROOT / "cad" / "design.json")
+    grid = Grid(tuple(amplitudes), ds.DESIGN_GRID.T_s)
+    out, frames = {}, {}
+    default_options = ds.DESIGN_IPOPT
+    adaptive = (("ipopt.mu_strategy", "adaptive"),)
+    for label, starts, options in (("const-Dmin, neighbour; adaptive barrier (before)", ("const-Dmin", "neighbour"),
+                                    adaptive),
+                                   ("const-Dmin; adaptive barrier", ("const-Dmin",), adaptive),
+                                   ("const-Dmin; monotone barrier (default)", ("const-Dmin",), default_options)):
+        ds.DESIGN_IPOPT = options
+        c0 = time.process_time()
+        try:
+            st = ds.run_design_study(design, workers=1, grid=grid, starts=starts)
+        finally:
+            ds.DESIGN_IPOPT = default_options
+        cpu = time.process_time() - c0
+        df = pd.DataFrame([c.to_dict() for c in st.cases])
+        df["case_id"] = [f"A{a:.6g}_T{t:.6g}" for a, t in zip(df.A_rad, df.T_s)]
+        df = df.rename(columns={"rmse_rad": "rmse"})
+        frames[label] = df
+        out[label] = {"starts": list(starts), "ipopt": dict(options), "cases": len(grid.cases()),
+                      "cpu_s_whole_study": round(cpu, 2),
+                      "cpu_s_rest_to_rest_solves": round(st.timing.rest_to_rest_cpu_seconds, 2), "load_after": load()}
+        print(f"  {label}: {cpu:.1f} CPU-s (rest-to-rest solves {st.timing.rest_to_rest_cpu_seconds:.1f})", flush=True)
+    items = list(frames.items())
+    for (_, prev), (label, df) in zip(items, items[1:]):
+        out[label]["optima_vs_previous"] = changes(prev, df)
+        out[label]["optima_vs_before"] = changes(items[0][1], df)
+        print(f"  optima of '{label}' against the variant before it: {json.dumps(out[label]['optima_vs_previous'])}")
+    return out
 
 
 def bench_jit() -> dict:
@@ -266,8 +340,9 @@ def bench_jit() -> dict:
     return out
 
 
-def bench_full(out_dir: Path) -> dict:
-    """Part 5: the paper grid and the design study with the defaults (wall time; meaningful on an idle machine)."""
+def bench_full(out_dir: Path, coarse_options: dict | None = None) -> dict:
+    """Part 5: the paper grid and the design study with the defaults (wall time; meaningful on an idle machine);
+    ``coarse_options``: the paper grid's multi-start mesh IPOPT options instead of the default ones."""
     from vvea_design.actuator.design_study import run_design_study
     from vvea_design.actuator.rest_to_rest import run_rest_to_rest
     from vvea_design.actuator.statistics import table5_statistics
@@ -277,10 +352,12 @@ def bench_full(out_dir: Path) -> dict:
     with tempfile.TemporaryDirectory() as d, cache_in(str(Path(d) / "cache")):
         l0 = load()
         t0 = time.perf_counter()
-        s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True)
+        with multistart_options(coarse_options):
+            s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True)
         wall = time.perf_counter() - t0
         df = pd.read_csv(Path(d) / "grid" / "results.csv")
         res["paper_grid"] = {"wall_s": round(wall, 1), "target_s": 180, "load_before": l0, "load_after": load(),
+                             "multistart_ipopt_options": coarse_options if coarse_options is not None else "default",
                              "cpu_of_the_solves_s": round(float(df.cpu_seconds.sum()), 1),
                              "failures": s.statistics.solver_failures["count"],
                              "unverified": s.statistics.unverified["count"],
@@ -318,10 +395,25 @@ def bench_full(out_dir: Path) -> dict:
     return res
 
 
+def optimisations() -> dict:
+    """Which speed-ups are on in this tree (what the paper grid and the design study below ran with)."""
+    from vvea_design.actuator import solver_cache
+    from vvea_design.actuator.design_study import DESIGN_GRID, DESIGN_IPOPT, DESIGN_STARTS
+    from vvea_design.actuator.multistart import DEFAULT_STARTS, MULTISTART_IPOPT
+
+    return {"paper grid starts": list(DEFAULT_STARTS) + (["(chains)"] if "neighbour" in DEFAULT_STARTS else []),
+            "multi-start mesh IPOPT options": dict(MULTISTART_IPOPT) or "defaults (adaptive barrier)",
+            "design study starts": list(DESIGN_STARTS), "design study IPOPT options": dict(DESIGN_IPOPT),
+            "fine-mesh QPs": "warm-started from the multi-start mesh's QP",
+            "design study grid": f"{len(DESIGN_GRID.A_rad)} x {len(DESIGN_GRID.T_s)}",
+            "solver disk cache": solver_cache.cache_enabled(), "compiled functions": False}
+
+
 def summary(res: dict) -> list[str]:
     """The lines the coordinator reads: targets, loads, Table 5 changes, each change's share of the CPU saved."""
     lines = [f"machine: {res['machine']['cores']} cores, load at start {res['machine']['load_start']}, "
-             f"at the end {res['machine'].get('load_end')} (1/5/15 min; wall times count only near 0)"]
+             f"at the end {res['machine'].get('load_end')} (1/5/15 min; wall times count only near 0)",
+             "optimisations on: " + "; ".join(f"{k} = {v}" for k, v in res.get("optimisations", {}).items())]
     full = res.get("full", {})
     g = full.get("paper_grid")
     if g:
@@ -426,14 +518,20 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--full", action="store_true", help="also the paper grid and the design study (wall time)")
     ap.add_argument("--jit", action="store_true", help="also compile one NLP with gcc (minutes)")
+    ap.add_argument("--design-starts", action="store_true",
+                    help="also the design study's starts A/B (with and without the neighbour start)")
     ap.add_argument("--amplitudes", default=",".join(map(str, SAMPLE_A)),
                     help="amplitudes (rad) of the A/B sample; every period of the paper grid each")
+    ap.add_argument("--multistart-monotone", action="store_true",
+                    help="with --full: the paper grid with the monotone barrier on the multi-start mesh (an option, "
+                         "not the default: it moves iVVEA optima)")
     ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "bench_ocp")
     a = ap.parse_args()
     res = {"machine": {"cores": os.cpu_count(), "load_start": load(), "python": sys.version.split()[0],
-                       "started": time.strftime("%Y-%m-%d %H:%M:%S")}}
+                       "started": time.strftime("%Y-%m-%d %H:%M:%S")}, "optimisations": optimisations()}
     print(f"cores {os.cpu_count()}, load {load()}")
+    print("optimisations on: " + "; ".join(f"{k} = {v}" for k, v in res["optimisations"].items()))
     import casadi
 
     res["machine"]["casadi"] = casadi.__version__
@@ -442,12 +540,15 @@ def main() -> None:
     if not a.no_starts:
         print("2./3. starts, A/B on the sample (CPU s, one process):")
         res["starts"] = bench_starts(tuple(float(x) for x in a.amplitudes.split(",")))
+    if a.design_starts:
+        print("2b. the design study's starts (CPU s, one process):")
+        res["design_starts"] = bench_design_starts()
     if a.jit:
         print("4. compiled functions:")
         res["jit"] = bench_jit()
     if a.full:
         print("5. the targets (wall s):")
-        res["full"] = bench_full(a.out)
+        res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None)
     res["machine"]["load_end"] = load()
     res["summary"] = summary(res)
     print("\nsummary:")

@@ -18,15 +18,16 @@ what the optima ask of the valve (peak damping per case, cases at D_max, damping
 valves).
 
 Rest-to-rest (section 5) on :data:`DESIGN_GRID` (4 amplitudes x 4 periods spread over the paper's grid), one
-mesh (:data:`DESIGN_MESH`, 64 Radau intervals), the multi-start reduced to :data:`DESIGN_STARTS` in chains
-over the periods of each amplitude (:func:`~vvea_design.actuator.multistart.solve_chain`), the study
+mesh (:data:`DESIGN_MESH`, 64 Radau intervals), the multi-start reduced to :data:`DESIGN_STARTS` (a start
+list with ``"neighbour"`` solves the cases in chains over the periods of each amplitude,
+:func:`~vvea_design.actuator.multistart.solve_chain`; the default, without, one work item per case), the study
 regularisation; every trajectory is re-simulated (:mod:`~vvea_design.actuator.verify`). Safety (section 6):
 the 50 N m torque step of the design at equal stiffness with variable damping and with fixed D = 31 N m s/rad
 (the paper's slow case), and of the paper's VVEA with variable damping. Settings that differ only by name are
 solved once (with Table 4's range, the design at 362 N m/rad *is* the paper's VVEA).
 
 One parametric CasADi solver per mesh and process serves every case (cached on disk,
-:mod:`~vvea_design.actuator.solver_cache`); the chains and torque steps run through
+:mod:`~vvea_design.actuator.solver_cache`); the cases (or chains) and torque steps run through
 :func:`vvea_design.parallel.parallel_map`. ``studies/bench_design_study.py`` prints the time breakdown.
 
 Example
@@ -68,6 +69,7 @@ __all__ = [
     "DESIGN_GRID",
     "DESIGN_MESH",
     "DESIGN_STARTS",
+    "DESIGN_IPOPT",
     "DESIGN_SAFETY_MESH",
     "DESIGN_REFERENCES",
     "CaseResult",
@@ -90,9 +92,17 @@ __all__ = [
 DESIGN_GRID = Grid((0.2, 0.4, 0.7, 1.0), (0.3, 0.6, 1.0, 1.5))
 #: Mesh of the design study (single level; SEA's grid-mean rmse is within 0.6 % of N = 256 here).
 DESIGN_MESH = Mesh(64, 3)
-#: Starts of the variable-damping settings: the D_min solution and the neighbouring period's optimum
-#: (on the paper grid the D_min start alone comes within 0.2 % of the full multi-start for VVEA).
-DESIGN_STARTS = ("const-Dmin", "neighbour")
+#: Starts of the variable-damping settings: the D_min solution (adopted as is, and the NLP started from it).
+#: The neighbouring period's optimum (``"neighbour"``, in chains) never won on this grid: on the committed study
+#: of ``cad/design.json`` it tied or lost in all 36 chained cases of the three variable settings, so the optima
+#: are the same without it at half the NLP solves (``studies/bench_ocp.py --design-starts``); on the paper grid
+#: the D_min start alone comes within 0.2 % of the full multi-start for VVEA. Without it every case is its own
+#: work item (no chains), so the two workers share the grid evenly.
+DESIGN_STARTS = ("const-Dmin",)
+#: IPOPT options of the design study's rest-to-rest solves: the monotone barrier update, 23 % less CPU than the
+#: adaptive one on 2 x 4 cases of ``cad/design.json`` (``studies/bench_ocp.py --design-starts``); 6 of the 48
+#: optima changed, 3 better by up to 0.8 %, 3 worse by up to 0.3 %, none changed validity.
+DESIGN_IPOPT = (("ipopt.mu_strategy", "monotone"),)
 #: Mesh of the design's torque step (t95 within 0.3 % of the 200-interval mesh, docs/actuator.md).
 DESIGN_SAFETY_MESH = Mesh(100, 3, grading=0.8)
 #: Fixed dampings (N m s/rad) the design's variable-damping torque step is compared with (paper: 31 and 200).
@@ -525,7 +535,7 @@ def run_design_study(
     reg = DEFAULT_REGULARISATION
     items: list = [("safety", (act, safety_mesh, "design, variable D", DESIGN_SAFETY_FIXED_D)),
                    ("safety", (PAPER_SETTINGS["VVEA"], safety_mesh, "VVEA, variable D", ()))]
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), (), None, reg) for A, T in grid.cases()]
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), DESIGN_IPOPT, None, reg) for A, T in grid.cases()]
     # the trajectory figure: the case closest to A = 0.7 rad, T = 1.0 s
     ex = (min(grid.A_rad, key=lambda a: abs(a - 0.7)), min(grid.T_s, key=lambda t: abs(t - 1.0)))
     ex_case = next(c for c in cases if (c.A_rad, c.T_s) == ex)

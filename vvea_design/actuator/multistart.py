@@ -53,6 +53,7 @@ __all__ = [
     "DEFAULT_STARTS",
     "ALL_STARTS",
     "DEFAULT_REGULARISATION",
+    "MULTISTART_IPOPT",
     "RESULT_COLUMNS",
     "TIE_RTOL",
     "solve_case",
@@ -78,6 +79,13 @@ DEFAULT_STARTS = ("const-Dmin", "ramp", "neighbour")
 #: Every start there is (``cold``: at rest with D = D_min; ``cross``: the other variable settings' optima).
 ALL_STARTS = ("const-Dmin", "ramp", "cold", "cross", "neighbour")
 _ALL_STARTS = set(ALL_STARTS)
+#: IPOPT options of every solve on the multi-start mesh of a two-level run (the case's own options override
+#: them; the fine mesh keeps the defaults and :data:`WARM_START_IPOPT`). Empty by default. The monotone barrier
+#: update (``{"ipopt.mu_strategy": "monotone"}``) needs about half the CPU of the adaptive one on these NLPs
+#: (the whole case 23 % less, ``studies/bench_ocp.py``) but lands iVVEA in worse basins more often than in better
+#: ones (on the 15 periods of A = 0.7 rad: 5 iVVEA optima worse by up to 2.1 %, none better; VVEA within 0.1 %),
+#: beyond the mesh tolerance, so it is not the default; on the fine polish it costs more than it saves.
+MULTISTART_IPOPT: dict = {}
 
 
 @dataclass(frozen=True)
@@ -240,10 +248,13 @@ def solve_case_results(case: RestToRestCase,
     for act in case.settings:
         first.setdefault(_same_numbers(act), act)
     unique = replace(case, settings=tuple(first.values())) if len(first) < len(case.settings) else case
-    rows, best = _solve_case_one_mesh(unique, neighbour or {})
+    two_level = unique.fine_mesh is not None and unique.fine_mesh != unique.mesh
+    coarse_qps: dict[tuple, OcpResult] = {}
+    rows, best = _solve_case_one_mesh(unique, neighbour or {}, _coarse_options(unique) if two_level else None,
+                                      coarse_qps)
     coarse = dict(best)
-    if unique.fine_mesh is not None and unique.fine_mesh != unique.mesh:
-        rows, best = _polish_on_fine_mesh(unique, rows, best)
+    if two_level:
+        rows, best = _polish_on_fine_mesh(unique, rows, best, coarse_qps)
     acts = {a.name: a for a in unique.settings}
     checked = {}
     for row in rows:
@@ -264,11 +275,19 @@ def solve_case_results(case: RestToRestCase,
     return out_rows, out_best
 
 
-def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
-                         coarse_best: dict[str, OcpResult]) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+def _coarse_options(case: RestToRestCase) -> tuple:
+    """IPOPT options of the multi-start mesh of a two-level case: :data:`MULTISTART_IPOPT`, then the case's own."""
+    return tuple(sorted({**MULTISTART_IPOPT, **dict(case.ipopt_options)}.items()))
+
+
+def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow], coarse_best: dict[str, OcpResult],
+                         coarse_qps: dict[tuple, OcpResult] | None = None,
+                         ) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Second level: solve every setting of the case on ``case.fine_mesh``.
 
-    Constant damping: the convex QP, directly. Variable damping: candidates are
+    Constant damping: the convex QP, started from its coarse-mesh optimum (``coarse_qps``, by the QP's numbers)
+    interpolated onto the fine mesh with :data:`WARM_START_IPOPT` (the same unique optimum in a third of the
+    CPU; a cold solve if that fails or there is none). Variable damping: candidates are
     (1) the fine-mesh QP at D_min adopted as is (feasible; for iVVEA it *is*
     the fine SEA solution, so iVVEA <= SEA holds exactly on the fine mesh) and
     (2) one warm-started polish of the coarse multi-start optimum interpolated
@@ -286,8 +305,19 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
     def const_solve(act: Actuator) -> OcpResult:
         key = (act.K_Nm_per_rad, act.D_min_Nms_per_rad, act.B_kgm2, act.M_kgm2, act.tau_m_max_Nm)
         if key not in qp_cache:
-            qp_cache[key] = fs.solve(act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad), A, T,
-                                     regularisation=case.regularisation)
+            const = act.with_(D_max_Nms_per_rad=act.D_min_Nms_per_rad)
+            start = (coarse_qps or {}).get(("const",) + key)
+            r = None
+            if start is not None and start.success and np.all(np.isfinite(start.w)):
+                r = fw.solve(const, A, T, w0=fw.guess_from_other_mesh(start, const, A, T),
+                             regularisation=case.regularisation)
+            if r is None or not r.success:  # no coarse optimum, or the warm start failed: cold, default options
+                cold = fs.solve(const, A, T, regularisation=case.regularisation)
+                if r is not None:  # the failed warm solve's time counts
+                    cold.seconds += r.seconds
+                    cold.extra["cpu_seconds"] = cold.extra.get("cpu_seconds", 0.0) + r.extra.get("cpu_seconds", 0.0)
+                r = cold
+            qp_cache[key] = r
         return qp_cache[key]
 
     rows, best = [], {}
@@ -332,10 +362,12 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow],
     return rows, best
 
 
-def _solve_case_one_mesh(case: RestToRestCase,
-                         neighbour: dict[str, OcpResult]) -> tuple[list[CaseRow], dict[str, OcpResult]]:
-    """Multi-start on ``case.mesh`` only (``neighbour``: the neighbouring case's optima by setting name)."""
-    s = _solver(case.mesh, case.ipopt_options)
+def _solve_case_one_mesh(case: RestToRestCase, neighbour: dict[str, OcpResult], options: tuple | None = None,
+                         qps_out: dict | None = None) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+    """Multi-start on ``case.mesh`` only (``neighbour``: the neighbouring case's optima by setting name;
+    ``options``: the IPOPT options, default the case's own; ``qps_out`` gets the constant-damping QP optima by
+    their numbers, the fine polish's starts)."""
+    s = _solver(case.mesh, case.ipopt_options if options is None else options)
     A, T = case.A_rad, case.T_s
     dt = s.interval_seconds(T)
     unknown = set(case.starts) - _ALL_STARTS
@@ -344,7 +376,7 @@ def _solve_case_one_mesh(case: RestToRestCase,
     rows: dict[str, CaseRow] = {}
     best: dict[str, OcpResult] = {}
     info: dict[str, dict] = {}
-    qp_cache: dict[tuple, OcpResult] = {}
+    qp_cache: dict[tuple, OcpResult] = {} if qps_out is None else qps_out
     cpu = {a.name: 0.0 for a in case.settings}  # CPU seconds of each setting's solves
 
     def const_solve(act: Actuator) -> OcpResult:

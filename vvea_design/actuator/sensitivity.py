@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..parallel import parallel_map
 from .damping import DampingRange
-from .design_study import DESIGN_GRID, DESIGN_MESH, DESIGN_STARTS, study_actuators, unit_mapping
+from .design_study import DESIGN_GRID, DESIGN_IPOPT, DESIGN_MESH, DESIGN_STARTS, study_actuators, unit_mapping
 from .model import Actuator
 from .multistart import DEFAULT_REGULARISATION, RESULT_COLUMNS, RestToRestCase, _chain_item, chains, solve_chain
 from .ocp import Mesh
@@ -233,7 +233,7 @@ def run_design_sensitivity(
 
     points = _variants(base, {"sea": sea, "K": K_points}, D_min_values, D_max_values, K_factors)
     settings = tuple({a.name: a for p in points for a in (p[3], p[4])}.values())
-    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), (), None, DEFAULT_REGULARISATION)
+    cases = [RestToRestCase(A, T, settings, mesh, tuple(starts), DESIGN_IPOPT, None, DEFAULT_REGULARISATION)
              for A, T in grid.cases()]
     t0 = time.perf_counter()
     res = parallel_map(_chain_item, [(solve_chain, ch, None) for ch in chains(cases)], workers=workers,
