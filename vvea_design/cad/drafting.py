@@ -216,9 +216,20 @@ def general_notes(lay: Layout) -> tuple[str, ...]:
         f"(stretch {100 * ps.stretch:.1f} %, squeeze {100 * ps.squeeze:.0f} %).",
         f"Rod seal: O-ring {rs.oring.name}; groove Ø{rs.groove_diameter_mm:.2f} H9 x {rs.width_mm:.2f} +0.13 "
         f"(stretch {100 * rs.stretch:.1f} %, squeeze {100 * rs.squeeze:.0f} %).",
-        "Static seals: " + "; ".join(f"{g.kind} O-ring {g.oring.code} (squeeze {100 * g.squeeze:.0f} %)"
-                                     for g in static) + f". Compound {COMPOUND}.",
+        "Static seals: " + _static_seal_text(static) + f". Compound {COMPOUND}.",
     )
+
+
+def _static_seal_text(static) -> str:
+    """The static O-rings grouped by size and squeeze, e.g. ``O-ring 032 cap, base (squeeze 18 %)``: the general
+    note stays one line."""
+    groups: dict[tuple[str, int], list[str]] = {}
+    for g in static:
+        name = "tube seats" if g.kind.startswith("tube_") else g.kind.replace("_", " ")
+        names = groups.setdefault((g.oring.code, round(100 * g.squeeze)), [])
+        if name not in names:
+            names.append(name)
+    return "; ".join(f"O-ring {code} {', '.join(n)} (squeeze {sq} %)" for (code, sq), n in groups.items())
 
 
 #: The drawings' fixed issue date: the STEP files' header date (:data:`~vvea_design.cad.export.STEP_TIMESTAMP`), so

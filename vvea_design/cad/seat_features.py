@@ -7,7 +7,7 @@ the tube's ends and lead-ins, the fill tube's neck and the cap's bore and groove
 from __future__ import annotations
 
 from .drafting import Dim, Leader
-from .feature_base import GENERAL, SPIGOT_FIT, Feature, groove_feature, lead_in_feature, symmetric
+from .feature_base import SPIGOT_FIT, Feature, groove_feature, lead_in_feature, symmetric
 from .feature_base import fit_text as _fit
 
 __all__ = ["seat_features", "tube_end_features"]
@@ -50,8 +50,6 @@ def seat_features(lay, part: str) -> list[Feature]:
                           f"(the tube's end; floor flat, Ra 1.6)", "right"),
                    u_edges=symmetric(ri), z_edges=(z_end,), probe=(0.0, 0.5 * (rp + ri), 0.5 * (z_face + z_end)),
                    finish="Ra 1.6"),
-           Feature("seat_depth", "length", "seat depth", f"{depth:.2f}", GENERAL,
-                   Dim("z", (-ri, z_face), (-ri, z_end), "inside", f"{depth:.2f} (seat)"), z_edges=(z_end,)),
            *groove_feature("tube_seal", g, g0, g1, z_face, f"the {name}'s face", "left", -1.0)]
     if part == "housing_top_cap" and s.fill is not None:
         rn, f = s.neck_radius_mm, s.fill
