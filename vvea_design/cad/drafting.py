@@ -203,7 +203,9 @@ def general_notes(lay: Layout) -> tuple[str, ...]:
         seals and the compound.
     """
     ps, rs = lay.piston_seal, lay.rod_seal
-    static = [g for g in (lay.cap_seal, lay.base_seal, lay.collar_seal) if g is not None]
+    seats = lay.seats
+    extra = (seats.base, seats.top, seats.fill) if seats is not None else ()
+    static = [g for g in (lay.cap_seal, lay.base_seal, lay.collar_seal, *extra) if g is not None]
     return (
         "All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated.",
         f"Sliding fits ISO 286 H8/f7: piston bore {fit_text(2 * lay.r_piston, 'H8')}, "
@@ -214,9 +216,20 @@ def general_notes(lay: Layout) -> tuple[str, ...]:
         f"(stretch {100 * ps.stretch:.1f} %, squeeze {100 * ps.squeeze:.0f} %).",
         f"Rod seal: O-ring {rs.oring.name}; groove Ø{rs.groove_diameter_mm:.2f} H9 x {rs.width_mm:.2f} +0.13 "
         f"(stretch {100 * rs.stretch:.1f} %, squeeze {100 * rs.squeeze:.0f} %).",
-        "Static seals: " + "; ".join(f"{g.kind} O-ring {g.oring.code} (squeeze {100 * g.squeeze:.0f} %)"
-                                     for g in static) + f". Compound {COMPOUND}.",
+        "Static seals: " + _static_seal_text(static) + f". Compound {COMPOUND}.",
     )
+
+
+def _static_seal_text(static) -> str:
+    """The static O-rings grouped by size and squeeze, e.g. ``O-ring 032 cap, base (squeeze 18 %)``: the general
+    note stays one line."""
+    groups: dict[tuple[str, int], list[str]] = {}
+    for g in static:
+        name = "tube seats" if g.kind.startswith("tube_") else g.kind.replace("_", " ")
+        names = groups.setdefault((g.oring.code, round(100 * g.squeeze)), [])
+        if name not in names:
+            names.append(name)
+    return "; ".join(f"O-ring {code} {', '.join(n)} (squeeze {sq} %)" for (code, sq), n in groups.items())
 
 
 #: The drawings' fixed issue date: the STEP files' header date (:data:`~vvea_design.cad.export.STEP_TIMESTAMP`), so

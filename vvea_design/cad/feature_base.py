@@ -222,6 +222,7 @@ def groove_feature(key: str, g: Gland, z0: float, z1: float, ref_z: float, ref: 
                     u_edges=symmetric(d / 2), z_edges=(z0, z1), probe=probe, finish=g.finish_text,
                     standard="ISO 3601-2 (bd_warehouse gland data)"),
             Feature(f"{key}_radius", "radius", "groove root radius", f"R{g.radius_mm:.2f}",
-                    f"R{rad[0]:.2f}...{rad[1]:.2f}", f"{key.replace('_', ' ')}: root radius R{g.radius_mm:.2f} "
-                    f"(R{rad[0]:.2f}...{rad[1]:.2f}), edges of the groove opening 0.1...0.2 rounded, burr-free",
+                    f"R{rad[0]:.2f}...{rad[1]:.2f}", f"{g.application} O-ring grooves ({g.oring.cross_section_mm:g} mm "
+                    f"rings): root radius R{g.radius_mm:.2f} (R{rad[0]:.2f}...{rad[1]:.2f}), edges of the groove "
+                    "opening 0.1...0.2 rounded, burr-free",
                     standard="ISO 3601-2")]

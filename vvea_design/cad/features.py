@@ -31,6 +31,8 @@ from .feature_base import lead_in_feature as _lead_in_feature
 from .feature_base import symmetric as _sym
 from .joint_features import base_joint_features, outer_tube_joint_features, top_cap_joint_features
 from .layout import Layout
+from .parts import tube_bottom_lead_in
+from .seat_features import seat_features, tube_end_features
 
 __all__ = ["Feature", "FEATURE_KINDS", "DETAIL_KEYS", "GENERAL", "GROOVE_WIDTH_TOL", "THREAD_CLASS", "outer_tube_features",
            "inner_tube_features", "top_cap_features", "base_features", "piston_features", "sheet_plane",
@@ -112,18 +114,22 @@ def inner_tube_features(lay: Layout) -> tuple[Feature, ...]:
         In sheet order.
     """
     d = lay.design
-    ri, rp, z0, z1 = lay.r_inner_tube, lay.r_piston, lay.z_base_top, lay.z_cap
-    li = lay.lead_in_piston
+    ri, rp, z1 = lay.r_inner_tube, lay.r_piston, lay.z_cap
+    li, z0 = tube_bottom_lead_in(lay)  # the tube's ends: in the end pieces' seats with a joint
+    seats = lay.seats
+    zt = seats.z_top_end if seats is not None and seats.top is not None else z1
     od, od_tol = _fit(2 * ri, TUBE_OD_FIT)
     bd, bd_tol = _fit(2 * rp, "H8")
-    f = [Feature("length", "length", "length", f"{z1 - z0:.2f}", GENERAL, Dim("z", (-ri, z0), (-ri, z1), "left"),
-                 z_edges=(z0, z1)),
+    f = [Feature("length", "length", "length", f"{zt - z0:.2f}", GENERAL, Dim("z", (-ri, z0), (-ri, zt), "left"),
+                 z_edges=(z0, zt)),
          Feature("outside", "diameter", "outside diameter", od, od_tol,
-                 Dim("u", (-ri, z1), (ri, z1), "top", f"{od} {od_tol}"), u_edges=_sym(ri)),
+                 Dim("u", (-ri, zt), (ri, zt), "top", f"{od} {od_tol}"), u_edges=_sym(ri)),
          Feature("bore", "diameter", "piston bore", bd, bd_tol,
                  Dim("u", (-rp, z0 + li.length_mm), (rp, z0 + li.length_mm), "bottom", f"{bd} {bd_tol}"),
                  u_edges=_sym(rp), finish="Ra 0.4 (honed)", standard="ISO 286, ISO 3601-2"),
-         _lead_in_feature("lead_in_bottom", "piston bore, bottom end", li, rp, z0, True, True, "right", lay.piston_seal)]
+         _lead_in_feature("lead_in_bottom", "piston bore, bottom end", li, rp, z0, True, True, "right",
+                          seats.base if seats is not None else lay.piston_seal),
+         *tube_end_features(lay)]
     if lay.has_bulkhead:
         zb0, zb1 = lay.z_bulkhead0, lay.z_bulkhead1
         rf, rfb = lay.r_fill_tube_out, lay.r_fill_tube_bore
@@ -206,6 +212,7 @@ def top_cap_features(lay: Layout) -> tuple[Feature, ...]:
     if not lay.has_top_annulus:
         f += _clamp_features(lay)
         f += _chamber2_features(lay, "right")
+    f += seat_features(lay, "housing_top_cap")
     if lay.has_joint:  # the shoulder above the tube, the spigot's thread (or the ring's plug), the rods' holes
         return top_cap_joint_features(lay, tuple(f))
     return tuple(f)
@@ -314,6 +321,7 @@ def base_features(lay: Layout) -> tuple[Feature, ...]:
          Feature("rod_seal_position", "length", "rod seal groove from the underside", f"{lay.z_rod_seal[0]:.2f}",
                  GENERAL, Dim("z", (0.5 * rr, 0.0), (0.5 * rr, lay.z_rod_seal[0]), "inside", on_axis=True))]
     f += _valve_features(lay)
+    f += seat_features(lay, "housing_base")
     if lay.has_top_annulus:
         f += _base_port_notes(lay)
     if lay.has_joint:  # the own part's shoulder, the spigot's thread and run-out, the rods' holes

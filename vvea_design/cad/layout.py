@@ -1,13 +1,9 @@
-"""Derived CAD dimensions: one place that turns a frozen :class:`Design` into
-the radii and axial levels every part is drawn from.
+"""Derived CAD dimensions: one place that turns a frozen :class:`Design` into the radii and axial levels every
+part is drawn from. Frame (all parts, assembly): axis = global Z, ``z = 0`` at the underside of the base, the top
+cap's top face at ``z = housing_length_mm``. ``x > 0`` (extension) moves the piston *down*, towards the base.
 
-Frame (all parts, assembly): axis = global Z, ``z = 0`` at the underside of
-the base, the top cap's top face at ``z = housing_length_mm``. ``x > 0``
-(extension) moves the piston *down*, towards the base, by ``x`` mm.
-
-The numbers the design does not fix (feature sizes: seal grooves, ports,
-valve bores, mould walls, shrinkage) are :class:`CadParameters`; they never
-change a volume or an area the optimiser saw. All lengths in mm.
+The numbers the design does not fix (feature sizes: seal grooves, ports, valve bores, mould walls, shrinkage) are
+:class:`CadParameters`; they never change a volume or an area the optimiser saw. All lengths in mm.
 """
 
 from __future__ import annotations
@@ -17,12 +13,12 @@ from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design
-from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM
-from ..spring.joints import seal_lead_in_land_mm
+from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM, seal_lead_in_land_mm
 from .errors import CadError
 from .joints import JointGeometry, joint_geometry
 from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
 from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, static_male_gland
+from .tube_seats import TubeSeats, tube_seats
 
 #: The damper's sizes the design owns (``fixed.*``): :class:`CadParameters` keeps them only as aliases of the
 #: defaults; the CAD draws the design's values.
@@ -293,6 +289,12 @@ class Layout:
         """The housing's joint as drawn (:func:`~vvea_design.cad.joints.joint_geometry`; ``kind = "none"`` for a
         design sized by the gas-only rules)."""
         return joint_geometry(self.design, self.z_cap, self.z_top)
+
+    @cached_property
+    def seats(self) -> TubeSeats | None:
+        """The inner tube's ends (and the fill tube's neck) seated and sealed in the end pieces
+        (:func:`~vvea_design.cad.tube_seats.tube_seats`); None under the gas-only rules."""
+        return tube_seats(self)
 
     @property
     def has_joint(self) -> bool:

@@ -154,7 +154,7 @@ def _part_sheet(lay: Layout, features, plane: str = "xz", detail: Detail | None 
     if detail is not None:
         detail = replace(detail, dims=[*detail.dims, *(f.show for f in features if f.key in DETAIL_KEYS)])
     leaders = tuple(f.show for f in features if isinstance(f.show, Leader))
-    own = tuple(f.show for f in features if isinstance(f.show, str))
+    own = tuple(dict.fromkeys(f.show for f in features if isinstance(f.show, str)))  # one note for equal grooves
     rough = [f"{f.title} {f.finish}" for f in features if f.finish and f.finish not in f.text]
     finish = (f"Surface roughness: {'; '.join(rough)}.",) if rough else ()
     return SheetContent(dims, leaders, (*part_notes(), *finish, *own, *notes), plane=plane, detail=detail)

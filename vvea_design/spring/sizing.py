@@ -36,7 +36,7 @@ from .geometry import Array, Section
 from .joints import (CROSS_PORT_SHOULDER_MM, INTERNAL_RUNOUT_PITCHES, JOINT_SHOULDER_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
                      E_STEEL_MPa, JointSizing, PROPERTY_CLASSES, seal_passage_mm, seal_zone_mm, select_ring,
                      select_thread, standard_seal_bore_radius_mm, tie_rod_candidates,
-                     tie_rod_preload)
+                     tie_rod_preload, SERIES_MM, static_male_cross_section_mm)
 from .concentration import concentration_factor
 from .layouts.base import LayoutVariant
 from .loads import LoadCase, Loads, lame_tresca_MPa, plate_centre_moment_per_MPa
@@ -46,7 +46,7 @@ from .tolerances import it_tolerance_mm
 #: The pressure-bearing pieces.
 PIECES = ("outer_tube", "inner_tube", "top_cap", "base", "bulkhead", "collar", "piston_floor")
 
-__all__ = ["PIECES", "size_section", "size_joint", "check_section", "governing", "outer_tube_pressure"]
+__all__ = ["PIECES", "size_section", "size_joint", "check_section", "governing", "outer_tube_pressure", "tube_seat_mm"]
 
 
 def outer_tube_pressure(case: LoadCase, layout: LayoutVariant) -> Array:
@@ -94,6 +94,27 @@ def _inner_tube_pressure(case: LoadCase) -> Array:
 def _buckling_pressure(case: LoadCase) -> Array:
     """Net external pressure on the inner tube: chamber 2 less the lower of chamber 1 and the fluid, >= 0, MPa."""
     return np.fmax(case.chamber_2_MPa - np.fmin(case.chamber_1_MPa, case.fluid_MPa), 0.0)
+
+
+def tube_seat_mm(piston_radius_mm, f: FixedParameters) -> Array:
+    """Depth of the inner tube's seats in the base and the top cap (the CAD's :mod:`vvea_design.cad.tube_seats`): the
+    seal zone of the static O-ring that the end piece's spigot carries in the tube's bore (the joint's series, the
+    other where none of it fits that bore: ISO 3601-1 sizes, 0-5 % stretch), mm.
+
+    Parameters
+    ----------
+    piston_radius_mm : float or array
+        The tube's bore radius, mm.
+    f : FixedParameters
+        The joint's O-ring series and the seal land, mm.
+
+    Returns
+    -------
+    ndarray
+        The seat's depth, mm.
+    """
+    cs = static_male_cross_section_mm(2 * np.asarray(piston_radius_mm, dtype=float), f.joint_seal_cross_section_mm)
+    return sum(np.where(cs == w, seal_zone_mm(w, f.seal_land_mm), 0.0) for w in SERIES_MM)
 
 
 def _seal_zone_mm(f: FixedParameters) -> float:
@@ -331,6 +352,8 @@ def size_section(dp_mm, Do_mm, A1_mm2, A2_mm2, loads: Loads, fixed: FixedParamet
                        np.zeros_like(ri), np.zeros_like(ri, dtype=bool), tc, f.bore_tolerance_grade,
                        f.outside_tolerance_grade, r_t, js)
         t_cap = np.fmax(np.fmax(f.min_top_cap_mm, sec0.sized_thickness_mm(t_cap_req)), js.top_zone_mm + shoulder)
+        if not layout.has_top_annulus:  # the inner tube's end in the cap's seat: the sized plate stays above it
+            t_cap = np.fmax(t_cap, sec0.sized_thickness_mm(t_cap_req) + tube_seat_mm(ri, f))
         base_own = np.fmax(f.min_base_mm, sec0.sized_thickness_mm(t_base_req))
         t_base = base_own + js.base_zone_mm
         ph = f.piston_height_mm
