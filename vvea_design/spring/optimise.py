@@ -444,7 +444,8 @@ def optimise(
     Raises
     ------
     ValueError
-        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``.
+        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``, or ``popsize``/``maxiter`` below 1,
+        ``tol`` negative or not finite (:func:`vvea_design.spring.contradictions.check_optimiser_options`).
     DesignError
         If a layout name is unknown (the message lists the known ones).
     NoBuildableDesign
@@ -453,6 +454,9 @@ def optimise(
         If no design meets the requirements and ``raise_infeasible`` is true.
     """
     req = req or Requirements()
+    from .contradictions import check_optimiser_options
+
+    check_optimiser_options(popsize, maxiter, tol, polish, req.max_bladder_strain)
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
         raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.check.strain_bound)")
     layouts = tuple(layouts or req.layouts)

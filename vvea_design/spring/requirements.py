@@ -331,6 +331,9 @@ class Requirements:
                             f"{show(max(self.objective_exponents))} the objective evaluates the spring at: the walls "
                             "would be sized for a lower peak pressure than the spring is designed for")
         self._check_room()
+        from .contradictions import check_values
+
+        check_values(self, SpecError)
 
     def _check_room(self) -> None:
         """The envelope leaves room for the servo's mass and the stroke; a travel that short reads as inches."""
@@ -588,4 +591,8 @@ def load_requirements(path: str | Path | None) -> Requirements:
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     except (ValueError, RecursionError) as exc:  # an absurd literal tomllib cannot convert
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
-    return Requirements.from_dict(data, source=str(path))
+    req = Requirements.from_dict(data, source=str(path))
+    from .contradictions import check_written
+
+    check_written(req, data, str(path), SpecError)  # settings the file wrote that contradict each other
+    return req

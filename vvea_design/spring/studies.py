@@ -187,14 +187,18 @@ def check_pareto_values(req: Requirements, axis: str, values) -> list[tuple[Requ
     Raises
     ------
     ValueError
-        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), or
-        more than 500 values.
+        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), a
+        value given twice, or more than 500 values. Settings easily misread (one value, a limit of the
+        requirements the sweep replaces) get a :class:`~vvea_design.spring.contradictions.SettingsNote`.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
     field_name = PARETO_AXES[axis][0]
     values = list(values)
     check_count("pareto_points", len(values), "the number of values", ValueError)
+    from .contradictions import check_pareto_settings
+
+    check_pareto_settings(req, axis, values)
     points = []
     for i, v in enumerate(values):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
