@@ -107,7 +107,7 @@ def _infeasible(exc, spec: Optional[Path]) -> None:
 
     if isinstance(exc, Infeasible):
         _print_evaluation(exc.result.evaluation, "least-violating design", exc.result.binding_bounds)
-        _fail(str(exc), code=3)
+        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # the file whose fields the message names
     _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # NoBuildableDesign
 
 

@@ -48,9 +48,14 @@ __all__ = [
 class Infeasible(RuntimeError):
     """No design meets the requirements; ``result`` holds the least-violating one."""
 
-    def __init__(self, result: "OptimisationResult"):
+    def __init__(self, result: "OptimisationResult", req: Requirements | None = None):
         self.result = result
-        super().__init__(result.infeasibility_message())
+        msg = result.infeasibility_message()
+        if req is not None:  # name the fields behind each miss (vvea_design.spring.explain)
+            from .explain import explain_infeasible
+
+            msg = "\n".join([msg, *explain_infeasible(result.evaluation, req)])
+        super().__init__(msg)
 
 
 class NoBuildableDesign(ValueError):
@@ -512,7 +517,7 @@ def optimise(
                                 sum(s.generations for s in searches), info.message, polished, searches,
                                 strain_fe, strain_sur, tuple(binding_bounds(design, req)))
     if raise_infeasible and not ev.feasible:
-        raise Infeasible(result)
+        raise Infeasible(result, req)
     return result
 
 
