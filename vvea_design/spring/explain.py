@@ -34,6 +34,7 @@ CONSTRAINT_FIELDS: dict[str, tuple[str, ...]] = {
     "wall_safety": ("min_wall_safety_factor", "max_charge_MPa", "fixed.housing_material"),
     "joint_capacity": ("joints", "fixed.tie_rod_property_class", "max_charge_MPa"),
     "piston_floor_room": ("fixed.piston_pocket", "fixed.min_piston_floor_mm"),
+    "cross_slot_room": ("fixed.cross_slot_mm", "fixed.cross_slot_fraction", "layouts"),
     "parasitic_damping": ("max_parasitic_damping_N_s_per_mm", "fixed.fluid_channel_mm", "fixed.throttle_bore_mm",
                           "fixed.ring_channel_mm", "fixed.oil", "fixed.oil_temperature_C"),
     "mass": ("max_mass_g", "fixed.servo_and_valve_mass_g"),

@@ -593,9 +593,13 @@ class Requirements:
                     raise SpecError(f"{source}: {key} must be a number, got {show(value)}")
                 kwargs[key] = value
         try:
-            return cls(**kwargs)
+            req = cls(**kwargs)
         except SpecError as exc:
             raise SpecError(f"{source}: {exc}") from None
+        written = {k: v for k, v in (data.get("fixed") or {}).items() if k in FIXED_FOLLOW}
+        if written and any(getattr(req.fixed, k) != v for k, v in written.items()):  # the user's own size stays
+            object.__setattr__(req, "fixed", replace(req.fixed, **written))
+        return req
 
 
 def load_requirements(path: str | Path | None) -> Requirements:
