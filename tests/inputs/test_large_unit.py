@@ -60,3 +60,10 @@ def test_vvea_optimise_finds_the_large_unit():
 
     r = optimise(Requirements(**BIG), seed=0, progress=False)
     assert r.evaluation.feasible and r.evaluation.linearity_error < 0.03
+
+
+def test_the_walls_minimum_of_a_tie_rod_unit_is_its_own_not_a_threads():
+    """The CAD's "walls >= hoop-stress minimum" said NO for this unit: its minimum was sized for a thread joint."""
+    d = design_from_vector(POINT, Requirements(**BIG), "bulkhead", "tie_rods")
+    drawn, least = d.walls_mm(), d.minimum_walls_mm()
+    assert all(drawn[w] >= least[w] - 1e-9 for w in least), (drawn, least)

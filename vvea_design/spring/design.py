@@ -594,8 +594,8 @@ class Design:
         """
         f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor)
         f = replace(f, **{fl.name: 1e-6 for fl in fields(f) if fl.name.startswith("min_")})  # every wall's minimum
-        walls = derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, f, self.layout, stresses=False,
-                       masses=False).walls_mm
+        walls = derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, f, self.layout, joint=self.joint,
+                       stresses=False, masses=False).walls_mm  # the design's own joint (a thread's walls differ)
         return {w: (float(walls[w]) if np.isfinite(walls[w]) else math.inf) for w in self.walls_mm()}
 
     # ------------------------------------------------------------ buildability
