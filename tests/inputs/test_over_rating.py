@@ -61,3 +61,29 @@ def test_the_command_refuses_names_its_flag_and_labels_its_output(tmp_path):
     res = run.invoke(app, ["spring", str(DESIGN_FILE), "--p2", str(OVER), "--allow-over-rating", "-o",
                            str(tmp_path / "b")], env={"COLUMNS": "400"})
     assert res.exit_code == 0 and res.output.count(OVER_RATING_LABEL) >= 2, res.output
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    from vvea_benches import physbench as pb
+
+    grid = pb.CampaignGrid(pressures_MPa=(2.0, 4.0), valves_deg=(100.0, 110.0), speeds_mm_s=(4.0,), samples=40)
+    f = tmp_path_factory.mktemp("rec") / "rec.csv"
+    pb.simulate_campaign(pb.random_parameters((), seed=11, grid=grid)).frame.to_csv(f, index=False)
+    return f
+
+
+def test_recordings_charged_above_the_design_rating_are_refused_unless_allowed_then_noted(campaign):
+    from dataclasses import replace
+
+    from vvea_design.identification.recordings import RecordingsError
+    from vvea_design.jobs.identification import identify
+
+    rated3 = replace(load_design(DESIGN_FILE), p2_MPa=3.0)  # walls for 3 MPa: the campaign's 4 MPa is above it
+    with pytest.raises(RecordingsError, match=r"rec.csv: column p2_MPa: the highest charge p2 = 4 MPa is above the "
+                                              r"design's rating 3 MPa"):
+        identify(campaign, design=rated3, progress=False)
+    res = identify(campaign, design=rated3, progress=False, allow_over_rating=True)
+    assert any(n.startswith(OVER_RATING_LABEL) for n in res.notes)
+    assert not any(n.startswith(OVER_RATING_LABEL) for n in identify(campaign, design=DESIGN_FILE,
+                                                                     progress=False).notes)
