@@ -176,7 +176,7 @@ def check(
 
 @app.command()
 def pareto(
-    axis: str = typer.Option("stiffness", "--axis", help="swept requirement: stiffness | outer_diameter | mass"),
+    axis: str = typer.Option("stiffness", "--axis", help="swept requirement: stiffness | outer_diameter | mass | adiabatic"),
     values: str = typer.Option(..., "--values", help="comma-separated values of the swept requirement"),
     spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML"),
     out: Path = typer.Option(Path("pareto"), "--out", "-o", help="output folder"),

@@ -17,12 +17,13 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..messages import show
 
-if TYPE_CHECKING:
-    from .requirements import Requirements
+#: The requirements (:class:`~vvea_design.spring.requirements.Requirements`, which calls these checks: not imported
+#: here, so the two modules form no cycle).
+Requirements = Any
 
 __all__ = ["CONTRADICTIONS", "SettingsNote", "check_written", "check_values", "check_optimiser_options",
            "check_pareto_settings"]
@@ -189,7 +190,7 @@ def check_optimiser_options(popsize: Any, maxiter: Any, tol: Any, polish: bool, 
     popsize, maxiter : int
         Differential evolution's population factor and generation limit (each >= 1).
     tol : float
-        Its relative convergence tolerance (finite, >= 0).
+        Its relative convergence tolerance, dimensionless (finite, >= 0).
     polish : bool
         Whether the SLSQP polish runs.
     strain_limit : float or None

@@ -29,6 +29,7 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from ..progress import progress_bar
+from .contradictions import check_optimiser_options
 from .derive import derive
 from .design import Design, DesignError
 from .joints import EXCLUDED_PAIRS, joint_fits_layout
@@ -459,8 +460,6 @@ def optimise(
         If no design meets the requirements and ``raise_infeasible`` is true.
     """
     req = req or Requirements()
-    from .contradictions import check_optimiser_options
-
     check_optimiser_options(popsize, maxiter, tol, polish, req.max_bladder_strain)
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
         raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.check.strain_bound)")
