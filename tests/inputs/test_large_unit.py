@@ -67,3 +67,12 @@ def test_the_walls_minimum_of_a_tie_rod_unit_is_its_own_not_a_threads():
     d = design_from_vector(POINT, Requirements(**BIG), "bulkhead", "tie_rods")
     drawn, least = d.walls_mm(), d.minimum_walls_mm()
     assert all(drawn[w] >= least[w] - 1e-9 for w in least), (drawn, least)
+
+
+def test_a_swept_envelope_gets_its_own_flow_path_not_the_files():
+    from vvea_design.spring.studies import check_pareto_values
+
+    points = check_pareto_values(Requirements(**BIG), "outer_diameter", [80.0, 120.0])
+    assert [p.fixed.fluid_channel_mm for p, _ in points] == [4.0, 6.0]
+    own = Requirements.from_dict({**BIG, "fixed": {"fluid_channel_mm": 5.0}})  # written: kept at every point
+    assert [p.fixed.fluid_channel_mm for p, _ in check_pareto_values(own, "outer_diameter", [80.0, 120.0])] == [5.0, 5.0]

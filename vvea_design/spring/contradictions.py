@@ -58,6 +58,12 @@ CONTRADICTIONS: dict[str, tuple[str, str, str]] = {
                         "no housing in the range holds the smallest piston"),
     "linearity_target_on_objective": ("`max_linearity_adiabatic` with an objective that evaluates n = 1.4",
                                       "accepted", "a limit on the objective itself: met, or exit 3 naming it"),
+    "narrower_bounds": ("`[bounds] outer_diameter_mm` high end below `max_outer_diameter_mm` (any range narrower than "
+                        "the default)", "accepted", "the user's own search range; an optimum on it is reported as a "
+                        "binding bound"),
+    "seeded_steps": ("`--seed` of `optimise`, `design`, `pareto`, `diagnose`", "accepted",
+                     "each seeds a random step (the global search's population, the held-out splits): no seed is "
+                     "ignored"),
     "pareto_one_value": ("`vvea pareto` with one value", "note", "a front of one point is one optimisation"),
     "pareto_repeated": ("`vvea pareto` with a value given twice", "refused", "the same optimisation twice"),
     "pareto_replaces": ("`vvea pareto --axis mass` or `adiabatic` with `max_mass_g` / `max_linearity_adiabatic` set in "
