@@ -54,8 +54,9 @@ CONTRADICTIONS: dict[str, tuple[str, str, str]] = {
     "piston_vs_rod": ("`[bounds] piston_diameter_mm` high end at or below `[fixed] rod_diameter_mm`", "refused",
                       "no piston in the range holds the rod"),
     "piston_vs_outer": ("`[bounds] piston_diameter_mm` low end plus two `min_outer_wall_mm` at or above the outer "
-                        "diameter's high end (`[bounds] outer_diameter_mm`, `max_outer_diameter_mm`)", "refused",
-                        "no housing in the range holds the smallest piston"),
+                        "diameter's high end (`[bounds] outer_diameter_mm`, `max_outer_diameter_mm`)", "exit 3",
+                        "the search finds no buildable design inside the bounds and names them and why "
+                        "(no room for the bladder)"),
     "linearity_target_on_objective": ("`max_linearity_adiabatic` with an objective that evaluates n = 1.4",
                                       "accepted", "a limit on the objective itself: met, or exit 3 naming it"),
     "narrower_bounds": ("`[bounds] outer_diameter_mm` high end below `max_outer_diameter_mm` (any range narrower than "
@@ -176,15 +177,6 @@ def check_values(req: Requirements, error: type[Exception]) -> None:
         _refuse(error, "", f"{src} = {show([p_lo, p_hi])} mm: its high end is at or below [fixed] rod_diameter_mm = "
                 f"{show(f.rod_diameter_mm)} mm, so no piston in the range holds the rod; the high end must exceed "
                 f"{show(f.rod_diameter_mm)} mm (or use a thinner rod)")
-    d_hi = min(b["outer_diameter_mm"][1], req.max_outer_diameter_mm)
-    need = p_lo + 2 * f.min_outer_wall_mm
-    if "piston_diameter_mm" in req.bounds and need >= d_hi:
-        d_src = ("[bounds] outer_diameter_mm high end" if "outer_diameter_mm" in req.bounds
-                 and req.bounds["outer_diameter_mm"][1] < req.max_outer_diameter_mm else "max_outer_diameter_mm")
-        _refuse(error, "", f"[bounds] piston_diameter_mm low end {show(p_lo)} mm plus two [fixed] min_outer_wall_mm "
-                f"({show(f.min_outer_wall_mm)} mm) needs an outer diameter of {show(need)} mm, but {d_src} is "
-                f"{show(d_hi)} mm: no housing in the range holds the smallest piston; lower the piston's low end "
-                f"below {show(d_hi - 2 * f.min_outer_wall_mm)} mm or widen the envelope")
 
 
 def check_optimiser_options(popsize: Any, maxiter: Any, tol: Any, polish: bool, strain_limit: float | None,
