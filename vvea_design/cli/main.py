@@ -107,8 +107,7 @@ def _infeasible(exc, spec: Optional[Path]) -> None:
 
     if isinstance(exc, Infeasible):
         _print_evaluation(exc.result.evaluation, "least-violating design", exc.result.binding_bounds)
-        _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # the file whose fields the message names
-    _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # NoBuildableDesign
+    _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # the file whose fields the message names
 
 
 @app.command()
@@ -150,7 +149,8 @@ def spring(
     gs = rep.spring
     if rep.over_rating:
         console.print(f"warning: {rep.over_rating}", markup=False, highlight=False, soft_wrap=True)
-    stdout.print(("OVER RATING: " if rep.over_rating else "") + f"linearity error {100 * rep.linearity_error:.3f} % (n = {gs.n_polytropic:g}; "
+    stdout.print(("OVER RATING: " if rep.over_rating else "")
+                 + f"linearity error {100 * rep.linearity_error:.3f} % (n = {gs.n_polytropic:g}; "
                  f"{100 * rep.linearity_error_adiabatic:.3f} % at n = 1.4), mean stiffness "
                  f"{rep.mean_stiffness_N_per_mm:.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
                  f"F({gs.travel_mm:g}) = {rep.force_at_travel_N:.1f} N")

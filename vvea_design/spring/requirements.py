@@ -596,7 +596,7 @@ class Requirements:
             req = cls(**kwargs)
         except SpecError as exc:
             raise SpecError(f"{source}: {exc}") from None
-        written = {k: v for k, v in (data.get("fixed") or {}).items() if k in FIXED_FOLLOW}
+        written = {k: float(v) for k, v in (data.get("fixed") or {}).items() if k in FIXED_FOLLOW}
         if written and any(getattr(req.fixed, k) != v for k, v in written.items()):  # the user's own size stays
             object.__setattr__(req, "fixed", replace(req.fixed, **written))
         return req
