@@ -37,6 +37,9 @@ SPEED_UNIT = typer.Option(None, "--speed-unit", help=_UNIT_HELP.format("speed_mm
 NEGATE = typer.Option(None, "--negate", help="a column recorded with the opposite sign (force_N: compression "
                                              "positive; displacement_mm: x < 0 extending); repeat for both")
 
+OVER_RATING = typer.Option(False, "--allow-over-rating", help="accept recordings charged above the --design unit's "
+                           "rating (its max_charge_MPa); the outputs then say OVER RATING")
+
 _DESIGN_HELP = "design JSON of the unit on the bench (its chamber areas, V1, V2 and travel shape the gas terms); default: the paper's Fig. 5 unit"
 
 
@@ -46,13 +49,13 @@ def identify_cmd(
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
     force_unit: str = FORCE_UNIT, displacement_unit: str = DISPLACEMENT_UNIT, time_unit: str = TIME_UNIT,
     pressure_unit: str = PRESSURE_UNIT, valve_unit: str = VALVE_UNIT, speed_unit: str = SPEED_UNIT,
-    negate: list[str] = NEGATE,
+    negate: list[str] = NEGATE, allow_over_rating: bool = OVER_RATING,
 ) -> None:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11."""
     from ..jobs.identification import DesignFileError, RecordingsError, identify
 
     with job_errors(errors=(DesignFileError, RecordingsError)):
-        summary = identify(file, design=design, out=out, negate=negate or (),
+        summary = identify(file, design=design, out=out, negate=negate or (), allow_over_rating=allow_over_rating,
                            units=_units(force_unit, displacement_unit, time_unit, pressure_unit, valve_unit,
                                         speed_unit)).to_dict()
     t = Table(title=f"Table 3 — identified parameters of {file.name}")
@@ -86,7 +89,7 @@ def diagnose_cmd(
     design: Path = typer.Option(None, "--design", help=_DESIGN_HELP),
     force_unit: str = FORCE_UNIT, displacement_unit: str = DISPLACEMENT_UNIT, time_unit: str = TIME_UNIT,
     pressure_unit: str = PRESSURE_UNIT, valve_unit: str = VALVE_UNIT, speed_unit: str = SPEED_UNIT,
-    negate: list[str] = NEGATE,
+    negate: list[str] = NEGATE, allow_over_rating: bool = OVER_RATING,
 ) -> None:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics, show held-out improvement."""
     from ..jobs.identification import DesignFileError, RecordingsError, diagnose
@@ -96,6 +99,7 @@ def diagnose_cmd(
     matplotlib.use("Agg")  # the command draws into files
     with job_errors(errors=(DesignFileError, RecordingsError)):
         run = diagnose(file, design=design, seed=seed, learner=learner, out=out, negate=negate or (),
+                       allow_over_rating=allow_over_rating,
                        units=_units(force_unit, displacement_unit, time_unit, pressure_unit, valve_unit, speed_unit))
     typer.echo(run.summary_text)
     console.print(f"wrote {', '.join(run.files)} to {out} ({run.report.runtime_s:.1f} s)")

@@ -107,8 +107,7 @@ def _infeasible(exc, spec: Optional[Path]) -> None:
 
     if isinstance(exc, Infeasible):
         _print_evaluation(exc.result.evaluation, "least-violating design", exc.result.binding_bounds)
-        _fail(str(exc), code=3)
-    _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # NoBuildableDesign
+    _fail(f"{spec or 'the default requirements'}: {exc}", code=3)  # the file whose fields the message names
 
 
 @app.command()
@@ -138,14 +137,20 @@ def spring(
     design: Path = typer.Argument(..., help="design JSON"),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="folder for spring.csv and spring.png (default: beside the design)"),
     p2: Optional[float] = typer.Option(None, "--p2", help="evaluate at this chamber-2 charge [MPa] (p1 from eq. 7)"),
+    allow_over_rating: bool = typer.Option(False, "--allow-over-rating",
+                                           help="accept a --p2 above the design's rating (its max_charge_MPa); "
+                                                "every output is then labelled OVER RATING"),
 ) -> None:
     """Force curve, stiffness and linearity of a design (rebuilt from its decision variables)."""
     from ..jobs.spring import DesignFileError, spring_report
 
-    with job_errors({"p2_MPa": "--p2"}, errors=(DesignFileError,)):
-        rep = spring_report(design, p2_MPa=p2, out=out or design.parent)
+    with job_errors({"p2_MPa": "--p2", "allow_over_rating": "--allow-over-rating"}, errors=(DesignFileError,)):
+        rep = spring_report(design, p2_MPa=p2, allow_over_rating=allow_over_rating, out=out or design.parent)
     gs = rep.spring
-    stdout.print(f"linearity error {100 * rep.linearity_error:.3f} % (n = {gs.n_polytropic:g}; "
+    if rep.over_rating:
+        console.print(f"warning: {rep.over_rating}", markup=False, highlight=False, soft_wrap=True)
+    stdout.print(("OVER RATING: " if rep.over_rating else "")
+                 + f"linearity error {100 * rep.linearity_error:.3f} % (n = {gs.n_polytropic:g}; "
                  f"{100 * rep.linearity_error_adiabatic:.3f} % at n = 1.4), mean stiffness "
                  f"{rep.mean_stiffness_N_per_mm:.2f} N/mm at p2 = {gs.p2_MPa:.3g} MPa, "
                  f"F({gs.travel_mm:g}) = {rep.force_at_travel_N:.1f} N")
@@ -171,7 +176,7 @@ def check(
 
 @app.command()
 def pareto(
-    axis: str = typer.Option("stiffness", "--axis", help="swept requirement: stiffness | outer_diameter | mass"),
+    axis: str = typer.Option("stiffness", "--axis", help="swept requirement: stiffness | outer_diameter | mass | adiabatic"),
     values: str = typer.Option(..., "--values", help="comma-separated values of the swept requirement"),
     spec: Optional[Path] = typer.Option(None, "--spec", "-s", help="requirements TOML"),
     out: Path = typer.Option(Path("pareto"), "--out", "-o", help="output folder"),

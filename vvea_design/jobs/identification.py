@@ -10,7 +10,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import PathLike, check_option, check_out, design_of, folder, inputs_kept, lazy_errors, moved
+from .common import (OptionError, PathLike, check_option, check_out, design_of, folder, inputs_kept, lazy_errors,
+                     moved)
 
 if TYPE_CHECKING:
     from ..identification.identify import Identification
@@ -63,9 +64,31 @@ def _recordings(recordings: Recordings | PathLike, progress: bool, units: Mappin
         return read_recordings(path, units=units, negate=tuple(negate), reference=unit)
 
 
+def _within_rating(rec: Recordings, design: Any, allow_over_rating: bool) -> Recordings:
+    """Refuse recordings charged above the ``design``'s rating unless asked for; then their notes say so.
+
+    The rating is :func:`vvea_design.jobs.rating.charge_rating` (the ``max_charge_MPa`` the design was optimised
+    for, or the charge its walls are sized for); without a design (the paper's unit) or for a bare gas spring
+    there is none.
+    """
+    from ..spring.gas_spring import GasSpring
+
+    if design is None or isinstance(design, GasSpring) or "p2_MPa" not in rec.data:
+        return rec
+    from ..identification.recordings import RecordingsError
+    from .rating import check_charge
+
+    p = float(rec.data["p2_MPa"].max())
+    try:
+        label = check_charge(design, p, allow_over_rating=allow_over_rating)
+    except OptionError as exc:
+        raise RecordingsError(f"{rec.source}: column p2_MPa: the highest charge p2 {exc.reason}") from None
+    return replace(rec, notes=tuple(rec.notes) + (label,)) if label else rec
+
+
 def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None,
              units: Mapping[str, str] | None = None, negate: Iterable[str] = (), out: PathLike | None = None,
-             progress: bool = True) -> Identification:
+             progress: bool = True, allow_over_rating: bool = False) -> Identification:
     """Fit the paper's eq. 14 (g, C, one L per valve) with uncertainties; Table 3, Figs 10 and 11 (``vvea identify``).
 
     Parameters
@@ -85,6 +108,9 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
         Folder for ``table3.csv``, ``identification.json`` and the figures; None: numbers only (no figures).
     progress : bool
         Say which unit is assumed and show spinners on stderr.
+    allow_over_rating : bool
+        Fit recordings charged above the ``design``'s rating (:mod:`vvea_design.jobs.rating`); their notes (and
+        ``identification.json``) then carry the label.
 
     Returns
     -------
@@ -99,7 +125,8 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     DesignFileError
         A design file that is missing or incomplete.
     RecordingsError
-        A recordings file that cannot be read (names the file, row and column).
+        A recordings file that cannot be read (names the file, row and column), or charged above the
+        ``design``'s rating without ``allow_over_rating``.
     """
     from ..identification.identify import write_identification
     from ..progress import progress_bar
@@ -107,7 +134,7 @@ def identify(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     check_out(out)
     inputs_kept((out,), (recordings, design))
     _, unit = _reference(design, progress)
-    rec = _recordings(recordings, progress, units, negate, unit)
+    rec = _within_rating(_recordings(recordings, progress, units, negate, unit), design, allow_over_rating)
     with progress_bar("fitting eq. 14 and drawing Figs 10/11", total=None, enabled=progress), \
             folder(out, "identify", names=("table3.csv", "identification.json")) as tmp:
         if tmp is not None:
@@ -159,7 +186,7 @@ def _spinner(enabled: bool) -> Iterator[Callable[[str], None]]:
 
 def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | PathLike | None = None, seed: int = 0,
              learner: bool = True, units: Mapping[str, str] | None = None, negate: Iterable[str] = (),
-             out: PathLike | None = None, progress: bool = True) -> DiagnosisRun:
+             out: PathLike | None = None, progress: bool = True, allow_over_rating: bool = False) -> DiagnosisRun:
     """Locate where eq. 14 and the recordings disagree, name and fit the left-out physics (``vvea diagnose``).
 
     Parameters
@@ -181,6 +208,9 @@ def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
         Folder for ``report.json``, ``final_model.json``, ``summary.md``, the figures and ``report.html``.
     progress : bool
         Say which unit is assumed and show a spinner with the current stage on stderr.
+    allow_over_rating : bool
+        Diagnose recordings charged above the ``design``'s rating; the summary (and ``report.html``) then
+        starts with the label.
 
     Returns
     -------
@@ -194,7 +224,8 @@ def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     DesignFileError
         A design file that is missing or incomplete.
     RecordingsError
-        A recordings file that cannot be read.
+        A recordings file that cannot be read, or charged above the ``design``'s rating without
+        ``allow_over_rating``.
     """
     from ..identification.diagnose import DiagnoseSettings, diagnose as run, format_summary, write_diagnosis
     from ..report.html import write_folder_report
@@ -203,10 +234,13 @@ def diagnose(recordings: Recordings | PathLike, *, design: Design | GasSpring | 
     check_out(out)
     inputs_kept((out,), (recordings, design))
     reference, unit = _reference(design, progress)
-    rec = _recordings(recordings, progress, units, negate, unit)
+    rec = _within_rating(_recordings(recordings, progress, units, negate, unit), design, allow_over_rating)
     with _spinner(progress) as say:
         diag = run(rec, DiagnoseSettings(seed=seed, learner=learner), progress=say, reference=reference)
     text = format_summary(diag.report)
+    over = [n for n in rec.notes if n.startswith("OVER RATING")]
+    if over:  # every output of a campaign charged above the rating says so
+        text = "\n".join([*over, text])
     written: dict[str, Path] = {}
     with folder(out, "diagnose") as tmp:  # the report and its figures land together
         if tmp is not None:

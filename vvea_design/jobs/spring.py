@@ -129,6 +129,8 @@ class SpringReport:
     curve: SpringCurve  #: isothermal and adiabatic force curves, deviations, pressures
     layout: str | None  #: the design's layout (None when read from a design file's parameters)
     files: dict[str, Path] = field(default_factory=dict)  #: ``csv``, ``png`` (empty: nothing written)
+    #: ``""``, or the label of a charge above the design's rating computed on request (``allow_over_rating``)
+    over_rating: str = ""
 
     @property
     def linearity_error(self) -> float:
@@ -158,10 +160,12 @@ class SpringReport:
         dict
             ``layout``, ``n_polytropic``, ``p2_MPa``, ``travel_mm``, ``linearity_error`` and
             ``linearity_error_adiabatic`` (fractions), ``mean_stiffness_N_per_mm``, ``force_at_travel_N`` (N),
-            the curve's scalars (stiffness in N/mm, linearity as fractions) and ``files`` (paths as text).
+            the curve's scalars (stiffness in N/mm, linearity as fractions) and ``files`` (paths as text);
+            ``over_rating`` (the label) when computed above the design's rating.
         """
         s = self.spring
-        return {"layout": self.layout, "n_polytropic": float(s.n_polytropic), "p2_MPa": float(s.p2_MPa),
+        return {**({"over_rating": self.over_rating} if self.over_rating else {}),
+                "layout": self.layout, "n_polytropic": float(s.n_polytropic), "p2_MPa": float(s.p2_MPa),
                 "travel_mm": float(s.travel_mm), "linearity_error": self.linearity_error,
                 "linearity_error_adiabatic": self.linearity_error_adiabatic,
                 "mean_stiffness_N_per_mm": self.mean_stiffness_N_per_mm, "force_at_travel_N": self.force_at_travel_N,
@@ -169,7 +173,8 @@ class SpringReport:
                 "files": {k: str(v) for k, v in self.files.items()}}
 
 
-def write_spring_files(spring: GasSpring, out_dir: PathLike, layout: str | None = None) -> dict[str, Path]:
+def write_spring_files(spring: GasSpring, out_dir: PathLike, layout: str | None = None,
+                       label: str = "") -> dict[str, Path]:
     """Write ``spring.csv`` (x, force, stiffness, pressures) and ``spring.png`` into ``out_dir``.
 
     Parameters
@@ -180,6 +185,9 @@ def write_spring_files(spring: GasSpring, out_dir: PathLike, layout: str | None 
         Folder (created).
     layout : str, optional
         The design's layout, named in the figure's title.
+    label : str, optional
+        A warning every file carries (an over-rating charge): the figure's title and a ``# `` first line of
+        the CSV.
 
     Returns
     -------
@@ -196,16 +204,18 @@ def write_spring_files(spring: GasSpring, out_dir: PathLike, layout: str | None 
     P1, P2 = spring.pressures_MPa(x)
     csv_path = out / "spring.csv"
     with open(csv_path, "w", newline="") as fh:
+        if label:
+            fh.write(f"# {label}\n")
         w = csv.writer(fh)
         w.writerow(["x_mm", "force_N", "stiffness_N_per_mm", "P1_MPa", "P2_MPa"])
         for row in zip(x, F, k, P1, P2):
             w.writerow([f"{v:.6g}" for v in row])
-    png = save_figure(plot_spring(spring, extra_charges_MPa=(1.0, 2.0, 4.0), layout=layout), out / "spring.png")
+    png = save_figure(plot_spring(spring, label.split(" (")[0], extra_charges_MPa=(1.0, 2.0, 4.0), layout=layout), out / "spring.png")
     return {"csv": csv_path, "png": png}
 
 
 def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None = None,
-                  out: PathLike | None = None) -> SpringReport:
+                  allow_over_rating: bool = False, out: PathLike | None = None) -> SpringReport:
     """Force curve, stiffness and linearity of a design from its parameters alone (``vvea spring``).
 
     Parameters
@@ -214,20 +224,24 @@ def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None
         The design, its gas spring, or a design JSON (its ``parameters`` alone, paper eq. 5).
     p2_MPa : float, optional
         Evaluate at this chamber-2 charge (p1 from eq. 7); None: the design's own.
+    allow_over_rating : bool
+        Evaluate a ``p2_MPa`` above the design's rating (:func:`vvea_design.jobs.rating.charge_rating`: its
+        ``spec.max_charge_MPa`` or its own charge); the report and every file are then labelled.
     out : path-like, optional
         Folder for ``spring.csv`` and ``spring.png``.
 
     Returns
     -------
     SpringReport
-        The spring, its isothermal and adiabatic curves and the files written.
+        The spring, its isothermal and adiabatic curves, the files written and the over-rating label.
 
     Raises
     ------
     DesignFileError
         A design file that is missing or incomplete.
     OptionError
-        ``p2_MPa`` <= 0, outside the range a real charge has, or above what the design's walls hold.
+        ``p2_MPa`` <= 0, outside the range a real charge has, above what the design's walls hold, or above
+        the design's rating without ``allow_over_rating``.
     OutputError
         ``out`` cannot be written (before any work).
     """
@@ -239,16 +253,20 @@ def spring_report(design: Design | GasSpring | PathLike, *, p2_MPa: float | None
             raise OptionError("p2_MPa", f"must be > 0 MPa, got {p2_MPa}", "{option} {reason}")
         check_option("charge_MPa", p2_MPa, "p2_MPa")
     spring, layout = spring_of(design)  # a design file is rebuilt from its decision variables, never trusted
+    label = ""
     if p2_MPa is not None:
         _within_walls(design, p2_MPa)
+        from .rating import check_charge
+
+        label = check_charge(design, p2_MPa, allow_over_rating=allow_over_rating)
         spring = spring.with_pressures(p2_MPa)
     written: dict[str, Path] = {}
     with folder(out, "spring", names=("spring.csv", "spring.png")) as tmp:
         if tmp is not None:
-            written = write_spring_files(spring, tmp, layout=layout)
+            written = write_spring_files(spring, tmp, layout=layout, label=label)
     if out is not None:
         written = {k: moved(v, tmp, Path(out)) for k, v in written.items()}
-    return SpringReport(spring, spring_curve(spring), layout, written)
+    return SpringReport(spring, spring_curve(spring), layout, written, label)
 
 
 def _within_walls(design: Any, p2_MPa: float) -> None:

@@ -284,29 +284,11 @@ def run_rest_to_rest(out: PathLike | None = None, *, grid: GridLike = "paper",
 
 
 def _within_rating(design: Any, p2_MPa: float) -> None:
-    """Refuse a study charge above the design's rating: the ``max_charge_MPa`` its walls are sized for.
+    """Refuse a study charge above the design's rating (:func:`vvea_design.jobs.rating.charge_rating`: the
+    ``max_charge_MPa`` it was optimised for, or the charge its walls are sized for); a bare gas spring has none."""
+    from .rating import check_charge
 
-    The rating is the stored requirements' ``max_charge_MPa`` (a design file's ``spec``), else the design's own
-    charge; a bare gas spring has no rating.
-    """
-    from ..spring.design import Design
-    from ..spring.design_file import read_design_json
-
-    rated, what = None, ""
-    if isinstance(design, (str, Path)):
-        data = read_design_json(design)
-        spec = data.get("spec") if isinstance(data.get("spec"), dict) else {}
-        rated = spec.get("max_charge_MPa")
-        what = f"{design}: spec.max_charge_MPa"
-        if not isinstance(rated, (int, float)) or isinstance(rated, bool):
-            rated, what = data["parameters"]["p2_MPa"], f"{design}: parameters.p2_MPa"
-    elif isinstance(design, Design):
-        rated, what = design.p2_MPa, "the design's p2_MPa"
-    if rated is not None and p2_MPa > float(rated) * (1 + 1e-9):
-        raise OptionError("p2_MPa", f"= {p2_MPa:g} MPa is above the design's rating ({what} = {float(rated):g} MPa, "
-                          "the charge its walls are sized for at its safety factor); a study at a higher charge "
-                          "would describe a unit that is not built: recharge at most to the rating, or optimise a "
-                          "design for the higher charge (max_charge_MPa)", "{option} {reason}")
+    check_charge(design, p2_MPa)
 
 
 def _check_mapping(pulley_radius_m: float | None, p2_MPa: float | None, gamma_min_deg: float | None,

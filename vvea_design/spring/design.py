@@ -123,7 +123,10 @@ class Design:
                 f"no room for the bladder: the annulus between inner tube (outer radius "
                 f"{self.inner_tube_outer_radius_mm:.2f} mm) and outer tube bore (radius "
                 f"{self.outer_bore_radius_mm:.2f} mm) is {self.annulus_gap_mm:.2f} mm wide, needs more than "
-                f"{need:.2f} mm; reduce piston_diameter_mm or increase outer_diameter_mm"
+                f"{need:.2f} mm (fixed.bladder_thickness_mm = {f.bladder_thickness_mm:g} + 2 x "
+                f"fixed.bladder_min_gap_mm = {f.bladder_min_gap_mm:g}); reduce piston_diameter_mm "
+                f"({self.piston_diameter_mm:g}) or those fixed values, or increase outer_diameter_mm "
+                f"({self.outer_diameter_mm:g})"
             )
         if not self.chamber1_length_mm > 0:
             raise DesignError(f"V1_mm3 ({self.V1_mm3:g}) must exceed fixed.dead_volume_1_mm3 ({f.dead_volume_1_mm3:g})"
@@ -132,7 +135,9 @@ class Design:
         if self.V2_mm3 <= self.displaced_volume_mm3:
             raise DesignError(
                 f"chamber 2 bottoms out inside the stroke: V2_mm3 ({self.V2_mm3:.0f}) <= A2 * travel "
-                f"({self.displaced_volume_mm3:.0f} mm³)"
+                f"({self.displaced_volume_mm3:.0f} mm³: the piston_diameter_mm = {self.piston_diameter_mm:g} annulus "
+                f"around fixed.rod_diameter_mm = {f.rod_diameter_mm:g}, times travel_mm = {f.travel_mm:g}); "
+                f"V2_mm3 must exceed {self.displaced_volume_mm3:.0f} mm³, or shorten the travel or the piston"
             )
         if not self.V2_annulus_mm3 > 0:
             raise DesignError(f"V2_top_mm3 ({self.V2_top_mm3:.0f}) leaves no chamber-2 gas around the bladder "
@@ -594,8 +599,8 @@ class Design:
         """
         f = self.fixed if safety_factor is None else replace(self.fixed, wall_safety_factor=safety_factor)
         f = replace(f, **{fl.name: 1e-6 for fl in fields(f) if fl.name.startswith("min_")})  # every wall's minimum
-        walls = derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, f, self.layout, stresses=False,
-                       masses=False).walls_mm
+        walls = derive(self._variables(), self.p2_MPa, self.setpoint_x0_mm, f, self.layout, joint=self.joint,
+                       stresses=False, masses=False).walls_mm  # the design's own joint (a thread's walls differ)
         return {w: (float(walls[w]) if np.isfinite(walls[w]) else math.inf) for w in self.walls_mm()}
 
     # ------------------------------------------------------------ buildability

@@ -29,6 +29,7 @@ import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from ..progress import progress_bar
+from .contradictions import check_optimiser_options
 from .derive import derive
 from .design import Design, DesignError
 from .joints import EXCLUDED_PAIRS, joint_fits_layout
@@ -48,9 +49,14 @@ __all__ = [
 class Infeasible(RuntimeError):
     """No design meets the requirements; ``result`` holds the least-violating one."""
 
-    def __init__(self, result: "OptimisationResult"):
+    def __init__(self, result: "OptimisationResult", req: Requirements | None = None):
         self.result = result
-        super().__init__(result.infeasibility_message())
+        msg = result.infeasibility_message()
+        if req is not None:  # name the fields behind each miss (vvea_design.spring.explain)
+            from .explain import explain_infeasible
+
+            msg = "\n".join([msg, *explain_infeasible(result.evaluation, req)])
+        super().__init__(msg)
 
 
 class NoBuildableDesign(ValueError):
@@ -444,7 +450,8 @@ def optimise(
     Raises
     ------
     ValueError
-        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``.
+        If ``req.max_bladder_strain`` is set without ``bladder_strain_fn``, or ``popsize``/``maxiter`` below 1,
+        ``tol`` negative or not finite (:func:`vvea_design.spring.contradictions.check_optimiser_options`).
     DesignError
         If a layout name is unknown (the message lists the known ones).
     NoBuildableDesign
@@ -453,6 +460,7 @@ def optimise(
         If no design meets the requirements and ``raise_infeasible`` is true.
     """
     req = req or Requirements()
+    check_optimiser_options(popsize, maxiter, tol, polish, req.max_bladder_strain)
     if req.max_bladder_strain is not None and bladder_strain_fn is None:
         raise ValueError("max_bladder_strain is set: pass bladder_strain_fn (e.g. vvea_design.bladder.check.strain_bound)")
     layouts = tuple(layouts or req.layouts)
@@ -508,7 +516,7 @@ def optimise(
                                 sum(s.generations for s in searches), info.message, polished, searches,
                                 strain_fe, strain_sur, tuple(binding_bounds(design, req)))
     if raise_infeasible and not ev.feasible:
-        raise Infeasible(result)
+        raise Infeasible(result, req)
     return result
 
 

@@ -48,6 +48,8 @@ __all__ = [
     "default_bounds",
     "DEFAULT_BOUNDS",
     "BOUNDS_FOLLOW",
+    "FIXED_FOLLOW",
+    "follow_flow_path",
     "REQUIREMENT_LIMITS",
     "envelope_room",
     "OBJECTIVES",
@@ -115,6 +117,41 @@ BOUNDS_FOLLOW: dict[str, str] = {
     "piston_diameter_mm": "high end scaled up to the widest piston the envelope holds",
     "*_mm3": "high end scaled up to the gas the envelope's bore holds between the end caps",
 }
+
+
+#: The envelope diameter of the paper's unit (mm), the size the default flow path was drawn for.
+PAPER_OUTER_DIAMETER_MM = 59.5
+
+#: The open flow path's largest sizes (``[fixed]``, mm) that follow the envelope under the buildability rules: a
+#: field left at its default (the paper's valve) grows in proportion to ``max_outer_diameter_mm / 59.5`` (rounded
+#: down to 0.5 mm; never below the default). The open-valve damping grows as A2^3 / port^4, so a larger unit with
+#: the paper's 3 mm port cannot meet ``max_parasitic_damping_N_s_per_mm``: a bookkeeping limit, not a physical one.
+FIXED_FOLLOW: tuple[str, ...] = ("throttle_bore_mm", "fluid_channel_mm", "ring_channel_mm")
+
+
+def follow_flow_path(fixed: FixedParameters, max_outer_diameter_mm: float) -> FixedParameters:
+    """The fixed parameters with the flow path's default sizes scaled to the envelope (:data:`FIXED_FOLLOW`).
+
+    Parameters
+    ----------
+    fixed : FixedParameters
+        The fixed parameters; a field of :data:`FIXED_FOLLOW` that differs from its default is the user's and kept.
+    max_outer_diameter_mm : float
+        The envelope's diameter (mm).
+
+    Returns
+    -------
+    FixedParameters
+        ``fixed`` itself at or below the paper's envelope (59.5 mm) or under the gas-only rules; else with each
+        default flow-path size times ``max_outer_diameter_mm / 59.5``, rounded down to 0.5 mm (mm).
+    """
+    scale = max_outer_diameter_mm / PAPER_OUTER_DIAMETER_MM
+    if scale <= 1.0 or fixed.sizing_rules != "buildable":
+        return fixed
+    default = FixedParameters()
+    grown = {name: max(getattr(default, name), math.floor(2 * getattr(default, name) * scale) / 2)
+             for name in FIXED_FOLLOW if getattr(fixed, name) == getattr(default, name)}
+    return replace(fixed, **grown) if grown else fixed
 
 
 def _follow(name: str, lo: float, hi: float, req: "Requirements") -> tuple[float, float]:
@@ -326,11 +363,15 @@ class Requirements:
                                                           wall_safety_factor=self.min_wall_safety_factor))
             except DesignError as exc:  # e.g. fixed.wall_sizing_n below the top-level n_polytropic
                 raise SpecError(f"[fixed] {exc}") from None
+        object.__setattr__(self, "fixed", follow_flow_path(self.fixed, self.max_outer_diameter_mm))
         if max(self.objective_exponents) > self.fixed.wall_sizing_n:
             raise SpecError(f"[fixed] wall_sizing_n ({show(self.fixed.wall_sizing_n)}) is below the exponent "
                             f"{show(max(self.objective_exponents))} the objective evaluates the spring at: the walls "
                             "would be sized for a lower peak pressure than the spring is designed for")
         self._check_room()
+        from .contradictions import check_values
+
+        check_values(self, SpecError)
 
     def _check_room(self) -> None:
         """The envelope leaves room for the servo's mass and the stroke; a travel that short reads as inches."""
@@ -341,9 +382,16 @@ class Requirements:
         min_len = (self.fixed.min_top_cap_mm + self.fixed.min_base_mm + self.fixed.piston_height_mm + self.travel_mm
                    + self.fixed.fluid_clearance_mm)
         if self.max_housing_length_mm <= min_len:
+            f = self.fixed
+            parts = " + ".join(f"{k} {show(v)}" for k, v in (
+                ("[fixed] min_top_cap_mm", f.min_top_cap_mm), ("[fixed] min_base_mm", f.min_base_mm),
+                ("[fixed] piston_height_mm", f.piston_height_mm), ("travel_mm", self.travel_mm),
+                ("[fixed] fluid_clearance_mm", f.fluid_clearance_mm)))
             raise SpecError(
                 f"max_housing_length_mm ({show(self.max_housing_length_mm)}) leaves no room for chamber 1: end caps + piston "
-                f"+ travel + fluid clearance already take {min_len:.1f} mm"
+                f"+ travel + fluid clearance already take {min_len:.1f} mm ({parts}); accepted: max_housing_length_mm "
+                f"> {min_len:.1f}, or travel_mm < {show(round(self.max_housing_length_mm - (min_len - self.travel_mm), 3))}"
+                " (or thinner [fixed] parts), and chamber 1 needs room beyond that"
                 + _inch_hint("max_housing_length_mm", self.max_housing_length_mm)
             )
         room = self.max_housing_length_mm - (min_len - self.travel_mm)  # what the stroke may take at most
@@ -545,9 +593,13 @@ class Requirements:
                     raise SpecError(f"{source}: {key} must be a number, got {show(value)}")
                 kwargs[key] = value
         try:
-            return cls(**kwargs)
+            req = cls(**kwargs)
         except SpecError as exc:
             raise SpecError(f"{source}: {exc}") from None
+        written = {k: float(v) for k, v in (data.get("fixed") or {}).items() if k in FIXED_FOLLOW}
+        if written and any(getattr(req.fixed, k) != v for k, v in written.items()):  # the user's own size stays
+            object.__setattr__(req, "fixed", replace(req.fixed, **written))
+        return req
 
 
 def load_requirements(path: str | Path | None) -> Requirements:
@@ -588,4 +640,8 @@ def load_requirements(path: str | Path | None) -> Requirements:
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
     except (ValueError, RecursionError) as exc:  # an absurd literal tomllib cannot convert
         raise SpecError(f"{path}: not valid TOML: {exc}") from None
-    return Requirements.from_dict(data, source=str(path))
+    req = Requirements.from_dict(data, source=str(path))
+    from .contradictions import check_written
+
+    check_written(req, data, str(path), SpecError)  # settings the file wrote that contradict each other
+    return req

@@ -25,6 +25,7 @@ from ..parallel import parallel_map
 from ..plausibility import check_count
 from .design import Design
 from .layouts import LAYOUTS
+from .parameters import FixedParameters
 from .optimise import _best_polish, _polish, _RowMemo, _starts, optimise
 from .problem import constraint_names, design_from_vector, evaluate_design, evaluate_population
 from .records import Record
@@ -187,14 +188,18 @@ def check_pareto_values(req: Requirements, axis: str, values) -> list[tuple[Requ
     Raises
     ------
     ValueError
-        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), or
-        more than 500 values.
+        An unknown ``axis``, a value that is not a finite number its requirement can take (names it), a
+        value given twice, or more than 500 values. Settings easily misread (one value, a limit of the
+        requirements the sweep replaces) get a :class:`~vvea_design.spring.contradictions.SettingsNote`.
     """
     if axis not in PARETO_AXES:
         raise ValueError(f"unknown Pareto axis {axis!r}; choose one of {sorted(PARETO_AXES)}")
     field_name = PARETO_AXES[axis][0]
     values = list(values)
     check_count("pareto_points", len(values), "the number of values", ValueError)
+    from .contradictions import check_pareto_settings
+
+    check_pareto_settings(req, axis, values)
     points = []
     for i, v in enumerate(values):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -205,11 +210,25 @@ def check_pareto_values(req: Requirements, axis: str, values) -> list[tuple[Requ
             lo = min(b.get("outer_diameter_mm", (25.0,))[0], 0.5 * float(v))
             b["outer_diameter_mm"] = (lo, max(b.get("outer_diameter_mm", (lo, float(v)))[1], float(v)))
             kw["bounds"] = b
+            kw["fixed"] = _unfollowed(req)  # the flow path follows each swept envelope, not the file's
         try:
             points.append((replace(req, **kw), float(v)))
         except ValueError as exc:  # SpecError: a value no requirement can take
             raise ValueError(f"values[{i}] = {v:g}: {exc}") from None
     return points
+
+
+def _unfollowed(req: Requirements) -> FixedParameters:
+    """``req.fixed`` with the flow-path sizes that followed its envelope back at their defaults (a size the user
+    wrote, or one that did not follow, is kept)."""
+    from .requirements import FIXED_FOLLOW, follow_flow_path
+
+    default = FixedParameters()
+    plain = replace(req.fixed, **{n: getattr(default, n) for n in FIXED_FOLLOW})
+    followed = follow_flow_path(plain, req.max_outer_diameter_mm)
+    back = {n: getattr(default, n) for n in FIXED_FOLLOW
+            if getattr(req.fixed, n) == getattr(followed, n) != getattr(default, n)}
+    return replace(req.fixed, **back) if back else req.fixed
 
 
 def save_pareto(rows: list, axis: str, out_dir, title: str = "") -> tuple:
