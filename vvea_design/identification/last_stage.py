@@ -224,13 +224,14 @@ def fit_last_stage(D: FitData, plan, train_fit, final_fit, noise_N: float, setti
     noise_N : float
         Noise floor, N RMS.
     settings : DiagnoseSettings
-        ``last_stage``, ``last_stage_gate`` (x noise), ``last_stage_learner_gain``, ``last_stage_min_gain``,
+        ``last_stage``, ``last_stage_gate`` (x noise), ``last_stage_learner_gain``,
         ``last_stage_min_drop``, ``last_stage_rows``, ``seed``.
     learner : LearnerCheck, optional
         The leftover learner's check on the final residual: its grouped-CV share of explained variance
-        gates the stage (at least ``last_stage_learner_gain`` opens it even when the held-out RMS is within
-        ``last_stage_gate`` x the noise floor -- a sharp structure the noise-floor estimate took for noise;
-        below ``last_stage_min_gain`` closes it), and its permutation importances name the states.
+        opens the stage (at least ``last_stage_learner_gain`` opens it even when the held-out RMS is within
+        ``last_stage_gate`` x the noise floor -- a sharp structure the noise-floor estimate took for noise),
+        and its permutation importances name the states. Whether the stage is kept is decided by the
+        held-out experiments only.
 
     Returns
     -------
@@ -263,10 +264,6 @@ def _fit(D, plan, train_fit, final_fit, noise_N, settings, learner) -> LastStage
         return LastStage(False, False, heldout_before_N=before, cv_gain=gain, description=(
             f"not tried: the held-out RMS {before:.3g} N is within {settings.last_stage_gate:g} x the noise floor {noise_N:.3g} N "
             f"and the leftover learner predicts little of the residual"))
-    if gain is not None and gain < settings.last_stage_min_gain:
-        return LastStage(False, False, cv_gain=gain, heldout_before_N=before, description=(
-            f"not tried: in grouped CV the leftover learner predicts {100 * max(gain, 0):.0f} % of the residual "
-            f"variance (< {100 * settings.last_stage_min_gain:.0f} %)"))
     names = list(FEATURES)
     X = _matrix(D, names)
     fit_rows = _rows(np.flatnonzero(tr_mask), settings.last_stage_rows, seed + 12)

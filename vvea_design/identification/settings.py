@@ -35,7 +35,6 @@ class DiagnoseSettings:
     last_stage: bool = True  #: fit the last stage (gradient-boosted trees on the states the residual depends on; identification.last_stage)
     last_stage_gate: float = 1.1  #: ... only when the held-out RMS exceeds this x the noise floor
     last_stage_learner_gain: float = 0.3  #: ... or when the leftover learner predicts this share of the residual variance
-    last_stage_min_gain: float = 0.05  #: ... and the trees predict this share of the training residual variance in grouped CV
     last_stage_min_drop: float = 0.02  #: ... kept only when it lowers the held-out RMS by this fraction (and by 0.05 x noise)
     last_stage_rows: int = 20000  #: rows sub-sampled to fit the last stage
     min_experiments_cv: int = 6  #: fewer experiments than this: no selection (nothing can be cross-validated)
