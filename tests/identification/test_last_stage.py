@@ -117,3 +117,23 @@ def test_describe_shape_words(D):
     txt = describe_shape(D, ["charge", "velocity"], _Lin(), X)
     assert "the charge p2 (rises with it" in txt
     assert "odd in it" in txt
+
+
+def test_diagnose_reports_the_last_stage(band, tmp_path):
+    from vvea_design.identification.diagnose import diagnose, write_diagnosis
+
+    d = diagnose(band)
+    r = d.report
+    stage = [e for e in r.effects if e.id == RESIDUAL_ID]
+    assert len(stage) == 1 and stage[0].accepted and not stage[0].catalogue
+    assert RESIDUAL_ID in [e.id for e in r.accepted]
+    assert r.heldout.final_N < 0.6 * r.heldout.baseline_N
+    assert r.heldout.steps[-1].effects[-1] == RESIDUAL_ID
+    assert r.heldout.steps[-1].rmse_N < 0.98 * r.heldout.steps[-2].rmse_N  # the stage itself lowers the held-out error
+    files = write_diagnosis(d, tmp_path)
+    assert "last_stage.pkl" in files
+    back = load_final_model(tmp_path / "final_model.json")
+    assert back.model.endswith(RESIDUAL_ID)
+    assert np.all(np.isfinite(back.predict(band)))
+    rep = json.loads((tmp_path / "report.json").read_text())
+    assert rep["heldout_rmse_N"]["final"] == pytest.approx(r.heldout.final_N)
