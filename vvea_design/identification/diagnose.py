@@ -40,13 +40,16 @@ from ..spring.paper import PAPER_FIG5
 from .fit_data import REFERENCE_NOTE, REST_REASON, FitData
 from .fitting import fit_model
 from .guard import failed_checks, heldout_guard, unaccept
+from .last_stage import RESIDUAL_ID, fit_last_stage
 from .noise import NOISE_METHOD, learner_check, noise_floor_N, residual_map
 from .plots import plot_heldout_steps, plot_residual_maps, plot_worst
 from .recordings import Recordings
 from .report import (
     Diagnosis,
     DiagnosisReport,
+    EffectReport,
     HeldOut,
+    HeldOutStep,
     LearnerCheck,
     effect_reports,
     format_summary,
@@ -135,10 +138,17 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
     )
     say("flexible-learner check")
     learner = learner_check(D, res_f, noise, settings) if settings.learner else LearnerCheck(False, False, note="skipped (--no-learner)")
+    say("last stage")
+    last = fit_last_stage(D, plan, steps[-1], final, noise, settings, learner)
+    if last.accepted:
+        hsteps = hsteps + (HeldOutStep(f"+ {RESIDUAL_ID}", tuple(sel) + (RESIDUAL_ID,), last.heldout_after_N),)
+        held = HeldOut(held.assessable, held.baseline_N, last.heldout_after_N, hsteps, held.test_experiments, held.method)
     where_b, where_f = residual_map(D, res_b, noise), residual_map(D, res_f, noise)
-    effects = effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings)
+    effects = effect_reports(D, sel, trials, final, shape_se, hsteps, plan, settings) + _last_stage_report(last)
     where_txt = where_sentences(learner, where_f, noise, held)
-    unexplained = bool(learner.flag or (held.assessable and held.final_N is not None and held.final_N > 2.0 * noise))
+    above = bool(held.assessable and held.final_N is not None and held.final_N > 2.0 * noise)
+    # the learner looks at the parametric residual: once a last stage models it, only the held-out error tells what is left
+    unexplained = above if last.accepted else bool(learner.flag or above)
     report = DiagnosisReport(
         source=getattr(rec, "source", "<data>"),
         reference=ref_note,
@@ -151,7 +161,7 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
         noise_method=NOISE_METHOD,
         baseline_parameters=param_estimates(baseline, "eq14"),
         baseline_rmse_N=baseline.rmse_N,
-        final_model=make_final_model(final, D, shape_se),
+        final_model=make_final_model(final, D, shape_se, last.model if last.accepted else None),
         heldout=held,
         effects=effects,
         unexplained_structure=unexplained,
@@ -165,6 +175,18 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
         runtime_s=time.perf_counter() - t0,
     )
     return Diagnosis(report, baseline, final, D, steps)
+
+
+def _last_stage_report(last) -> tuple:
+    """The last stage as a report entry (none when it was not tried)."""
+    if not last.tried:
+        return ()
+    gain = (None if last.heldout_before_N is None or last.heldout_after_N is None
+            else last.heldout_before_N - last.heldout_after_N)
+    expl = ("Accepted: " if last.accepted else "Not accepted: ") + last.description
+    return (EffectReport(RESIDUAL_ID, False, last.accepted, "a flexible function of the states (not named)", expl,
+                         "not named: structure no catalogue formula or state-library column describes, modelled by what it depends on",
+                         "f_res = trees(" + ", ".join(last.states) + ")", (), None, (), gain if last.accepted else None),)
 
 
 def _clock_note(rec) -> str:
@@ -203,7 +225,13 @@ def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> list[str]:
     (out / "report.json").write_text(json.dumps(r.to_dict(), indent=1))
     (out / "final_model.json").write_text(json.dumps(r.final_model.to_dict(), indent=1))
     (out / "summary.md").write_text(format_summary(r))
+    names = []
+    if r.final_model.last_stage is not None:
+        import pickle
+
+        (out / "last_stage.pkl").write_bytes(pickle.dumps(r.final_model.last_stage))
+        names = ["last_stage.pkl"]
     for name, fig in (("residual_maps.png", plot_residual_maps(r)), ("heldout_per_effect.png", plot_heldout_steps(r)), ("worst_experiments.png", plot_worst(diag))):
         fig.savefig(out / name, dpi=80)
         plt.close(fig)
-    return ["report.json", "final_model.json", "summary.md", "residual_maps.png", "heldout_per_effect.png", "worst_experiments.png"]
+    return ["report.json", "final_model.json", "summary.md", "residual_maps.png", "heldout_per_effect.png", "worst_experiments.png"] + names

@@ -338,7 +338,7 @@ def plot_heldout_steps(r: DiagnosisReport, fig=None):
     steps = [s for s in r.heldout.steps if s.rmse_N is not None]
     if steps:
         xi = np.arange(len(steps))
-        cols = ["C3"] + ["C0" if REGISTRY[s.effects[-1]].catalogue else "C1" for s in steps[1:]]
+        cols = ["C3"] + ["C0" if s.effects[-1] in REGISTRY and REGISTRY[s.effects[-1]].catalogue else "C1" for s in steps[1:]]
         ax.bar(xi, [s.rmse_N for s in steps], color=cols)
         for x, s in zip(xi, steps):
             ax.text(x, s.rmse_N, f"{s.rmse_N:.1f}", ha="center", va="bottom", fontsize=8)

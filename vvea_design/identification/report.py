@@ -29,6 +29,7 @@ from .effects import REGISTRY, is_effect_id
 from .effects.force_lag import ForceFilter
 from .fit_data import FitData
 from .fitting import ModelFit
+from .last_stage import RESIDUAL_ID, ResidualModel
 
 if TYPE_CHECKING:
     from .settings import DiagnoseSettings
@@ -246,10 +247,17 @@ class FinalModel:
     valves: tuple
     reference: GasSpring
     rmse_N: float
+    last_stage: ResidualModel | None = None  #: the flexible last stage on the residual (identification.last_stage)
+    last_stage_info: dict | None = None  #: its JSON (kept when read back without the trees)
 
     @property
     def model(self) -> str:
-        return "eq14" + "".join(f" + {e}" for e in self.effects)
+        return "eq14" + "".join(f" + {e}" for e in self.effects) + (f" + {RESIDUAL_ID}" if self.has_last_stage else "")
+
+    @property
+    def has_last_stage(self) -> bool:
+        """Whether the model ends with a last stage (fitted trees on the residual)."""
+        return self.last_stage is not None or bool(self.last_stage_info)
 
     def predict(self, D: FitData) -> np.ndarray:
         """Force of the final model at the samples of ``D`` (new motions of the same unit).
@@ -280,7 +288,12 @@ class FinalModel:
             for i in range(sl.start, sl.stop):
                 theta[i] = byname[prefix + params[i].name]
         fit = ModelFit(self.effects, dict(self.shapes), params, theta, np.zeros_like(theta), 0.0, 0, groups)
-        return fit.predict(D)
+        out = fit.predict(D)
+        if self.has_last_stage:
+            if self.last_stage is None:
+                raise ValueError("the final model ends with a last stage whose trees were not loaded (last_stage.pkl missing)")
+            out = out + self.last_stage.predict(D)
+        return out
 
     def to_dict(self) -> dict:
         """The final model as JSON (``final_model.json``; :meth:`from_dict` reads it back).
@@ -304,6 +317,7 @@ class FinalModel:
             rmse_N=_f(self.rmse_N),
             residual_sign=RESIDUAL_SIGN,
             equations={e: REGISTRY[e].equation for e in self.effects},
+            last_stage=(self.last_stage.to_dict() if self.last_stage is not None else self.last_stage_info),
         )
 
     @classmethod
@@ -335,7 +349,8 @@ class FinalModel:
             for k, v in d["parameters"].items()
         )
         return cls(tuple(d["effects"]), {k: (np.nan if v is None else float(v)) for k, v in d["shapes"].items()}, params,
-                   tuple(d["valves_deg"]), GasSpring(**d["reference"]), float(d["rmse_N"] or np.nan))
+                   tuple(d["valves_deg"]), GasSpring(**d["reference"]), float(d["rmse_N"] or np.nan),
+                   last_stage_info=d.get("last_stage") or None)
 
 
 def load_final_model(path: str | Path) -> FinalModel:
@@ -354,9 +369,22 @@ def load_final_model(path: str | Path) -> FinalModel:
     Raises
     ------
     ValueError
-        If the file is not a vvea final-model file or names unknown effects.
+        If the file is not a vvea final-model file, names unknown effects, or ends with a last stage
+        whose trees file (``last_stage.pkl`` beside it, a pickle: read only files you wrote) is missing.
     """
-    return FinalModel.from_dict(json.loads(Path(path).read_text()))
+    import pickle
+    from dataclasses import replace
+
+    fm = FinalModel.from_dict(json.loads(Path(path).read_text()))
+    if fm.last_stage_info:
+        pkl = Path(path).parent / fm.last_stage_info.get("file", "last_stage.pkl")
+        if not pkl.exists():
+            raise ValueError(f"{path} ends with a last stage but its trees file {pkl} is missing")
+        model = pickle.loads(pkl.read_bytes())
+        if not isinstance(model, ResidualModel):
+            raise ValueError(f"{pkl} does not hold a last stage (ResidualModel)")
+        fm = replace(fm, last_stage=model)
+    return fm
 
 
 @dataclass(frozen=True)
@@ -391,7 +419,8 @@ class DiagnosisReport:
     def accepted(self) -> tuple:
         """The accepted terms, in the order they were accepted."""
         acc = {e.id: e for e in self.effects if e.accepted}
-        return tuple(acc[i] for i in self.final_model.effects if i in acc)
+        order = tuple(self.final_model.effects) + ((RESIDUAL_ID,) if self.final_model.has_last_stage else ())
+        return tuple(acc[i] for i in order if i in acc)
 
     @property
     def accepted_catalogue_ids(self) -> tuple:
@@ -520,7 +549,7 @@ def param_estimates(fit: ModelFit, group: str, shape_se: dict | None = None, pre
     return tuple(out)
 
 
-def make_final_model(final: ModelFit, D: FitData, shape_se: dict) -> FinalModel:
+def make_final_model(final: ModelFit, D: FitData, shape_se: dict, last_stage: ResidualModel | None = None) -> FinalModel:
     """The final model of the report (every parameter, eq. 14's first, named ``effect.parameter``).
 
     Parameters
@@ -531,6 +560,8 @@ def make_final_model(final: ModelFit, D: FitData, shape_se: dict) -> FinalModel:
         The campaign (its valve positions in deg and reference unit are kept).
     shape_se : dict
         Fold-jackknife standard error of each shape parameter, in its unit (e.g. s, mm).
+    last_stage : ResidualModel, optional
+        The accepted last stage (its force in N is added to the prediction).
 
     Returns
     -------
@@ -542,7 +573,7 @@ def make_final_model(final: ModelFit, D: FitData, shape_se: dict) -> FinalModel:
         sl = final.groups[e]
         params += [ParamEstimate(f"{e}.{q.name}", float(v), float(s), q.unit, q.meaning) for q, v, s in zip(final.params[sl], final.theta[sl], final.se[sl])]
     shapes = {e: float(final.shapes.get(e, np.nan)) for e in final.effects}
-    return FinalModel(tuple(final.effects), shapes, tuple(params), tuple(D.valves), D.reference, final.rmse_N)
+    return FinalModel(tuple(final.effects), shapes, tuple(params), tuple(D.valves), D.reference, final.rmse_N, last_stage)
 
 
 def worst_experiments(D: FitData, rec, res_b: np.ndarray, res_f: np.ndarray) -> tuple:

@@ -32,4 +32,9 @@ class DiagnoseSettings:
     candidates: tuple = EFFECT_IDS  #: catalogue effect ids to test
     discovery: tuple = DISCOVERY_IDS  #: discovery operators to test (empty: catalogue only)
     library: bool = True  #: each selection round also tests the sparse state-library candidate (effects.library)
+    last_stage: bool = True  #: fit the last stage (gradient-boosted trees on the states the residual depends on; identification.last_stage)
+    last_stage_gate: float = 1.1  #: ... only when the held-out RMS exceeds this x the noise floor
+    last_stage_learner_gain: float = 0.3  #: ... or when the leftover learner predicts this share of the residual variance
+    last_stage_min_drop: float = 0.02  #: ... kept only when it lowers the held-out RMS by this fraction (and by 0.05 x noise)
+    last_stage_rows: int = 20000  #: rows sub-sampled to fit the last stage
     min_experiments_cv: int = 6  #: fewer experiments than this: no selection (nothing can be cross-validated)
