@@ -4,6 +4,7 @@ bladder cuffs); each failure raises :class:`~vvea_design.cad.layout.CadError` na
 
 from __future__ import annotations
 
+from ..spring.ports import MIN_FILL_PORT_MM
 from .errors import CadError
 
 # ``Layout`` (vvea_design.cad.layout, which imports this module) appears in the annotations only, unevaluated.
@@ -65,8 +66,9 @@ def check_layout(lay: Layout) -> None:
                        f"({lay.outer_bore_radius_mm:.2f} mm): V2_mm3 too small")
     if lay.ring_channel_d < 0.5:
         raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
-    if lay.fill_port_d < 0.5:
-        raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
+    if lay.fill_port_d < MIN_FILL_PORT_MM:
+        raise CadError(f"no room for the chamber-2 fill port outside the bladder ({lay.fill_port_d:.2f} mm < "
+                       f"{MIN_FILL_PORT_MM:g} mm: the design's chamber2_port_room)")
     if lay.x_valve_inner >= lay.r_channel_a - lay.base_channel_d / 2:
         raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
     if lay.has_piston_pocket:

@@ -1,0 +1,70 @@
+"""The chamber-2 fill port's room: the optimiser's ``chamber2_port_room`` is the CAD's rule
+(:mod:`vvea_design.spring.ports`), on the safe side by at most the ISO 3601 groove's depth window, and a design it
+rejects is one the CAD cannot draw (``examples/small_40.toml``'s optimum before the constraint)."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.cad.cases import JOINTS, OTHERS, REFERENCE
+from tests.helpers import REPO
+from vvea_design.cad import CadError
+from vvea_design.cad.layout import Layout
+from vvea_design.spring import ports
+from vvea_design.spring.design_file import load_design
+from vvea_design.spring.joints import bd_warehouse_rows
+from vvea_design.spring.problem import constraint_names, evaluate_design
+from vvea_design.spring.requirements import Requirements, load_requirements
+
+#: ``examples/small_40.toml``'s optimum (seed 0) before the optimiser had the constraint: the CAD could not draw it.
+NO_ROOM = REPO / "tests" / "spring" / "data" / "small_40_no_port_room.json"
+
+
+def _depth_window_mm(w: float) -> float:
+    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv") if abs(float(r["w"]) - w) < 1e-6)
+    return w * (float(row["sq_r_p_max"]) - float(row["sq_r_p_min"])) / 100
+
+
+@pytest.mark.parametrize("design", [REFERENCE, *OTHERS.values(), *JOINTS.values()],
+                         ids=["reference", *OTHERS, *JOINTS])
+def test_the_design_guarantees_the_port_the_cad_drills(design):
+    """The design's room never exceeds the CAD's (its groove root is the deepest the gland allows) and falls short
+    of it by at most PORT_ROOM_FRACTION x the gland's depth window; the CAD's port is min(fill_port_mm, room)."""
+    lay = Layout(design)
+    cad_room = float(ports.chamber2_port_room_mm(lay._seal_root_near_port2, lay.bladder_outer_radius_mm, lay.bead_mm))
+    mine = float(design.derived.chamber2_port_room_mm)
+    g = lay.base_seal if lay.has_top_annulus else lay.cap_seal
+    assert mine <= cad_room + 1e-9
+    assert cad_room - mine <= ports.PORT_ROOM_FRACTION * _depth_window_mm(g.oring.cross_section_mm) + 1e-9
+    assert lay.fill_port_d == pytest.approx(min(lay.cad.fill_port_mm, cad_room), abs=1e-12)
+    assert lay.fill_port_d >= ports.MIN_FILL_PORT_MM
+    assert lay.bead_mm == pytest.approx(float(ports.bead_height_mm(
+        lay.inner_tube_outer_radius_mm, lay.bladder_inner_radius_mm, lay.outer_bore_radius_mm,
+        lay.bladder_outer_radius_mm)), abs=1e-12)
+
+
+def test_the_constraint_is_searched_and_reported():
+    req = Requirements()
+    for layout in ("inner_tube", "bulkhead", "annulus_top"):
+        assert "chamber2_port_room" in constraint_names(req, layout, search=True)
+        assert "chamber2_port_room" in constraint_names(req, layout)
+    ev = evaluate_design(REFERENCE, req)
+    d = ev.details["chamber2_port_room"]
+    assert d["unit"] == "mm" and d["kind"] == "min" and d["limit"] == ports.MIN_FILL_PORT_MM
+    assert d["value"] == pytest.approx(float(REFERENCE.derived.chamber2_port_room_mm), rel=1e-12)
+    assert ev.margins["chamber2_port_room"] == pytest.approx(d["value"] - ports.MIN_FILL_PORT_MM, rel=1e-12)
+
+
+def test_a_design_without_port_room_is_infeasible_and_names_it():
+    """small_40's old optimum: 0.37 mm of room (the CAD's groove gives 0.42 mm) < 0.5 mm; the evaluation names the
+    constraint as violated and the CAD's error names it too."""
+    design = load_design(NO_ROOM)
+    req = load_requirements(REPO / "examples" / "small_40.toml")
+    ev = evaluate_design(design, req)
+    assert ev.details["chamber2_port_room"]["value"] == pytest.approx(0.37218, abs=1e-5)
+    assert ev.margins["chamber2_port_room"] == pytest.approx(0.37218 - 0.5, abs=1e-5)
+    assert not ev.feasible
+    assert "chamber2_port_room" in ev.binding()
+    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room"]
+    with pytest.raises(CadError, match=r"chamber-2 fill port .*0\.42 mm < 0\.5 mm: the design's chamber2_port_room"):
+        Layout(design)

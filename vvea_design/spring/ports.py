@@ -1,0 +1,135 @@
+"""The chamber-2 fill port's room: one rule for the optimiser and the CAD.
+
+The chamber-2 gas is charged through a port drilled axially through the bladder clamp's spigot (the top cap's;
+in ``annulus_top`` the base's), between the bladder's sealing bead and the root of the spigot's static O-ring
+groove. The CAD drills it ``min(cad.fill_port_mm, PORT_ROOM_FRACTION x (groove root radius - bead's outer
+radius))`` wide and cannot draw a port narrower than :data:`MIN_FILL_PORT_MM`
+(:attr:`vvea_design.cad.layout.Layout.fill_port_d`); the optimiser's constraint ``chamber2_port_room`` asks the
+same of every design (:func:`chamber2_port_room_mm` with the deepest groove root the ISO 3601 static gland allows,
+:func:`static_groove_root_radius_min_mm`, so a design that meets it always draws).
+
+The bead's height (:func:`bead_height_mm`) is the CAD's and the damper's flow path's too
+(:mod:`vvea_design.spring.hydraulics`). Lengths mm; vectorised over a population.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import Array
+from .joints import SERIES_MM, bd_warehouse_rows, static_male_cross_section_mm
+
+__all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_HEIGHT_MM", "bead_height_mm", "chamber2_port_room_mm",
+           "static_groove_root_radius_min_mm", "design_chamber2_port_room_mm"]
+
+#: The narrowest chamber-2 fill port the CAD drills (a Ø0.5 mm drill; below it the charging valve's flow and the
+#: drill's life are not worth a design), mm.
+MIN_FILL_PORT_MM = 0.5
+#: Share of the radial land between the bead and the groove's root the port may take (the rest: 20 % wall on
+#: each side of the drilling), dimensionless.
+PORT_ROOM_FRACTION = 0.6
+#: The spigots' O-ring series of a design sized by the gas-only rules (no joint: the CAD's
+#: ``cad.CadParameters.oring_cross_section_mm``), mm.
+GAS_ONLY_SEAL_MM = 1.78
+#: Largest radial height of the bladder's sealing beads (``cad.CadParameters.bead_height_mm``), mm.
+BEAD_HEIGHT_MM = 0.4
+
+
+def bead_height_mm(inner_tube_outer_radius_mm, bladder_inner_radius_mm, outer_bore_radius_mm,
+                   bladder_outer_radius_mm, largest_mm: float = BEAD_HEIGHT_MM) -> Array:
+    """Radial height of the bladder's sealing beads: ``largest_mm``, shrunk to a quarter of the free gap on
+    either side of the cast bladder, mm.
+
+    Parameters
+    ----------
+    inner_tube_outer_radius_mm, bladder_inner_radius_mm, outer_bore_radius_mm, bladder_outer_radius_mm : array
+        Radii of the inner tube's outside, the cast bladder's inside and outside and the outer bore, mm.
+    largest_mm : float
+        The largest bead (the CAD's ``bead_height_mm``), mm.
+
+    Returns
+    -------
+    ndarray
+        Bead height, mm.
+    """
+    rio, rbi, rb, rbo = (np.asarray(v, dtype=float) for v in (inner_tube_outer_radius_mm, bladder_inner_radius_mm,
+                                                              outer_bore_radius_mm, bladder_outer_radius_mm))
+    return np.fmin(largest_mm, np.fmin(0.25 * (rbi - rio), 0.25 * (rb - rbo)))
+
+
+def chamber2_port_room_mm(seal_root_radius_mm, bladder_outer_radius_mm, bead_mm) -> Array:
+    """Widest chamber-2 fill port between the bladder's bead and the spigot's seal groove root, mm.
+
+    Parameters
+    ----------
+    seal_root_radius_mm : array
+        Root radius of the spigot's static O-ring groove, mm.
+    bladder_outer_radius_mm : array
+        The cast bladder's outer radius, mm.
+    bead_mm : array
+        The sealing bead's height (:func:`bead_height_mm`), mm.
+
+    Returns
+    -------
+    ndarray
+        ``PORT_ROOM_FRACTION x (root - (bladder outer radius + bead))``, mm (a port needs at least
+        :data:`MIN_FILL_PORT_MM`).
+    """
+    return PORT_ROOM_FRACTION * (np.asarray(seal_root_radius_mm, dtype=float)
+                                 - np.asarray(bladder_outer_radius_mm, dtype=float) - np.asarray(bead_mm, dtype=float))
+
+
+def _deepest_static_groove_mm(cross_section_mm: float) -> float:
+    """Deepest radial groove of an ISO 3601 static male gland (the least squeeze of bd_warehouse's table), mm."""
+    row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv")
+               if abs(float(r["w"]) - cross_section_mm) < 1e-6)
+    return cross_section_mm * (1 - float(row["sq_r_p_min"]) / 100)
+
+
+def static_groove_root_radius_min_mm(bore_radius_mm, cross_section_mm: float) -> Array:
+    """Smallest root radius of the static male O-ring groove that seals a bore: the ring of the preferred series
+    where one fits (:func:`~vvea_design.spring.joints.static_male_cross_section_mm`), its groove at the deepest
+    the ISO 3601 squeeze window allows (the CAD's groove, whichever standard ring it seats, is never deeper), mm.
+
+    Parameters
+    ----------
+    bore_radius_mm : array
+        Radius of the bore the ring seals on, mm.
+    cross_section_mm : float
+        The preferred O-ring cross-section, mm (1.78 or 2.62).
+
+    Returns
+    -------
+    ndarray
+        Root radius, mm.
+    """
+    rb = np.asarray(bore_radius_mm, dtype=float)
+    w = static_male_cross_section_mm(2 * rb, cross_section_mm)
+    depth = np.select([w == s for s in SERIES_MM], [_deepest_static_groove_mm(s) for s in SERIES_MM], np.nan)
+    return rb - depth
+
+
+def design_chamber2_port_room_mm(outer_bore_radius_mm, inner_tube_outer_radius_mm, bladder_inner_radius_mm,
+                                 bladder_outer_radius_mm, cross_section_mm: float) -> Array:
+    """The chamber-2 fill port a design guarantees the CAD (the optimiser's ``chamber2_port_room``), mm.
+
+    Both spigots the port may pass (the top cap's, the base's in ``annulus_top``) seal on the outer bore with a
+    static male gland; the groove is taken at its deepest (:func:`static_groove_root_radius_min_mm`).
+
+    Parameters
+    ----------
+    outer_bore_radius_mm, inner_tube_outer_radius_mm, bladder_inner_radius_mm, bladder_outer_radius_mm : array
+        Radii of the outer bore, the inner tube's outside and the cast bladder, mm.
+    cross_section_mm : float
+        The preferred cross-section of the spigot's O-ring (``fixed.joint_seal_cross_section_mm``; 1.78 without
+        a joint), mm.
+
+    Returns
+    -------
+    ndarray
+        Port room, mm (>= :data:`MIN_FILL_PORT_MM` draws).
+    """
+    bead = bead_height_mm(inner_tube_outer_radius_mm, bladder_inner_radius_mm, outer_bore_radius_mm,
+                          bladder_outer_radius_mm)
+    root = static_groove_root_radius_min_mm(outer_bore_radius_mm, cross_section_mm)
+    return chamber2_port_room_mm(root, bladder_outer_radius_mm, bead)
