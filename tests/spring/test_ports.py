@@ -68,3 +68,26 @@ def test_a_design_without_port_room_is_infeasible_and_names_it():
     assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room"]
     with pytest.raises(CadError, match=r"chamber-2 fill port .*0\.42 mm < 0\.5 mm: the design's chamber2_port_room"):
         Layout(design)
+
+
+def test_the_piston_seal_fit_is_the_cads_gland():
+    """piston_seal_fit >= 0 exactly where the CAD seats a standard ring on the piston (every 0.01 mm from Ø12 to
+    Ø50, the optimiser's range), with the edges of the windows resolved to 1e-3 mm."""
+    import numpy as np
+
+    from vvea_design.cad.seals import SealError, piston_gland
+
+    def draws(b):
+        try:
+            piston_gland(float(b))
+            return True
+        except SealError:
+            return False
+
+    bores = np.round(np.arange(12.0, 50.0, 0.01), 6)
+    fit = ports.piston_seal_fit_mm(bores)
+    clear = np.abs(fit) > 1e-3  # off the window edges
+    assert [draws(b) for b in bores[clear]] == list(fit[clear] > 0)
+    assert (~np.asarray([draws(b) for b in bores[fit < -1e-3]])).all() and (fit < -0.05).any()  # gaps exist
+    assert ports.piston_seal_fit_mm(19.03) == pytest.approx(19.406 - 19.03, abs=1e-9)  # inside a window to 19.406
+    assert ports.piston_seal_fit_mm(19.60) == pytest.approx(19.406 - 19.60, abs=1e-9)  # in the gap to 19.8368

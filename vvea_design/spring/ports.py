@@ -1,4 +1,4 @@
-"""The chamber-2 fill port's room: one rule for the optimiser and the CAD.
+"""What the CAD must find room for, as the optimiser's constraints: the chamber-2 fill port and the piston's seal.
 
 The chamber-2 gas is charged through a port drilled axially through the bladder clamp's spigot (the top cap's;
 in ``annulus_top`` the base's), between the bladder's sealing bead and the root of the spigot's static O-ring
@@ -8,11 +8,18 @@ radius))`` wide and cannot draw a port narrower than :data:`MIN_FILL_PORT_MM`
 same of every design (:func:`chamber2_port_room_mm` with the deepest groove root the ISO 3601 static gland allows,
 :func:`static_groove_root_radius_min_mm`, so a design that meets it always draws).
 
+The piston's O-ring (``piston_seal_fit``): the CAD seats a standard ISO 3601-1 ring of the 1.78 or 2.62 mm series
+in a male dynamic gland (0 ... 5 % stretch on the groove's root, the squeeze in bd_warehouse's dynamic window,
+:func:`vvea_design.cad.seals.piston_gland`); the ring sizes leave gaps, and a piston bore in a gap cannot be
+sealed. :func:`piston_seal_fit_mm` is how far the bore lies inside the nearest window (negative: in a gap).
+
 The bead's height (:func:`bead_height_mm`) is the CAD's and the damper's flow path's too
 (:mod:`vvea_design.spring.hydraulics`). Lengths mm; vectorised over a population.
 """
 
 from __future__ import annotations
+
+from functools import lru_cache
 
 import numpy as np
 
@@ -20,7 +27,8 @@ from .geometry import Array
 from .joints import SERIES_MM, bd_warehouse_rows, static_male_cross_section_mm
 
 __all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_HEIGHT_MM", "bead_height_mm", "chamber2_port_room_mm",
-           "static_groove_root_radius_min_mm", "design_chamber2_port_room_mm"]
+           "static_groove_root_radius_min_mm", "design_chamber2_port_room_mm", "MIN_PISTON_SEAL_FIT_MM",
+           "piston_seal_windows_mm", "piston_seal_fit_mm"]
 
 #: The narrowest chamber-2 fill port the CAD drills (a Ø0.5 mm drill; below it the charging valve's flow and the
 #: drill's life are not worth a design), mm.
@@ -31,6 +39,9 @@ PORT_ROOM_FRACTION = 0.6
 #: The spigots' O-ring series of a design sized by the gas-only rules (no joint: the CAD's
 #: ``cad.CadParameters.oring_cross_section_mm``), mm.
 GAS_ONLY_SEAL_MM = 1.78
+#: How far inside a ring's window the piston's bore must lie (a design on a window's edge is one rounding away
+#: from a gap), mm.
+MIN_PISTON_SEAL_FIT_MM = 0.01
 #: Largest radial height of the bladder's sealing beads (``cad.CadParameters.bead_height_mm``), mm.
 BEAD_HEIGHT_MM = 0.4
 
@@ -133,3 +144,44 @@ def design_chamber2_port_room_mm(outer_bore_radius_mm, inner_tube_outer_radius_m
                           bladder_outer_radius_mm)
     root = static_groove_root_radius_min_mm(outer_bore_radius_mm, cross_section_mm)
     return chamber2_port_room_mm(root, bladder_outer_radius_mm, bead)
+
+
+@lru_cache(maxsize=1)
+def piston_seal_windows_mm() -> np.ndarray:
+    """The piston bores a standard O-ring of the 1.78 or 2.62 mm series seals in a male dynamic gland, mm.
+
+    A ring of inner diameter ``d`` and cross-section ``w`` seats when its groove root lies in
+    ``[d, 1.05 d]`` (0 ... 5 % stretch) and the groove depth in ``w (1 - squeeze)`` over bd_warehouse's dynamic
+    squeeze window: the bore lies in ``[d + 2 w (1 - sq_max), 1.05 d + 2 w (1 - sq_min)]``.
+
+    Returns
+    -------
+    ndarray
+        Rows (lowest, highest bore), mm.
+    """
+    out = []
+    for w in SERIES_MM:
+        row = next(r for r in bd_warehouse_rows("o-ring_dynamic_gland_parameters.csv") if abs(float(r["w"]) - w) < 1e-6)
+        lo_d, hi_d = w * (1 - float(row["sq_p_max"]) / 100), w * (1 - float(row["sq_p_min"]) / 100)
+        out += [(d + 2 * lo_d, 1.05 * d + 2 * hi_d) for d in (float(r["iso3601:id"]) for r in
+                bd_warehouse_rows("o-ring_parameters.csv") if r.get("iso3601:w") and abs(float(r["iso3601:w"]) - w) < 1e-6)]
+    return np.array(sorted(out))
+
+
+def piston_seal_fit_mm(piston_diameter_mm) -> Array:
+    """How far the piston's bore lies inside the nearest window of :func:`piston_seal_windows_mm` (the distance to
+    the window's nearer edge; negative in a gap between the standard rings: the CAD cannot seal it), mm.
+
+    Parameters
+    ----------
+    piston_diameter_mm : float or array
+        The piston's bore, mm.
+
+    Returns
+    -------
+    ndarray
+        Fit, mm.
+    """
+    b = np.asarray(piston_diameter_mm, dtype=float)[..., None]
+    win = piston_seal_windows_mm()
+    return np.max(np.fmin(b - win[:, 0], win[:, 1] - b), axis=-1)
