@@ -108,17 +108,21 @@ def glands(lay: Layout) -> tuple[tuple[Gland, int, str], ...]:
     Returns
     -------
     tuple of (Gland, int, str)
-        Piston (2), rod, then the static ones: top cap, base, collar -- those the layout has.
+        Piston (2), rod, then the static ones: top cap, base, collar, the inner tube's seats in the base and the
+        top cap, the fill tube's neck -- those the layout has.
     """
     out = [(lay.piston_seal, 2, "piston seal (dynamic)"), (lay.rod_seal, 1, "rod seal in the base (dynamic)")]
-    for g in (lay.cap_seal, lay.base_seal, lay.collar_seal):
+    seats = lay.seats
+    extra = (seats.base, seats.top, seats.fill) if seats is not None else ()
+    for g in (lay.cap_seal, lay.base_seal, lay.collar_seal, *extra):
         if g is not None:
             out.append((g, 1, g.where))
     return tuple(out)
 
 
 def o_rings(ctx: BomContext) -> tuple[BomLine, ...]:
-    """The O-rings the grooves were sized for: piston (2), rod, and the static ones (top cap, base, collar).
+    """The O-rings the grooves were sized for: piston (2), rod, and the static ones (top cap, base, collar, the
+    inner tube's seats, the fill tube's neck).
 
     Parameters
     ----------

@@ -203,7 +203,9 @@ def general_notes(lay: Layout) -> tuple[str, ...]:
         seals and the compound.
     """
     ps, rs = lay.piston_seal, lay.rod_seal
-    static = [g for g in (lay.cap_seal, lay.base_seal, lay.collar_seal) if g is not None]
+    seats = lay.seats
+    extra = (seats.base, seats.top, seats.fill) if seats is not None else ()
+    static = [g for g in (lay.cap_seal, lay.base_seal, lay.collar_seal, *extra) if g is not None]
     return (
         "All dimensions in mm. General tolerances ISO 2768-m; ISO 8015. Edges ISO 13715 -0.2 unless stated.",
         f"Sliding fits ISO 286 H8/f7: piston bore {fit_text(2 * lay.r_piston, 'H8')}, "

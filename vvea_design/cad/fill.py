@@ -55,7 +55,7 @@ def oil_fill_mm3(lay: Layout) -> dict[str, float]:
     """
     from .bladder import _collector_depth
     from .features import relief_thread_depth
-    from .parts import lead_in_ring_mm3
+    from .parts import lead_in_ring_mm3, tube_bottom_lead_in
 
     d, c = lay.design, lay.cad
     z0, zv = lay.z_base_top, lay.z_valve
@@ -71,7 +71,7 @@ def oil_fill_mm3(lay: Layout) -> dict[str, float]:
     seat = lay.relief_seat_d / 2
     spring_len = max(lay.r_outer - relief_thread_depth(lay) - x_b, 0.0)
     relief = math.pi * seat**2 * (x_b - lay.x_valve_inner) + math.pi * (lay.relief_d / 2) ** 2 * spring_len
-    li = lay.lead_in_piston
+    li, _ = tube_bottom_lead_in(lay)
     out = {"column": d.A2_mm2 * d.fluid_column_mm, "bladder": bladder, "ring_channels": ring,
            "base_channels": channels, "relief_bore": relief,
            "lead_in": lead_in_ring_mm3(lay.r_piston, li.depth_mm, li.length_mm, outward=True)}

@@ -1,13 +1,9 @@
-"""Derived CAD dimensions: one place that turns a frozen :class:`Design` into
-the radii and axial levels every part is drawn from.
+"""Derived CAD dimensions: one place that turns a frozen :class:`Design` into the radii and axial levels every
+part is drawn from. Frame (all parts, assembly): axis = global Z, ``z = 0`` at the underside of the base, the top
+cap's top face at ``z = housing_length_mm``. ``x > 0`` (extension) moves the piston *down*, towards the base.
 
-Frame (all parts, assembly): axis = global Z, ``z = 0`` at the underside of
-the base, the top cap's top face at ``z = housing_length_mm``. ``x > 0``
-(extension) moves the piston *down*, towards the base, by ``x`` mm.
-
-The numbers the design does not fix (feature sizes: seal grooves, ports,
-valve bores, mould walls, shrinkage) are :class:`CadParameters`; they never
-change a volume or an area the optimiser saw. All lengths in mm.
+The numbers the design does not fix (feature sizes: seal grooves, ports, valve bores, mould walls, shrinkage) are
+:class:`CadParameters`; they never change a volume or an area the optimiser saw. All lengths in mm.
 """
 
 from __future__ import annotations
@@ -17,13 +13,13 @@ from dataclasses import asdict, dataclass, fields, replace
 from functools import cached_property
 
 from ..spring.design import Design
-from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM
-from ..spring.joints import seal_lead_in_land_mm
+from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM, seal_lead_in_land_mm
 from ..spring.ports import bead_height_mm, chamber2_port_room_mm
 from .errors import CadError
 from .joints import JointGeometry, joint_geometry
 from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
 from .seals import Gland, LeadIn, SealError, lead_in, piston_gland, rod_gland, static_male_gland
+from .tube_seats import TubeSeats, tube_seats
 
 #: The damper's sizes the design owns (``fixed.*``): :class:`CadParameters` keeps them only as aliases of the
 #: defaults; the CAD draws the design's values.
@@ -295,6 +291,12 @@ class Layout:
         design sized by the gas-only rules)."""
         return joint_geometry(self.design, self.z_cap, self.z_top)
 
+    @cached_property
+    def seats(self) -> TubeSeats | None:
+        """The inner tube's ends (and the fill tube's neck) seated and sealed in the end pieces
+        (:func:`~vvea_design.cad.tube_seats.tube_seats`); None under the gas-only rules."""
+        return tube_seats(self)
+
     @property
     def has_joint(self) -> bool:
         """The design sized a joint (threads, a retaining ring or tie rods) and the CAD draws it."""
@@ -462,8 +464,7 @@ class Layout:
     @cached_property
     def bead_mm(self) -> float:
         """Radial height of the sealing beads (shrunk to a quarter of the free gap if needed)."""
-        return float(bead_height_mm(self.inner_tube_outer_radius_mm, self.bladder_inner_radius_mm,
-                                    self.outer_bore_radius_mm, self.bladder_outer_radius_mm, self.cad.bead_height_mm))
+        return float(bead_height_mm(self.inner_tube_outer_radius_mm, self.bladder_inner_radius_mm, self.outer_bore_radius_mm, self.bladder_outer_radius_mm, self.cad.bead_height_mm))
 
     @property
     def r_gas2_inner(self) -> float:
@@ -496,8 +497,7 @@ class Layout:
 
     @cached_property
     def fill_port_d(self) -> float:
-        """Diameter of the chamber-2 port through the spigot, between the bladder's bead and the seal groove
-        (:func:`~vvea_design.spring.ports.chamber2_port_room_mm`, the optimiser's ``chamber2_port_room``), mm."""
+        """Chamber-2 port through the spigot, between the bead and the seal groove (:mod:`vvea_design.spring.ports`), mm."""
         room = chamber2_port_room_mm(self._seal_root_near_port2, self.bladder_outer_radius_mm, self.bead_mm)
         return min(self.cad.fill_port_mm, float(room))
 

@@ -125,7 +125,12 @@ def _check_seals_and_ports(lay: Layout) -> None:
         if g.groove_diameter_mm / 2 - lay.r_base_spigot < 2 * wall + 0.5:
             raise CadError(f"outer_diameter_mm: the {name}'s seal groove (root Ø{g.groove_diameter_mm:.2f}) leaves no "
                            f"room for the chamber-2 port beside the bladder's bead (Ø{2 * lay.r_base_spigot:.2f})")
-    _ = lay.lead_in_piston, lay.lead_in_rod, lay.lead_in_outer_bottom, lay.lead_in_outer_top
+    _ = lay.lead_in_piston, lay.lead_in_rod, lay.lead_in_outer_bottom, lay.lead_in_outer_top, lay.seats
+    s = lay.seats
+    if s is not None and s.top is not None and lay.has_cross_port and not lay.has_top_annulus:
+        if lay.z_cross_port - 0.5 * c.plug_bore_mm < s.z_top_end + wall - 1e-9:
+            raise CadError(f"fixed.min_top_cap_mm = {f.min_top_cap_mm:g} mm: the chamber-2 cross port runs through "
+                           f"the inner tube's seat in the top cap ({s.depth_mm:.2f} mm deep)")
     R, spot = lay.outer_radius_mm, 0.5 * c.valve_spot_face_mm
     if not lay.has_top_annulus:
         # the two valves on the top face (+y): chamber 1 (axis or r_port1) and chamber 2 (y_valve2)

@@ -4,9 +4,10 @@ A :class:`LeakPath` names the joint or port, the two spaces it would join (chamb
 outside), the seal that closes it and its standard, or says that it is **open** and what it needs. The report
 prints the list; nothing is marked sealed that the CAD does not draw.
 
-The joints of the inner tube to the base and to the top cap and of the ``annulus_top`` plain cap to the outer
-tube have no room for an O-ring in today's geometry: they are open until the joints' footprint (threads, tie
-rods or retaining rings, sized by the design) gives them one.
+Under the buildability rules the inner tube's ends sit in seats of the base and of the top cap, each sealed by a
+static O-ring on the end piece's spigot in the tube's bore, and the bulkhead's fill tube has a neck sealed in the
+cap (:mod:`vvea_design.cad.tube_seats`). A design sized by the gas-only rules has no seats: its tube ends butt on
+the end pieces and the gas-only ``annulus_top`` plain cap has no spigot; the audit lists those paths as open.
 """
 
 from __future__ import annotations
@@ -78,27 +79,45 @@ def leak_paths(lay: Layout) -> tuple[LeakPath, ...]:
         LeakPath("base spigot in the outer tube", "chamber 2 | outside", _oring(lay.base_seal, "base seal"), iso),
         LeakPath("bladder's lower cuff in the base spigot", "chamber 2 | oil", "bladder bead", "-", bead),
         LeakPath("bladder's upper cuff in its clamp", "chamber 2 | oil", "bladder bead", "-", bead),
-        LeakPath("inner tube on the base", "oil in the column | oil in the bladder (a throttle bypass)", "", "",
-                 "lapped faces clamped by the joint, internal leak only; an O-ring needs room the joint's footprint "
-                 "has to give (the valve bores leave 2 mm of base under it)"),
     ]
-    if lay.cap_seal is not None:
-        out += [LeakPath("top cap spigot in the outer tube", "chamber 2 | outside", _oring(lay.cap_seal, "cap seal"),
-                         iso),
-                LeakPath("inner tube's top end at the top cap", f"{top_inside} | oil (along the tube under the clamp)",
-                         "", "", "needs a static O-ring at the tube's end: no room between the tube and the cuff's "
-                                 "groove; the joint's footprint has to give it")]
+    seats = lay.seats
+    bypass = "oil in the column | oil in the bladder (a throttle bypass)"
+    if seats is not None:
+        out.append(LeakPath("inner tube on the base", bypass, _oring(seats.base, "tube seat seal (base)"), iso,
+                            f"the tube's end {seats.depth_mm:.2f} mm deep in the base's seat, the ring on the seat's "
+                            "spigot seals on the tube's bore"))
     else:
+        out.append(LeakPath("inner tube on the base", bypass, "", "",
+                            "gas-only rules: the tube butts on the base (lapped faces, internal leak only); the "
+                            "buildability rules seat it with an O-ring"))
+    if lay.cap_seal is not None:
+        out.append(LeakPath("top cap spigot in the outer tube", "chamber 2 | outside", _oring(lay.cap_seal, "cap seal"),
+                            iso))
+    if not lay.has_top_annulus and seats is not None:
+        out.append(LeakPath("inner tube's top end at the top cap", f"{top_inside} | oil (along the tube under the "
+                            "clamp)", _oring(seats.top, "tube seat seal (top cap)"), iso,
+                            f"the tube's end {seats.depth_mm:.2f} mm deep in the cap's seat, the ring on the seat's "
+                            "spigot seals on the tube's bore"))
+    elif not lay.has_top_annulus:
+        out.append(LeakPath("inner tube's top end at the top cap", f"{top_inside} | oil (along the tube under the "
+                            "clamp)", "", "", "gas-only rules: the tube butts on the cap; the buildability rules seat "
+                            "it with an O-ring"))
+    if lay.cap_seal is None:
         out.append(LeakPath("top cap on the outer tube", "chamber 1 (annulus) | outside", "", "",
                             "the plain cap has no spigot: a seal needs the joint's footprint (a spigot or a sealed "
                             "joint face) inside the chamber-1 annulus"))
     if lay.collar_seal is not None:
         out.append(LeakPath("collar in the outer tube", "chamber 1 | chamber 2", _oring(lay.collar_seal, "collar seal"),
                             iso))
-    if lay.has_bulkhead:
+    if lay.has_bulkhead and seats is not None:
+        out.append(LeakPath("fill tube's top end at the top cap", "chamber 1 | chamber 2",
+                            _oring(seats.fill, "fill tube neck seal"), iso,
+                            f"the fill tube's Ø{2 * seats.neck_radius_mm:g} neck in the cap's bore, the ring in the "
+                            "cap's groove"))
+    elif lay.has_bulkhead:
         out.append(LeakPath("fill tube's top end at the top cap", "chamber 1 | chamber 2", "", "",
-                            "needs a static O-ring around the fill tube (no ISO 3601-1 ring fits Ø"
-                            f"{2 * lay.r_fill_tube_out:.2f} with 0-5 % stretch; a Ø3.8 neck and O-ring 007 would)"))
+                            "gas-only rules: the fill tube butts on the cap; the buildability rules give it a neck "
+                            "and an O-ring"))
     valve = "charging valve with its own seal on the spot face (bought)"
     out += [
         LeakPath("port: chamber-1 charging valve", "chamber 1 | outside", valve, "ISO 261 M5x0.8"),

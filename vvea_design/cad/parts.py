@@ -16,10 +16,11 @@ from build123d import Axis, Solid
 
 from ._shapes import bar, cut, cylinder, fuse, revolved, ring
 from .layout import Layout
+from .seals import LeadIn
 from .bladder import bladder as _bladder
 
 __all__ = ["housing", "housing_pieces", "piston", "piston_head", "piston_volume_mm3", "piston_faces_mm2",
-           "base_spigot_profile", "lead_in_ring_mm3"]
+           "base_spigot_profile", "lead_in_ring_mm3", "tube_bottom_lead_in", "seat_regions"]
 
 
 def base_spigot_profile(lay: Layout) -> list[tuple[float, float]]:
@@ -146,6 +147,7 @@ def _top_tools(lay: Layout) -> list[Solid]:
         li = lay.lead_in_outer_top  # where the ring enters the bore (behind a thread or the counterbore)
         tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_top, li.depth_mm, li.length_mm, outward=True,
                                    upward=False))
+    tools += _seat_tools(lay)
     # chamber 1: the fill tube's bore on the axis (bulkhead) or a port over the piston; its valve's tapped hole
     if lay.has_bulkhead:
         tools.append(cylinder(lay.r_fill_tube_bore, lay.z_bulkhead0 - 0.01, zt + 1))
@@ -158,6 +160,64 @@ def _top_tools(lay: Layout) -> list[Solid]:
         return tools
     tools.extend(_chamber2_tools(lay, lay.z_free1 - 0.01, z1 - 0.01 if lay.has_bulkhead else None, tap_z, zt, +1))
     return tools
+
+
+def tube_bottom_lead_in(lay: Layout) -> tuple[LeadIn, float]:
+    """The lead-in chamfer of the inner tube's bore at its bottom end and the level of that end: in the base's seat
+    with a joint (the seat's ring and the piston's rings pass it), else on the base's top, mm.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    (LeadIn, float)
+        The chamfer (angle deg, length and depth mm) and the tube's bottom end, mm.
+    """
+    s = lay.seats
+    return (s.lead_in_bottom, s.z_base_floor) if s is not None else (lay.lead_in_piston, lay.z_base_top)
+
+
+def _seat_tools(lay: Layout) -> list[Solid]:
+    """The top cap's side of the seats: the static seal's groove in the cap's spigot inside the tube's bore and the
+    lead-in of the tube's top end; the fill tube's neck: the cap's groove around it and the neck's chamfer, mm."""
+    s, tools = lay.seats, []
+    if s is not None and s.top is not None:
+        tools.append(ring(s.top.groove_diameter_mm / 2, lay.r_piston, *s.z_top_groove))
+        li = s.lead_in_top
+        tools.append(_lead_in_tool(lay.r_piston, s.z_top_end, li.depth_mm, li.length_mm, outward=True, upward=False))
+    if s is not None and s.fill is not None:
+        rn, li = s.neck_radius_mm, s.lead_in_neck
+        tools.append(ring(rn, s.fill.groove_diameter_mm / 2, *s.z_neck_groove))
+        tools.append(_lead_in_tool(rn, s.z_neck_top, li.depth_mm, li.length_mm, outward=False, upward=False))
+    return tools
+
+
+def seat_regions(lay: Layout) -> list[Solid]:
+    """The inner tube's material inside the end pieces' seats (its ends, the fill tube's neck): the regions the
+    tube takes from the base and the top cap when the united housing is cut into pieces, mm.
+
+    Parameters
+    ----------
+    lay : Layout
+        Radii and axial levels of the design, mm (z = 0 under the base).
+
+    Returns
+    -------
+    list of Solid
+        Empty without seats (the gas-only rules).
+    """
+    s = lay.seats
+    if s is None:
+        return []
+    out = [ring(lay.r_piston, lay.r_inner_tube, s.z_base_floor, lay.z_base_top)]
+    if s.top is not None:
+        out.append(ring(lay.r_piston, lay.r_inner_tube, lay.z_cap, s.z_top_end))
+    if s.fill is not None:
+        out.append(cylinder(s.neck_radius_mm, lay.z_cap, s.z_neck_top))
+    return out
 
 
 def _chamber2_tools(lay: Layout, z_port: float, z_riser: float | None, tap_z: float, z_face: float,
@@ -200,8 +260,10 @@ def _base_tools(lay: Layout) -> list[Solid]:
     li = lay.lead_in_outer_bottom
     tools.append(_lead_in_tool(lay.r_bore, lay.z_lead_in_bottom, li.depth_mm, li.length_mm, outward=True,
                                upward=True))
-    li = lay.lead_in_piston
-    tools.append(_lead_in_tool(lay.r_piston, z0, li.depth_mm, li.length_mm, outward=True, upward=True))
+    li, zb = tube_bottom_lead_in(lay)  # at the tube's bottom end (in the base's seat with a joint)
+    tools.append(_lead_in_tool(lay.r_piston, zb, li.depth_mm, li.length_mm, outward=True, upward=True))
+    if lay.seats is not None:  # the base's spigot in the tube's bore: its static seal
+        tools.append(ring(lay.seats.base.groove_diameter_mm / 2, lay.r_piston, *lay.seats.z_base_groove))
     zv = lay.z_valve
     # rotary throttle: radial bore along +x, channels up from it
     tools.append(bar(lay.throttle_d / 2, (lay.x_valve_inner, 0, zv), (1, 0, 0), lay.r_outer + 1 - lay.x_valve_inner))
@@ -278,6 +340,11 @@ def housing_pieces(lay: Layout, united: Solid | None = None) -> dict[str, Solid]
     if lay.has_top_annulus:  # the collar is part of the inner tube
         regions["housing_inner_tube"] = fuse(cylinder(lay.r_inner_tube, z0, z1),
                                              ring(lay.r_inner_tube, lay.r_bore, lay.z_free1, lay.z_collar1))
+    seats = seat_regions(lay)
+    if seats:  # the tube's ends (and the fill tube's neck) in the end pieces' seats
+        regions["housing_inner_tube"] = fuse(regions["housing_inner_tube"], *seats)
+        for k in ("housing_base", "housing_top_cap"):
+            regions[k] = cut(regions[k], *seats)
     regions = {k: regions[k] for k in ("housing_base", "housing_outer_tube", "housing_inner_tube", "housing_top_cap")}
     from ._shapes import single_solid
 

@@ -46,7 +46,7 @@ from .gas import gas_chamber_1, gas_chamber_2
 from .housing_joints import outer_tube_profile
 from .layout import Layout
 from .mould import Mould, mould, mould_core_volume_mm3
-from .parts import housing, housing_pieces, lead_in_ring_mm3, piston, piston_volume_mm3
+from .parts import housing, housing_pieces, lead_in_ring_mm3, piston, piston_volume_mm3, tube_bottom_lead_in
 from .sheets import housing_base_sheet, inner_tube_sheet, outer_tube_sheet, piston_sheet, top_cap_sheet
 
 __all__ = ["Part", "PartContext", "PartMaterial", "PARTS", "GROUPS", "HATCHES", "all_parts", "get_part", "parts_in",
@@ -316,8 +316,17 @@ def _outer_tube_mm3(lay: Layout) -> float:
 
 def _inner_tube_mm3(lay: Layout) -> float:
     v = math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * (lay.z_cap - lay.z_base_top)
-    li = lay.lead_in_piston  # the bore's lead-in for the piston's rings at the bottom end
+    li, _ = tube_bottom_lead_in(lay)  # the bore's lead-in for the piston's rings (and the seat's) at the bottom end
     v -= lead_in_ring_mm3(lay.r_piston, li.depth_mm, li.length_mm, outward=True)
+    s = lay.seats
+    if s is not None:  # the tube's ends in the end pieces' seats, the top end's lead-in, the fill tube's neck
+        ends = (lay.z_base_top - s.z_base_floor) + (s.z_top_end - lay.z_cap if s.top is not None else 0.0)
+        v += math.pi * (lay.r_inner_tube**2 - lay.r_piston**2) * ends
+        if s.top is not None:
+            v -= lead_in_ring_mm3(lay.r_piston, s.lead_in_top.depth_mm, s.lead_in_top.length_mm, outward=True)
+        if s.fill is not None:
+            v += math.pi * (s.neck_radius_mm**2 - lay.r_fill_tube_bore**2) * (s.z_neck_top - lay.z_cap)
+            v -= lead_in_ring_mm3(s.neck_radius_mm, s.lead_in_neck.depth_mm, s.lead_in_neck.length_mm, outward=False)
     if lay.has_bulkhead:  # + the bulkhead web and the fill tube, minus the tube's bore through the web
         d = lay.design
         v += math.pi * (lay.r_piston**2 - lay.r_fill_tube_bore**2) * d.bulkhead_mm

@@ -163,28 +163,42 @@ def assembly_plan(lay: Layout) -> tuple[AssemblyStep, ...]:
     zr = lay.z_piston_bottom(0.0) - d.rod_length_mm
     cuff = ("until its upper cuff snaps into the collar's groove" if lay.has_top_annulus else
             "(its upper cuff is clamped by the top cap later)")
+    seats = lay.seats
+    z_tube0 = seats.z_base_floor if seats is not None else z0  # the inner tube's bottom end
+    top_rings = tuple(k for k, g in (("tube_top", seats and seats.top), ("fill_tube", seats and seats.fill)) if g)
+    seat_text = ""
+    if top_rings:
+        seat_text = (f" Fit O-ring {seats.top.oring.code} on the spigot in the cap's seat"
+                     + (f" and O-ring {seats.fill.oring.code} into the groove round the fill tube's neck bore"
+                        if seats.fill is not None else "") + "; the tube's top end enters the seat over its lead-in.")
     cap = (f"Fit the top cap's O-ring {lay.cap_seal.oring.code}; lower the cap: its spigot enters the outer tube "
-           "over the tube's top lead-in and clamps the bladder's upper cuff in its groove."
+           "over the tube's top lead-in and clamps the bladder's upper cuff in its groove." + seat_text
            if lay.cap_seal is not None else "Lower the plain top cap onto the tubes.")
+    cap_start = max(z1 - lay.z_free1, seats.depth_mm if seats is not None else 0.0,
+                    seats.z_neck_top - z1 if seats is not None and seats.fill is not None else 0.0) + 1.0
+    base_rings = ("rod", "base") + (("tube_base",) if seats is not None else ())
+    seat_base = (f" and O-ring {seats.base.oring.code} onto the spigot in the inner tube's seat"
+                 if seats is not None else "")
     steps = [
         (f"Fit the rod O-ring {lay.rod_seal.oring.code} and the base spigot's O-ring {lay.base_seal.oring.code} "
-         "into the base's grooves (lubricate with the unit's oil).", (), (), 0.0, ("rod", "base")),
+         f"into the base's grooves{seat_base} (lubricate with the unit's oil).", (), (), 0.0, base_rings),
         (f"Fit the piston's two O-rings {lay.piston_seal.oring.code}; push the piston, rod first, into the inner "
          "tube from its bottom end (the bore's lead-in guides the rings).", ("piston",), ("housing_inner_tube",),
-         -(lay.z_piston_top(0.0) - z0 + 1.0), ("piston",)),
+         -(lay.z_piston_top(0.0) - z_tube0 + 1.0), ("piston",)),
         (f"Press the bladder's lower cuff into the support ring; slide both over the inner tube from its bottom end "
          f"{cuff}.", ("bladder", "support_ring"), ("housing_inner_tube", "piston"),
          -(lay.z_bladder1 - z0 + 1.0), ("collar",) if lay.has_top_annulus else ()),
         ("Lower the inner tube with piston, bladder and support ring onto the base: the rod passes the rod seal "
          "(rod-end lead-in), the support ring enters the base spigot, the bladder's outer bead snaps into the "
-         "spigot's groove.", ("housing_inner_tube", "piston", "bladder", "support_ring"), ("housing_base",),
+         "spigot's groove" + ("; the tube's bottom end enters its seat over the bore's lead-in." if seats is not None
+                              else "."), ("housing_inner_tube", "piston", "bladder", "support_ring"), ("housing_base",),
          z0 - zr + 1.0, ()),
         ("Slide the outer tube down over the bladder onto the base: the spigot's O-ring"
          + (" and the collar's" if lay.has_top_annulus else "") + " enter the bore over its bottom lead-in.",
          ("housing_outer_tube",), ("housing_base", "housing_inner_tube", "support_ring", "piston"),
          z1 - z0 + 1.0, ()),
         (cap, ("housing_top_cap",), ("housing_outer_tube", "housing_inner_tube", "piston"),
-         z1 - lay.z_free1 + 1.0, ("cap",) if lay.cap_seal is not None else ()),
+         cap_start, (("cap",) if lay.cap_seal is not None else ()) + top_rings),
         ("Fit the housing's joints as their drawings and records state (threads, tie rods or retaining rings; "
          "torques in the parts list).", (), (), 0.0, ()),
         (f"Oil: with the piston held at x = 0 and the unit upright, evacuate and fill "
@@ -315,6 +329,13 @@ def ring_paths(lay: Layout) -> dict[str, tuple[Gland, str, str, tuple[tuple[floa
         out["cap"] = (lay.cap_seal, "housing_top_cap", "housing_outer_tube", (lay.z_cap_seal,))
     if lay.collar_seal is not None:
         out["collar"] = (lay.collar_seal, "housing_inner_tube", "housing_outer_tube", (lay.z_collar_seal,))
+    s = lay.seats
+    if s is not None:  # the end pieces' spigots in the tube's bore, the cap's groove round the fill tube's neck
+        out["tube_base"] = (s.base, "housing_base", "housing_inner_tube", (s.z_base_groove,))
+        if s.top is not None:
+            out["tube_top"] = (s.top, "housing_top_cap", "housing_inner_tube", (s.z_top_groove,))
+        if s.fill is not None:
+            out["fill_tube"] = (s.fill, "housing_top_cap", "housing_inner_tube", (s.z_neck_groove,))
     return out
 
 

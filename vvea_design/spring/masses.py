@@ -26,7 +26,7 @@ import numpy as np
 from ..materials.structural import DENSITY_HYDRAULIC_OIL_g_per_mm3, DENSITY_SILICONE_g_per_mm3, get_material
 from .geometry import Array
 from .joints import (INTERNAL_RUNOUT_PITCHES, LEAD_IN_GAP_MM, LEAD_IN_MIN_LENGTH_MM, RUNOUT_PITCHES, THREAD_PITCH_MM,
-                     bd_warehouse_rows, SERIES_MM, seal_lead_in_land_mm, static_gland_width_mm,
+                     bd_warehouse_rows, SERIES_MM, seal_lead_in_land_mm, seal_zone_mm, static_gland_width_mm,
                      static_male_cross_section_mm)
 
 __all__ = ["CAD_FEATURES", "part_volumes_mm3", "part_masses_g", "overlap_mm3", "dynamic_gland_mm", "lead_in_mm3"]
@@ -347,6 +347,41 @@ def _joint_deltas(g: dict, js, fixed) -> tuple[dict[str, Array], dict[str, Array
     return dv, own
 
 
+#: The bulkhead fill tube's neck in the top cap (``cad.tube_seats.FILL_NECK_MM``; O-ring 007 seats on it), mm.
+FILL_NECK_MM = 3.8
+
+
+def _seat_deltas(g: dict, fixed, layout) -> dict[str, Array]:
+    """What the seats of the inner tube's ends (and the fill tube's neck) move between the pieces, mm³ (the CAD's
+    :mod:`vvea_design.cad.tube_seats`): each end one seal zone deep in a seat of its end piece, whose spigot inside the
+    tube's bore carries a static gland; the tube's bore chamfered at both ends for that ring (at the bottom it
+    replaces the piston's lead-in: the seat's ring protrudes further); ``bulkhead``: the neck in the cap, the cap's
+    groove around it, the neck's chamfer. ``annulus_top`` seats only the bottom end."""
+    pi, rp, rio = math.pi, g["rp"], g["rio"]
+    land = fixed.seal_land_mm
+    cs = static_male_cross_section_mm(2 * rp, fixed.joint_seal_cross_section_mm)
+    dep, wid = _static_gland(cs)
+    h = sum(np.where(cs == w, seal_zone_mm(w, land), 0.0) for w in SERIES_MM)
+    li = sum(np.where(cs == w, lead_in_mm3(rp, w, _static_gland_depth_mm(w), True,
+                                           seal_lead_in_land_mm(w, land) - LEAD_IN_GAP_MM), 0.0) for w in SERIES_MM)
+    pd = dynamic_gland_mm(CAD_FEATURES["oring_cross_section_mm"])[0]
+    end = pi * (rio**2 - rp**2) * h
+    groove = pi * (rp**2 - (rp - dep) ** 2) * wid
+    dv = {"housing_inner_tube": end - li + lead_in_mm3(rp, CAD_FEATURES["oring_cross_section_mm"], pd, True),
+          "housing_base": -end - groove, "housing_top_cap": 0.0}
+    if not layout.has_top_annulus:
+        dv["housing_inner_tube"] = dv["housing_inner_tube"] + end - li
+        dv["housing_top_cap"] = -end - groove
+    if layout.has_bulkhead:
+        rn, rfb = FILL_NECK_MM / 2, fixed.fill_tube_bore_mm / 2
+        fd = _static_gland_depth_mm(1.78)
+        neck = pi * (rn**2 - rfb**2) * seal_zone_mm(1.78, land)
+        room = seal_lead_in_land_mm(1.78, land) - LEAD_IN_GAP_MM
+        dv["housing_inner_tube"] = dv["housing_inner_tube"] + neck - lead_in_mm3(rn, 1.78, fd, False, room)
+        dv["housing_top_cap"] = dv["housing_top_cap"] - neck - pi * ((rn + fd) ** 2 - rn**2) * static_gland_width_mm(1.78)
+    return dv
+
+
 def part_masses_g(g: dict, fixed, layout, joint_sizing=None, fluid_volume_mm3=0.0) -> dict[str, Array]:
     """Every part's mass, g: the made parts (CAD volume x their material's density), the joint's own parts, the
     oil and the lumped servo and valve.
@@ -376,7 +411,8 @@ def part_masses_g(g: dict, fixed, layout, joint_sizing=None, fluid_volume_mm3=0.
     own = {}
     if joint_sizing is not None:
         dv, own = _joint_deltas(g, joint_sizing, f)
-        v = {k: val + dv.get(k, 0.0) for k, val in v.items()}
+        seats = _seat_deltas(g, f, layout)
+        v = {k: val + dv.get(k, 0.0) + seats.get(k, 0.0) for k, val in v.items()}
     rho_h = get_material(f.housing_material).density_g_per_mm3
     rho_r = get_material(f.rod_material).density_g_per_mm3
     rho_s = get_material(f.support_ring_material).density_g_per_mm3
