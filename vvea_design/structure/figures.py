@@ -140,7 +140,9 @@ def _axes(bounds_mm, win):
     ax_all.set_autoscale_on(False)
     ax_all.apply_aspect()
     box = ax_all.get_position()
-    if box.width * 11.0 < 1.0:  # a thin wall drawn to scale: its two radii, upright, so no labels collide
+    if box.width * 11.0 < 0.35:  # a very thin wall drawn to scale: one upright label with both radii
+        ax_all.set_xticks([0.5 * (r0 + r1)], [f"{r0:.1f}–{r1:.1f}"], rotation=90, fontsize=8)
+    elif box.width * 11.0 < 1.0:  # a thin wall: its two radii, upright, so no labels collide
         ax_all.set_xticks([r0, r1], [f"{r0:.1f}", f"{r1:.1f}"], rotation=90, fontsize=8)
     else:
         ax_all.xaxis.set_major_locator(MaxNLocator(nbins=max(2, int(box.width * 11.0 / 0.45)), steps=[1, 2, 2.5, 5, 10]))
