@@ -58,8 +58,13 @@ def check_unit(name: str, req: Requirements, out: Path, reuse: bool = False) -> 
                      "z_mm": g.peak.z_mm, "feature": g.peak.feature, "safety": g.safety,
                      "required_safety": g.required_safety, "margin": g.safety / g.required_safety - 1,
                      "passes": w.passes, "nominal_safety": g.nominal_safety})
+    from vvea_design.spring.concentration import concentration_factors
+
+    perf = json.loads(path.read_text())["performance"]
     return {"unit": name, "layout": design.layout, "joint": design.joint,
-            "outer_diameter_mm": design.outer_diameter_mm, "passes": fe.passes, "fe_seconds": fe.seconds,
+            "outer_diameter_mm": design.outer_diameter_mm, "linearity_error": perf["linearity_error"],
+            "mass_g": perf["mass_g"], "factors": dict(concentration_factors()), "passes": fe.passes,
+            "fe_seconds": fe.seconds,
             "fe_cpu_seconds": fe.cpu_seconds, "seconds": time.perf_counter() - t, "walls": rows}
 
 
@@ -84,11 +89,12 @@ def corner_radii(names: list[str], out: Path, radii=(0.2, 0.5, 1.0)) -> dict:
 
 def table(results: list[dict]) -> str:
     """A Markdown table of every unit's walls."""
-    lines = ["| unit | wall | governing case | FE peak (Tresca) MPa | feature at (r, z) mm | safety | required | "
-             "margin | verdict |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| unit | linearity | wall | governing case | FE peak (Tresca) MPa | feature at (r, z) mm | safety | "
+             "required | margin | verdict |", "|---|---|---|---|---|---|---|---|---|---|"]
     for u in results:
         for r in u["walls"]:
-            lines.append(f"| {u['unit']} ({u['layout']}, {u['joint']}) | {r['wall']} | {r['governing_case']} | "
+            lines.append(f"| {u['unit']} ({u['layout']}, {u['joint']}) | {100 * u['linearity_error']:.4f} % | "
+                         f"{r['wall']} | {r['governing_case']} | "
                          f"{r['peak_tresca_MPa']:.0f} | {r['feature']} ({r['r_mm']:.1f}, {r['z_mm']:.1f}) | "
                          f"{r['safety']:.2f} | {r['required_safety']:.2f} | {100 * r['margin']:+.0f} % | "
                          f"{'PASS' if r['passes'] else 'FAIL'} |")
