@@ -14,7 +14,7 @@ from functools import cached_property
 
 from ..spring.design import Design
 from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM, seal_lead_in_land_mm
-from ..spring.ports import bead_height_mm, chamber2_port_room_mm
+from ..spring.ports import VALVE_ROD_WALL_MM, bead_height_mm, chamber2_port_room_mm
 from .errors import CadError
 from .joints import JointGeometry, joint_geometry
 from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
@@ -578,7 +578,7 @@ class Layout:
     @property
     def x_valve_inner(self) -> float:
         """Inner end of the radial valve bores (keeps 1.5 mm of wall to the rod bore)."""
-        return self.rod_radius_mm + 1.5
+        return self.rod_radius_mm + VALVE_ROD_WALL_MM
 
     # ----------------------------------------------------------- levels
     @property

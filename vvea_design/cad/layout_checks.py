@@ -4,7 +4,7 @@ bladder cuffs); each failure raises :class:`~vvea_design.cad.layout.CadError` na
 
 from __future__ import annotations
 
-from ..spring.ports import MIN_FILL_PORT_MM
+from ..spring.ports import MIN_FILL_PORT_MM, valve_bore_reach_mm
 from .errors import CadError
 
 # ``Layout`` (vvea_design.cad.layout, which imports this module) appears in the annotations only, unevaluated.
@@ -69,7 +69,7 @@ def check_layout(lay: Layout) -> None:
     if lay.fill_port_d < MIN_FILL_PORT_MM:
         raise CadError(f"no room for the chamber-2 fill port outside the bladder ({lay.fill_port_d:.2f} mm < "
                        f"{MIN_FILL_PORT_MM:g} mm: the design's chamber2_port_room)")
-    if lay.x_valve_inner >= lay.r_channel_a - lay.base_channel_d / 2:
+    if valve_bore_reach_mm(lay.design.piston_diameter_mm, f.rod_diameter_mm, f.fluid_channel_mm) <= 0:
         raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
     if lay.has_piston_pocket:
         root_wall = ps.groove_diameter_mm / 2 - lay.piston_pocket_radius_mm

@@ -1,4 +1,5 @@
-"""What the CAD must find room for, as the optimiser's constraints: the chamber-2 fill port and the piston's seal.
+"""What the CAD must find room for, as the optimiser's constraints: the chamber-2 fill port, the piston's seal and
+the base's valve bores.
 
 The chamber-2 gas is charged through a port drilled axially through the bladder clamp's spigot (the top cap's;
 in ``annulus_top`` the base's), between the bladder's sealing bead and the root of the spigot's static O-ring
@@ -12,6 +13,11 @@ The piston's O-ring (``piston_seal_fit``): the CAD seats a standard ISO 3601-1 r
 in a male dynamic gland (0 ... 5 % stretch on the groove's root, the squeeze in bd_warehouse's dynamic window,
 :func:`vvea_design.cad.seals.piston_gland`); the ring sizes leave gaps, and a piston bore in a gap cannot be
 sealed. :func:`piston_seal_fit_mm` is how far the bore lies inside the nearest window (negative: in a gap).
+
+The base's valve bores (``valve_bore_reach``): the radial throttle and relief bores end
+:data:`VALVE_ROD_WALL_MM` outside the rod's bore and must reach the vertical channel from the fluid column, which
+sits midway between the rod and the bore, ``min(fixed.fluid_channel_mm, (r_piston - r_rod) / 2)`` wide
+(:func:`valve_bore_reach_mm`; a piston less than about 12 mm over the rod leaves no room).
 
 The bead's height (:func:`bead_height_mm`) is the CAD's and the damper's flow path's too
 (:mod:`vvea_design.spring.hydraulics`). Lengths mm; vectorised over a population.
@@ -28,7 +34,8 @@ from .joints import SERIES_MM, bd_warehouse_rows, static_male_cross_section_mm
 
 __all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_HEIGHT_MM", "bead_height_mm", "chamber2_port_room_mm",
            "static_groove_root_radius_min_mm", "design_chamber2_port_room_mm", "MIN_PISTON_SEAL_FIT_MM",
-           "piston_seal_windows_mm", "piston_seal_fit_mm"]
+           "piston_seal_windows_mm", "piston_seal_fit_mm", "VALVE_ROD_WALL_MM", "MIN_VALVE_REACH_MM",
+           "valve_bore_reach_mm"]
 
 #: The narrowest chamber-2 fill port the CAD drills (a Ø0.5 mm drill; below it the charging valve's flow and the
 #: drill's life are not worth a design), mm.
@@ -42,6 +49,10 @@ GAS_ONLY_SEAL_MM = 1.78
 #: How far inside a ring's window the piston's bore must lie (a design on a window's edge is one rounding away
 #: from a gap), mm.
 MIN_PISTON_SEAL_FIT_MM = 0.01
+#: Wall the radial valve bores keep to the rod's bore in the base, mm.
+VALVE_ROD_WALL_MM = 1.5
+#: How far the base's channel must reach past the valve bores' inner end (they must meet), mm.
+MIN_VALVE_REACH_MM = 0.05
 #: Largest radial height of the bladder's sealing beads (``cad.CadParameters.bead_height_mm``), mm.
 BEAD_HEIGHT_MM = 0.4
 
@@ -185,3 +196,24 @@ def piston_seal_fit_mm(piston_diameter_mm) -> Array:
     b = np.asarray(piston_diameter_mm, dtype=float)[..., None]
     win = piston_seal_windows_mm()
     return np.max(np.fmin(b - win[:, 0], win[:, 1] - b), axis=-1)
+
+
+def valve_bore_reach_mm(piston_diameter_mm, rod_diameter_mm: float, fluid_channel_mm: float) -> Array:
+    """How far the base's channel from the fluid column reaches inside the valve bores' inner end (> 0: they
+    meet), mm.
+
+    Parameters
+    ----------
+    piston_diameter_mm : float or array
+        The piston's bore, mm.
+    rod_diameter_mm, fluid_channel_mm : float
+        ``fixed.rod_diameter_mm`` and ``fixed.fluid_channel_mm``, mm.
+
+    Returns
+    -------
+    ndarray
+        ``(r_rod + r_piston)/2 - channel/2 - (r_rod + VALVE_ROD_WALL_MM)``, mm.
+    """
+    rp, rr = 0.5 * np.asarray(piston_diameter_mm, dtype=float), 0.5 * rod_diameter_mm
+    channel = np.fmin(fluid_channel_mm, 0.5 * (rp - rr))
+    return 0.5 * (rr + rp) - 0.5 * channel - (rr + VALVE_ROD_WALL_MM)

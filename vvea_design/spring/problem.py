@@ -19,7 +19,8 @@ from .design import Design
 from .gas_spring import linearity_exact
 from .layouts import LayoutVariant, get_layout
 from .parameters import CHANNEL_GAP_MM
-from .ports import MIN_FILL_PORT_MM, MIN_PISTON_SEAL_FIT_MM, piston_seal_fit_mm
+from .ports import (MIN_FILL_PORT_MM, MIN_PISTON_SEAL_FIT_MM, MIN_VALVE_REACH_MM, piston_seal_fit_mm,
+                    valve_bore_reach_mm)
 from .requirements import REPORTED_N, Requirements
 
 __all__ = [
@@ -234,6 +235,9 @@ def _details(g: Derived, perf: dict, req: Requirements, values: dict, layout: La
                                "scale": 1.0},
         "piston_seal_fit": {"value": piston_seal_fit_mm(g.piston_diameter_mm), "limit": MIN_PISTON_SEAL_FIT_MM,
                             "unit": "mm", "kind": "min", "scale": 1.0},
+        "valve_bore_reach": {"value": valve_bore_reach_mm(g.piston_diameter_mm, req.fixed.rod_diameter_mm,
+                                                          req.fixed.fluid_channel_mm),
+                             "limit": MIN_VALVE_REACH_MM, "unit": "mm", "kind": "min", "scale": 1.0},
         "wall_capacity": {"value": g.wall_capacity_value_MPa, "limit": g.wall_capacity_limit_MPa, "unit": "MPa", "kind": "max"},
         **layout.constraint_details(g),
     }
@@ -441,7 +445,7 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     """
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
-             "chamber2_port_room", "piston_seal_fit", "wall_capacity"]
+             "chamber2_port_room", "piston_seal_fit", "valve_bore_reach", "wall_capacity"]
     names += get_layout(layout).own_constraints
     if req.buildable:
         names.append("joint_capacity")
