@@ -91,3 +91,24 @@ def test_the_piston_seal_fit_is_the_cads_gland():
     assert (~np.asarray([draws(b) for b in bores[fit < -1e-3]])).all() and (fit < -0.05).any()  # gaps exist
     assert ports.piston_seal_fit_mm(19.03) == pytest.approx(19.406 - 19.03, abs=1e-9)  # inside a window to 19.406
     assert ports.piston_seal_fit_mm(19.60) == pytest.approx(19.406 - 19.60, abs=1e-9)  # in the gap to 19.8368
+
+
+@pytest.mark.parametrize("design", [REFERENCE, *OTHERS.values()], ids=["reference", *OTHERS])
+def test_the_valve_bore_reach_is_the_cads(design):
+    """valve_bore_reach is the CAD's channel radius less half its width less the valve bores' inner end."""
+    lay = Layout(design)
+    f = design.fixed
+    reach = float(ports.valve_bore_reach_mm(design.piston_diameter_mm, f.rod_diameter_mm, f.fluid_channel_mm))
+    assert reach == pytest.approx(lay.r_channel_a - lay.base_channel_d / 2 - lay.x_valve_inner, abs=1e-12)
+    assert reach > 0
+    if design is REFERENCE:
+        ev = evaluate_design(design, Requirements())
+        assert ev.details["valve_bore_reach"]["value"] == pytest.approx(reach, abs=1e-12)
+
+
+def test_the_valve_bores_need_a_piston_6_mm_over_the_rod():
+    """With the channel at half the gap (rp - rr) / 2, the reach is (rp - rr) / 4 - 1.5: zero at rp = rr + 6 mm
+    (a Ø20 piston over the Ø8 rod); small_40's optimum at Ø19.396 fell 0.0755 mm short."""
+    assert float(ports.valve_bore_reach_mm(20.0, 8.0, 3.0)) == pytest.approx(0.0, abs=1e-12)
+    assert float(ports.valve_bore_reach_mm(19.396, 8.0, 3.0)) == pytest.approx(-0.151 / 2, abs=1e-12)
+    assert float(ports.valve_bore_reach_mm(30.0, 8.0, 3.0)) == pytest.approx(0.5 * (4 + 15) - 1.5 - 5.5, abs=1e-12)
