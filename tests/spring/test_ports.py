@@ -32,10 +32,12 @@ def test_the_design_guarantees_the_port_the_cad_drills(design):
     of it by at most PORT_ROOM_FRACTION x the gland's depth window; the CAD's port is min(fill_port_mm, room)."""
     lay = Layout(design)
     cad_room = float(ports.chamber2_port_room_mm(lay._seal_root_near_port2, lay.bladder_outer_radius_mm, lay.bead_mm))
+    cad_fit = float(ports.chamber2_port_fit_mm(lay._seal_root_near_port2, lay.bladder_outer_radius_mm, lay.bead_mm))
     mine = float(design.derived.chamber2_port_room_mm)
     g = lay.base_seal if lay.has_top_annulus else lay.cap_seal
-    assert mine <= cad_room + 1e-9
-    assert cad_room - mine <= ports.PORT_ROOM_FRACTION * _depth_window_mm(g.oring.cross_section_mm) + 1e-9
+    assert cad_fit == pytest.approx(min(cad_room, cad_room / 0.6 - 0.8), abs=1e-12)
+    assert mine <= cad_fit + 1e-9
+    assert cad_fit - mine <= _depth_window_mm(g.oring.cross_section_mm) + 1e-9
     assert lay.fill_port_d == pytest.approx(min(lay.cad.fill_port_mm, cad_room), abs=1e-12)
     assert lay.fill_port_d >= ports.MIN_FILL_PORT_MM
     assert lay.bead_mm == pytest.approx(float(ports.bead_height_mm(
@@ -56,16 +58,18 @@ def test_the_constraint_is_searched_and_reported():
 
 
 def test_a_design_without_port_room_is_infeasible_and_names_it():
-    """small_40's old optimum: 0.37 mm of room (the CAD's groove gives 0.42 mm) < 0.5 mm; the evaluation names the
-    constraint as violated and the CAD's error names it too."""
+    """small_40's old optimum: 0.62 mm of land between bead and groove root (the CAD's groove: 0.71 mm) leaves a
+    0.37 mm drilling and no metal beside it (< 0.5 mm); the evaluation names the constraint as violated and the
+    CAD's error names it too."""
     design = load_design(NO_ROOM)
     req = load_requirements(REPO / "examples" / "small_40.toml")
     ev = evaluate_design(design, req)
-    assert ev.details["chamber2_port_room"]["value"] == pytest.approx(0.37218, abs=1e-5)
-    assert ev.margins["chamber2_port_room"] == pytest.approx(0.37218 - 0.5, abs=1e-5)
+    assert ev.details["chamber2_port_room"]["value"] == pytest.approx(0.37218 / 0.6 - 0.8, abs=1e-5)
+    assert ev.margins["chamber2_port_room"] == pytest.approx(0.37218 / 0.6 - 0.8 - 0.5, abs=1e-5)
     assert not ev.feasible
     assert "chamber2_port_room" in ev.binding()
-    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room"]
+    # and its Ø19.03 piston left the valve bores short of the channel (the CAD checked the port first)
+    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room", "valve_bore_reach"]
     with pytest.raises(CadError, match=r"chamber-2 fill port .*0\.42 mm < 0\.5 mm: the design's chamber2_port_room"):
         Layout(design)
 

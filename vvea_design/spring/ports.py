@@ -4,10 +4,10 @@ the base's valve bores.
 The chamber-2 gas is charged through a port drilled axially through the bladder clamp's spigot (the top cap's;
 in ``annulus_top`` the base's), between the bladder's sealing bead and the root of the spigot's static O-ring
 groove. The CAD drills it ``min(cad.fill_port_mm, PORT_ROOM_FRACTION x (groove root radius - bead's outer
-radius))`` wide and cannot draw a port narrower than :data:`MIN_FILL_PORT_MM`
-(:attr:`vvea_design.cad.layout.Layout.fill_port_d`); the optimiser's constraint ``chamber2_port_room`` asks the
-same of every design (:func:`chamber2_port_room_mm` with the deepest groove root the ISO 3601 static gland allows,
-:func:`static_groove_root_radius_min_mm`, so a design that meets it always draws).
+radius))`` wide (:attr:`vvea_design.cad.layout.Layout.fill_port_d`), keeps :data:`PORT_WALL_MM` of metal on
+each side and cannot draw a port narrower than :data:`MIN_FILL_PORT_MM` (:func:`chamber2_port_fit_mm`); the
+optimiser's constraint ``chamber2_port_room`` asks the same of every design, with the deepest groove root the
+ISO 3601 static gland allows (:func:`static_groove_root_radius_min_mm`), so a design that meets it always draws.
 
 The piston's O-ring (``piston_seal_fit``): the CAD seats a standard ISO 3601-1 ring of the 1.78 or 2.62 mm series
 in a male dynamic gland (0 ... 5 % stretch on the groove's root, the squeeze in bd_warehouse's dynamic window,
@@ -32,7 +32,7 @@ import numpy as np
 from .geometry import Array
 from .joints import SERIES_MM, bd_warehouse_rows, static_male_cross_section_mm
 
-__all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_HEIGHT_MM", "bead_height_mm", "chamber2_port_room_mm",
+__all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_HEIGHT_MM", "bead_height_mm", "chamber2_port_room_mm", "chamber2_port_fit_mm", "PORT_WALL_MM",
            "static_groove_root_radius_min_mm", "design_chamber2_port_room_mm", "MIN_PISTON_SEAL_FIT_MM",
            "piston_seal_windows_mm", "piston_seal_fit_mm", "VALVE_ROD_WALL_MM", "MIN_VALVE_REACH_MM",
            "valve_bore_reach_mm"]
@@ -40,6 +40,8 @@ __all__ = ["MIN_FILL_PORT_MM", "GAS_ONLY_SEAL_MM", "PORT_ROOM_FRACTION", "BEAD_H
 #: The narrowest chamber-2 fill port the CAD drills (a Ø0.5 mm drill; below it the charging valve's flow and the
 #: drill's life are not worth a design), mm.
 MIN_FILL_PORT_MM = 0.5
+#: Least metal on each side of the chamber-2 port (to the bead's seat and to the groove's root), mm.
+PORT_WALL_MM = 0.4
 #: Share of the radial land between the bead and the groove's root the port may take (the rest: 20 % wall on
 #: each side of the drilling), dimensionless.
 PORT_ROOM_FRACTION = 0.6
@@ -101,6 +103,25 @@ def chamber2_port_room_mm(seal_root_radius_mm, bladder_outer_radius_mm, bead_mm)
                                  - np.asarray(bladder_outer_radius_mm, dtype=float) - np.asarray(bead_mm, dtype=float))
 
 
+def chamber2_port_fit_mm(seal_root_radius_mm, bladder_outer_radius_mm, bead_mm) -> Array:
+    """Widest chamber-2 fill port both of the CAD's rules allow: the drilling, ``PORT_ROOM_FRACTION`` of the land
+    between the bead and the groove's root (:func:`chamber2_port_room_mm`), and :data:`PORT_WALL_MM` of metal on
+    each side of it, mm (the CAD draws the port when this is at least :data:`MIN_FILL_PORT_MM`).
+
+    Parameters
+    ----------
+    seal_root_radius_mm, bladder_outer_radius_mm, bead_mm : array
+        As :func:`chamber2_port_room_mm`, mm.
+
+    Returns
+    -------
+    ndarray
+        ``min(PORT_ROOM_FRACTION x land, land - 2 PORT_WALL_MM)``, mm.
+    """
+    room = chamber2_port_room_mm(seal_root_radius_mm, bladder_outer_radius_mm, bead_mm)
+    return np.fmin(room, room / PORT_ROOM_FRACTION - 2 * PORT_WALL_MM)
+
+
 def _deepest_static_groove_mm(cross_section_mm: float) -> float:
     """Deepest radial groove of an ISO 3601 static male gland (the least squeeze of bd_warehouse's table), mm."""
     row = next(r for r in bd_warehouse_rows("o-ring_static_gland_parameters.csv")
@@ -149,12 +170,12 @@ def design_chamber2_port_room_mm(outer_bore_radius_mm, inner_tube_outer_radius_m
     Returns
     -------
     ndarray
-        Port room, mm (>= :data:`MIN_FILL_PORT_MM` draws).
+        Port room (:func:`chamber2_port_fit_mm`), mm (>= :data:`MIN_FILL_PORT_MM` draws).
     """
     bead = bead_height_mm(inner_tube_outer_radius_mm, bladder_inner_radius_mm, outer_bore_radius_mm,
                           bladder_outer_radius_mm)
     root = static_groove_root_radius_min_mm(outer_bore_radius_mm, cross_section_mm)
-    return chamber2_port_room_mm(root, bladder_outer_radius_mm, bead)
+    return chamber2_port_fit_mm(root, bladder_outer_radius_mm, bead)
 
 
 @lru_cache(maxsize=1)
