@@ -46,6 +46,7 @@ from vvea_design.cad import build_cad  # noqa: E402
 from vvea_design.jobs.spring import optimise  # noqa: E402
 from vvea_design.jobs.structure import check_structure  # noqa: E402
 from vvea_design.spring import concentration as conc  # noqa: E402
+from vvea_design.spring.optimise import Infeasible  # noqa: E402
 from vvea_design.spring.sizing import PIECES  # noqa: E402
 
 DATA = ROOT / "vvea_design" / "spring" / "data" / "stress_concentration.json"
@@ -69,7 +70,11 @@ def measure(names: list[str], out: Path, iteration: int) -> list[dict]:
     for name, req in todo.items():
         t = time.perf_counter()
         path = out / f"iteration_{iteration}" / name / "design.json"
-        design = optimise(req, seed=0, out=path, progress=False).design
+        try:
+            design = optimise(req, seed=0, out=path, progress=False).design
+        except Infeasible as exc:  # no buildable unit in this envelope: nothing to measure (the verdict says so)
+            print(f"  {name}: infeasible ({str(exc).splitlines()[0]})", flush=True)
+            continue
         fe = check_structure(build_cad(design))
         for w in fe.walls:
             for c in w.cases:
