@@ -8,7 +8,7 @@ radii) finds the peak at the piece's grooves, shoulders and roots. This study cl
 2. per wall that fails in some unit, per load case, the ratio of the FE peak (Tresca) to the sizing's stress of
    the same case (which already holds the factor the sizing used); the new factor of a piece's feature (the feature at the peak:
    ``shoulder``, ``groove root``, ``plain wall`` ...) is the old one times the largest ratio over the units and
-   the cases whose peak reaches half the allowable, times ``1 + MARGIN``, never below 1 and never below the
+   the cases that fail, times ``1 + MARGIN``, never below 1 and never below the
    old one while a unit fails (from the third iteration a secant step on the wall's FE utilisation against its
    factor, :func:`secant`);
    A wall the sizing does not size (the solid piston: its rod's shoulder is fixed by ``fixed.rod_diameter_mm``)
@@ -131,8 +131,8 @@ def new_factors(rows: list[dict], old: dict) -> tuple[dict, dict]:
             continue  # the FE finds it safe in every unit: its factor stays
         if r["wall"] not in PIECES or not math.isfinite(r["ratio"]):
             continue  # a wall the sizing does not size (the solid piston) or a case it has no stress for
-        if r["required_safety"] / r["safety"] < MIN_UTILISATION:
-            continue  # a case far from the allowable (its closed-form stress near 0: the ratio is noise)
+        if r["passes"] or r["required_safety"] / r["safety"] < MIN_UTILISATION:
+            continue  # a case the wall passes (a small closed-form stress: its ratio would over-size the others)
         k = r["factor_used"] * r["ratio"] * (1 + MARGIN)
         feat = r["feature"]
         if k > factors.setdefault(r["wall"], {}).get(feat, 0.0):
