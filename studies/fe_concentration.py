@@ -148,7 +148,8 @@ def new_factors(rows: list[dict], old: dict) -> tuple[dict, dict]:
 
 def evidence(rows: list[dict], factors: dict) -> dict:
     """Per piece and feature whose factor exceeds 1: the case of these rows (the units measured with it) with the
-    largest FE peak over the closed form (the sizing's stress without its factor), and what it measured."""
+    largest FE peak over the closed form (the sizing's stress without its factor) that the factor covers (a case the
+    wall passes with a small closed-form stress may exceed it), and what it measured."""
     out: dict = {}
     for piece, feats in factors.items():
         k = max(feats.values(), default=1.0)
@@ -156,7 +157,8 @@ def evidence(rows: list[dict], factors: dict) -> dict:
                 and r["required_safety"] / r["safety"] >= MIN_UTILISATION]
         if k <= 1.0 or not mine:
             continue
-        r = max(mine, key=lambda r: r["ratio"] * r["factor_used"])
+        covered = [r for r in mine if r["ratio"] * r["factor_used"] <= k * (1 + 1e-9)]  # the cases it covers
+        r = max(covered or mine, key=lambda r: r["ratio"] * r["factor_used"])
         closed = r["sizing_stress_MPa"] / r["factor_used"]
         feat = next(f for f, v in feats.items() if v == k)
         out[piece] = {feat: {"unit": r["unit"], "case": r["case"], "feature_at_peak": r["feature"],
