@@ -156,7 +156,11 @@ def main(argv=None) -> int:
         f"\n{u['unit']}: {u['error']}\n" for u in results if "error" in u))
     print(table(results))
     if args.before.exists():
-        (args.out / "units_before_after.md").write_text(before_after(json.loads(args.before.read_text()), results))
+        ba = before_after(json.loads(args.before.read_text()), results)
+        (args.out / "units_before_after.md").write_text(ba)
+        with (args.out / "units.md").open("a") as fh:
+            fh.write("\nBefore → after (the previous code's verdict, units_before.json; linearity: what each envelope "
+                     "pays):\n\n" + ba)
     return 0
 
 
