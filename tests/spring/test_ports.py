@@ -6,15 +6,32 @@ from __future__ import annotations
 
 import pytest
 
-from tests.cad.cases import JOINTS, OTHERS, REFERENCE
 from tests.helpers import REPO
 from vvea_design.cad import CadError
 from vvea_design.cad.layout import Layout
 from vvea_design.spring import ports
+from vvea_design.spring.design import Design, FixedParameters
 from vvea_design.spring.design_file import load_design
 from vvea_design.spring.joints import bd_warehouse_rows
 from vvea_design.spring.problem import constraint_names, evaluate_design
 from vvea_design.spring.requirements import Requirements, load_requirements
+
+_GAS_ONLY = FixedParameters(sizing_rules="gas_only")
+#: One design per layout and joint (the CAD tests' cases, tests/cad/cases.py, without the reference design file).
+REFERENCE = Design(33.0, 59.3, 33000.0, 75000.0, joint="thread")
+OTHERS = {
+    "bulkhead_gas_only": Design(35.41803947015589, 59.49999999999998, 48819.594401338036, 102178.39086203951,
+                                layout="bulkhead", V2_top_mm3=4735.253321212185, fixed=_GAS_ONLY),
+    "annulus_top_short": Design(34.373592304325015, 65.0, 45706.09615792426, 108669.22305813522,
+                                layout="annulus_top", V1_annulus_mm3=12516.61122629605,
+                                fixed=FixedParameters(travel_mm=50.0, sizing_rules="gas_only")),
+}
+JOINTS = {
+    "ring_top_inner_tube": Design(33.0, 59.3, 33000.0, 65000.0, joint="ring_top"),
+    "tie_rods_inner_tube": Design(30.0, 70.0, 33000.0, 80000.0, joint="tie_rods",
+                                  fixed=FixedParameters(joint_seal_cross_section_mm=2.62)),
+    "thread_annulus_top": Design(33.0, 59.3, 33000.0, 55000.0, layout="annulus_top", V1_annulus_mm3=4000.0),
+}
 
 #: ``examples/small_40.toml``'s optimum (seed 0) before the optimiser had the constraint: the CAD could not draw it.
 NO_ROOM = REPO / "tests" / "spring" / "data" / "small_40_no_port_room.json"
@@ -68,8 +85,10 @@ def test_a_design_without_port_room_is_infeasible_and_names_it():
     assert ev.margins["chamber2_port_room"] == pytest.approx(0.37218 / 0.6 - 0.8 - 0.5, abs=1e-5)
     assert not ev.feasible
     assert "chamber2_port_room" in ev.binding()
-    # and its Ø19.03 piston left the valve bores short of the channel (the CAD checked the port first)
-    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room", "valve_bore_reach"]
+    # (its Ø19.03 piston also left the valve bores short of the 3 mm channel; the example now has a 1.5 mm one)
+    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room"]
+    rp = design.piston_diameter_mm / 2  # the 1.5 mm channel: (4 + rp) / 2 - 0.75 - (4 + 1.5)
+    assert ev.details["valve_bore_reach"]["value"] == pytest.approx(0.5 * (rp - 4.0) - 2.25, abs=1e-12)
     with pytest.raises(CadError, match=r"chamber-2 fill port .*0\.42 mm < 0\.5 mm: the design's chamber2_port_room"):
         Layout(design)
 
