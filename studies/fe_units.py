@@ -9,6 +9,7 @@ the required one, and the margin (safety / required - 1: negative fails by that 
     python studies/fe_units.py            # -> studies/results/fe_units/{units.json, units.md, <unit>/fe_*.png}
     python studies/fe_units.py defaults   # one unit
     python studies/fe_units.py --reuse    # the FE again on the designs of a previous run
+        # with studies/results/fe_units/units_before.json (the previous code's verdict): units_before_after.md
     python studies/fe_units.py --radii defaults paper_tight   # the verdict if the sharp roots were drawn R0.5 / R1
         # -> studies/results/fe_units/corner_radii.json
 """
@@ -58,8 +59,13 @@ def check_unit(name: str, req: Requirements, out: Path, reuse: bool = False) -> 
                      "z_mm": g.peak.z_mm, "feature": g.peak.feature, "safety": g.safety,
                      "required_safety": g.required_safety, "margin": g.safety / g.required_safety - 1,
                      "passes": w.passes, "nominal_safety": g.nominal_safety})
+    from vvea_design.spring.concentration import concentration_factors
+
+    perf = json.loads(path.read_text())["performance"]
     return {"unit": name, "layout": design.layout, "joint": design.joint,
-            "outer_diameter_mm": design.outer_diameter_mm, "passes": fe.passes, "fe_seconds": fe.seconds,
+            "outer_diameter_mm": design.outer_diameter_mm, "linearity_error": perf["linearity_error"],
+            "mass_g": perf["mass_g"], "factors": dict(concentration_factors()), "passes": fe.passes,
+            "fe_seconds": fe.seconds,
             "fe_cpu_seconds": fe.cpu_seconds, "seconds": time.perf_counter() - t, "walls": rows}
 
 
@@ -84,14 +90,39 @@ def corner_radii(names: list[str], out: Path, radii=(0.2, 0.5, 1.0)) -> dict:
 
 def table(results: list[dict]) -> str:
     """A Markdown table of every unit's walls."""
-    lines = ["| unit | wall | governing case | FE peak (Tresca) MPa | feature at (r, z) mm | safety | required | "
-             "margin | verdict |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| unit | linearity | wall | governing case | FE peak (Tresca) MPa | feature at (r, z) mm | safety | "
+             "required | margin | verdict |", "|---|---|---|---|---|---|---|---|---|---|"]
     for u in results:
         for r in u["walls"]:
-            lines.append(f"| {u['unit']} ({u['layout']}, {u['joint']}) | {r['wall']} | {r['governing_case']} | "
+            lines.append(f"| {u['unit']} ({u['layout']}, {u['joint']}) | {100 * u['linearity_error']:.4f} % | "
+                         f"{r['wall']} | {r['governing_case']} | "
                          f"{r['peak_tresca_MPa']:.0f} | {r['feature']} ({r['r_mm']:.1f}, {r['z_mm']:.1f}) | "
                          f"{r['safety']:.2f} | {r['required_safety']:.2f} | {100 * r['margin']:+.0f} % | "
                          f"{'PASS' if r['passes'] else 'FAIL'} |")
+    return "\n".join(lines) + "\n"
+
+
+def before_after(before: list[dict], after: list[dict]) -> str:
+    """A Markdown table per unit and wall: the governing case, FE peak and safety factor before -> after, and
+    the unit's linearity before -> after (what the buildable, FE-passing unit costs)."""
+    old = {u["unit"]: u for u in before}
+    lines = ["| unit | layout, joint | linearity | wall | governing case | FE peak (Tresca) MPa | safety "
+             "(required) |", "|---|---|---|---|---|---|---|"]
+
+    def lin(u):
+        return "not drawn" if "error" in u else f"{100 * u['linearity_error']:.4f} %"
+
+    for u in after:
+        b = old.get(u["unit"], {"walls": [], "layout": "-", "joint": "-", "error": "not checked"})
+        bw = {w["wall"]: w for w in b["walls"]}
+        head = (f"| {u['unit']} | {b['layout']}, {b['joint']} → {u['layout']}, {u['joint']} | {lin(b)} → {lin(u)} ")
+        for i, w in enumerate(u["walls"]):
+            o = bw.get(w["wall"])
+            was = ("—", "—", "—") if o is None else (o["governing_case"], f"{o['peak_tresca_MPa']:.0f}",
+                                                      f"{o['safety']:.2f}")
+            lines.append((head if i == 0 else "| | | ") + f"| {w['wall']} | {was[0]} → {w['governing_case']} | "
+                         f"{was[1]} → {w['peak_tresca_MPa']:.0f} | {was[2]} → {w['safety']:.2f} "
+                         f"({w['required_safety']:g}) |")
     return "\n".join(lines) + "\n"
 
 
@@ -102,6 +133,8 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=OUT)
     ap.add_argument("--reuse", action="store_true", help="check the designs of a previous run (no optimisation)")
     ap.add_argument("--radii", action="store_true", help="the named units' verdict against the corner radius")
+    ap.add_argument("--before", type=Path, default=OUT / "units_before.json",
+                    help="an earlier units.json: the before -> after table (units_before.md)")
     args = ap.parse_args(argv)
     if args.radii:
         corner_radii(args.names or ["defaults", "paper_tight"], args.out)
@@ -122,6 +155,12 @@ def main(argv=None) -> int:
     (args.out / "units.md").write_text(table(results) + "".join(
         f"\n{u['unit']}: {u['error']}\n" for u in results if "error" in u))
     print(table(results))
+    if args.before.exists():
+        ba = before_after(json.loads(args.before.read_text()), results)
+        (args.out / "units_before_after.md").write_text(ba)
+        with (args.out / "units.md").open("a") as fh:
+            fh.write("\nBefore → after (the previous code's verdict, units_before.json; linearity: what each envelope "
+                     "pays):\n\n" + ba)
     return 0
 
 

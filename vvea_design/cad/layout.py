@@ -14,6 +14,7 @@ from functools import cached_property
 
 from ..spring.design import Design
 from ..spring.joints import LEAD_IN_GAP_MM as _LEAD_IN_GAP_MM, seal_lead_in_land_mm
+from ..spring.ports import VALVE_ROD_WALL_MM, bead_height_mm, chamber2_port_room_mm
 from .errors import CadError
 from .joints import JointGeometry, joint_geometry
 from .layout_checks import COLLAR_SEAL_LAND_MM, SPIGOT_LAND_MM, check_layout
@@ -463,9 +464,7 @@ class Layout:
     @cached_property
     def bead_mm(self) -> float:
         """Radial height of the sealing beads (shrunk to a quarter of the free gap if needed)."""
-        return min(self.cad.bead_height_mm,
-                   0.25 * (self.bladder_inner_radius_mm - self.inner_tube_outer_radius_mm),
-                   0.25 * (self.outer_bore_radius_mm - self.bladder_outer_radius_mm))
+        return float(bead_height_mm(self.inner_tube_outer_radius_mm, self.bladder_inner_radius_mm, self.outer_bore_radius_mm, self.bladder_outer_radius_mm, self.cad.bead_height_mm))
 
     @property
     def r_gas2_inner(self) -> float:
@@ -498,8 +497,9 @@ class Layout:
 
     @cached_property
     def fill_port_d(self) -> float:
-        """Diameter of the chamber-2 port through the spigot, between the bladder's bead and the seal groove, mm."""
-        return min(self.cad.fill_port_mm, 0.6 * (self._seal_root_near_port2 - self.r_base_spigot))
+        """Chamber-2 port through the spigot, between the bead and the seal groove (:mod:`vvea_design.spring.ports`), mm."""
+        room = chamber2_port_room_mm(self._seal_root_near_port2, self.bladder_outer_radius_mm, self.bead_mm)
+        return min(self.cad.fill_port_mm, float(room))
 
     @property
     def _valve2_limit(self) -> float:
@@ -578,7 +578,7 @@ class Layout:
     @property
     def x_valve_inner(self) -> float:
         """Inner end of the radial valve bores (keeps 1.5 mm of wall to the rod bore)."""
-        return self.rod_radius_mm + 1.5
+        return self.rod_radius_mm + VALVE_ROD_WALL_MM
 
     # ----------------------------------------------------------- levels
     @property

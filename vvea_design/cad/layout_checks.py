@@ -4,6 +4,7 @@ bladder cuffs); each failure raises :class:`~vvea_design.cad.layout.CadError` na
 
 from __future__ import annotations
 
+from ..spring.ports import MIN_FILL_PORT_MM, chamber2_port_fit_mm, valve_bore_reach_mm
 from .errors import CadError
 
 # ``Layout`` (vvea_design.cad.layout, which imports this module) appears in the annotations only, unevaluated.
@@ -65,9 +66,10 @@ def check_layout(lay: Layout) -> None:
                        f"({lay.outer_bore_radius_mm:.2f} mm): V2_mm3 too small")
     if lay.ring_channel_d < 0.5:
         raise CadError("no room for the support-ring fluid channels inside the bladder (< 0.5 mm)")
-    if lay.fill_port_d < 0.5:
-        raise CadError("no room for the chamber-2 fill port outside the bladder (< 0.5 mm)")
-    if lay.x_valve_inner >= lay.r_channel_a - lay.base_channel_d / 2:
+    if lay.fill_port_d < MIN_FILL_PORT_MM:
+        raise CadError(f"no room for the chamber-2 fill port outside the bladder ({lay.fill_port_d:.2f} mm < "
+                       f"{MIN_FILL_PORT_MM:g} mm: the design's chamber2_port_room)")
+    if valve_bore_reach_mm(lay.design.piston_diameter_mm, f.rod_diameter_mm, f.fluid_channel_mm) <= 0:
         raise CadError("the valve bores cannot reach the fluid channel: piston_diameter_mm too small for the rod")
     if lay.has_piston_pocket:
         root_wall = ps.groove_diameter_mm / 2 - lay.piston_pocket_radius_mm
@@ -120,9 +122,10 @@ def _check_seals_and_ports(lay: Layout) -> None:
             raise CadError(f"{field} = {getattr(f, field.split('.')[1]):g} mm: the {name} ({hi - lo:.2f} mm) "
                            f"cannot hold the {g.width_mm:g} mm groove of O-ring {g.oring.code} with "
                            f"{land:g} mm lands")
-        if g.groove_diameter_mm / 2 - lay.r_base_spigot < 2 * wall + 0.5:
+        if chamber2_port_fit_mm(g.groove_diameter_mm / 2, lay.bladder_outer_radius_mm, lay.bead_mm) < MIN_FILL_PORT_MM:
             raise CadError(f"outer_diameter_mm: the {name}'s seal groove (root Ø{g.groove_diameter_mm:.2f}) leaves no "
-                           f"room for the chamber-2 port beside the bladder's bead (Ø{2 * lay.r_base_spigot:.2f})")
+                           f"room for the chamber-2 port beside the bladder's bead (Ø{2 * lay.r_base_spigot:.2f}): "
+                           f"the design's chamber2_port_room")
     _ = lay.lead_in_piston, lay.lead_in_rod, lay.lead_in_outer_bottom, lay.lead_in_outer_top, lay.seats
     s = lay.seats
     if s is not None and s.top is not None and lay.has_cross_port and not lay.has_top_annulus:

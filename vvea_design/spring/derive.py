@@ -26,6 +26,7 @@ from .hydraulics import hydraulic_path, linear_damping_N_s_per_mm
 from .layouts import DECISION_VARIABLES, LayoutStack, LayoutVariant, get_layout
 from .masses import part_masses_g
 from .parameters import DesignError, FixedParameters
+from .ports import GAS_ONLY_SEAL_MM, design_chamber2_port_room_mm
 
 __all__ = ["Derived", "Stack", "derive", "peak_pressures", "size_walls", "wall_stresses", "part_masses",
            "piston_floor_moment"]
@@ -123,6 +124,9 @@ class Derived:
     required_safety_factors: dict[str, Array] | None = None  #: per piece, what its governing case asks
     joint_utilisation: Array | None = None  #: the joint's worst check over its limit (<= 1 met)
     parasitic_damping_N_s_per_mm: Array | None = None  #: D_min: the damping with the throttle fully open, N s/mm
+    #: widest chamber-2 fill port the design guarantees between the bladder's bead and the spigot's seal groove
+    #: (:func:`~vvea_design.spring.ports.design_chamber2_port_room_mm`), mm
+    chamber2_port_room_mm: Array | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Every field by name (the dictionaries as dictionaries).
@@ -619,6 +623,9 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
         path = hydraulic_path(A2, sec.piston_radius_mm, sec.inner_tube_outer_radius_mm, bl["bladder_inner_radius_mm"],
                               sec.outer_bore_radius_mm, bl["bladder_outer_radius_mm"], base_own, sec.walls_mm["base"], f)
         d_min = linear_damping_N_s_per_mm(path, 1.0)
+        port2 = design_chamber2_port_room_mm(sec.outer_bore_radius_mm, sec.inner_tube_outer_radius_mm,
+                                             bl["bladder_inner_radius_mm"], bl["bladder_outer_radius_mm"],
+                                             f.joint_seal_cross_section_mm if buildable_rules else GAS_ONLY_SEAL_MM)
     st = safety = buckling = m = checks = None
     if stresses:
         if buildable_rules:
@@ -657,7 +664,8 @@ def derive(variables, p2_MPa, setpoint_x0_mm, fixed: FixedParameters, layout="in
         joint=joint, sizing_rules=f.sizing_rules, load_cases=loads, section=sec,
         check=None if checks is None else checks["check"], governing=None if checks is None else checks["governing"],
         hydraulic_path=path, required_safety_factors=None if checks is None else checks["required"],
-        joint_utilisation=None if sec.joint is None else sec.joint.utilisation, parasitic_damping_N_s_per_mm=d_min)
+        joint_utilisation=None if sec.joint is None else sec.joint.utilisation, parasitic_damping_N_s_per_mm=d_min,
+        chamber2_port_room_mm=port2)
 
 
 def _capacity_pressure(loads, lay: LayoutVariant):

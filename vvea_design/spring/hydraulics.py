@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .geometry import Array
+from .ports import BEAD_HEIGHT_MM, bead_height_mm  # the CAD's bead: the ring channels sit inside it
 from .records import Record
 
 __all__ = ["Oil", "OILS", "PAPER_SPEEDS_MM_S", "GAMMA_OPEN_DEG", "GAMMA_CLOSED_DEG", "TABLE3_L_N_S_PER_MM",
@@ -55,8 +56,6 @@ GAMMA_OPEN_DEG, GAMMA_CLOSED_DEG = 32.0, 114.0
 DISCHARGE_COEFFICIENT = 0.61
 #: Loss coefficients of a channel's entry and exit.
 K_ENTRY, K_EXIT = 0.5, 1.0
-#: The CAD's sealing-bead height (``cad.CadParameters.bead_height_mm``): the ring channels sit inside the bead, mm.
-BEAD_HEIGHT_MM = 0.4
 #: Deepest collector groove under the support ring (the CAD's), mm.
 COLLECTOR_DEPTH_MAX_MM = 1.0
 #: Land the collector groove leaves at each tube, and the base's ring-side channel inside the groove, mm.
@@ -299,7 +298,7 @@ def hydraulic_path(A2_mm2, piston_radius_mm, inner_tube_outer_radius_mm, bladder
     f = fixed
     rio, rbi, rb, rbo = (np.asarray(v, dtype=float) for v in (inner_tube_outer_radius_mm, bladder_inner_radius_mm,
                                                               outer_bore_radius_mm, bladder_outer_radius_mm))
-    bead = np.fmin(BEAD_HEIGHT_MM, np.fmin(0.25 * (rbi - rio), 0.25 * (rb - rbo)))
+    bead = bead_height_mm(rio, rbi, rb, rbo)
     ring = np.fmin(f.ring_channel_mm, 0.6 * (rbi - bead - rio))
     channel = np.fmin(f.fluid_channel_mm, 0.5 * (np.asarray(piston_radius_mm) - f.rod_diameter_mm / 2))
     throttle = np.fmin(f.throttle_bore_mm, np.asarray(base_own_mm) - 8.0)

@@ -19,6 +19,8 @@ from .design import Design
 from .gas_spring import linearity_exact
 from .layouts import LayoutVariant, get_layout
 from .parameters import CHANNEL_GAP_MM
+from .ports import (MIN_FILL_PORT_MM, MIN_PISTON_SEAL_FIT_MM, MIN_VALVE_REACH_MM, piston_seal_fit_mm,
+                    valve_bore_reach_mm)
 from .requirements import REPORTED_N, Requirements
 
 __all__ = [
@@ -229,6 +231,13 @@ def _details(g: Derived, perf: dict, req: Requirements, values: dict, layout: La
         "bladder_room_expanded": {"value": g.bladder_clearance_expanded_mm, "limit": 0.0, "unit": "mm", "kind": "min", "scale": t_bl},
         "bladder_channel_room": {"value": g.bladder_cast_gap_mm, "limit": CHANNEL_GAP_MM, "unit": "mm", "kind": "min",
                                  "scale": t_bl},
+        "chamber2_port_room": {"value": g.chamber2_port_room_mm, "limit": MIN_FILL_PORT_MM, "unit": "mm", "kind": "min",
+                               "scale": 1.0},
+        "piston_seal_fit": {"value": piston_seal_fit_mm(g.piston_diameter_mm), "limit": MIN_PISTON_SEAL_FIT_MM,
+                            "unit": "mm", "kind": "min", "scale": 1.0},
+        "valve_bore_reach": {"value": valve_bore_reach_mm(g.piston_diameter_mm, req.fixed.rod_diameter_mm,
+                                                          req.fixed.fluid_channel_mm),
+                             "limit": MIN_VALVE_REACH_MM, "unit": "mm", "kind": "min", "scale": 1.0},
         "wall_capacity": {"value": g.wall_capacity_value_MPa, "limit": g.wall_capacity_limit_MPa, "unit": "MPa", "kind": "max"},
         **layout.constraint_details(g),
     }
@@ -436,7 +445,7 @@ def constraint_names(req: Requirements, layout: str = "inner_tube", search: bool
     """
     names = ["outer_diameter", "housing_length", "charge_p1", "charge_p2", "mean_stiffness",
              "gas_left_at_full_stroke", "bladder_room_compressed", "bladder_room_expanded", "bladder_channel_room",
-             "wall_capacity"]
+             "chamber2_port_room", "piston_seal_fit", "valve_bore_reach", "wall_capacity"]
     names += get_layout(layout).own_constraints
     if req.buildable:
         names.append("joint_capacity")

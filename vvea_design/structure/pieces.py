@@ -277,8 +277,11 @@ def _inner_tube(model: CadModel, lay: Layout, sec: MeridianSection, poly) -> Pie
     line = StressLine("bladder zone, through the wall", (rp, zm), (rio, zm), inner_cf,
                       "Lamé, chamber 2 outside, the bore's medium inside: hoop stress at the bore")
     regions.insert(0, Region("inner_tube", ((0, rio + 1, -1e9, 1e9),), (line,), tuple(excl)))
-    bearings = (Bearing("its bottom end on the base", (rp, rio), (z0, z0), +1),
-                Bearing("its top end under the top cap", (0.0, rio), (zc, zc), -1))
+    seats = lay.seats  # the tube's ends sit in the end pieces' seats (the buildability rules)
+    zb = z0 if seats is None else seats.z_base_floor
+    zt = zc if seats is None or seats.top is None else seats.z_top_end
+    bearings = (Bearing("its bottom end on the base" + ("" if seats is None else "'s seat floor"), (rp, rio), (zb, zb), +1),
+                Bearing("its top end under the top cap" + ("" if zt == zc else " (in its seat)"), (0.0, rio), (zt, zt), -1))
     return PieceSpec("housing_inner_tube", "inner tube", d.fixed.housing_material, sec, bearings, tuple(regions),
                      "clamped between base and top cap: its net axial load bears on the end that pushes back")
 
