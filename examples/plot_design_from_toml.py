@@ -32,7 +32,7 @@ except NameError:  # sphinx-gallery runs the example in its own folder, without 
 
 requirements = vd.load_requirements(HERE / "my_requirements.toml")
 if SMALL:
-    requirements = dataclasses.replace(requirements, layouts=("bulkhead",))
+    requirements = dataclasses.replace(requirements, layouts=("inner_tube",))
 print(f"travel {requirements.travel_mm:g} mm, envelope {requirements.max_outer_diameter_mm:g} × "
       f"{requirements.max_housing_length_mm:g} mm, ≥ {requirements.min_mean_stiffness_N_per_mm:g} N/mm "
       f"at ≤ {requirements.max_charge_MPa:g} MPa; layouts tried: {', '.join(requirements.layouts)}")

@@ -50,7 +50,10 @@ def test_cad_command_writes_the_set(reference_cad_run):
 
 def test_cad_command_bad_design_is_a_clear_error(app, design_json, tmp_path):
     data = json.loads(design_json.read_text())
-    data["fixed"]["min_base_mm"] = 8.0
+    data["fixed"]["min_base_mm"] = 8.0  # the gas-only sizing keeps this thin base (the buildable rules size the
+    data["fixed"]["sizing_rules"] = "gas_only"  # base for the relief case, far above the valves' 11 mm)
+    data.pop("joints", None)
+    data.pop("hydraulics", None)
     for block in ("geometry", "performance", "constraints", "constraint_details"):  # derived: rebuilt from the edit
         del data[block]  # (left in, the stale blocks are refused first, before the CAD sees the base)
     bad = tmp_path / "bad.json"

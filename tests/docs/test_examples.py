@@ -17,8 +17,8 @@ EXAMPLES = REPO / "examples"
 EXPECT = {
     "plot_paper_spring.py": ["linearity error: exact 1.866 %, on 401 samples 1.854 %"],
     "plot_check_linearity.py": ["limit 2.40 %: passes", "limit 2.30 %: fails", "1 passed"],
-    "plot_design_from_toml.py": ["layout bulkhead: linearity 1.230 % (isothermal)", "wrote "],
-    "plot_design_unit.py": ["bulkhead layout: linearity 1.230 % (isothermal)", "every check passes: True"],
+    "plot_design_from_toml.py": ["layout inner_tube: linearity 2.306 % (isothermal)", "wrote "],
+    "plot_design_unit.py": ["inner_tube layout: linearity 2.306 % (isothermal)", "every check passes: True"],
     "plot_diagnose_campaign.py": ["50 experiments", "accepted: gas_nonlinearity, stiction"],
 }
 

@@ -82,7 +82,7 @@ def tiny_search(monkeypatch):
     real = opt.optimise
 
     def tiny(req, **kw):
-        return real(req, **{**kw, "popsize": 5, "maxiter": 15, "progress": False})
+        return real(req, **{**kw, "popsize": 5, "maxiter": 30, "progress": False})  # 15: no feasible design now
 
     monkeypatch.setattr(opt, "optimise", tiny)
     monkeypatch.setattr(studies, "optimise", tiny)

@@ -86,7 +86,9 @@ def test_a_design_without_port_room_is_infeasible_and_names_it():
     assert not ev.feasible
     assert "chamber2_port_room" in ev.binding()
     # (its Ø19.03 piston also left the valve bores short of the 3 mm channel; the example now has a 1.5 mm one)
-    assert [k for k, m in ev.margins.items() if m < 0] == ["chamber2_port_room"]
+    # (and the inner tube's seats in the base and the cap, ISO 3601 static rings, lengthen its housing past 120 mm)
+    assert sorted(k for k, m in ev.margins.items() if m < 0) == ["chamber2_port_room", "housing_length"]
+    assert ev.details["housing_length"]["value"] == pytest.approx(121.8, abs=0.1)
     rp = design.piston_diameter_mm / 2  # the 1.5 mm channel: (4 + rp) / 2 - 0.75 - (4 + 1.5)
     assert ev.details["valve_bore_reach"]["value"] == pytest.approx(0.5 * (rp - 4.0) - 2.25, abs=1e-12)
     with pytest.raises(CadError, match=r"chamber-2 fill port .*0\.42 mm < 0\.5 mm: the design's chamber2_port_room"):

@@ -120,7 +120,9 @@ def test_the_derivation_speaks_the_designs_names(label):
                      "bladder_clearance_expanded_mm", "bladder_cast_gap_mm", "buildable", "inner_tube_buckling_MPa",
                      "inner_tube_cut_mm3",
                      # the buildability rules' intermediates: the sized section, the checks per case, the flow path
-                     "section", "check", "governing", "hydraulic_path"}
+                     "section", "check", "governing", "hydraulic_path",
+                     # the room the CAD needs for the chamber-2 fill port (the chamber2_port_room constraint's value)
+                     "chamber2_port_room_mm"}
     for f in fields(Derived):
         v = getattr(g, f.name)
         if f.name in intermediates or isinstance(v, dict) or v is None:

@@ -186,8 +186,8 @@ def write_spring_files(spring: GasSpring, out_dir: PathLike, layout: str | None 
     layout : str, optional
         The design's layout, named in the figure's title.
     label : str, optional
-        A warning every file carries (an over-rating charge): the figure's title and a ``# `` first line of
-        the CSV.
+        A warning every file carries (an over-rating charge): the figure's title and a first line of
+        the CSV that starts with ``#``.
 
     Returns
     -------

@@ -30,6 +30,9 @@ CONSTRAINT_FIELDS: dict[str, tuple[str, ...]] = {
     "gas_left_at_full_stroke": ("min_gas_fraction_at_full_stroke", "travel_mm"),
     "bladder_room": ("fixed.bladder_thickness_mm", "fixed.bladder_min_gap_mm", "fixed.bladder_bulge_factor"),
     "bladder_channel_room": ("fixed.ring_channel_mm", "fixed.bladder_thickness_mm"),
+    "chamber2_port_room": ("max_outer_diameter_mm", "fixed.bladder_thickness_mm", "fixed.joint_seal_cross_section_mm"),
+    "piston_seal_fit": ("bounds.piston_diameter_mm",),
+    "valve_bore_reach": ("fixed.rod_diameter_mm", "fixed.fluid_channel_mm", "bounds.piston_diameter_mm"),
     "wall_capacity": ("max_charge_MPa", "min_wall_safety_factor", "fixed.housing_material", "fixed.wall_sizing_n"),
     "wall_safety": ("min_wall_safety_factor", "max_charge_MPa", "fixed.housing_material"),
     "joint_capacity": ("joints", "fixed.tie_rod_property_class", "max_charge_MPa"),
@@ -62,7 +65,7 @@ def fields_of(constraint: str) -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        Requirement names and ``fixed.<name>`` fields, the limit's own field first.
+        Requirement names, ``fixed.<name>`` fields and ``bounds.<name>`` search ranges, the limit's own field first.
     """
     if constraint in CONSTRAINT_FIELDS:
         return CONSTRAINT_FIELDS[constraint]
@@ -73,6 +76,10 @@ def fields_of(constraint: str) -> tuple[str, ...]:
 
 
 def _value(req: Requirements, name: str) -> str:
+    if name.startswith("bounds."):  # a search range: the user's [bounds] entry, else it follows the requirements
+        key = name[7:]
+        given = req.bounds.get(key)
+        return f"[bounds] {key} = {show(list(given)) if given is not None else '(not set: follows the envelope)'}"
     obj, key = (req.fixed, name[6:]) if name.startswith("fixed.") else (req, name)
     v = getattr(obj, key, None)
     label = f"[fixed] {key}" if name.startswith("fixed.") else key

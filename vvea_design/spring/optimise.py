@@ -34,8 +34,7 @@ from .derive import derive
 from .design import Design, DesignError
 from .joints import EXCLUDED_PAIRS, joint_fits_layout
 from .layouts import get_layout
-from .problem import (Evaluation, binding_bounds, constraint_names, design_from_vector, evaluate_design,
-                      evaluate_population)
+from .problem import Evaluation, binding_bounds, design_from_vector, evaluate_design, evaluate_population
 from .requirements import Requirements
 
 __all__ = [
@@ -377,17 +376,10 @@ def _search_rank(info: LayoutSearch) -> tuple:
 
 
 def _best_polish(prob, starts, bounds) -> tuple[np.ndarray, bool]:
-    """Polish from every start; the best feasible result (or the first start).
-
-    When not one start meets the constraints (the global search found no feasible design of this layout and
-    joint), only the least-violating start is polished: from there the polish looks for feasibility, and seven
-    more infeasible starts cost up to 300 SLSQP iterations each for a layout that is then ranked last anyway.
-    """
+    """Polish from every start; the best feasible result (or the first start)."""
     x, best, polished = starts[0], np.inf, False
     if np.all(prob.constraints(x) >= -1e-9):
         best = prob.objective(x)
-    elif not any(np.all(prob.constraints(s) >= -1e-9) for s in starts):
-        starts = starts[:1]
     for start in starts:
         xs, ok = _polish(prob, start, bounds)
         fs = prob.objective(xs)
@@ -528,25 +520,6 @@ def optimise(
     return result
 
 
-#: Constraints read from standard-part tables (a ring series that switches, windows with gaps between the
-#: standard rings): piecewise, with jumps a forward difference turns into gradients of ~1e7 that stall SLSQP.
-#: Where one holds with this margin (mm) at the polish's start it is left out of the polish's linearisation;
-#: the polished design is kept only if it meets every constraint (the last check of :func:`_polish`).
-TABLE_CONSTRAINTS = ("piston_seal_fit", "chamber2_port_room")
-TABLE_MARGIN_MM = 0.05
-
-
-def _smooth_rows(prob, c0: np.ndarray) -> np.ndarray | None:
-    """Rows of the margins the polish linearises (None: all): the table constraints held at the start drop out."""
-    if not isinstance(prob, _Population):
-        return None
-    names = constraint_names(prob.req, prob.layout, search=True)
-    if len(names) != len(c0):
-        return None
-    keep = np.array([not (n in TABLE_CONSTRAINTS and c > TABLE_MARGIN_MM) for n, c in zip(names, c0)])
-    return None if keep.all() else np.flatnonzero(keep)
-
-
 def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     """SLSQP from ``x0`` in scaled variables; keep the result only if feasible and better.
 
@@ -577,7 +550,6 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
             Z = np.vstack([z, z + np.diag(step)])
             if epi:
                 obj, mar, ext = prob(unscale(Z).T, extremes=True, remember=False)
-                mar = mar if rows is None else mar[rows]
                 cons = np.vstack([mar, ext, -ext])  # margins >= 0; t - ext >= 0; t + ext >= 0 (t added below)
             else:
                 obj, mar = prob(unscale(Z).T)
@@ -589,7 +561,6 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
 
     x0 = np.asarray(x0, dtype=float)
     f0, c0 = prob.objective(x0), prob.constraints(x0)
-    rows = _smooth_rows(prob, c0) if epi else None
     z0 = (x0 - lo) / span
     if epi:
         m = evalz(z0)[4]
