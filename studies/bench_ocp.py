@@ -483,7 +483,11 @@ def figure(res: dict, path: Path) -> None:
     ax.set_xticklabels([l.split(":")[0].split(";")[0] for l in labels], fontsize=7, rotation=10)
     ax.set_ylabel("CPU s per case (4 settings, both meshes)")
     ax.set_title("Starts: CPU per case by kind of solve", fontsize=9)
-    ax.legend(fontsize=6, loc="upper right")
+    if starts:
+        ax.legend(fontsize=6, loc="upper right")
+    else:  # --no-starts: say so rather than leave an empty frame
+        ax.text(0.5, 0.5, "not run (--no-starts)", ha="center", va="center", transform=ax.transAxes, fontsize=9)
+        ax.set_xticks([])
     bx = axes[1]
     build = res.get("build", {})
     names = list(build)
