@@ -478,15 +478,8 @@ def optimise(
         for lay, joint in choices:
             x, info, prob = _search(req, lay, seed, popsize, maxiter, tol, surrogate, advance, joint=joint)
             found.append([lay, x, info, prob, False])
-    if polish:  # each layout's best joint after the global search is polished (the others keep their search's)
-        for lay in layouts:
-            item = min((it for it in found if it[0] == lay), key=lambda it: _search_rank(it[2]))
-            _, x, info, prob, _ = item
-            x, polished = _best_polish(prob, prob.starts, req.search_bounds(lay))
-            mar = prob.constraints(x)
-            item[1:] = [x, replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
-                                   decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
-                                   evaluations=prob.count), prob, polished]
+    if polish:
+        _polish_layouts(found, layouts, req)
     found = [tuple(it) for it in found]
 
     # best layout: feasible first, then the lowest objective (or the least violation)
@@ -520,6 +513,29 @@ def optimise(
     return result
 
 
+def _polish_layouts(found: list, layouts, req: Requirements) -> None:
+    """Polish each layout's best joint after the global search, in place (the other joints keep their search's).
+
+    A layout the search found no feasible design of, where it found one of another, is polished from its
+    least-violating point only: its other starts' polishes cost the most (they wander off the drawable region)
+    and were never seen to beat the feasible layouts.
+    """
+    any_feasible = any(it[2].feasible for it in found)
+    for lay in layouts:
+        item = min((it for it in found if it[0] == lay), key=lambda it: _search_rank(it[2]))
+        _, x, info, prob, _ = item
+        starts = prob.starts[:1] if any_feasible and not info.feasible else prob.starts
+        x, polished = _best_polish(prob, starts, req.search_bounds(lay))
+        mar = prob.constraints(x)
+        item[1:] = [x, replace(info, objective=float(prob.objective(x)), feasible=bool(np.all(mar >= -1e-9)),
+                               decision_vector=tuple(float(v) for v in x), worst_margin=float(mar.min()),
+                               evaluations=prob.count), prob, polished]
+
+
+#: Undrawable iterates in a row after which a polish is abandoned (:func:`_polish`).
+UNDRAWABLE_RUN = 15
+
+
 def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     """SLSQP from ``x0`` in scaled variables; keep the result only if feasible and better.
 
@@ -529,6 +545,11 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     ``t >= ±(signed deviation)/span`` at each place, smooth constraints, and
     the requirements' margins. Gradients by forward differences, all points
     of one gradient evaluated as one population.
+
+    A point that cannot be drawn has every margin at -1 (flat: no gradient), and SLSQP may wander there for
+    hundreds of iterations without finding its way back (the ring tables' windows and series make such pockets
+    common). A polish whose iterates stay undrawable for :data:`UNDRAWABLE_RUN` iterations running is abandoned
+    (the start is kept); no feasible polish seen needed more than 7 such iterations in a row.
     """
     lo = np.array([b[0] for b in bounds])
     hi = np.array([b[1] for b in bounds])
@@ -562,6 +583,15 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     x0 = np.asarray(x0, dtype=float)
     f0, c0 = prob.objective(x0), prob.constraints(x0)
     z0 = (x0 - lo) / span
+    run = [0]  # undrawable iterates in a row
+
+    def stalled(w):
+        z = np.asarray(w, dtype=float)[:N]
+        c = evalz(z)[1][:evalz(z)[4]]
+        run[0] = run[0] + 1 if np.all(c == -1.0) else 0
+        if run[0] >= UNDRAWABLE_RUN:
+            raise StopIteration
+
     if epi:
         m = evalz(z0)[4]
 
@@ -587,13 +617,13 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
         res = minimize(fun, np.append(z0, f0 if np.isfinite(f0) else 1.0), jac=jac, method="SLSQP",
                        bounds=[(0.0, 1.0)] * N + [(0.0, 1.0)],
                        constraints=[{"type": "ineq", "fun": cfun, "jac": cjac}],
-                       options={"maxiter": 300, "ftol": 1e-12})
+                       options={"maxiter": 300, "ftol": 1e-12}, callback=stalled)
         z1 = res.x[:-1]
     else:
         res = minimize(lambda z: evalz(z)[0], z0, jac=lambda z: evalz(z)[2], method="SLSQP",
                        bounds=[(0.0, 1.0)] * N,
                        constraints=[{"type": "ineq", "fun": lambda z: evalz(z)[1], "jac": lambda z: evalz(z)[3]}],
-                       options={"maxiter": 200, "ftol": 1e-12})
+                       options={"maxiter": 200, "ftol": 1e-12}, callback=stalled)
         z1 = res.x
     x1 = np.clip(unscale(z1), lo, hi)
     f1, c1 = prob.objective(x1), prob.constraints(x1)
