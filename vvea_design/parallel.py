@@ -23,6 +23,7 @@ Example
 from __future__ import annotations
 
 import contextlib
+import multiprocessing
 import os
 import signal
 import sys
@@ -40,7 +41,8 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 __all__ = ["parallel_map", "default_workers", "Terminated", "WorkerLost", "SchedulerUnreachable", "check_scheduler",
-           "note_interrupt", "interrupt_noted"]
+           "note_interrupt", "interrupt_noted", "clean_workers",
+           "WorkersHandle"]
 
 #: Set by the command line's SIGINT handler: a solver that swallows the KeyboardInterrupt its signal check raised
 #: (CasADi's IPOPT returns ``NonIpopt_Exception_Thrown``) can still tell that the user pressed Ctrl-C.
@@ -198,7 +200,63 @@ def check_scheduler(address: str, timeout_s: float = 5.0) -> str:
     return address
 
 
-def _die_with_parent(parent_pid: int) -> None:
+_LOCAL = threading.local()  # per thread: the handle of its :func:`clean_workers` block
+
+
+class WorkersHandle:
+    """What :func:`clean_workers` hands its block: :meth:`cancel` stops the pools started inside it from another
+    thread."""
+
+    def __init__(self) -> None:
+        self.context = multiprocessing.get_context("forkserver")
+        self.pools: list[ProcessPoolExecutor] = []
+        self.cancelled = threading.Event()
+        self._lock = threading.Lock()
+
+    def add(self, pool: ProcessPoolExecutor) -> None:
+        """Register a pool started in the block (stopped at once if the block was cancelled)."""
+        with self._lock:
+            self.pools.append(pool)
+            cancelled = self.cancelled.is_set()
+        if cancelled:
+            _stop_now(pool)
+
+    def cancel(self) -> None:
+        """Stop the block's work: its running pools' workers end now, a serial loop stops before its next item."""
+        with self._lock:
+            self.cancelled.set()
+            pools = list(self.pools)
+        for pool in pools:
+            _stop_now(pool)
+
+
+@contextlib.contextmanager
+def clean_workers(handle: WorkersHandle | None = None) -> Iterator[WorkersHandle]:
+    """Worker pools this thread starts inside the block start their workers from a fork server.
+
+    A worker forked from a process in which another thread is busy (the main job builds the CAD while the actuator
+    study runs beside it) inherits that thread's locks held at the moment of the fork, and may hang on one. The
+    fork server is a clean, single-threaded process; its workers import what they run.
+
+    Parameters
+    ----------
+    handle : WorkersHandle, optional
+        The handle another thread keeps to cancel the block's work (None: a new one).
+
+    Returns
+    -------
+    Iterator[WorkersHandle]
+        (a context manager) the handle: ``handle.cancel()`` from another thread stops the block's pools.
+    """
+    old = getattr(_LOCAL, "handle", None)
+    _LOCAL.handle = handle = handle or WorkersHandle()
+    try:
+        yield handle
+    finally:
+        _LOCAL.handle = old
+
+
+def _die_with_parent(parent_pid: int | None) -> None:
     """Worker initializer: end this worker when the parent process dies.
 
     A forked worker also inherits the parent's SIGTERM handler of :func:`_sigterm_raises` (the pool
@@ -216,6 +274,8 @@ def _die_with_parent(parent_pid: int) -> None:
             libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
         except OSError:  # pragma: no cover - no libc: the watchdog below still works
             pass
+    if parent_pid is None:  # started by a fork server (:func:`clean_workers`): the death signal follows it
+        parent_pid = os.getppid()
     if os.getppid() != parent_pid:  # the parent died before we got here
         os._exit(1)
 
@@ -359,11 +419,18 @@ def parallel_map(
         else:
             n = default_workers() if workers is None else check_count("workers", workers, "workers", ValueError)
             if n == 1 or len(work) == 1:
+                handle = getattr(_LOCAL, "handle", None)
                 for i, item in enumerate(work):
+                    if handle is not None and handle.cancelled.is_set():
+                        raise Terminated(f"{description}: cancelled")
                     _done(i, func(item))
             else:
+                handle = getattr(_LOCAL, "handle", None)
+                ctx = None if handle is None else handle.context
                 pool = ProcessPoolExecutor(max_workers=min(n, len(work)), initializer=_die_with_parent,
-                                           initargs=(os.getpid(),))
+                                           initargs=(None if ctx is not None else os.getpid(),), mp_context=ctx)
+                if handle is not None:
+                    handle.add(pool)
                 with _sigterm_raises():
                     try:
                         futs = {pool.submit(func, item): i for i, item in enumerate(work)}

@@ -252,7 +252,12 @@ def design_unit(
 def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: bool, study: dict | None,
                 report: bool, bladder_elements: int | None, spec_path: str | None,
                 progress: ProgressFn | None) -> UnitDesign:
-    """Every step of :func:`design_unit` into ``out``, each through its job."""
+    """Every step of :func:`design_unit` into ``out``, each through its job.
+
+    The actuator study needs only the design: it runs in a thread beside the CAD, the FE and the bladder check
+    (its solves in worker processes started from a fork server, :func:`vvea_design.parallel.clean_workers`), and
+    the ``actuator_study`` step waits for it. Its time in ``seconds`` is its own run, overlapping those steps.
+    """
     step = _Steps(progress)
     files: dict[str, Path] = {}
     with step("optimise"):
@@ -261,35 +266,40 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
     with step("spring"):
         sp = spring_report(res.design, out=out / "spring")
         files["spring_csv"], files["spring_png"] = sp.files["csv"], sp.files["png"]
-    cad_set = None
-    with step("cad"):
-        if cad:
-            cad_set = build_cad(res.design, out=out / "cad", renders=renders, silicone=req.bladder_material,
-                                progress=False)
-            files["cad"], files["drawings_pdf"] = out / "cad", cad_set.drawings.pdf
-            files["bom_csv"] = out / "cad" / "bom.csv"
-    structure = None
-    with step("structure"):
-        if cad_set is not None:
-            structure = check_structure(cad_set, out=out / "structure")
-            files["structure"] = out / "structure"
-    with step("bladder"):
-        bl = check_bladder(res.design, material=req.bladder_material, elements=bladder_elements,
-                           out=out / "bladder", progress=False)
-        files["bladder_json"], files["bladder_png"] = bl.path("json"), bl.path("png")  # bladder.json names its folder's files
-    with step("actuator"):
+    with step("actuator"):  # before the study, which writes into the same folder
         act = _write_actuator(res.design.gas_spring, out / "actuator")
         files["actuator_json"] = out / "actuator" / "actuator.json"
-    ds = None
-    with step("actuator_study"):
-        if study is not None:
-            ds = run_design_study(res.design, out=out / "actuator", **study)
-            files["actuator_study_json"] = Path(ds.files.summary_json)
+    with _beside(run_design_study if study is not None else None, res.design, out=out / "actuator",
+                 **(study or {})) as study_run:
+        cad_set = None
+        with step("cad"):
+            if cad:
+                cad_set = build_cad(res.design, out=out / "cad", renders=renders, silicone=req.bladder_material,
+                                    progress=False)
+                files["cad"], files["drawings_pdf"] = out / "cad", cad_set.drawings.pdf
+                files["bom_csv"] = out / "cad" / "bom.csv"
+        structure = None
+        with step("structure"):
+            if cad_set is not None:
+                structure = check_structure(cad_set, out=out / "structure")
+                files["structure"] = out / "structure"
+        with step("bladder"):
+            bl = check_bladder(res.design, material=req.bladder_material, elements=bladder_elements,
+                               out=out / "bladder", progress=False)
+            files["bladder_json"], files["bladder_png"] = bl.path("json"), bl.path("png")  # bladder.json names its folder's files
+        ds = None
+        with step("actuator_study"):
+            if study is not None:
+                ds, study_seconds = study_run()
+                files["actuator_study_json"] = Path(ds.files.summary_json)
+    seconds = dict(step.seconds)
+    if ds is not None:
+        seconds["actuator_study"] = study_seconds
     unit = UnitDesign(requirements=req, optimisation=res, spring=sp.curve, bladder=bl.result, actuator=act,
                       cad_manifest=None if cad_set is None else cad_set.manifest,
                       bom=None if cad_set is None else cad_set.bom,
                       drawings=None if cad_set is None else cad_set.drawings, actuator_study=ds, out_dir=out,
-                      files=dict(files), seconds=dict(step.seconds), seed=seed, version=__version__,
+                      files=dict(files), seconds=seconds, seed=seed, version=__version__,
                       spec_path=spec_path, structure=structure)
     with step("report"):
         if report:
@@ -297,9 +307,44 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
 
             files["report"] = unit_report(unit).write(out / "report.html")
     files["unit_json"] = out / "unit.json"
-    unit = replace(unit, files=dict(files), seconds=dict(step.seconds))
+    unit = replace(unit, files=dict(files), seconds={**seconds, "report": step.seconds["report"]})
     files["unit_json"].write_text(json.dumps(unit.to_dict(), indent=2, default=_json_default) + "\n")
     return unit
+
+
+@contextlib.contextmanager
+def _beside(fn: Callable[..., Any] | None, *args: Any, **kwargs: Any) -> Iterator[Callable[[], tuple[Any, float]]]:
+    """Run ``fn(*args, **kwargs)`` in a thread while the block runs; the block gets ``wait() -> (result, s)``.
+
+    Worker pools ``fn`` starts come from a fork server (the block's thread is busy: a fork would copy its locks,
+    :func:`vvea_design.parallel.clean_workers`). Leaving the block waits for ``fn`` (its files are in the folder
+    the block writes); when the block raised (an error, Ctrl-C, SIGTERM) ``fn``'s work is cancelled first and the
+    block's exception wins. ``fn`` None: nothing runs.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from .parallel import WorkersHandle, clean_workers
+
+    if fn is None:
+        yield lambda: (None, 0.0)
+        return
+    handle = WorkersHandle()
+
+    def timed() -> tuple[Any, float]:
+        t = time.perf_counter()
+        with clean_workers(handle):
+            result = fn(*args, **kwargs)
+        return result, time.perf_counter() - t
+
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="vvea-actuator-study") as pool:
+        future = pool.submit(timed)
+        try:
+            yield future.result
+        except BaseException:
+            handle.cancel()
+            future.exception()  # the thread has ended before the folder is removed
+            raise
+        future.exception()
 
 
 def _write_actuator(spring, folder_: Path) -> Actuator:
