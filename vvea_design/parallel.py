@@ -214,7 +214,17 @@ class WorkersHandle:
         self._lock = threading.Lock()
 
     def add(self, pool: ProcessPoolExecutor) -> None:
-        """Register a pool started in the block (stopped at once if the block was cancelled)."""
+        """Register a pool started in the block (stopped at once if the block was cancelled).
+
+        Parameters
+        ----------
+        pool : ProcessPoolExecutor
+            The pool just started.
+
+        Returns
+        -------
+        None
+        """
         with self._lock:
             self.pools.append(pool)
             cancelled = self.cancelled.is_set()
@@ -222,7 +232,12 @@ class WorkersHandle:
             _stop_now(pool)
 
     def cancel(self) -> None:
-        """Stop the block's work: its running pools' workers end now, a serial loop stops before its next item."""
+        """Stop the block's work: its running pools' workers end now, a serial loop stops before its next item.
+
+        Returns
+        -------
+        None
+        """
         with self._lock:
             self.cancelled.set()
             pools = list(self.pools)
