@@ -8,6 +8,7 @@ How to run it for the record (on an idle machine, nothing else running; the load
     python studies/bench_ocp.py --full --jit         # + one NLP compiled with gcc (minutes of compiling)
     python studies/bench_ocp.py --design-starts      # + the design study's starts and barrier update, A/B
     python studies/bench_ocp.py --full --no-starts --multistart-monotone   # the grid with the monotone option
+    python studies/bench_ocp.py --full --no-starts --warm-multistart       # the grid with warm-started starts
 
 Run it from the repository root with the package importable (``PYTHONPATH=$PWD`` in a worktree). It ends
 with a summary block: the paper grid's wall time (target <= 180 s), the design study's (target <= 8 s, cold
@@ -168,10 +169,28 @@ def multistart_options(options: dict | None):
         MULTISTART_IPOPT.update(old)
 
 
-def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None,
+@contextlib.contextmanager
+def warm_multistart(options: dict | None):
+    """The multi-start NLPs' warm-start options (``multistart.MULTISTART_WARM_IPOPT``) set to ``options`` for the
+    block (None: left as they are; ``{}``: cold starts)."""
+    from vvea_design.actuator.multistart import MULTISTART_WARM_IPOPT
+
+    old = dict(MULTISTART_WARM_IPOPT)
+    if options is not None:
+        MULTISTART_WARM_IPOPT.clear()
+        MULTISTART_WARM_IPOPT.update(options)
+    try:
+        yield
+    finally:
+        MULTISTART_WARM_IPOPT.clear()
+        MULTISTART_WARM_IPOPT.update(old)
+
+
+def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None, warm: dict | None = None,
                 ) -> tuple[pd.DataFrame, float, dict]:
-    """The sample's cases with ``starts`` (in chains or each on its own) and the multi-start mesh's IPOPT options
-    ``coarse_options`` (None: the defaults): rows, CPU seconds, CPU by kind."""
+    """The sample's cases with ``starts`` (in chains or each on its own), the multi-start mesh's IPOPT options
+    ``coarse_options`` and the multi-start NLPs' warm-start options ``warm`` (None: the defaults): rows, CPU
+    seconds, CPU by kind."""
     from vvea_design.actuator.model import PAPER_SETTINGS
     from vvea_design.actuator.multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, RestToRestCase, chains,
                                                  solve_case, solve_chain)
@@ -183,7 +202,7 @@ def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None =
     rows = []
     shares = _Shares(DEFAULT_MESH.n_intervals)
     c0 = time.process_time()
-    with shares.patch(), multistart_options(coarse_options):
+    with shares.patch(), multistart_options(coarse_options), warm_multistart(warm):
         if chained:
             for ch in chains(cases):
                 for rs in solve_chain(ch)[0]:
@@ -213,19 +232,23 @@ def changes(a: pd.DataFrame, b: pd.DataFrame) -> dict:
 def bench_starts(amplitudes) -> dict:
     """Part 2 and 3: the earlier multi-start against the default, on the sample, in this process."""
     from vvea_design.actuator.multistart import DEFAULT_STARTS
+    from vvea_design.actuator.ocp import WARM_START_IPOPT
     from vvea_design.actuator.statistics import table5_statistics
 
     res = {}
     frames = {}
     adaptive: dict = {}  # the defaults: IPOPT's adaptive barrier update (the solver of the default run, no rebuild)
-    for label, starts, chained, opts in (
-            ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive),
-            ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive),
-            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive),
+    cold: dict = {}  # the multi-start NLPs with IPOPT's cold options (pushed into the interior from their start)
+    for label, starts, chained, opts, warm in (
+            ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive, cold),
+            ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive, cold),
+            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive, None),
             ("option: the same, monotone barrier on the multi-start mesh", DEFAULT_STARTS, True,
-             {"ipopt.mu_strategy": "monotone"})):
+             {"ipopt.mu_strategy": "monotone"}, None),
+            ("option: the default, multi-start NLPs warm-started at their start points", DEFAULT_STARTS, True, adaptive,
+             WARM_START_IPOPT)):
         print(f"  {label} (load {load()}) ...", flush=True)
-        df, cpu, shares = run_variant(starts, chained, amplitudes, opts)
+        df, cpu, shares = run_variant(starts, chained, amplitudes, opts, warm)
         frames[label] = df
         n = df.case_id.nunique()
         st = table5_statistics(df)
@@ -233,7 +256,8 @@ def bench_starts(amplitudes) -> dict:
                       "cpu_per_case_s": round(cpu / n, 3), "cpu_by_kind_s": shares,
                       "table5_counted": {k: p.fraction_X_beats_Y for k, p in st.counted.items()},
                       "meanrmse": {k: p.meanrmse_Y_over_X for k, p in st.counted.items()}, "load_after": load(),
-                      "multistart_ipopt_options": opts}
+                      "multistart_ipopt_options": opts,
+                      "multistart_warm_options": warm if warm is not None else "default"}
         print(f"    {cpu:.1f} CPU-s, {cpu / n:.2f} CPU-s per case; " +
               ", ".join(f"{k} {v:.1f}" for k, v in shares.items()), flush=True)
     base = next(iter(frames.values()))
@@ -340,7 +364,7 @@ def bench_jit() -> dict:
     return out
 
 
-def bench_full(out_dir: Path, coarse_options: dict | None = None) -> dict:
+def bench_full(out_dir: Path, coarse_options: dict | None = None, warm: dict | None = None) -> dict:
     """Part 5: the paper grid and the design study with the defaults (wall time; meaningful on an idle machine);
     ``coarse_options``: the paper grid's multi-start mesh IPOPT options instead of the default ones."""
     from vvea_design.actuator.design_study import run_design_study
@@ -352,12 +376,13 @@ def bench_full(out_dir: Path, coarse_options: dict | None = None) -> dict:
     with tempfile.TemporaryDirectory() as d, cache_in(str(Path(d) / "cache")):
         l0 = load()
         t0 = time.perf_counter()
-        with multistart_options(coarse_options):
+        with multistart_options(coarse_options), warm_multistart(warm):
             s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True)
         wall = time.perf_counter() - t0
         df = pd.read_csv(Path(d) / "grid" / "results.csv")
         res["paper_grid"] = {"wall_s": round(wall, 1), "target_s": 180, "load_before": l0, "load_after": load(),
                              "multistart_ipopt_options": coarse_options if coarse_options is not None else "default",
+                             "multistart_warm_options": warm if warm is not None else "default",
                              "cpu_of_the_solves_s": round(float(df.cpu_seconds.sum()), 1),
                              "failures": s.statistics.solver_failures["count"],
                              "unverified": s.statistics.unverified["count"],
@@ -399,10 +424,11 @@ def optimisations() -> dict:
     """Which speed-ups are on in this tree (what the paper grid and the design study below ran with)."""
     from vvea_design.actuator import solver_cache
     from vvea_design.actuator.design_study import DESIGN_GRID, DESIGN_IPOPT, DESIGN_STARTS
-    from vvea_design.actuator.multistart import DEFAULT_STARTS, MULTISTART_IPOPT
+    from vvea_design.actuator.multistart import DEFAULT_STARTS, MULTISTART_IPOPT, MULTISTART_WARM_IPOPT
 
     return {"paper grid starts": list(DEFAULT_STARTS) + (["(chains)"] if "neighbour" in DEFAULT_STARTS else []),
             "multi-start mesh IPOPT options": dict(MULTISTART_IPOPT) or "defaults (adaptive barrier)",
+            "multi-start NLPs warm-started at their start points": dict(MULTISTART_WARM_IPOPT) or "no (cold options)",
             "design study starts": list(DESIGN_STARTS), "design study IPOPT options": dict(DESIGN_IPOPT),
             "fine-mesh QPs": "warm-started from the multi-start mesh's QP",
             "design study grid": f"{len(DESIGN_GRID.A_rad)} x {len(DESIGN_GRID.T_s)}",
@@ -529,6 +555,9 @@ def main() -> None:
     ap.add_argument("--multistart-monotone", action="store_true",
                     help="with --full: the paper grid with the monotone barrier on the multi-start mesh (an option, "
                          "not the default: it moves iVVEA optima)")
+    ap.add_argument("--warm-multistart", action="store_true",
+                    help="with --full: the grid with the multi-start NLPs warm-started at their start points (an "
+                         "option, not the default: it moves iVVEA optima)")
     ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "bench_ocp")
     a = ap.parse_args()
@@ -552,7 +581,10 @@ def main() -> None:
         res["jit"] = bench_jit()
     if a.full:
         print("5. the targets (wall s):")
-        res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None)
+        from vvea_design.actuator.ocp import WARM_START_IPOPT
+
+        res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None,
+                                 dict(WARM_START_IPOPT) if a.warm_multistart else None)
     res["machine"]["load_end"] = load()
     res["summary"] = summary(res)
     print("\nsummary:")
