@@ -90,10 +90,10 @@ __all__ = [
 
 #: Rest-to-rest grid of the design study: 3 amplitudes x 3 periods of the paper's grid (small, large and the largest
 #: amplitude; fast, medium and slow periods). A subset of the earlier 4 x 4 grid (A = 0.2, 0.4, 0.7, 1.0 rad;
-#: T = 0.3, 0.6, 1.0, 1.5 s) at 9/16 of its solves: on ``cad/design.json`` the mean rmse ratios against SEA
-#: (0.969 equal stiffness, 0.952 against 0.946 full charge) and VVEA (1.015 against 1.017) stay, the fraction of
-#: cases the design beats SEA moves from 6/16 to 3/9 (the A = 0.4 rad row, dropped, sits near a tie); A = 0.7 rad,
-#: T = 0.3 s (the design not valid, SEA valid) is kept (docs/benchmarks.md).
+#: T = 0.3, 0.6, 1.0, 1.5 s) at 9/16 of its solves (the same optima case by case): on ``cad/design.json`` the
+#: answer stays (the design beats SEA of equal stiffness in 3/9 cases against 6/16, mean rmse ratio SEA / design
+#: 0.899 against 0.919; full charge 2/9 against 3/16, 0.936 both; VVEA / design 1.015 against 1.016): the dropped
+#: A = 0.4 rad row sits near a tie. A = 0.7 rad, T = 0.3 s (the design not valid, SEA valid) is kept.
 DESIGN_GRID = Grid((0.2, 0.7, 1.0), (0.3, 0.6, 1.5))
 #: Mesh of the design study (single level; SEA's grid-mean rmse is within 0.6 % of N = 256 here).
 DESIGN_MESH = Mesh(64, 3)
