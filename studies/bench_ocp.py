@@ -8,7 +8,7 @@ How to run it for the record (on an idle machine, nothing else running; the load
     python studies/bench_ocp.py --full --jit         # + one NLP compiled with gcc (minutes of compiling)
     python studies/bench_ocp.py --design-starts      # + the design study's starts and barrier update, A/B
     python studies/bench_ocp.py --full --no-starts --multistart-monotone   # the grid with the monotone option
-    python studies/bench_ocp.py --full --no-starts --warm-multistart       # the grid with warm-started starts
+    python studies/bench_ocp.py --full --no-starts --before-multistart     # the grid as before the warm starts
 
 Run it from the repository root with the package importable (``PYTHONPATH=$PWD`` in a worktree). It ends
 with a summary block: the paper grid's wall time (target <= 180 s), the design study's (target <= 8 s, cold
@@ -25,9 +25,10 @@ Parts:
 1. **solver build**: each parametric solver built from its expressions vs read back from the disk cache
    (:mod:`vvea_design.actuator.solver_cache`): the saving of one solver per process, read from disk;
 2. **starts** (A/B, same process, same cases): the earlier multi-start (``const-Dmin, ramp, cold, cross``,
-   every case on its own), the same without ``cold`` and ``cross``, and the default (``const-Dmin, ramp,
-   neighbour`` in chains over the periods of each amplitude): CPU per case, and how many optima change and by
-   how much;
+   every case on its own), the same without ``cold`` and ``cross``, ``const-Dmin, ramp, neighbour`` in chains
+   over the periods of each amplitude (before the warm starts), the same started at their points
+   (``MULTISTART_WARM_IPOPT``), and the default (``const-Dmin, ramp, cold, neighbour``, warm starts): CPU per
+   case, and how many optima change and by how much;
 3. **shares**: where each variant's CPU goes (coarse QPs, ramp QPs, coarse NLP starts, fine QPs, fine
    polish, re-simulation);
 4. ``--jit``: one variable-damping NLP compiled with the system C compiler against CasADi's virtual machine;
@@ -242,11 +243,13 @@ def bench_starts(amplitudes) -> dict:
     for label, starts, chained, opts, warm in (
             ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive, cold),
             ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive, cold),
-            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive, None),
-            ("option: the same, monotone barrier on the multi-start mesh", DEFAULT_STARTS, True,
-             {"ipopt.mu_strategy": "monotone"}, None),
-            ("option: the default, multi-start NLPs warm-started at their start points", DEFAULT_STARTS, True, adaptive,
-             WARM_START_IPOPT)):
+            ("before: const-Dmin, ramp, neighbour; chains; cold options", ("const-Dmin", "ramp", "neighbour"), True,
+             adaptive, cold),
+            ("warm starts: the same, started at their points", ("const-Dmin", "ramp", "neighbour"), True, adaptive,
+             WARM_START_IPOPT),
+            ("default: const-Dmin, ramp, cold, neighbour; chains; warm starts", DEFAULT_STARTS, True, adaptive, None),
+            ("option: the default, monotone barrier on the multi-start mesh", DEFAULT_STARTS, True,
+             {"ipopt.mu_strategy": "monotone"}, None)):
         print(f"  {label} (load {load()}) ...", flush=True)
         df, cpu, shares = run_variant(starts, chained, amplitudes, opts, warm)
         frames[label] = df
@@ -364,7 +367,8 @@ def bench_jit() -> dict:
     return out
 
 
-def bench_full(out_dir: Path, coarse_options: dict | None = None, warm: dict | None = None) -> dict:
+def bench_full(out_dir: Path, coarse_options: dict | None = None, warm: dict | None = None,
+               starts: tuple[str, ...] | None = None) -> dict:
     """Part 5: the paper grid and the design study with the defaults (wall time; meaningful on an idle machine);
     ``coarse_options``: the paper grid's multi-start mesh IPOPT options instead of the default ones."""
     from vvea_design.actuator.design_study import run_design_study
@@ -377,12 +381,14 @@ def bench_full(out_dir: Path, coarse_options: dict | None = None, warm: dict | N
         l0 = load()
         t0 = time.perf_counter()
         with multistart_options(coarse_options), warm_multistart(warm):
-            s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True)
+            s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True,
+                                 **({} if starts is None else {"starts": starts}))
         wall = time.perf_counter() - t0
         df = pd.read_csv(Path(d) / "grid" / "results.csv")
         res["paper_grid"] = {"wall_s": round(wall, 1), "target_s": 180, "load_before": l0, "load_after": load(),
                              "multistart_ipopt_options": coarse_options if coarse_options is not None else "default",
                              "multistart_warm_options": warm if warm is not None else "default",
+                             "starts": list(starts) if starts is not None else "default",
                              "cpu_of_the_solves_s": round(float(df.cpu_seconds.sum()), 1),
                              "failures": s.statistics.solver_failures["count"],
                              "unverified": s.statistics.unverified["count"],
@@ -555,9 +561,9 @@ def main() -> None:
     ap.add_argument("--multistart-monotone", action="store_true",
                     help="with --full: the paper grid with the monotone barrier on the multi-start mesh (an option, "
                          "not the default: it moves iVVEA optima)")
-    ap.add_argument("--warm-multistart", action="store_true",
-                    help="with --full: the grid with the multi-start NLPs warm-started at their start points (an "
-                         "option, not the default: it moves iVVEA optima)")
+    ap.add_argument("--before-multistart", action="store_true",
+                    help="with --full: the grid with the multi-start before the warm starts (const-Dmin, ramp, "
+                         "neighbour; IPOPT's cold options)")
     ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "bench_ocp")
     a = ap.parse_args()
@@ -581,10 +587,9 @@ def main() -> None:
         res["jit"] = bench_jit()
     if a.full:
         print("5. the targets (wall s):")
-        from vvea_design.actuator.ocp import WARM_START_IPOPT
-
         res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None,
-                                 dict(WARM_START_IPOPT) if a.warm_multistart else None)
+                                 {} if a.before_multistart else None,
+                                 ("const-Dmin", "ramp", "neighbour") if a.before_multistart else None)
     res["machine"]["load_end"] = load()
     res["summary"] = summary(res)
     print("\nsummary:")

@@ -19,9 +19,11 @@ and are solved from several starts; the best objective wins:
   their periods), as is: the problem is scaled by A and T, so a neighbour's scaled
   decision vector is a start for this case. A chain's first case has none.
 
-The default starts are ``const-Dmin``, ``ramp`` and ``neighbour`` (``cold`` and
-``cross`` stay available; ``studies/bench_ocp.py`` measures what each costs and
-which optima change). Settings that differ only by name are solved once and
+The default starts are ``const-Dmin``, ``ramp``, ``cold`` and ``neighbour`` (``cross`` stays
+available; ``studies/bench_ocp.py`` measures what each costs and which optima change). On the
+multi-start mesh of a two-level run the starts from a point (``const-Dmin``, ``ramp``,
+``neighbour``) are solved with IPOPT started *at* that point (:data:`MULTISTART_WARM_IPOPT`), at
+about half the CPU of the cold options; ``cold`` keeps the cold options and explores. Settings that differ only by name are solved once and
 share their results (the design at the paper's K with the paper's damping range
 *is* the paper's VVEA).
 
@@ -77,7 +79,7 @@ DEFAULT_FINE_MESH = Mesh(n_intervals=192, degree=3)
 #: the link rests, at a cost of < 0.2 % in rmse (measured, docs/actuator.md).
 DEFAULT_REGULARISATION = Regularisation(u_d=1e-3, tau_rate=1e-6)
 #: Starts tried for variable-damping settings (``neighbour`` only inside a chain, :func:`solve_chain`).
-DEFAULT_STARTS = ("const-Dmin", "ramp", "neighbour")
+DEFAULT_STARTS = ("const-Dmin", "ramp", "cold", "neighbour")
 #: Every start there is (``cold``: at rest with D = D_min; ``cross``: the other variable settings' optima).
 ALL_STARTS = ("const-Dmin", "ramp", "cold", "cross", "neighbour")
 _ALL_STARTS = set(ALL_STARTS)
@@ -89,15 +91,14 @@ _ALL_STARTS = set(ALL_STARTS)
 #: beyond the mesh tolerance, so it is not the default; on the fine polish it costs more than it saves.
 MULTISTART_IPOPT: dict = {}
 #: IPOPT options of the multi-start NLPs that start from a point (:data:`MULTISTART_WARM_STARTS`) on the multi-start
-#: mesh of a two-level run, added to that mesh's options (the case's own win): with :data:`WARM_START_IPOPT`
-#: IPOPT starts *at* the point (a QP optimum, a neighbour's optimum) instead of being pushed into the interior with
-#: the default barrier parameter. ``{}`` (the default) = the cold options. ``studies/bench_ocp.py`` (A/B and
-#: ``--warm-multistart``): with :data:`WARM_START_IPOPT` these NLPs need about half the CPU (a paper-grid case
-#: 30-36 % less in all) and VVEA's optima stay within 3e-4, but iVVEA lands in other basins: on the 30 cases of
-#: A = 0.3 and 0.7 rad, 4 better by up to 6.8 % and 3 worse by up to 0.84 % than the committed run (2.2 % than
-#: the cold default). Beyond the mesh tolerance, so not the default. Single-level runs (the design study) never
-#: use it (there it saved 5 % and moved a full-charge optimum by 2.2 %).
-MULTISTART_WARM_IPOPT: dict = {}
+#: mesh of a two-level run, added to that mesh's options (the case's own win): IPOPT starts *at* the point (a QP
+#: optimum, a neighbour's optimum) instead of being pushed into the interior with the default barrier parameter
+#: (the polish's :data:`WARM_START_IPOPT`); ``{}`` = the cold options. With the ``cold`` start among the starts
+#: (the default) a paper-grid case needs 10-18 % less CPU than the cold options without it (these NLPs about half),
+#: VVEA's optima stay within 3e-4 and iVVEA's within the mesh tolerance of the committed run (docs/benchmarks.md);
+#: without the ``cold`` start iVVEA lands in other basins, up to 0.84 % worse. Single-level runs (the design
+#: study) never use it (there it saved 5 % and moved a full-charge optimum by 2.2 %).
+MULTISTART_WARM_IPOPT: dict = dict(WARM_START_IPOPT)
 #: The starts solved with :data:`MULTISTART_WARM_IPOPT` (the others keep the mesh's cold options).
 MULTISTART_WARM_STARTS: tuple[str, ...] = ("const-Dmin", "ramp", "neighbour", "cross")
 
