@@ -156,37 +156,33 @@ class _Shares:
 
 
 @contextlib.contextmanager
+def _replaced(target: dict, options: dict | None):
+    """``target`` (a module's option dict) set to ``options`` for the block (None: left as it is)."""
+    old = dict(target)
+    if options is not None:
+        target.clear()
+        target.update(options)
+    try:
+        yield
+    finally:
+        target.clear()
+        target.update(old)
+
+
 def multistart_options(options: dict | None):
     """The multi-start mesh's IPOPT options (``multistart.MULTISTART_IPOPT``) set to ``options`` for the block
     (None: left as they are)."""
     from vvea_design.actuator.multistart import MULTISTART_IPOPT
 
-    old = dict(MULTISTART_IPOPT)
-    if options is not None:
-        MULTISTART_IPOPT.clear()
-        MULTISTART_IPOPT.update(options)
-    try:
-        yield
-    finally:
-        MULTISTART_IPOPT.clear()
-        MULTISTART_IPOPT.update(old)
+    return _replaced(MULTISTART_IPOPT, options)
 
 
-@contextlib.contextmanager
 def warm_multistart(options: dict | None):
     """The multi-start NLPs' warm-start options (``multistart.MULTISTART_WARM_IPOPT``) set to ``options`` for the
     block (None: left as they are; ``{}``: cold starts)."""
     from vvea_design.actuator.multistart import MULTISTART_WARM_IPOPT
 
-    old = dict(MULTISTART_WARM_IPOPT)
-    if options is not None:
-        MULTISTART_WARM_IPOPT.clear()
-        MULTISTART_WARM_IPOPT.update(options)
-    try:
-        yield
-    finally:
-        MULTISTART_WARM_IPOPT.clear()
-        MULTISTART_WARM_IPOPT.update(old)
+    return _replaced(MULTISTART_WARM_IPOPT, options)
 
 
 def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None, warm: dict | None = None,
