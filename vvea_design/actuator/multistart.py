@@ -19,11 +19,12 @@ and are solved from several starts; the best objective wins:
   their periods), as is: the problem is scaled by A and T, so a neighbour's scaled
   decision vector is a start for this case. A chain's first case has none.
 
-The default starts are ``const-Dmin``, ``ramp``, ``cold`` and ``neighbour`` (``cross`` stays
-available; ``studies/bench_ocp.py`` measures what each costs and which optima change). On the
-multi-start mesh of a two-level run the starts from a point (``const-Dmin``, ``ramp``,
-``neighbour``) are solved with IPOPT started *at* that point (:data:`MULTISTART_WARM_IPOPT`), at
-about half the CPU of the cold options; ``cold`` keeps the cold options and explores. Settings that differ only by name are solved once and
+The default starts are ``const-Dmin``, ``ramp`` and ``neighbour`` (``cold`` and
+``cross`` stay available; ``studies/bench_ocp.py`` measures what each costs and
+which optima change). An option (:data:`MULTISTART_WARM_IPOPT`) solves the starts from a point
+on the multi-start mesh of a two-level run with IPOPT started *at* that point, at about half
+the CPU of the cold options; it moves iVVEA optima, so it is not the default.
+Settings that differ only by name are solved once and
 share their results (the design at the paper's K with the paper's damping range
 *is* the paper's VVEA).
 
@@ -79,7 +80,7 @@ DEFAULT_FINE_MESH = Mesh(n_intervals=192, degree=3)
 #: the link rests, at a cost of < 0.2 % in rmse (measured, docs/actuator.md).
 DEFAULT_REGULARISATION = Regularisation(u_d=1e-3, tau_rate=1e-6)
 #: Starts tried for variable-damping settings (``neighbour`` only inside a chain, :func:`solve_chain`).
-DEFAULT_STARTS = ("const-Dmin", "ramp", "cold", "neighbour")
+DEFAULT_STARTS = ("const-Dmin", "ramp", "neighbour")
 #: Every start there is (``cold``: at rest with D = D_min; ``cross``: the other variable settings' optima).
 ALL_STARTS = ("const-Dmin", "ramp", "cold", "cross", "neighbour")
 _ALL_STARTS = set(ALL_STARTS)
@@ -91,14 +92,14 @@ _ALL_STARTS = set(ALL_STARTS)
 #: beyond the mesh tolerance, so it is not the default; on the fine polish it costs more than it saves.
 MULTISTART_IPOPT: dict = {}
 #: IPOPT options of the multi-start NLPs that start from a point (:data:`MULTISTART_WARM_STARTS`) on the multi-start
-#: mesh of a two-level run, added to that mesh's options (the case's own win): IPOPT starts *at* the point (a QP
-#: optimum, a neighbour's optimum) instead of being pushed into the interior with the default barrier parameter
-#: (the polish's :data:`WARM_START_IPOPT`); ``{}`` = the cold options. With the ``cold`` start among the starts
-#: (the default) a paper-grid case needs 10-18 % less CPU than the cold options without it (these NLPs about half),
-#: VVEA's optima stay within 3e-4 and iVVEA's within the mesh tolerance of the committed run (docs/benchmarks.md);
-#: without the ``cold`` start iVVEA lands in other basins, up to 0.84 % worse. Single-level runs (the design
-#: study) never use it (there it saved 5 % and moved a full-charge optimum by 2.2 %).
-MULTISTART_WARM_IPOPT: dict = dict(WARM_START_IPOPT)
+#: mesh of a two-level run, added to that mesh's options (the case's own win); ``{}`` (the default) = the cold
+#: options. With :data:`WARM_START_IPOPT` IPOPT starts *at* the point (a QP optimum, a neighbour's optimum) instead
+#: of being pushed into the interior: these NLPs need about half the CPU (``studies/bench_ocp.py``,
+#: docs/benchmarks.md). VVEA's optima stay within 5e-4, but iVVEA lands in other basins: alone (a case 30-36 %
+#: less CPU) up to 0.84 % worse than the committed run; with the ``cold`` start added (10-18 % less CPU) 24 of 120
+#: iVVEA optima better (up to 6.8 %) and 7 worse, 2 of them beyond the mesh tolerance (0.8 % and 0.95 %). So it is
+#: an option. Single-level runs (the design study) never use it (there it saved 5 % and moved an optimum by 2.2 %).
+MULTISTART_WARM_IPOPT: dict = {}
 #: The starts solved with :data:`MULTISTART_WARM_IPOPT` (the others keep the mesh's cold options).
 MULTISTART_WARM_STARTS: tuple[str, ...] = ("const-Dmin", "ramp", "neighbour", "cross")
 
