@@ -8,6 +8,7 @@ How to run it for the record (on an idle machine, nothing else running; the load
     python studies/bench_ocp.py --full --jit         # + one NLP compiled with gcc (minutes of compiling)
     python studies/bench_ocp.py --design-starts      # + the design study's starts and barrier update, A/B
     python studies/bench_ocp.py --full --no-starts --multistart-monotone   # the grid with the monotone option
+    python studies/bench_ocp.py --full --no-starts --warm-multistart       # the grid with the warm-start option
 
 Run it from the repository root with the package importable (``PYTHONPATH=$PWD`` in a worktree). It ends
 with a summary block: the paper grid's wall time (target <= 180 s), the design study's (target <= 8 s, cold
@@ -24,9 +25,10 @@ Parts:
 1. **solver build**: each parametric solver built from its expressions vs read back from the disk cache
    (:mod:`vvea_design.actuator.solver_cache`): the saving of one solver per process, read from disk;
 2. **starts** (A/B, same process, same cases): the earlier multi-start (``const-Dmin, ramp, cold, cross``,
-   every case on its own), the same without ``cold`` and ``cross``, and the default (``const-Dmin, ramp,
-   neighbour`` in chains over the periods of each amplitude): CPU per case, and how many optima change and by
-   how much;
+   every case on its own), the same without ``cold`` and ``cross``, ``const-Dmin, ramp, neighbour`` in chains
+   over the periods of each amplitude (the default), the monotone-barrier option, and the warm-start option
+   (``MULTISTART_WARM_IPOPT``) without and with the ``cold`` start: CPU per case, and how many optima change and
+   by how much;
 3. **shares**: where each variant's CPU goes (coarse QPs, ramp QPs, coarse NLP starts, fine QPs, fine
    polish, re-simulation);
 4. ``--jit``: one variable-damping NLP compiled with the system C compiler against CasADi's virtual machine;
@@ -53,6 +55,8 @@ import pandas as pd
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE_A = (0.3, 0.7)
 OLD_STARTS = ("const-Dmin", "ramp", "cold", "cross")
+#: the starts of the warm-start option's variant that keeps a cold start (``--warm-multistart``)
+WARM_COLD_STARTS = ("const-Dmin", "ramp", "cold", "neighbour")
 
 
 def load() -> list[float]:
@@ -83,12 +87,14 @@ def bench_build() -> dict:
     """CPU seconds of building each solver from its expressions and of reading it back from the cache."""
     from vvea_design.actuator import solver_cache
     from vvea_design.actuator.design_study import DESIGN_SAFETY_MESH
-    from vvea_design.actuator.multistart import DEFAULT_FINE_MESH, DEFAULT_MESH
+    from vvea_design.actuator.multistart import DEFAULT_FINE_MESH, DEFAULT_MESH, MULTISTART_WARM_IPOPT
     from vvea_design.actuator.ocp import WARM_START_IPOPT, RestToRestSolver, TorqueStepSolver
 
     out = {}
     with tempfile.TemporaryDirectory() as d, cache_in(d):
         for label, make in (("rest_to_rest N=64", lambda: RestToRestSolver(DEFAULT_MESH)),
+                            ("rest_to_rest N=64 warm-start options (the multi-start's starts from a point)",
+                             lambda: RestToRestSolver(DEFAULT_MESH, MULTISTART_WARM_IPOPT or WARM_START_IPOPT)),
                             ("rest_to_rest N=192", lambda: RestToRestSolver(DEFAULT_FINE_MESH)),
                             ("rest_to_rest N=192 warm-start options",
                              lambda: RestToRestSolver(DEFAULT_FINE_MESH, WARM_START_IPOPT)),
@@ -152,26 +158,40 @@ class _Shares:
 
 
 @contextlib.contextmanager
+def _replaced(target: dict, options: dict | None):
+    """``target`` (a module's option dict) set to ``options`` for the block (None: left as it is)."""
+    old = dict(target)
+    if options is not None:
+        target.clear()
+        target.update(options)
+    try:
+        yield
+    finally:
+        target.clear()
+        target.update(old)
+
+
 def multistart_options(options: dict | None):
     """The multi-start mesh's IPOPT options (``multistart.MULTISTART_IPOPT``) set to ``options`` for the block
     (None: left as they are)."""
     from vvea_design.actuator.multistart import MULTISTART_IPOPT
 
-    old = dict(MULTISTART_IPOPT)
-    if options is not None:
-        MULTISTART_IPOPT.clear()
-        MULTISTART_IPOPT.update(options)
-    try:
-        yield
-    finally:
-        MULTISTART_IPOPT.clear()
-        MULTISTART_IPOPT.update(old)
+    return _replaced(MULTISTART_IPOPT, options)
 
 
-def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None,
+def warm_multistart(options: dict | None):
+    """The multi-start NLPs' warm-start options (``multistart.MULTISTART_WARM_IPOPT``) set to ``options`` for the
+    block (None: left as they are; ``{}``: cold starts)."""
+    from vvea_design.actuator.multistart import MULTISTART_WARM_IPOPT
+
+    return _replaced(MULTISTART_WARM_IPOPT, options)
+
+
+def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None = None, warm: dict | None = None,
                 ) -> tuple[pd.DataFrame, float, dict]:
-    """The sample's cases with ``starts`` (in chains or each on its own) and the multi-start mesh's IPOPT options
-    ``coarse_options`` (None: the defaults): rows, CPU seconds, CPU by kind."""
+    """The sample's cases with ``starts`` (in chains or each on its own), the multi-start mesh's IPOPT options
+    ``coarse_options`` and the multi-start NLPs' warm-start options ``warm`` (None: the defaults): rows, CPU
+    seconds, CPU by kind."""
     from vvea_design.actuator.model import PAPER_SETTINGS
     from vvea_design.actuator.multistart import (DEFAULT_FINE_MESH, DEFAULT_MESH, RestToRestCase, chains,
                                                  solve_case, solve_chain)
@@ -183,7 +203,7 @@ def run_variant(starts, chained: bool, amplitudes, coarse_options: dict | None =
     rows = []
     shares = _Shares(DEFAULT_MESH.n_intervals)
     c0 = time.process_time()
-    with shares.patch(), multistart_options(coarse_options):
+    with shares.patch(), multistart_options(coarse_options), warm_multistart(warm):
         if chained:
             for ch in chains(cases):
                 for rs in solve_chain(ch)[0]:
@@ -213,19 +233,23 @@ def changes(a: pd.DataFrame, b: pd.DataFrame) -> dict:
 def bench_starts(amplitudes) -> dict:
     """Part 2 and 3: the earlier multi-start against the default, on the sample, in this process."""
     from vvea_design.actuator.multistart import DEFAULT_STARTS
+    from vvea_design.actuator.ocp import WARM_START_IPOPT
     from vvea_design.actuator.statistics import table5_statistics
 
     res = {}
     frames = {}
     adaptive: dict = {}  # the defaults: IPOPT's adaptive barrier update (the solver of the default run, no rebuild)
-    for label, starts, chained, opts in (
-            ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive),
-            ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive),
-            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive),
+    cold: dict = {}  # the multi-start NLPs with IPOPT's cold options (pushed into the interior from their start)
+    for label, starts, chained, opts, warm in (
+            ("earlier: const-Dmin, ramp, cold, cross; case by case", OLD_STARTS, False, adaptive, cold),
+            ("no cold, no cross", ("const-Dmin", "ramp"), False, adaptive, cold),
+            ("default: const-Dmin, ramp, neighbour; chains", DEFAULT_STARTS, True, adaptive, None),
             ("option: the same, monotone barrier on the multi-start mesh", DEFAULT_STARTS, True,
-             {"ipopt.mu_strategy": "monotone"})):
+             {"ipopt.mu_strategy": "monotone"}, None),
+            ("option: the default started at their points (warm)", DEFAULT_STARTS, True, adaptive, WARM_START_IPOPT),
+            ("option: warm, with the cold start", WARM_COLD_STARTS, True, adaptive, WARM_START_IPOPT)):
         print(f"  {label} (load {load()}) ...", flush=True)
-        df, cpu, shares = run_variant(starts, chained, amplitudes, opts)
+        df, cpu, shares = run_variant(starts, chained, amplitudes, opts, warm)
         frames[label] = df
         n = df.case_id.nunique()
         st = table5_statistics(df)
@@ -233,7 +257,8 @@ def bench_starts(amplitudes) -> dict:
                       "cpu_per_case_s": round(cpu / n, 3), "cpu_by_kind_s": shares,
                       "table5_counted": {k: p.fraction_X_beats_Y for k, p in st.counted.items()},
                       "meanrmse": {k: p.meanrmse_Y_over_X for k, p in st.counted.items()}, "load_after": load(),
-                      "multistart_ipopt_options": opts}
+                      "multistart_ipopt_options": opts,
+                      "multistart_warm_options": warm if warm is not None else "default"}
         print(f"    {cpu:.1f} CPU-s, {cpu / n:.2f} CPU-s per case; " +
               ", ".join(f"{k} {v:.1f}" for k, v in shares.items()), flush=True)
     base = next(iter(frames.values()))
@@ -340,7 +365,8 @@ def bench_jit() -> dict:
     return out
 
 
-def bench_full(out_dir: Path, coarse_options: dict | None = None) -> dict:
+def bench_full(out_dir: Path, coarse_options: dict | None = None, warm: dict | None = None,
+               starts: tuple[str, ...] | None = None) -> dict:
     """Part 5: the paper grid and the design study with the defaults (wall time; meaningful on an idle machine);
     ``coarse_options``: the paper grid's multi-start mesh IPOPT options instead of the default ones."""
     from vvea_design.actuator.design_study import run_design_study
@@ -352,12 +378,15 @@ def bench_full(out_dir: Path, coarse_options: dict | None = None) -> dict:
     with tempfile.TemporaryDirectory() as d, cache_in(str(Path(d) / "cache")):
         l0 = load()
         t0 = time.perf_counter()
-        with multistart_options(coarse_options):
-            s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True)
+        with multistart_options(coarse_options), warm_multistart(warm):
+            s = run_rest_to_rest(Path(d) / "grid", grid="paper", figures=False, progress=True,
+                                 **({} if starts is None else {"starts": starts}))
         wall = time.perf_counter() - t0
         df = pd.read_csv(Path(d) / "grid" / "results.csv")
         res["paper_grid"] = {"wall_s": round(wall, 1), "target_s": 180, "load_before": l0, "load_after": load(),
                              "multistart_ipopt_options": coarse_options if coarse_options is not None else "default",
+                             "multistart_warm_options": warm if warm is not None else "default",
+                             "starts": list(starts) if starts is not None else "default",
                              "cpu_of_the_solves_s": round(float(df.cpu_seconds.sum()), 1),
                              "failures": s.statistics.solver_failures["count"],
                              "unverified": s.statistics.unverified["count"],
@@ -399,10 +428,11 @@ def optimisations() -> dict:
     """Which speed-ups are on in this tree (what the paper grid and the design study below ran with)."""
     from vvea_design.actuator import solver_cache
     from vvea_design.actuator.design_study import DESIGN_GRID, DESIGN_IPOPT, DESIGN_STARTS
-    from vvea_design.actuator.multistart import DEFAULT_STARTS, MULTISTART_IPOPT
+    from vvea_design.actuator.multistart import DEFAULT_STARTS, MULTISTART_IPOPT, MULTISTART_WARM_IPOPT
 
     return {"paper grid starts": list(DEFAULT_STARTS) + (["(chains)"] if "neighbour" in DEFAULT_STARTS else []),
             "multi-start mesh IPOPT options": dict(MULTISTART_IPOPT) or "defaults (adaptive barrier)",
+            "multi-start NLPs warm-started at their start points": dict(MULTISTART_WARM_IPOPT) or "no (cold options)",
             "design study starts": list(DESIGN_STARTS), "design study IPOPT options": dict(DESIGN_IPOPT),
             "fine-mesh QPs": "warm-started from the multi-start mesh's QP",
             "design study grid": f"{len(DESIGN_GRID.A_rad)} x {len(DESIGN_GRID.T_s)}",
@@ -495,7 +525,8 @@ def figure(res: dict, path: Path) -> None:
     bx.bar(x - 0.2, [build[n]["build_cpu_s"] for n in names], 0.4, label="built from the expressions")
     bx.bar(x + 0.2, [build[n]["cached_cpu_s"] for n in names], 0.4, label="read from the disk cache")
     bx.set_xticks(x)
-    bx.set_xticklabels([n.replace("rest_to_rest ", "").replace(" warm-start options", "\nwarm") for n in names],
+    bx.set_xticklabels([n.replace("rest_to_rest ", "").split(" warm-start options")[0] +
+                        ("\nwarm" if "warm-start" in n else "") for n in names],
                        fontsize=7)
     bx.set_ylabel("CPU s per process")
     bx.set_title("Solver build, once per process", fontsize=9)
@@ -529,6 +560,9 @@ def main() -> None:
     ap.add_argument("--multistart-monotone", action="store_true",
                     help="with --full: the paper grid with the monotone barrier on the multi-start mesh (an option, "
                          "not the default: it moves iVVEA optima)")
+    ap.add_argument("--warm-multistart", action="store_true",
+                    help="with --full: the grid with the warm-start option (the starts from a point started at it, plus "
+                         "the cold start; not the default: it moves iVVEA optima)")
     ap.add_argument("--no-starts", action="store_true", help="skip the A/B of the starts (with --full: the targets only)")
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "bench_ocp")
     a = ap.parse_args()
@@ -552,7 +586,11 @@ def main() -> None:
         res["jit"] = bench_jit()
     if a.full:
         print("5. the targets (wall s):")
-        res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None)
+        from vvea_design.actuator.ocp import WARM_START_IPOPT
+
+        res["full"] = bench_full(a.out, {"ipopt.mu_strategy": "monotone"} if a.multistart_monotone else None,
+                                 dict(WARM_START_IPOPT) if a.warm_multistart else None,
+                                 WARM_COLD_STARTS if a.warm_multistart else None)
     res["machine"]["load_end"] = load()
     res["summary"] = summary(res)
     print("\nsummary:")

@@ -29,7 +29,7 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=ROOT / "studies" / "results" / "design_sensitivity")
     ap.add_argument("--target-K", type=float, default=362.0, help="joint stiffness of the base design, N m/rad")
     ap.add_argument("--workers", type=int, default=None)
-    ap.add_argument("--grid", default=None, help="'A1,A2,..:T1,T2,..' (rad:s); default the design study's 4 x 4")
+    ap.add_argument("--grid", default=None, help="'A1,A2,..:T1,T2,..' (rad:s); default the design study's 3 x 3")
     ap.add_argument("--D-min", default=None, help="D_min values, N m s/rad, comma separated (the unit's own is added; "
                                                   "default around it)")
     ap.add_argument("--D-max", default=None, help="D_max values, N m s/rad, comma separated (the unit's own is "

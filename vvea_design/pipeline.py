@@ -195,7 +195,7 @@ def design_unit(
         Finite elements along the bladder meridian (None: the check's default).
     study_grid : Grid, (sequence of float, sequence of float) or str, optional
         Rest-to-rest amplitudes (rad) and periods (s) of the actuator study (text ``"A1,A2:T1,T2"`` too);
-        None: 4 x 4 cases over the paper's grid.
+        None: 3 x 3 cases over the paper's grid.
     study_mesh_n : int, optional
         Collocation intervals of each rest-to-rest case of the actuator study (None: 64).
     safety_mesh_n : int, optional

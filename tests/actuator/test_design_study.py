@@ -204,9 +204,9 @@ def test_design_study_typed_result_and_files(small_study):
         both = [T for T in (0.6, 1.0)
                 if all(x.usable for x in study.cases if x.T_s == T and x.setting in (c.design, c.other))]
         assert c.n_both_valid == len(both)
-    # progress: every work item (2 torque steps + 2 cases, each its own item without the neighbour start) and the
-    # files, counting up to the total
-    assert [c[0] for c in calls] == list(range(1, 6)) and all(c[1] == 5 for c in calls)
+    # progress: every work item (the torque steps, one item + 2 cases, each its own item without the neighbour start)
+    # and the files, counting up to the total
+    assert [c[0] for c in calls] == list(range(1, 5)) and all(c[1] == 4 for c in calls)
 
 
 def test_design_study_counts_a_case_the_design_loses_by_being_invalid(small_study):

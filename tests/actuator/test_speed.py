@@ -69,3 +69,37 @@ def test_design_study_defaults_one_work_item_per_case_with_its_own_options():
     cases = [RestToRestCase(A, T, SETTINGS, COARSE, DESIGN_STARTS, DESIGN_IPOPT) for A in (0.2, 0.4)
              for T in (0.3, 0.6, 1.0)]
     assert [len(c) for c in chains(cases)] == [1] * len(cases)
+
+
+def _warm(monkeypatch, options: dict) -> None:
+    monkeypatch.setattr(ms, "MULTISTART_WARM_IPOPT", dict(options))
+    monkeypatch.setattr(sa, "MULTISTART_WARM_IPOPT", ms.MULTISTART_WARM_IPOPT)
+
+
+def test_warm_started_multistart_reaches_the_cold_optima_of_a_unimodal_setting(monkeypatch):
+    """The multi-start NLPs started *at* their points (the option) land on VVEA's optimum of the cold options, on
+    the coarse mesh only; a single-level case (the design study) keeps the cold options."""
+    from vvea_design.actuator.ocp import WARM_START_IPOPT
+
+    case = RestToRestCase(0.5, 0.8, SETTINGS, COARSE, ("const-Dmin", "ramp"), fine_mesh=FINE)
+    rows = {}
+    for label, options in (("cold", {}), ("warm", WARM_START_IPOPT)):
+        _warm(monkeypatch, options)
+        monkeypatch.setattr(ms, "_SOLVERS", {})
+        rows[label] = {r.setting: r for r in ms.solve_case_results(case)[0]}
+        keys = set(ms._SOLVERS)
+        warm_keys = {(m, o) for m, o in keys if ("ipopt.warm_start_init_point", "yes") in o}
+        # the fine polish's warm solver, and with the option the coarse mesh's one
+        assert {m for m, _ in warm_keys} == ({FINE, COARSE} if options else {FINE})
+        meta = sa._meta(Grid((0.5,), (0.8,)), SETTINGS, COARSE, ("const-Dmin",), (), FINE)
+        assert ("multistart_warm_ipopt_options" in meta) == bool(options)  # a sweep records it (resume)
+    for name in ("SEA", "LWR", "VVEA"):
+        c, w = rows["cold"][name], rows["warm"][name]
+        assert c.success and w.success and c.verified and w.verified
+        assert w.rmse == pytest.approx(c.rmse, rel=1e-3), name
+        assert w.valid == c.valid
+    # single level (no fine mesh, as the design study): the option is not used
+    _warm(monkeypatch, WARM_START_IPOPT)
+    monkeypatch.setattr(ms, "_SOLVERS", {})
+    ms.solve_case_results(RestToRestCase(0.5, 0.8, SETTINGS, COARSE, ("const-Dmin",)))
+    assert not any(("ipopt.warm_start_init_point", "yes") in o for _, o in ms._SOLVERS)

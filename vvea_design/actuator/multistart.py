@@ -21,7 +21,10 @@ and are solved from several starts; the best objective wins:
 
 The default starts are ``const-Dmin``, ``ramp`` and ``neighbour`` (``cold`` and
 ``cross`` stay available; ``studies/bench_ocp.py`` measures what each costs and
-which optima change). Settings that differ only by name are solved once and
+which optima change). An option (:data:`MULTISTART_WARM_IPOPT`) solves the starts from a point
+on the multi-start mesh of a two-level run with IPOPT started *at* that point, at about half
+the CPU of the cold options; it moves iVVEA optima, so it is not the default.
+Settings that differ only by name are solved once and
 share their results (the design at the paper's K with the paper's damping range
 *is* the paper's VVEA).
 
@@ -54,6 +57,8 @@ __all__ = [
     "ALL_STARTS",
     "DEFAULT_REGULARISATION",
     "MULTISTART_IPOPT",
+    "MULTISTART_WARM_IPOPT",
+    "MULTISTART_WARM_STARTS",
     "RESULT_COLUMNS",
     "TIE_RTOL",
     "solve_case",
@@ -86,6 +91,17 @@ _ALL_STARTS = set(ALL_STARTS)
 #: ones (on the 15 periods of A = 0.7 rad: 5 iVVEA optima worse by up to 2.1 %, none better; VVEA within 0.1 %),
 #: beyond the mesh tolerance, so it is not the default; on the fine polish it costs more than it saves.
 MULTISTART_IPOPT: dict = {}
+#: IPOPT options of the multi-start NLPs that start from a point (:data:`MULTISTART_WARM_STARTS`) on the multi-start
+#: mesh of a two-level run, added to that mesh's options (the case's own win); ``{}`` (the default) = the cold
+#: options. With :data:`WARM_START_IPOPT` IPOPT starts *at* the point (a QP optimum, a neighbour's optimum) instead
+#: of being pushed into the interior: these NLPs need about half the CPU (``studies/bench_ocp.py``,
+#: docs/benchmarks.md). VVEA's optima stay within 5e-4, but iVVEA lands in other basins: alone (a case 30-36 %
+#: less CPU) up to 0.84 % worse than the committed run; with the ``cold`` start added (10-18 % less CPU) 24 of 120
+#: iVVEA optima better (up to 6.8 %) and 7 worse, 2 of them beyond the mesh tolerance (0.8 % and 0.95 %). So it is
+#: an option. Single-level runs (the design study) never use it (there it saved 5 % and moved an optimum by 2.2 %).
+MULTISTART_WARM_IPOPT: dict = {}
+#: The starts solved with :data:`MULTISTART_WARM_IPOPT` (the others keep the mesh's cold options).
+MULTISTART_WARM_STARTS: tuple[str, ...] = ("const-Dmin", "ramp", "neighbour", "cross")
 
 
 @dataclass(frozen=True)
@@ -251,7 +267,7 @@ def solve_case_results(case: RestToRestCase,
     two_level = unique.fine_mesh is not None and unique.fine_mesh != unique.mesh
     coarse_qps: dict[tuple, OcpResult] = {}
     rows, best = _solve_case_one_mesh(unique, neighbour or {}, _coarse_options(unique) if two_level else None,
-                                      coarse_qps)
+                                      coarse_qps, warm=two_level)
     coarse = dict(best)
     if two_level:
         rows, best = _polish_on_fine_mesh(unique, rows, best, coarse_qps)
@@ -335,7 +351,7 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow], coars
         if not act.variable_damping:
             cand["qp"] = qp
         else:
-            cand["const-Dmin (adopted)"] = fs.evaluate_as(qp, act, A, T, status=qp.status)
+            cand["const-Dmin (adopted)"] = fw.evaluate_as(qp, act, A, T, status=qp.status)  # J only: no cold build
             cb = coarse_best.get(act.name)
             if cb is not None and cb.success:
                 lab = f"polish:{cr.start}"
@@ -363,11 +379,19 @@ def _polish_on_fine_mesh(case: RestToRestCase, coarse_rows: list[CaseRow], coars
 
 
 def _solve_case_one_mesh(case: RestToRestCase, neighbour: dict[str, OcpResult], options: tuple | None = None,
-                         qps_out: dict | None = None) -> tuple[list[CaseRow], dict[str, OcpResult]]:
+                         qps_out: dict | None = None, warm: bool = False) -> tuple[list[CaseRow], dict[str, OcpResult]]:
     """Multi-start on ``case.mesh`` only (``neighbour``: the neighbouring case's optima by setting name;
     ``options``: the IPOPT options, default the case's own; ``qps_out`` gets the constant-damping QP optima by
-    their numbers, the fine polish's starts)."""
-    s = _solver(case.mesh, case.ipopt_options if options is None else options)
+    their numbers, the fine polish's starts; ``warm``: the starts of :data:`MULTISTART_WARM_STARTS` with
+    :data:`MULTISTART_WARM_IPOPT`, when that is set)."""
+    opts = case.ipopt_options if options is None else options
+    s = _solver(case.mesh, opts)
+    # the NLPs with a start point: IPOPT starts at it (MULTISTART_WARM_IPOPT; the case's own options win)
+    sw = (_solver(case.mesh, tuple(sorted({**MULTISTART_WARM_IPOPT, **dict(opts)}.items())))
+          if warm and MULTISTART_WARM_IPOPT else s)
+
+    def sw_(start: str) -> RestToRestSolver:
+        return sw if start in MULTISTART_WARM_STARTS else s
     A, T = case.A_rad, case.T_s
     dt = s.interval_seconds(T)
     unknown = set(case.starts) - _ALL_STARTS
@@ -413,18 +437,21 @@ def _solve_case_one_mesh(case: RestToRestCase, neighbour: dict[str, OcpResult], 
             secs += qp.seconds
             cpu[act.name] += qp.extra.get("cpu_seconds", 0.0)
             attempt("const-Dmin (adopted)", s.evaluate_as(qp, act, A, T, status=qp.status))
-            attempt("const-Dmin", s.solve(act, A, T, w0=s.guess_from(qp, act, A, T), regularisation=case.regularisation))
+            attempt("const-Dmin", sw_("const-Dmin").solve(act, A, T, w0=s.guess_from(qp, act, A, T),
+                                                          regularisation=case.regularisation))
         if "ramp" in case.starts:
             prof = ramp_u_d_profile(act, dt, act.D_max_Nms_per_rad)
             rq = s.solve(act, A, T, u_d_fixed=prof, regularisation=case.regularisation)
             attempt("ramp (adopted)", rq)
             if rq.success:
-                attempt("ramp", s.solve(act, A, T, w0=s.guess_from(rq, act, A, T), regularisation=case.regularisation))
+                attempt("ramp", sw_("ramp").solve(act, A, T, w0=s.guess_from(rq, act, A, T),
+                                                  regularisation=case.regularisation))
         if "cold" in case.starts:
             attempt("cold", s.solve(act, A, T, regularisation=case.regularisation))
         nb = neighbour.get(act.name) if "neighbour" in case.starts else None
         if nb is not None and nb.success and len(nb.w) == s.cols[True].nw and np.all(np.isfinite(nb.w)):
-            attempt("neighbour", s.solve(act, A, T, w0=nb.w, regularisation=case.regularisation))
+            attempt("neighbour", sw_("neighbour").solve(act, A, T, w0=nb.w,
+                                                        regularisation=case.regularisation))
         info[act.name] = dict(cand=cand, secs=secs, iters=iters, obj=inf["obj"])
     if "cross" in case.starts and len(variable) > 1:
         for act in variable:
@@ -434,7 +461,7 @@ def _solve_case_one_mesh(case: RestToRestCase, neighbour: dict[str, OcpResult], 
                 ob = _pick(info[other.name]["cand"])
                 if ob is None:
                     continue
-                r = s.solve(act, A, T, w0=s.guess_from(ob, act, A, T), regularisation=case.regularisation)
+                r = sw_("cross").solve(act, A, T, w0=s.guess_from(ob, act, A, T), regularisation=case.regularisation)
                 inf = info[act.name]
                 inf["secs"] += r.seconds
                 cpu[act.name] += r.extra.get("cpu_seconds", 0.0)

@@ -29,7 +29,8 @@ from ..progress import console
 from .figures import plot_best_map, plot_trajectory
 from .model import PAPER_SETTINGS, Actuator
 from .multistart import (ALL_STARTS, DEFAULT_FINE_MESH, DEFAULT_MESH, DEFAULT_REGULARISATION, DEFAULT_STARTS,
-                         MULTISTART_IPOPT, RESULT_COLUMNS, CaseRow, RestToRestCase, _chain_item, chains, solve_chain)
+                         MULTISTART_IPOPT, MULTISTART_WARM_IPOPT, RESULT_COLUMNS, CaseRow, RestToRestCase, _chain_item,
+                         chains, solve_chain)
 from .ocp import Mesh, Regularisation, WARM_START_IPOPT
 from .statistics import Table5Statistics, table5_statistics
 
@@ -129,6 +130,8 @@ def _meta(grid: Grid, settings: Sequence[Actuator], mesh: Mesh, starts: Sequence
         m["fine_ipopt_options"] = [list(kv) for kv in sorted(WARM_START_IPOPT.items())]
         if MULTISTART_IPOPT:  # the multi-start mesh's own options (a sweep solved without them does not resume)
             m["multistart_ipopt_options"] = [list(kv) for kv in sorted(MULTISTART_IPOPT.items())]
+        if MULTISTART_WARM_IPOPT:  # the multi-start NLPs start at their points (older runs: cold, not resumed with it)
+            m["multistart_warm_ipopt_options"] = [list(kv) for kv in sorted(MULTISTART_WARM_IPOPT.items())]
     return m
 
 

@@ -225,7 +225,7 @@ def design(
                                              "torque step)"),
     study_grid: Optional[str] = typer.Option(None, "--study-grid",
                                              help="rest-to-rest grid of the actuator study: 'A1,A2,..:T1,T2,..' "
-                                                  "(rad:s); default 4 x 4 cases over the paper's grid"),
+                                                  "(rad:s); default 3 x 3 cases over the paper's grid"),
     study_mesh_n: Optional[int] = typer.Option(None, "--study-mesh-n",
                                                help="collocation intervals of each rest-to-rest case of the actuator "
                                                     "study (default 64)"),

@@ -423,7 +423,7 @@ def design_study_settings(grid: GridLike | None = None, mesh_n: int | None = Non
     Parameters
     ----------
     grid : Grid, (sequence of float, sequence of float) or str, optional
-        Rest-to-rest amplitudes (rad) and periods (s), also as text ``"A1,A2:T1,T2"``; None: 4 x 4 cases
+        Rest-to-rest amplitudes (rad) and periods (s), also as text ``"A1,A2:T1,T2"``; None: 3 x 3 cases
         over the paper's grid.
     mesh_n : int, optional
         Collocation intervals of each rest-to-rest case (None: 64).
@@ -461,7 +461,7 @@ def run_design_study(design: Design | GasSpring | PathLike, *, out: PathLike | N
     The study of ``vvea design`` (its ``actuator/`` folder): the design charged for the target joint
     stiffness (inside its pressure limits) against an SEA of that K, VVEA and LWR, then at full charge
     against an SEA of the full-charge K (two labelled runs), every case counted, with the unit's own
-    damping range; rest-to-rest on a 4 x 4 grid and the 50 N m torque step.
+    damping range; rest-to-rest on a 3 x 3 grid and the 50 N m torque step.
 
     Parameters
     ----------
@@ -470,7 +470,7 @@ def run_design_study(design: Design | GasSpring | PathLike, *, out: PathLike | N
     out : path-like, optional
         Folder for ``results.csv``, ``design_study.json`` and the figures.
     grid : Grid, (sequence of float, sequence of float) or str, optional
-        Rest-to-rest amplitudes (rad) and periods (s), also as text ``"A1,A2:T1,T2"``; None: 4 x 4 cases
+        Rest-to-rest amplitudes (rad) and periods (s), also as text ``"A1,A2:T1,T2"``; None: 3 x 3 cases
         over the paper's grid.
     mesh_n : int, optional
         Collocation intervals of each rest-to-rest case (None: 64).
@@ -595,7 +595,7 @@ def run_design_sensitivity(design: Design | GasSpring | PathLike, *, out: PathLi
     K_factors : sequence of float
         Joint stiffnesses to try as multiples of the base K, > 0 (each charge inside the unit's pressure limits).
     grid : Grid, (sequence of float, sequence of float) or str, optional
-        Rest-to-rest amplitudes (rad) and periods (s); None: the design study's 4 x 4 cases.
+        Rest-to-rest amplitudes (rad) and periods (s); None: the design study's 3 x 3 cases.
     mesh_n : int, optional
         Collocation intervals of each case (None: the design study's 64).
     workers : int, optional
