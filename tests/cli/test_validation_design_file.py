@@ -168,3 +168,19 @@ def test_property_design_file_round_trip(point, key, factor):
     data["parameters"][key] *= factor
     with pytest.raises(DesignFileError, match=f"parameters.{key} = .* disagrees"):
         load_design_dict(data, "d.json")
+
+
+@pytest.mark.parametrize("edit, words", [
+    # campaign B: a volume scaled by hand or a travel edited with it in every copy was refused for the housing
+    # length or "48 stored derived values" without naming the edited decision variable
+    (lambda d: d["parameters"].update(V1_mm3=10 * d["parameters"]["V1_mm3"]), r"rebuilt from parameters .*V1_mm3 = "),
+    (lambda d: [d[k].update(travel_mm=80.0) for k in ("parameters", "fixed", "spec")],
+     r"rebuilt from parameters travel_mm = 80\b"),
+    (lambda d: d["parameters"].update(V2_mm3=10 * d["parameters"]["V2_mm3"]),
+     r"parameters\.V2_mm3 = \S+ \(outside spec\.bounds\.V2_mm3 = \[\S+, \S+\], the range its search used\)"),
+])
+def test_a_refused_design_file_names_the_decision_variables_it_was_rebuilt_from(edit, words):
+    data = _edited(edit)
+    with pytest.raises(DesignFileError, match=words) as exc:
+        load_design_dict(data, "d.json")
+    assert re.search(r"lies outside its own envelope|stored derived value", str(exc.value))
