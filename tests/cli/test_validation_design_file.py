@@ -184,3 +184,19 @@ def test_a_refused_design_file_names_the_decision_variables_it_was_rebuilt_from(
     with pytest.raises(DesignFileError, match=words) as exc:
         load_design_dict(data, "d.json")
     assert re.search(r"lies outside its own envelope|stored derived value", str(exc.value))
+
+
+def test_a_key_given_twice_is_refused_naming_it_and_both_values(tmp_path):
+    """Campaign B: ``"p2_MPa": 4.0, "p2_MPa": 40.0`` was read as 40 (JSON keeps the last) and refused only for its
+    range; a file with 4.0 last would have been read silently."""
+    text = json.dumps(BASE, indent=2)
+    for first, second in ((4.0, 40.0), (40.0, 4.0)):
+        dup = text.replace('"p2_MPa": 4.0,', f'"p2_MPa": {first},\n    "p2_MPa": {second},', 1)
+        assert dup != text
+        f = tmp_path / "d.json"
+        f.write_text(dup)
+        with pytest.raises(DesignFileError, match=rf"key 'p2_MPa' appears twice in one object \({first}, then "
+                                                  rf"{second}, line \d+\): JSON would keep the last one"):
+            load_design(f)
+    from vvea_design.inputs import parse_json
+    assert parse_json('{"a": {"b": 1}, "c": [{"b": 2}]}', "x.json", "design file") == {"a": {"b": 1}, "c": [{"b": 2}]}
