@@ -200,3 +200,12 @@ def test_a_key_given_twice_is_refused_naming_it_and_both_values(tmp_path):
             load_design(f)
     from vvea_design.inputs import parse_json
     assert parse_json('{"a": {"b": 1}, "c": [{"b": 2}]}', "x.json", "design file") == {"a": {"b": 1}, "c": [{"b": 2}]}
+
+
+def test_a_design_left_without_room_by_its_re_sized_walls_names_what_sizes_them():
+    """Campaign B: fixed.housing_material edited to a polymer was refused as 'no room for the bladder' without naming
+    the material whose thicker walls took the room."""
+    data = _edited(lambda d: d["fixed"].update(housing_material="pa12-sls"))
+    with pytest.raises(DesignFileError, match=r"no room for .*re-sizes the walls from fixed\.housing_material = "
+                                              r"'pa12-sls'.*the file was written with walls .*outer_tube \S+ mm"):
+        load_design_dict(data, "d.json")

@@ -389,7 +389,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             joint=p.get("joint", "thread"),
         )
     except (DesignError, TypeError) as exc:
-        raise DesignFileError(f"{src}: {exc}") from None
+        raise DesignFileError(f"{src}: {exc}{_walls_hint(data, str(exc))}") from None
     for key, value in (("A1_mm2", design.A1_mm2), ("A2_mm2", design.A2_mm2), ("p1_MPa", design.p1_MPa)):
         stored = float(p[key])
         if not math.isclose(stored, value, rel_tol=1e-6, abs_tol=1e-9):
@@ -506,6 +506,21 @@ def _decision_values(data: dict) -> str:
         else:
             shown.append(f"{k} = {v:.6g}")
     return "; ".join([*outside, "rebuilt from parameters " + ", ".join(shown)])
+
+
+def _walls_hint(data: dict, message: str) -> str:
+    """For a design that has no room left: the walls are re-sized from ``fixed`` on reading, so name what sizes them
+    and the walls the file was written with (an edited material or safety factor makes them thicker)."""
+    if "no room" not in message:
+        return ""
+    f = data.get("fixed") if isinstance(data.get("fixed"), dict) else {}
+    stored = ((data.get("performance") or {}).get("walls_mm") if isinstance(data.get("performance"), dict) else None)
+    sizing = ", ".join(f"fixed.{k} = {show(f[k])}" for k in ("housing_material", "wall_safety_factor", "sizing_rules")
+                       if k in f)
+    was = (f"; the file was written with walls {', '.join(f'{k} {v:.4g} mm' for k, v in stored.items())}"
+           if isinstance(stored, dict) and all(isinstance(v, (int, float)) for v in stored.values()) else "")
+    return (f" ({_decision_values(data)}; every reader re-sizes the walls from {sizing}{was}: an edited material "
+            "or safety factor changes them)")
 
 
 def _check_stored_derived(data: dict, design: Design, src: str) -> None:
