@@ -505,7 +505,13 @@ def _decision_values(data: dict) -> str:
                            "its search used)")
         else:
             shown.append(f"{k} = {v:.6g}")
-    return "; ".join([*outside, "rebuilt from parameters " + ", ".join(shown)])
+    geometry = data.get("geometry") if isinstance(data.get("geometry"), dict) else {}
+    layout, written = p.get("layout"), geometry.get("layout")
+    if isinstance(written, str) and written != layout:
+        outside.insert(0, f"parameters.layout = {show(layout)} but the file's geometry was written for layout = "
+                          f"{show(written)}")
+    kinds = ", ".join(f"{k} = {show(p[k])}" for k in ("layout", "joint") if isinstance(p.get(k), str))
+    return "; ".join([*outside, "rebuilt from parameters " + ", ".join(filter(None, [kinds, *shown]))])
 
 
 def _walls_hint(data: dict, message: str) -> str:
