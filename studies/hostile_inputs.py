@@ -894,10 +894,13 @@ def req_cases() -> list[Case]:
     add("70 x 160 mm envelope, 120 N/mm, no [bounds] (gas-only sizing)", env70 + gas,
         "exit 0; the search follows the envelope: linearity <= 0.879 % (+0.005 pp), no silent cap at 59.5 mm",
         (OK,), judge=judge_linearity_at_most(0.00884, what=" (outer diameter capped by a default bound?)"), issue="1")
+    # Its 0.782 % optimum (bulkhead, piston 32.38 mm, V1 44,825, V2 76,798, V2_top 22,419 mm3) has no room for the
+    # chamber-2 fill port the CAD drills (chamber2_port_room margin -0.56, a drawability rule of both sizing rules
+    # added after it was measured); the drawable optimum, chamber2_port_room binding, is 0.954 %.
     add("50 x 150 mm, 30 mm travel, 60 N/mm, 3 MPa", "max_outer_diameter_mm = 50.0\nmax_housing_length_mm = 150.0\n"
         "travel_mm = 30.0\nmin_mean_stiffness_N_per_mm = 60.0\nmax_charge_MPa = 3.0\n" + gas,
-        "exit 0; linearity <= 0.782 % (+0.005 pp); no bound silently limiting", (OK,),
-        judge=judge_linearity_at_most(0.00787))
+        "exit 0; linearity <= 0.954 % (+0.005 pp; 0.782 % before the chamber-2 port had to fit); no bound silently "
+        "limiting", (OK,), judge=judge_linearity_at_most(0.00959))
     add("65 x 120 mm, 50 mm travel, 80 N/mm (short housing, long stroke; gas-only sizing)",
         "max_outer_diameter_mm = 65.0\nmax_housing_length_mm = 120.0\ntravel_mm = 50.0\nmin_mean_stiffness_N_per_mm = 80.0\n"
         + gas,

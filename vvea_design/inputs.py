@@ -234,6 +234,25 @@ def _json_depth(text: str, limit: int) -> int:
     return deepest
 
 
+class _DuplicateKey(Exception):
+    """A JSON object holds a key twice (args: the key, its values in order)."""
+
+
+def _refuse_duplicate_keys(pairs: list) -> dict:
+    out: dict = {}
+    for k, v in pairs:
+        if k in out:
+            raise _DuplicateKey(k, [out[k], v])
+        out[k] = v
+    return out
+
+
+def _line_of_second(text: str, key: str) -> str:
+    """``, line N`` of the key's second occurrence in ``text`` (empty when it cannot be told)."""
+    hits = [m.start() for m in re.finditer(re.escape(json.dumps(key)) + r"\s*:", text)]
+    return f", line {text.count(chr(10), 0, hits[1]) + 1}" if len(hits) > 1 else ""
+
+
 def parse_json(text: str, path: str | os.PathLike, what: str, error: type[Exception] = ValueError,
                max_depth: int = MAX_JSON_DEPTH):
     """Parse JSON text; malformed or absurdly nested text is an error naming the file.
@@ -259,12 +278,17 @@ def parse_json(text: str, path: str | os.PathLike, what: str, error: type[Except
     Raises
     ------
     error
-        Not valid JSON (line and column), or nested deeper than ``max_depth``.
+        Not valid JSON (line and column), nested deeper than ``max_depth``, or an object holding a key twice.
     """
     if _json_depth(text, max_depth) > max_depth:
         raise error(f"{path}: nested more than {max_depth} levels deep; not a {what} (a design file is 4 deep)")
     try:
-        return json.loads(text)
+        return json.loads(text, object_pairs_hook=_refuse_duplicate_keys)
+    except _DuplicateKey as dup:
+        key, values = dup.args
+        raise error(f"{path}: key {key!r} appears twice in one object ({', then '.join(map(repr, values))}"
+                    f"{_line_of_second(text, key)}): JSON would keep the last one without a word; remove one "
+                    f"(not a valid {what})") from None
     except json.JSONDecodeError as exc:
         raise error(f"{path}: not valid JSON: {exc}") from None
     except RecursionError:  # pragma: no cover - guarded by the depth check

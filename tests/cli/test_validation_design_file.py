@@ -168,3 +168,54 @@ def test_property_design_file_round_trip(point, key, factor):
     data["parameters"][key] *= factor
     with pytest.raises(DesignFileError, match=f"parameters.{key} = .* disagrees"):
         load_design_dict(data, "d.json")
+
+
+@pytest.mark.parametrize("edit, words", [
+    # campaign B: a volume scaled by hand or a travel edited with it in every copy was refused for the housing
+    # length or "48 stored derived values" without naming the edited decision variable
+    (lambda d: d["parameters"].update(V1_mm3=10 * d["parameters"]["V1_mm3"]), r"rebuilt from parameters .*V1_mm3 = "),
+    (lambda d: [d[k].update(travel_mm=80.0) for k in ("parameters", "fixed", "spec")],
+     r"rebuilt from parameters .*travel_mm = 80\b"),
+    (lambda d: d["parameters"].update(V2_mm3=10 * d["parameters"]["V2_mm3"]),
+     r"parameters\.V2_mm3 = \S+ \(outside spec\.bounds\.V2_mm3 = \[\S+, \S+\], the range its search used\)"),
+])
+def test_a_refused_design_file_names_the_decision_variables_it_was_rebuilt_from(edit, words):
+    data = _edited(edit)
+    with pytest.raises(DesignFileError, match=words) as exc:
+        load_design_dict(data, "d.json")
+    assert re.search(r"lies outside its own envelope|stored derived value", str(exc.value))
+
+
+def test_a_key_given_twice_is_refused_naming_it_and_both_values(tmp_path):
+    """Campaign B: ``"p2_MPa": 4.0, "p2_MPa": 40.0`` was read as 40 (JSON keeps the last) and refused only for its
+    range; a file with 4.0 last would have been read silently."""
+    text = json.dumps(BASE, indent=2)
+    for first, second in ((4.0, 40.0), (40.0, 4.0)):
+        dup = text.replace('"p2_MPa": 4.0,', f'"p2_MPa": {first},\n    "p2_MPa": {second},', 1)
+        assert dup != text
+        f = tmp_path / "d.json"
+        f.write_text(dup)
+        with pytest.raises(DesignFileError, match=rf"key 'p2_MPa' appears twice in one object \({first}, then "
+                                                  rf"{second}, line \d+\): JSON would keep the last one"):
+            load_design(f)
+    from vvea_design.inputs import parse_json
+    assert parse_json('{"a": {"b": 1}, "c": [{"b": 2}]}', "x.json", "design file") == {"a": {"b": 1}, "c": [{"b": 2}]}
+
+
+def test_a_design_left_without_room_by_its_re_sized_walls_names_what_sizes_them():
+    """Campaign B: fixed.housing_material edited to a polymer was refused as 'no room for the bladder' without naming
+    the material whose thicker walls took the room."""
+    data = _edited(lambda d: d["fixed"].update(housing_material="pa12-sls"))
+    with pytest.raises(DesignFileError, match=r"no room for .*re-sizes the walls from fixed\.housing_material = "
+                                              r"'pa12-sls'.*the file was written with walls .*outer_tube \S+ mm"):
+        load_design_dict(data, "d.json")
+
+
+def test_a_layout_edited_without_its_volumes_is_named():
+    """Campaign B: layout edited (inner_tube <-> bulkhead, the volumes kept) was refused for its housing length
+    without naming the layout."""
+    other = "inner_tube" if BASE["parameters"]["layout"] == "bulkhead" else "bulkhead"
+    data = _edited(lambda d: d["parameters"].update(layout=other))
+    with pytest.raises(DesignFileError, match=rf"parameters\.layout = '{other}' but the file's geometry was written "
+                                              rf"for layout = '{BASE['parameters']['layout']}'"):
+        load_design_dict(data, "d.json")

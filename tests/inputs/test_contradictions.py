@@ -23,6 +23,10 @@ REFUSED = {  # key of CONTRADICTIONS -> (file, words the message must hold: the 
     "gas_only_joints": ('joints = ["thread"]\n[fixed]\nsizing_rules = "gas_only"\n', r"joints given with .*gas_only"),
     "piston_vs_rod": ("[bounds]\npiston_diameter_mm = [3, 8]\n",
                       r"piston_diameter_mm = \[3, 8\].*rod_diameter_mm = 8.*must exceed 8"),
+    # campaign B: a port volume of a cubic metre (1e9 mm³) was blamed on the bladder's room after a 30 s search
+    "dead_volume_vs_gas": ("[fixed]\ndead_volume_1_mm3 = 1e9\n",
+                           r"\[fixed\] dead_volume_1_mm3 = 1e\+09 mm³ is at or above the high end of the default "
+                           r"V1_mm3 range.*below 300000 mm³"),
 }
 
 
@@ -35,6 +39,21 @@ def test_contradictory_requirements_are_refused_naming_both_settings(tmp_path, k
         load_requirements(f)
     assert str(exc.value).startswith(str(f)) and re.search(words, str(exc.value)), str(exc.value)
     assert CONTRADICTIONS[key][1] == "refused"
+
+
+@pytest.mark.parametrize("text, words", [
+    ("[fixed]\ndead_volume_2_mm3 = 1e9\n", r"\[fixed\] dead_volume_2_mm3 = 1e\+09 mm³.*no V2_mm3 in the range"),
+    ("[bounds]\nV1_mm3 = [5000, 20000]\n[fixed]\ndead_volume_1_mm3 = 30000\n",
+     r"dead_volume_1_mm3 = 30000 mm³ is at or above the high end of \[bounds\] V1_mm3 = \[5000, 20000\]"),
+])
+def test_a_dead_volume_no_gas_volume_in_the_range_holds_is_refused_naming_it(tmp_path, text, words):
+    """Named before any search (it was a 'no room for the bladder' message after the whole search)."""
+    f = tmp_path / "req.toml"
+    f.write_text(text)
+    with pytest.raises(SpecError, match=words):
+        load_requirements(f)
+    f.write_text("[fixed]\ndead_volume_1_mm3 = 1000\ndead_volume_2_mm3 = 1000\n")  # real port volumes: accepted
+    assert load_requirements(f).fixed.dead_volume_1_mm3 == 1000
 
 
 def test_the_same_settings_written_once_are_accepted(tmp_path):

@@ -53,6 +53,10 @@ CONTRADICTIONS: dict[str, tuple[str, str, str]] = {
                         "refused", "the gas-only rules have no joints and no damper: the setting would be ignored"),
     "piston_vs_rod": ("`[bounds] piston_diameter_mm` high end at or below `[fixed] rod_diameter_mm`", "refused",
                       "no piston in the range holds the rod"),
+    "dead_volume_vs_gas": ("`[fixed] dead_volume_1_mm3` / `dead_volume_2_mm3` at or above the high end of the "
+                           "`V1_mm3` / `V2_mm3` search range (`[bounds]`, else the gas the envelope's bore holds)",
+                           "refused", "each chamber's gas includes its ports' dead volume: no gas volume in the range "
+                           "holds it"),
     "piston_vs_outer": ("`[bounds] piston_diameter_mm` low end plus two `min_outer_wall_mm` at or above the outer "
                         "diameter's high end (`[bounds] outer_diameter_mm`, `max_outer_diameter_mm`)", "exit 3",
                         "the search finds no buildable design inside the bounds and names them and why "
@@ -177,6 +181,15 @@ def check_values(req: Requirements, error: type[Exception]) -> None:
         _refuse(error, "", f"{src} = {show([p_lo, p_hi])} mm: its high end is at or below [fixed] rod_diameter_mm = "
                 f"{show(f.rod_diameter_mm)} mm, so no piston in the range holds the rod; the high end must exceed "
                 f"{show(f.rod_diameter_mm)} mm (or use a thinner rod)")
+    for chamber in ("1", "2"):
+        dead, (v_lo, v_hi) = getattr(f, f"dead_volume_{chamber}_mm3"), b[f"V{chamber}_mm3"]
+        if dead >= v_hi:
+            src = (f"[bounds] V{chamber}_mm3" if f"V{chamber}_mm3" in req.bounds
+                   else f"the default V{chamber}_mm3 range (it follows the envelope)")
+            _refuse(error, "", f"[fixed] dead_volume_{chamber}_mm3 = {show(dead)} mm³ is at or above the high end of "
+                    f"{src} = {show([v_lo, v_hi])} mm³: chamber {chamber}'s gas includes its ports' dead volume, so "
+                    f"no V{chamber}_mm3 in the range holds it; give the ports' volume in mm³ (below "
+                    f"{show(v_hi)} mm³) or widen the range or the envelope")
 
 
 def check_optimiser_options(popsize: Any, maxiter: Any, tol: Any, polish: bool, strain_limit: float | None,

@@ -389,7 +389,7 @@ def load_design_dict(data: dict, src: str = "design") -> Design:
             joint=p.get("joint", "thread"),
         )
     except (DesignError, TypeError) as exc:
-        raise DesignFileError(f"{src}: {exc}") from None
+        raise DesignFileError(f"{src}: {exc}{_walls_hint(data, str(exc))}") from None
     for key, value in (("A1_mm2", design.A1_mm2), ("A2_mm2", design.A2_mm2), ("p1_MPa", design.p1_MPa)):
         stored = float(p[key])
         if not math.isclose(stored, value, rel_tol=1e-6, abs_tol=1e-9):
@@ -486,6 +486,49 @@ def _evaluation_against_spec(data: dict, design: Design) -> Evaluation | None:
         return None
 
 
+def _decision_values(data: dict) -> str:
+    """The decision variables a design is rebuilt from, with their values, those outside the range the file's own
+    search used (``spec.bounds``) first: where an edited or mistyped value is to be looked for."""
+    p = data.get("parameters") if isinstance(data.get("parameters"), dict) else {}
+    bounds = (data.get("spec") or {}).get("bounds") if isinstance(data.get("spec"), dict) else None
+    bounds = bounds if isinstance(bounds, dict) else {}
+    names = ["travel_mm", *DECISION_VARIABLES, "V2_top_mm3", "V1_annulus_mm3", "p2_MPa"]
+    shown, outside = [], []
+    for k in dict.fromkeys(names):
+        v = p.get(k)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or (v == 0 and k in ("V2_top_mm3", "V1_annulus_mm3")):
+            continue  # a layout's own volume it does not have (0) says nothing
+        rng = bounds.get(k)
+        if (isinstance(rng, (list, tuple)) and len(rng) == 2 and all(isinstance(x, (int, float)) for x in rng)
+                and not rng[0] * (1 - 1e-9) <= v <= rng[1] * (1 + 1e-9)):
+            outside.append(f"parameters.{k} = {v:.6g} (outside spec.bounds.{k} = {show(list(rng))}, the range "
+                           "its search used)")
+        else:
+            shown.append(f"{k} = {v:.6g}")
+    geometry = data.get("geometry") if isinstance(data.get("geometry"), dict) else {}
+    layout, written = p.get("layout"), geometry.get("layout")
+    if isinstance(written, str) and written != layout:
+        outside.insert(0, f"parameters.layout = {show(layout)} but the file's geometry was written for layout = "
+                          f"{show(written)}")
+    kinds = ", ".join(f"{k} = {show(p[k])}" for k in ("layout", "joint") if isinstance(p.get(k), str))
+    return "; ".join([*outside, "rebuilt from parameters " + ", ".join(filter(None, [kinds, *shown]))])
+
+
+def _walls_hint(data: dict, message: str) -> str:
+    """For a design that has no room left: the walls are re-sized from ``fixed`` on reading, so name what sizes them
+    and the walls the file was written with (an edited material or safety factor makes them thicker)."""
+    if "no room" not in message:
+        return ""
+    f = data.get("fixed") if isinstance(data.get("fixed"), dict) else {}
+    stored = ((data.get("performance") or {}).get("walls_mm") if isinstance(data.get("performance"), dict) else None)
+    sizing = ", ".join(f"fixed.{k} = {show(f[k])}" for k in ("housing_material", "wall_safety_factor", "sizing_rules")
+                       if k in f)
+    was = (f"; the file was written with walls {', '.join(f'{k} {v:.4g} mm' for k, v in stored.items())}"
+           if isinstance(stored, dict) and all(isinstance(v, (int, float)) for v in stored.values()) else "")
+    return (f" ({_decision_values(data)}; every reader re-sizes the walls from {sizing}{was}: an edited material "
+            "or safety factor changes them)")
+
+
 def _check_stored_derived(data: dict, design: Design, src: str) -> None:
     """Refuse a file that leaves its own envelope, or whose geometry or performance hold numbers of another design."""
     _check_own_envelope(data, design, src)
@@ -494,7 +537,8 @@ def _check_stored_derived(data: dict, design: Design, src: str) -> None:
         more = f" and {len(stale) - 3} more" if len(stale) > 3 else ""
         raise DesignFileError(
             f"{src}: {len(stale)} stored derived value(s) disagree with the design rebuilt from its parameters and "
-            f"fixed: {'; '.join(stale[:3])}{more}. A design file must agree with itself: edit the decision "
+            f"fixed: {'; '.join(stale[:3])}{more} ({_decision_values(data)}). A design file must agree with itself: "
+            "edit the decision "
             "variables (parameters) or fixed, never a derived value; after such an edit delete the blocks "
             "geometry, performance, constraints and constraint_details (every command recomputes them) or re-run "
             "`vvea optimise`")
@@ -516,8 +560,9 @@ def _check_own_envelope(data: dict, design: Design, src: str) -> None:
         if claims_fit and value > limit * (1 + 1e-9) + 1e-9:
             raise DesignFileError(
                 f"{src}: the design's {claim.replace('_', ' ')} ({value:.6g} mm) lies outside its own envelope "
-                f"(spec.{key} = {show(limit)} mm) although the file says it fits; a value of parameters, fixed or "
-                "spec was edited: edit the decision variables within the envelope, or re-run `vvea optimise`")
+                f"(spec.{key} = {show(limit)} mm) although the file says it fits ({_decision_values(data)}); a value "
+                "of parameters, fixed or spec was edited: edit the decision variables within the envelope, or re-run "
+                "`vvea optimise`")
 
 
 def load_design(path: str | Path) -> Design:
