@@ -27,7 +27,7 @@ import numpy as np
 
 from .fit_data import FitData
 
-__all__ = ["FEATURES", "RESIDUAL_ID", "ResidualModel", "LastStage", "state_features", "fit_last_stage", "describe_shape"]
+__all__ = ["FEATURES", "RESIDUAL_ID", "ResidualModel", "LastStage", "state_features", "state_matrix", "fit_last_stage", "describe_shape"]
 
 #: Id of the last stage in the report's ``effects`` (never a catalogue id).
 RESIDUAL_ID = "residual_model"
@@ -101,7 +101,21 @@ def state_features(D: FitData) -> dict:
     }
 
 
-def _matrix(D: FitData, names) -> np.ndarray:
+def state_matrix(D: FitData, names) -> np.ndarray:
+    """The states ``names`` as the columns of one matrix (the time since reversal as log10 of s + 1 ms).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    names : sequence of str
+        :data:`FEATURES` names.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(D.n, len(names))`` in the units of :data:`FEATURES` (``since_reversal`` as log10 s).
+    """
     f = state_features(D)
     cols = [np.log10(np.asarray(f[k], float) + 1e-3) if k == "since_reversal" else np.asarray(f[k], float) for k in names]
     return np.column_stack(cols)
@@ -138,7 +152,7 @@ class ResidualModel:
         numpy.ndarray
             ``(D.n,)`` force, N (added to the parametric model's force).
         """
-        out = np.asarray(self.model.predict(_matrix(D, self.states)), float)
+        out = np.asarray(self.model.predict(state_matrix(D, self.states)), float)
         return np.where(np.isfinite(out), out, 0.0)
 
     def to_dict(self) -> dict:
@@ -265,7 +279,7 @@ def _fit(D, plan, train_fit, final_fit, noise_N, settings, learner) -> LastStage
             f"not tried: the held-out RMS {before:.3g} N is within {settings.last_stage_gate:g} x the noise floor {noise_N:.3g} N "
             f"and the leftover learner predicts little of the residual"))
     names = list(FEATURES)
-    X = _matrix(D, names)
+    X = state_matrix(D, names)
     fit_rows = _rows(np.flatnonzero(tr_mask), settings.last_stage_rows, seed + 12)
     m = _hgb(seed).fit(X[fit_rows], res[fit_rows])
     pred_te = np.asarray(m.predict(X[te_mask]), float)

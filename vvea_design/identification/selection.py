@@ -46,6 +46,8 @@ from .effects.force_lag import ZETA_RANGE, ForceFilter, filter_id
 from .effects.library import select_terms, states_id
 from .fit_data import FitData
 from .fitting import ModelFit, fit_model, relief_context
+from .general import fold_residuals, general_sse, name_evidence
+from .last_stage import FEATURES
 from .least_squares import blocks, extend_blocks, solve_bounded
 from .noise import noise_floor_N
 from .report import Evidence, HeldOutStep
@@ -374,9 +376,11 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
             tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
             trials[c] = tri
             round_trials.append(tri)
-        del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
         settled |= {t.id for t in round_trials if _settles(t)}
         passing = [t for t in round_trials if t.evidence is not None and t.evidence.passes]
+        if settings.name_evidence:  # names from evidence: a catalogue name must beat general terms on the states
+            passing = _name_from_evidence(D, plan, passing, X0, base_blk, base_sse, settings, trials)
+        del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
         disc = [t for t in passing if not REGISTRY[t.id].catalogue]
         cat = [t for t in passing if REGISTRY[t.id].catalogue]
         best_disc = max(disc, key=lambda t: t.evidence.cv_gain) if disc else None
@@ -413,6 +417,38 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
                 cands = [c for c in cands if c != best.id]  # the filter it grew from is not tested again beside it
     sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
+
+
+def _name_from_evidence(D: FitData, plan: Plan, passing: list, X0, base_blk, base_sse, settings: DiagnoseSettings, trials: dict) -> list:
+    """The passing candidates, less the catalogue ones whose name general terms on the states refute (:mod:`.general`).
+
+    A refused catalogue candidate's evidence gets ``passes`` False and the reason; the others get the shares.
+    """
+    cat = [t for t in passing if REGISTRY[t.id].catalogue and REGISTRY[t.id].depends_on]
+    if not cat:
+        return passing
+    res = fold_residuals(D, X0, base_blk, plan)
+    seed = int(settings.seed)
+    memo: dict = {}
+
+    def sse(states):
+        key = tuple(states)
+        if key not in memo:
+            memo[key] = general_sse(D, plan, res, key, seed)
+        return memo[key]
+
+    all_sse = sse(tuple(FEATURES))
+    refused = set()
+    for t in cat:
+        states = tuple(REGISTRY[t.id].depends_on)
+        ne = name_evidence(base_sse, t.sse, sse(states), all_sse, plan.train, states, settings)
+        ev = t.evidence
+        new_ev = Evidence(**{**asdict(ev), "states_share": ne.states_share, "general_share": ne.general_share,
+                             "passes": bool(ev.passes and ne.ok), "reasons": ev.reasons + ((ne.reason,) if not ne.ok else ())})
+        trials[t.id] = _Trial(t.id, t.sse, t.shape, new_ev, t.fit, t.signature)
+        if not ne.ok:
+            refused.add(t.id)
+    return [trials[t.id] if t.id in trials and REGISTRY[t.id].catalogue else t for t in passing if t.id not in refused]
 
 
 def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray, xtol: float = 0.002):
@@ -511,8 +547,9 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
     """
     tr = plan.train
     n_tr = max(float(D.n_per_exp[tr].sum()), 1.0)
+    protected: set = set()  # catalogue terms that explain most of what the discovered corrections after them explain
     while True:
-        cat = list(sel)
+        cat = [e for e in sel if e not in protected]
         if not cat:
             return sel, cur
         full_sse = _cv_current(D, cur, plan)[3]
@@ -558,6 +595,9 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
                 c, fr = alt
                 why = [f"it covers the same structure as the catalogue effect {worst[0]}, which explains the held-out experiments "
                        f"as well (paired t <= {settings.name_t:g}): the catalogue name is kept"]
+            elif _catalogue_explains_most(D, plan, sel, cur, c, sse_c, settings):
+                protected.add(c)  # the discovered terms after it are corrections of its form, not a different cause
+                continue
         sel = [e for e in sel if e != c]
         cur = fr
         t0 = trials.get(c)
@@ -587,6 +627,33 @@ def _drop_discovered_instead(D: FitData, plan: Plan, sel, cur: ModelFit, c: str,
         if t <= settings.name_t and extra < settings.min_gain and (best is None or t < best[0]):
             best = (t, d, fd)
     return None if best is None else (best[1], best[2])
+
+
+def _catalogue_explains_most(D: FitData, plan: Plan, sel, cur: ModelFit, c: str, sse_c: np.ndarray, settings: DiagnoseSettings) -> bool:
+    """Whether the catalogue term ``c``, explained away by a discovered term accepted after it, is the main explanation.
+
+    For a discovered term ``d`` accepted after ``c``: without ``d``, ``c`` must remove at least
+    ``settings.keep_catalogue_share`` of the grouped-CV error that ``d`` removes without ``c`` (the catalogue
+    form explains most of the structure, ``d`` is a correction of its form: a gas curvature with a small
+    spring-polynomial correction); then ``c`` keeps its name beside ``d``. A ``d`` that covers other structure
+    leaves ``c``'s gain without it near zero and protects nothing.
+    """
+    later = [d for d in sel[sel.index(c) + 1:] if not REGISTRY[d].catalogue]
+    if not later or settings.keep_catalogue_share <= 0:
+        return False
+    tr = plan.train
+
+    def cv(effects):
+        f = fit_model(D, effects, experiments=tr, shapes={e: cur.shapes[e] for e in effects if e in cur.shapes})
+        return float(np.nansum(_cv_current(D, f, plan)[3][tr]))
+
+    wo_c = float(np.nansum(sse_c[tr]))
+    for d in later:
+        neither = cv(tuple(e for e in sel if e not in (c, d)))
+        by_c, by_d = neither - cv(tuple(e for e in sel if e != d)), neither - wo_c
+        if by_d > 0 and np.isfinite(by_c) and by_c >= settings.keep_catalogue_share * by_d:
+            return True
+    return False
 
 
 # ------------------------------------------------------------------ final fits
