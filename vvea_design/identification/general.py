@@ -36,7 +36,7 @@ from .fit_data import FitData, cached
 from .last_stage import FEATURES, state_matrix
 from .least_squares import solve_bounded
 
-__all__ = ["fold_residuals", "general_sse", "name_evidence", "NameEvidence"]
+__all__ = ["fold_residuals", "general_sse", "name_evidence", "NameEvidence", "noise_upper_bound"]
 
 #: Trees of the general term: small and quick (it is fitted once per fold and state set in a round).
 _HGB = dict(max_iter=60, learning_rate=0.2, max_leaf_nodes=15, min_samples_leaf=40, l2_regularization=1.0)
@@ -124,6 +124,44 @@ def _general_sse(D, plan, residuals, states, seed, HistGradientBoostingRegressor
         err = r[te] - np.where(np.isfinite(pred), pred, 0.0)
         sse[te_e] = np.bincount(D.exp[te], weights=err**2, minlength=D.n_exp)[te_e]
     return sse
+
+
+def noise_upper_bound(D: FitData, plan, seed: int = 0) -> float:
+    """An upper bound on the noise: the held-out RMS of eq. 14 + trees on all the states (grouped CV), N.
+
+    The periodogram floor (:func:`~vvea_design.identification.noise.noise_floor_N`) takes sharp structure
+    (friction that steps over a band of the stroke) for noise; what a general function of the states
+    leaves on experiments it was not fitted to is noise plus what no such function predicts, so it
+    bounds the noise from above.
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    plan : Plan
+        Training experiments and their folds.
+    seed : int
+        Seed of the trees and their rows.
+
+    Returns
+    -------
+    float
+        RMS over the training experiments' samples, N (inf when it cannot be formed).
+    """
+    from .fitting import fit_model
+
+    folds = np.unique(plan.folds[plan.train])
+    if len(folds) < 2:
+        return float("inf")
+    res = {}
+    for f in folds:
+        tr = plan.train[plan.folds[plan.train] != f]
+        r = D.y - fit_model(D, (), experiments=tr).predict(D)
+        res[int(f)] = np.where(np.isfinite(r), r, 0.0)
+    sse = general_sse(D, plan, res, tuple(FEATURES), seed)[plan.train]
+    n = float(D.n_per_exp[plan.train].sum())
+    v = float(np.sqrt(np.nansum(sse) / max(n, 1.0)))
+    return v if np.isfinite(v) and v > 0 else float("inf")
 
 
 class NameEvidence:

@@ -226,6 +226,21 @@ def _round_context(D, cur: ModelFit, plan: Plan) -> dict:
     return ctx
 
 
+def _blown(cand: str, rnd: int, n_folds: int, why: str, shape: float = np.nan) -> _Trial:
+    """A rejected trial for a candidate whose fit blows up or fails numerically: no gain is reported for it."""
+    ev = Evidence(rnd, float("nan"), float("nan"), 0, n_folds, 0, 0.0, 0.0, 0.0, False, None, False, (why,))
+    return _Trial(cand, None, shape, ev, None)
+
+
+def _score_safely(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
+    """:func:`_score`, with a candidate whose fit fails numerically (singular, overflowing, non-finite) rejected, with its reason."""
+    n_folds = len(np.unique(plan.folds[plan.train]))
+    try:
+        return _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
+    except (np.linalg.LinAlgError, ValueError, FloatingPointError, OverflowError, ZeroDivisionError) as exc:
+        return _blown(cand, rnd, n_folds, f"its fit fails numerically ({type(exc).__name__}: {str(exc)[:120]}): rejected, no gain reported")
+
+
 def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
     eff = REGISTRY[cand]
     ctx_c = relief_context(D, cur.effects + (cand,), plan.train, cur.shapes, start=ctx) if eff.replaces_damping else ctx
@@ -239,8 +254,7 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
     if blown:  # a candidate fit that blows up numerically is rejected with its reason, never scored by its gain
         why = (f"its cross-validated fit blows up numerically (held-out mean square {np.nansum(new_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 "
                f"against {np.sum(base_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 without it): rejected")
-        ev = Evidence(rnd, float("nan"), float("nan"), 0, len(np.unique(plan.folds[tr])), 0, 0.0, 0.0, 0.0, False, None, False, (why,))
-        return _Trial(cand, None, shape, ev, None)
+        return _blown(cand, rnd, len(np.unique(plan.folds[tr])), why, shape)
     d = base_sse[tr] - new_sse[tr]
     gain = float(d.sum() / max(base_sse[tr].sum(), 1e-300))
     sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
@@ -373,7 +387,7 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
             if c in sel or c in settled:
                 continue
             say(f"round {rnd}: testing {c}")
-            tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
+            tri = _score_safely(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
             trials[c] = tri
             round_trials.append(tri)
         settled |= {t.id for t in round_trials if _settles(t)}
