@@ -54,7 +54,7 @@ def test_the_candidates_keep_their_order():
     round goes to the first)."""
     assert EFFECT_IDS == ("gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction",
                           "leakage")
-    assert DISCOVERY_IDS == ("force_lag", "force_filter_lag", "damping_lag", "series_compliance", "motion_memory", "presliding_hysteresis", "position_ripple",
+    assert DISCOVERY_IDS == ("force_lag", "force_filter_lag", "damping_lag", "motion_memory", "presliding_hysteresis", "position_ripple",
                              "time_ripple", "direction_stiffness", "spring_polynomial", "charge_curvature", "pressure_damping",
                              "friction_along_stroke", "campaign_trend")
     assert tuple(REGISTRY) == EFFECT_IDS + DISCOVERY_IDS

@@ -147,22 +147,3 @@ def test_a_candidate_whose_fit_blows_up_is_rejected_without_a_gain(monkeypatch, 
     assert ev is not None and ev.passes is False
     assert not np.isfinite(ev.cv_gain) or ev.cv_gain > -10.0  # never a gain like -1e19
     assert any("numerically" in r for r in ev.reasons)
-
-
-# ------------------------------------------------------------------ series compliance (a Maxwell element)
-def test_series_compliance_lags_the_stiffer_valves_longer():
-    D = _data(_frame(seed=19))
-    eff = REGISTRY["series_compliance"]
-    f = fit_model(D, ()).context(D)["damping_force_N"]
-    ctx = {"damping_force_N": f}
-    grid = eff.grid(D, ctx)
-    assert len(grid) > 3 and np.all(np.isfinite(grid)) and np.all(grid > 0)
-    col = eff.columns(D, float(grid[len(grid) // 2]), ctx)[:, 0]
-    assert col.shape == (D.n,) and np.all(np.isfinite(col))
-    # relative size of the lag column per valve: the stiffer the throttle, the larger the share of its force that lags
-    share = {}
-    for v in np.unique(D.valve):
-        m = (D.valve == v) & (np.abs(f) > 1e-6)
-        share[v] = float(np.sqrt(np.mean(col[m] ** 2)) / np.sqrt(np.mean(f[m] ** 2)))
-    vals = [share[v] for v in sorted(share)]
-    assert vals[-1] > vals[0]
