@@ -217,7 +217,9 @@ def name_evidence(base_sse: np.ndarray, cat_sse: np.ndarray, same_sse: np.ndarra
         return NameEvidence(True, "", float("nan"), float("nan"), 0.0)
     g_cat, g_same, g_all = (float(b.sum() - z.sum()) for z in (c, s, a))
     words = ", ".join(FEATURES[k][0] for k in states)
-    states_share = g_same / g_all if g_all > 0 else 1.0
+    # the formula is itself a function of its states: what it removes is a lower bound on what they carry
+    # (trees on few states can fail in CV where the formula does not: stiction at the low speeds of a reversal)
+    states_share = max(g_same, g_cat) / g_all if g_all > 0 else 1.0
     general_share = g_cat / g_same if g_same > 0 else 1.0
     t = _paired_t(c, s)
     if g_all > 0 and states_share < settings.name_states_share:
