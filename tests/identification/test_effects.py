@@ -55,7 +55,7 @@ def test_the_candidates_keep_their_order():
     assert EFFECT_IDS == ("gas_nonlinearity", "thermal", "quadratic_damping", "relief_valve", "stiction", "pressure_friction",
                           "leakage")
     assert DISCOVERY_IDS == ("force_lag", "force_filter_lag", "damping_lag", "motion_memory", "presliding_hysteresis", "position_ripple",
-                             "time_ripple", "direction_stiffness", "spring_polynomial", "pressure_damping",
+                             "time_ripple", "direction_stiffness", "spring_polynomial", "charge_curvature", "pressure_damping",
                              "friction_along_stroke", "campaign_trend")
     assert tuple(REGISTRY) == EFFECT_IDS + DISCOVERY_IDS
     assert DiagnoseSettings().candidates == EFFECT_IDS and DiagnoseSettings().discovery == DISCOVERY_IDS

@@ -39,6 +39,7 @@ from ..spring.gas_spring import GasSpring
 from ..spring.paper import PAPER_FIG5
 from .fit_data import REFERENCE_NOTE, REST_REASON, FitData
 from .fitting import fit_model
+from .general import noise_upper_bound
 from .guard import failed_checks, heldout_guard, unaccept
 from .last_stage import RESIDUAL_ID, fit_last_stage
 from .noise import NOISE_METHOD, learner_check, noise_floor_N, residual_map
@@ -115,6 +116,9 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
     say("baseline eq. 14 and noise floor")
     base_train = fit_model(D, (), experiments=plan.train)
     noise0 = noise_floor_N(D, D.y - base_train.predict(D))
+    # sharp structure must not pass for noise: eq. 14 + trees on the states bound it (held-out RMS)
+    bound = noise_upper_bound(D, plan, int(settings.seed)) if settings.noise_bound and plan.can_select else float("inf")
+    noise0 = min(noise0, bound)
     say("selection")
     sel, shapes, trials = select_effects(D, plan, noise0, settings, say)
     say("held-out guard and final fits")
@@ -130,7 +134,7 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
         sel = [e for e in sel if e not in bad]
     res_b = D.y - baseline.predict(D)
     res_f = D.y - final.predict(D)
-    noise = noise_floor_N(D, res_f)
+    noise = min(noise_floor_N(D, res_f), bound)
     held = HeldOut(
         len(plan.test) > 0, hsteps[0].rmse_N, hsteps[-1].rmse_N, hsteps, tuple(int(e) for e in plan.test),
         f"{len(plan.test)} experiments (~{100 * settings.test_fraction:.0f} % of each valve, seed {settings.seed}) held out of selection and fitting"
@@ -141,6 +145,8 @@ def _diagnose(rec, settings, progress, reference) -> Diagnosis:
     say("last stage")
     last = fit_last_stage(D, plan, steps[-1], final, noise, settings, learner)
     if last.accepted:
+        # what the stage leaves on held-out experiments bounds the noise too (a floor inflated by sharp structure is revised)
+        noise = min(noise, last.heldout_after_N) if last.heldout_after_N is not None and last.heldout_after_N > 0 else noise
         hsteps = hsteps + (HeldOutStep(f"+ {RESIDUAL_ID}", tuple(sel) + (RESIDUAL_ID,), last.heldout_after_N),)
         held = HeldOut(held.assessable, held.baseline_N, last.heldout_after_N, hsteps, held.test_experiments, held.method)
     where_b, where_f = residual_map(D, res_b, noise), residual_map(D, res_f, noise)

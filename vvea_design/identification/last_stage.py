@@ -27,13 +27,15 @@ import numpy as np
 
 from .fit_data import FitData
 
-__all__ = ["FEATURES", "RESIDUAL_ID", "ResidualModel", "LastStage", "state_features", "fit_last_stage", "describe_shape"]
+__all__ = ["FEATURES", "RESIDUAL_ID", "ResidualModel", "LastStage", "state_features", "state_matrix", "fit_last_stage", "describe_shape"]
 
 #: Id of the last stage in the report's ``effects`` (never a catalogue id).
 RESIDUAL_ID = "residual_model"
 
 #: Low-pass time constant of the filtered velocity, s (a general "recent motion" history, not a fitted lag).
 FILTER_TAU_S = 0.2
+#: Shorter and longer low-pass histories of the velocity, s (a decade around :data:`FILTER_TAU_S`'s order).
+FILTER_SHORT_S, FILTER_LONG_S = 0.05, 1.0
 
 #: Feature name -> (meaning, unit).
 FEATURES: dict = {
@@ -47,6 +49,8 @@ FEATURES: dict = {
     "since_reversal": ("the time since the last reversal", "s"),
     "distance_since_reversal": ("the distance travelled since the last reversal", "mm"),
     "filtered_velocity": (f"the velocity low-pass filtered over {FILTER_TAU_S:g} s", "mm/s"),
+    "filtered_velocity_short": (f"the velocity low-pass filtered over {FILTER_SHORT_S:g} s", "mm/s"),
+    "filtered_velocity_long": (f"the velocity low-pass filtered over {FILTER_LONG_S:g} s", "mm/s"),
     "campaign_order": ("the campaign order (campaign time)", "s"),
 }
 
@@ -86,22 +90,38 @@ def state_features(D: FitData) -> dict:
         anchor[1:] |= (s[1:] != s[:-1]) & (s[1:] != 0)
     idx = np.maximum.accumulate(np.where(anchor, np.arange(D.n), 0))
     dist = np.abs(D.x - D.x[idx])
-    vf = np.empty(D.n)
+    vf = {tau: np.empty(D.n) for tau in (FILTER_TAU_S, FILTER_SHORT_S, FILTER_LONG_S)}
     for a, b in zip(starts, ends):
         dt = float(np.median(np.diff(D.t[a:b]))) if b - a > 1 else 0.0
-        if not np.isfinite(dt) or dt <= 0:
-            vf[a:b] = D.v[a:b]
-            continue
-        k = dt / (FILTER_TAU_S + dt)
-        vf[a:b] = lfilter([k], [1.0, k - 1.0], D.v[a:b], zi=[(1.0 - k) * D.v[a]])[0]
+        for tau, out in vf.items():
+            if not np.isfinite(dt) or dt <= 0:
+                out[a:b] = D.v[a:b]
+                continue
+            k = dt / (tau + dt)
+            out[a:b] = lfilter([k], [1.0, k - 1.0], D.v[a:b], zi=[(1.0 - k) * D.v[a]])[0]
     return {
         "position": D.x, "velocity": D.v, "speed": np.abs(D.v), "direction": s, "charge": D.p2,
         "valve": D.valve, "time_in_experiment": D.t, "since_reversal": D.tsr, "distance_since_reversal": dist,
-        "filtered_velocity": vf, "campaign_order": D.ctime,
+        "filtered_velocity": vf[FILTER_TAU_S], "filtered_velocity_short": vf[FILTER_SHORT_S],
+        "filtered_velocity_long": vf[FILTER_LONG_S], "campaign_order": D.ctime,
     }
 
 
-def _matrix(D: FitData, names) -> np.ndarray:
+def state_matrix(D: FitData, names) -> np.ndarray:
+    """The states ``names`` as the columns of one matrix (the time since reversal as log10 of s + 1 ms).
+
+    Parameters
+    ----------
+    D : FitData
+        The campaign.
+    names : sequence of str
+        :data:`FEATURES` names.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(D.n, len(names))`` in the units of :data:`FEATURES` (``since_reversal`` as log10 s).
+    """
     f = state_features(D)
     cols = [np.log10(np.asarray(f[k], float) + 1e-3) if k == "since_reversal" else np.asarray(f[k], float) for k in names]
     return np.column_stack(cols)
@@ -138,7 +158,7 @@ class ResidualModel:
         numpy.ndarray
             ``(D.n,)`` force, N (added to the parametric model's force).
         """
-        out = np.asarray(self.model.predict(_matrix(D, self.states)), float)
+        out = np.asarray(self.model.predict(state_matrix(D, self.states)), float)
         return np.where(np.isfinite(out), out, 0.0)
 
     def to_dict(self) -> dict:
@@ -265,7 +285,7 @@ def _fit(D, plan, train_fit, final_fit, noise_N, settings, learner) -> LastStage
             f"not tried: the held-out RMS {before:.3g} N is within {settings.last_stage_gate:g} x the noise floor {noise_N:.3g} N "
             f"and the leftover learner predicts little of the residual"))
     names = list(FEATURES)
-    X = _matrix(D, names)
+    X = state_matrix(D, names)
     fit_rows = _rows(np.flatnonzero(tr_mask), settings.last_stage_rows, seed + 12)
     m = _hgb(seed).fit(X[fit_rows], res[fit_rows])
     pred_te = np.asarray(m.predict(X[te_mask]), float)

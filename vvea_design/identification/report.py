@@ -99,6 +99,10 @@ class Evidence:
     vs_best_discovered_t: float | None  #: paired t by which the best discovery operator beats this catalogue effect
     passes: bool
     reasons: tuple = ()
+    #: catalogue names from evidence (:mod:`.general`): share of the all-states trees' held-out gain that trees on the formula's states reach
+    states_share: float | None = None
+    #: ... and share of the same-states trees' held-out gain that the formula reaches
+    general_share: float | None = None
 
     def to_dict(self) -> dict:
         """The evidence as JSON.

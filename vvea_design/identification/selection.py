@@ -46,6 +46,8 @@ from .effects.force_lag import ZETA_RANGE, ForceFilter, filter_id
 from .effects.library import select_terms, states_id
 from .fit_data import FitData
 from .fitting import ModelFit, fit_model, relief_context
+from .general import fold_residuals, general_sse, name_evidence
+from .last_stage import FEATURES
 from .least_squares import blocks, extend_blocks, solve_bounded
 from .noise import noise_floor_N
 from .report import Evidence, HeldOutStep
@@ -224,6 +226,21 @@ def _round_context(D, cur: ModelFit, plan: Plan) -> dict:
     return ctx
 
 
+def _blown(cand: str, rnd: int, n_folds: int, why: str, shape: float = np.nan) -> _Trial:
+    """A rejected trial for a candidate whose fit blows up or fails numerically: no gain is reported for it."""
+    ev = Evidence(rnd, float("nan"), float("nan"), 0, n_folds, 0, 0.0, 0.0, 0.0, False, None, False, (why,))
+    return _Trial(cand, None, shape, ev, None)
+
+
+def _score_safely(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
+    """:func:`_score`, with a candidate whose fit fails numerically (singular, overflowing, non-finite) rejected, with its reason."""
+    n_folds = len(np.unique(plan.folds[plan.train]))
+    try:
+        return _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
+    except (np.linalg.LinAlgError, ValueError, FloatingPointError, OverflowError, ZeroDivisionError) as exc:
+        return _blown(cand, rnd, n_folds, f"its fit fails numerically ({type(exc).__name__}: {str(exc)[:120]}): rejected, no gain reported")
+
+
 def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd) -> _Trial:
     eff = REGISTRY[cand]
     ctx_c = relief_context(D, cur.effects + (cand,), plan.train, cur.shapes, start=ctx) if eff.replaces_damping else ctx
@@ -237,8 +254,7 @@ def _score(D, cur, cand, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd
     if blown:  # a candidate fit that blows up numerically is rejected with its reason, never scored by its gain
         why = (f"its cross-validated fit blows up numerically (held-out mean square {np.nansum(new_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 "
                f"against {np.sum(base_sse[tr]) / max(D.n_per_exp[tr].sum(), 1):.3g} N^2 without it): rejected")
-        ev = Evidence(rnd, float("nan"), float("nan"), 0, len(np.unique(plan.folds[tr])), 0, 0.0, 0.0, 0.0, False, None, False, (why,))
-        return _Trial(cand, None, shape, ev, None)
+        return _blown(cand, rnd, len(np.unique(plan.folds[tr])), why, shape)
     d = base_sse[tr] - new_sse[tr]
     gain = float(d.sum() / max(base_sse[tr].sum(), 1e-300))
     sd = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
@@ -371,12 +387,14 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
             if c in sel or c in settled:
                 continue
             say(f"round {rnd}: testing {c}")
-            tri = _score(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
+            tri = _score_safely(D, cur, c, ctx, plan, base_sse, base_blk, X0, noise, settings, rnd)
             trials[c] = tri
             round_trials.append(tri)
-        del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
         settled |= {t.id for t in round_trials if _settles(t)}
         passing = [t for t in round_trials if t.evidence is not None and t.evidence.passes]
+        if settings.name_evidence:  # names from evidence: a catalogue name must beat general terms on the states
+            passing = _name_from_evidence(D, plan, passing, X0, base_blk, base_sse, settings, trials)
+        del ctx, X0, base_blk  # the round's design is not alive beside the refit and the next round's design
         disc = [t for t in passing if not REGISTRY[t.id].catalogue]
         cat = [t for t in passing if REGISTRY[t.id].catalogue]
         best_disc = max(disc, key=lambda t: t.evidence.cv_gain) if disc else None
@@ -413,6 +431,38 @@ def select_effects(D: FitData, plan: Plan, noise: float, settings: DiagnoseSetti
                 cands = [c for c in cands if c != best.id]  # the filter it grew from is not tested again beside it
     sel, cur = _backward_step(D, plan, sel, cur, noise, settings, trials)
     return sel, dict(cur.shapes), trials
+
+
+def _name_from_evidence(D: FitData, plan: Plan, passing: list, X0, base_blk, base_sse, settings: DiagnoseSettings, trials: dict) -> list:
+    """The passing candidates, less the catalogue ones whose name general terms on the states refute (:mod:`.general`).
+
+    A refused catalogue candidate's evidence gets ``passes`` False and the reason; the others get the shares.
+    """
+    cat = [t for t in passing if REGISTRY[t.id].catalogue and REGISTRY[t.id].depends_on]
+    if not cat:
+        return passing
+    res = fold_residuals(D, X0, base_blk, plan)
+    seed = int(settings.seed)
+    memo: dict = {}
+
+    def sse(states):
+        key = tuple(states)
+        if key not in memo:
+            memo[key] = general_sse(D, plan, res, key, seed)
+        return memo[key]
+
+    all_sse = sse(tuple(FEATURES))
+    refused = set()
+    for t in cat:
+        states = tuple(REGISTRY[t.id].depends_on)
+        ne = name_evidence(base_sse, t.sse, sse(states), all_sse, plan.train, states, settings)
+        ev = t.evidence
+        new_ev = Evidence(**{**asdict(ev), "states_share": ne.states_share, "general_share": ne.general_share,
+                             "passes": bool(ev.passes and ne.ok), "reasons": ev.reasons + ((ne.reason,) if not ne.ok else ())})
+        trials[t.id] = _Trial(t.id, t.sse, t.shape, new_ev, t.fit, t.signature)
+        if not ne.ok:
+            refused.add(t.id)
+    return [trials[t.id] if t.id in trials and REGISTRY[t.id].catalogue else t for t in passing if t.id not in refused]
 
 
 def refine_filter_damping(D: FitData, cur: ModelFit, eid: str, rows: np.ndarray, xtol: float = 0.002):
@@ -511,8 +561,9 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
     """
     tr = plan.train
     n_tr = max(float(D.n_per_exp[tr].sum()), 1.0)
+    protected: set = set()  # catalogue terms that explain most of what the discovered corrections after them explain
     while True:
-        cat = list(sel)
+        cat = [e for e in sel if e not in protected]
         if not cat:
             return sel, cur
         full_sse = _cv_current(D, cur, plan)[3]
@@ -558,6 +609,9 @@ def _backward_step(D: FitData, plan: Plan, sel: list, cur: ModelFit, noise: floa
                 c, fr = alt
                 why = [f"it covers the same structure as the catalogue effect {worst[0]}, which explains the held-out experiments "
                        f"as well (paired t <= {settings.name_t:g}): the catalogue name is kept"]
+            elif _catalogue_explains_most(D, plan, sel, cur, c, sse_c, settings):
+                protected.add(c)  # the discovered terms after it are corrections of its form, not a different cause
+                continue
         sel = [e for e in sel if e != c]
         cur = fr
         t0 = trials.get(c)
@@ -587,6 +641,33 @@ def _drop_discovered_instead(D: FitData, plan: Plan, sel, cur: ModelFit, c: str,
         if t <= settings.name_t and extra < settings.min_gain and (best is None or t < best[0]):
             best = (t, d, fd)
     return None if best is None else (best[1], best[2])
+
+
+def _catalogue_explains_most(D: FitData, plan: Plan, sel, cur: ModelFit, c: str, sse_c: np.ndarray, settings: DiagnoseSettings) -> bool:
+    """Whether the catalogue term ``c``, explained away by a discovered term accepted after it, is the main explanation.
+
+    For a discovered term ``d`` accepted after ``c``: without ``d``, ``c`` must remove at least
+    ``settings.keep_catalogue_share`` of the grouped-CV error that ``d`` removes without ``c`` (the catalogue
+    form explains most of the structure, ``d`` is a correction of its form: a gas curvature with a small
+    spring-polynomial correction); then ``c`` keeps its name beside ``d``. A ``d`` that covers other structure
+    leaves ``c``'s gain without it near zero and protects nothing.
+    """
+    later = [d for d in sel[sel.index(c) + 1:] if not REGISTRY[d].catalogue]
+    if not later or settings.keep_catalogue_share <= 0:
+        return False
+    tr = plan.train
+
+    def cv(effects):
+        f = fit_model(D, effects, experiments=tr, shapes={e: cur.shapes[e] for e in effects if e in cur.shapes})
+        return float(np.nansum(_cv_current(D, f, plan)[3][tr]))
+
+    wo_c = float(np.nansum(sse_c[tr]))
+    for d in later:
+        neither = cv(tuple(e for e in sel if e not in (c, d)))
+        by_c, by_d = neither - cv(tuple(e for e in sel if e != d)), neither - wo_c
+        if by_d > 0 and np.isfinite(by_c) and by_c >= settings.keep_catalogue_share * by_d:
+            return True
+    return False
 
 
 # ------------------------------------------------------------------ final fits

@@ -21,6 +21,11 @@ class DiagnoseSettings:
     min_folds: int = 4  #: stability: the term improves at least this many folds (of n_folds)
     min_snr: float = 0.25  #: minimum effect RMS / residual RMS
     name_t: float = 2.0  #: a catalogue effect loses its name when a discovery operator is better by this paired t
+    noise_bound: bool = True  #: the noise floor is at most the grouped-CV RMS of eq. 14 + trees on the states (identification.general)
+    name_evidence: bool = True  #: a catalogue name must beat general terms on the states (identification.general)
+    name_states_share: float = 0.2  #: ... trees on the formula's states reach this share of what trees on all states reach
+    name_general_share: float = 0.75  #: ... and the formula this share of what trees on its states reach (unless not significant, paired t <= name_t)
+    keep_catalogue_share: float = 0.8  #: backward step: a catalogue term explained away by discovered terms after it stays when, without them, it removes this share of what they remove without it
     keep_noise: float = 0.5  #: backward step: an accepted term stays only if its force RMS is at least keep_noise x the noise floor and, beside all other accepted terms, it lowers the held-out mean square by at least (keep_noise x noise floor)^2 and still passes the gain, consistency and fold tests
     guard_min_drop_N: float = 0.0  #: held-out guard: a kept term lowers the held-out RMS by more than this (N)
     max_effects: int = 6  #: at most this many accepted terms

@@ -107,6 +107,10 @@ class Effect:
     shape_xtol: float = 1e-3  #: tolerance of the shape refinement (log units when log_shape)
     #: parameters fitted per experiment on that experiment's own data (held-out error is charged for them)
     nuisance_per_experiment: int = 0
+    #: (class attribute, not a field) the measured states the formula's force depends on
+    #: (:data:`~vvea_design.identification.last_stage.FEATURES` names): a catalogue name must beat a general
+    #: function of exactly these states (:mod:`~vvea_design.identification.general`); empty: not compared
+    depends_on = ()
 
     # -- fitting ---------------------------------------------------------
     def params(self, D: FitData) -> tuple:

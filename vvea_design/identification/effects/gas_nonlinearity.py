@@ -65,6 +65,8 @@ def chamber_remainders(x: np.ndarray, V2_mm3: float, reference: GasSpring = PAPE
 
 @dataclass(frozen=True)
 class GasNonlinearity(Effect):
+    depends_on = ("position", "charge")  #: the states its force depends on (names from evidence)
+
     def grid(self, D, ctx):
         # effective chamber-2 volume: from just above the swept volume to 10 x it
         A2, travel = D.reference.A2_mm2, D.travel_mm

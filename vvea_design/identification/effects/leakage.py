@@ -20,6 +20,8 @@ RANK = 70
 
 @dataclass(frozen=True)
 class Leakage(Effect):
+    depends_on = ("charge", "campaign_order", "position")  #: the states its force depends on (names from evidence)
+
     def columns(self, D, _, ctx):
         # the charge falls over campaign time t_c: every part of the spring force that scales with the
         # charge falls with it -- the chamber-2 preload (offset), the stiffness, and each chamber's

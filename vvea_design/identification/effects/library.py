@@ -62,7 +62,7 @@ _FAMILY = {"tc": "tc", "tc2": "tc", "start0.1": "start", "start0.3": "start", "s
 #: Terms that eq. 14 already holds (or a sum of its columns): never library terms.
 _IN_EQ14 = {"dir", "spring", "damp", "p*x", "dir*speed"}
 #: The charge-borne curvature of the spring (charge x position products): the gas law's own family, which the
-#: catalogue's ``gas_nonlinearity`` and the ``spring_polynomial`` operator fit with the unit's geometry.
+#: catalogue's ``gas_nonlinearity`` (with the unit's geometry) and the ``charge_curvature`` operator fit.
 _GAS_FAMILY = {"x*p", "x2*p", "x*spring", "x2*spring", "p*spring"}
 #: A force that is a polynomial of the position alone (a spring outside the gas chambers): the ``spring_polynomial``
 #: operator's own family. Left out so that a library candidate does not bundle an ever-present spring curvature with the

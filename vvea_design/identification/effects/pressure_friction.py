@@ -17,6 +17,8 @@ RANK = 60
 
 @dataclass(frozen=True)
 class PressureFriction(Effect):
+    depends_on = ("charge", "direction")  #: the states its force depends on (names from evidence)
+
     def columns(self, D, _, ctx):
         return (D.p2 * D.s)[:, None]
 

@@ -17,6 +17,8 @@ RANK = 30
 
 @dataclass(frozen=True)
 class QuadraticDamping(Effect):
+    depends_on = ("velocity", "valve")  #: the states its force depends on (names from evidence)
+
     def params(self, D):
         return tuple(Param(f"K({v:g})", "N s^m/mm^m", 0.0, np.inf, f"orifice damping at valve {v:g} deg") for v in D.valves)
 

@@ -17,6 +17,8 @@ RANK = 40
 
 @dataclass(frozen=True)
 class ReliefValve(Effect):
+    depends_on = ("velocity", "valve")  #: the states its force depends on (names from evidence)
+
     def grid(self, D, ctx):
         damp = ctx.get("damping_force_N")
         if damp is None or D.n_exp == 0:

@@ -17,6 +17,8 @@ RANK = 50
 
 @dataclass(frozen=True)
 class Stiction(Effect):
+    depends_on = ("velocity",)  #: the states its force depends on (names from evidence)
+
     def grid(self, D, ctx):
         return np.geomspace(0.02, 3.0, 9)
 

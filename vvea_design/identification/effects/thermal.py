@@ -41,6 +41,8 @@ def _chamber_logs(D: FitData):
 
 @dataclass(frozen=True)
 class Thermal(Effect):
+    depends_on = ("position", "velocity", "charge", "since_reversal", "distance_since_reversal", "filtered_velocity")  #: the states its force depends on (names from evidence)
+
     def grid(self, D, ctx):
         return np.geomspace(0.1, 50.0, 10)
 
