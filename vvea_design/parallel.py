@@ -433,14 +433,13 @@ def parallel_map(
                     _done(index[fut.key], fut.result())
         else:
             n = default_workers() if workers is None else check_count("workers", workers, "workers", ValueError)
-            if n == 1 or len(work) == 1:
-                handle = getattr(_LOCAL, "handle", None)
+            handle = getattr(_LOCAL, "handle", None)
+            if handle is None and (n == 1 or len(work) == 1):  # beside a busy thread: always in a worker
                 for i, item in enumerate(work):
                     if handle is not None and handle.cancelled.is_set():
                         raise Terminated(f"{description}: cancelled")
                     _done(i, func(item))
             else:
-                handle = getattr(_LOCAL, "handle", None)
                 ctx = None if handle is None else handle.context
                 pool = ProcessPoolExecutor(max_workers=min(n, len(work)), initializer=_die_with_parent,
                                            initargs=(None if ctx is not None else os.getpid(),), mp_context=ctx)

@@ -201,7 +201,7 @@ def design_unit(
     safety_mesh_n : int, optional
         Collocation intervals of the actuator study's torque steps (None: 100, clustered at the step).
     workers : int, optional
-        Worker processes of the actuator study (None: all cores).
+        Worker processes of the actuator study (None: all cores but one, which the CAD beside it uses; at least 1).
     study_target_K_Nm_per_rad : float, optional
         Joint stiffness (N m/rad) at which the actuator study compares the design with an SEA of the same K
         (None: the paper's 362); the study's second run is at full charge.
@@ -255,8 +255,8 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
     """Every step of :func:`design_unit` into ``out``, each through its job.
 
     The actuator study needs only the design: it runs in a thread beside the CAD, the FE and the bladder check
-    (its solves in worker processes started from a fork server, :func:`vvea_design.parallel.clean_workers`), and
-    the ``actuator_study`` step waits for it. Its time in ``seconds`` is its own run, overlapping those steps.
+    (its solves in worker processes started from a fork server, :func:`vvea_design.parallel.clean_workers`; all
+    cores but the one the CAD uses unless ``workers`` says otherwise), and the ``actuator_study`` step waits for it. Its time in ``seconds`` is its own run, overlapping those steps.
     """
     step = _Steps(progress)
     files: dict[str, Path] = {}
@@ -269,6 +269,10 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
     with step("actuator"):  # before the study, which writes into the same folder
         act = _write_actuator(res.design.gas_spring, out / "actuator")
         files["actuator_json"] = out / "actuator" / "actuator.json"
+    if study is not None and study.get("workers") is None:  # the CAD's thread keeps one core for itself
+        from .parallel import default_workers
+
+        study = {**study, "workers": max(1, default_workers() - 1)}
     with _beside(run_design_study if study is not None else None, res.design, out=out / "actuator",
                  **(study or {})) as study_run:
         cad_set = None

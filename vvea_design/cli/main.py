@@ -232,8 +232,8 @@ def design(
     safety_mesh_n: Optional[int] = typer.Option(None, "--safety-mesh-n",
                                                 help="collocation intervals of the torque steps of the actuator "
                                                      "study (default 100, clustered at the step)"),
-    workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study "
-                                                                  "(default: all cores)"),
+    workers: Optional[int] = typer.Option(None, "--workers", help="worker processes of the actuator study, which runs beside the CAD "
+                                                                  "(default: all cores but one, at least 1)"),
     study_target_k: Optional[float] = typer.Option(None, "--study-target-k",
                                                    help="joint stiffness (N m/rad) at which the actuator study "
                                                         "compares the design with an SEA (default the paper's 362)"),
