@@ -525,12 +525,13 @@ def figure(res: dict, path: Path) -> None:
     bx.bar(x - 0.2, [build[n]["build_cpu_s"] for n in names], 0.4, label="built from the expressions")
     bx.bar(x + 0.2, [build[n]["cached_cpu_s"] for n in names], 0.4, label="read from the disk cache")
     bx.set_xticks(x)
-    bx.set_xticklabels([n.replace("rest_to_rest ", "").split(" warm-start options")[0] +
+    bx.set_xticklabels([n.replace("rest_to_rest ", "").split(" warm-start options")[0].replace(" N=", "\nN=") +
                         ("\nwarm" if "warm-start" in n else "") for n in names],
                        fontsize=7)
     bx.set_ylabel("CPU s per process")
     bx.set_title("Solver build, once per process", fontsize=9)
-    bx.legend(fontsize=7)
+    bx.legend(fontsize=7, loc="upper left")
+    bx.set_ylim(0, 1.3 * max([build[n]["build_cpu_s"] for n in names] or [1.0]))
     if "full" in res:
         cx = axes[2]
         items = [(k, v) for k, v in res["full"].items() if "wall_s" in v]
@@ -539,13 +540,14 @@ def figure(res: dict, path: Path) -> None:
             cx.plot([v["target_s"]] * 2, [i - 0.4, i + 0.4], color="red")
             cx.text(v["wall_s"], i, f" {v['wall_s']:.1f} s (load {v['load_before'][0]})", va="center", fontsize=7)
         cx.set_yticks(range(len(items)))
-        cx.set_yticklabels([k for k, _ in items], fontsize=7)
+        cx.set_yticklabels([k.replace("_", " ").replace(", ", ",\n") for k, _ in items], fontsize=7)
         cx.set_xscale("log")
+        cx.set_xlim(right=8 * max(v["wall_s"] for _, v in items))  # room for the value labels
         cx.set_xlabel("wall time (s); red: target")
         cx.set_title("Targets (meaningful only on an idle machine)", fontsize=9)
     fig.suptitle(f"bench_ocp: {res['machine']['cores']} cores, load at start {res['machine']['load_start']}",
                  fontsize=9)
-    fig.subplots_adjust(left=0.06, right=0.98, bottom=0.2, top=0.85, wspace=0.45 if panels == 3 else 0.3)
+    fig.subplots_adjust(left=0.06, right=0.98, bottom=0.2, top=0.85, wspace=0.6 if panels == 3 else 0.3)
     fig.savefig(path, dpi=120)
 
 
