@@ -97,7 +97,12 @@ class SchedulerUnreachable(ValueError):
 def _lost_workers(pool: ProcessPoolExecutor) -> list[tuple[int, int | None]]:
     """(pid, exit code) of the pool's workers that ended on their own (not the pool's SIGTERM to the rest)."""
     procs = dict(getattr(pool, "_processes", None) or {})
-    ended = [(pid, p.exitcode) for pid, p in procs.items() if p.exitcode not in (None, 0)]
+    deadline = time.monotonic() + 2.0  # the pool broke because a worker ended: its exit code may lag a moment
+    while True:
+        ended = [(pid, p.exitcode) for pid, p in procs.items() if p.exitcode not in (None, 0)]
+        if ended or not procs or time.monotonic() > deadline:
+            break
+        time.sleep(0.05)
     first = [w for w in ended if w[1] != -signal.SIGTERM]
     return first or ended
 
