@@ -41,8 +41,7 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 __all__ = ["parallel_map", "default_workers", "Terminated", "WorkerLost", "SchedulerUnreachable", "check_scheduler",
-           "note_interrupt", "interrupt_noted", "clean_workers",
-           "WorkersHandle"]
+           "note_interrupt", "interrupt_noted", "clean_workers", "WorkersHandle"]
 
 #: Set by the command line's SIGINT handler: a solver that swallows the KeyboardInterrupt its signal check raised
 #: (CasADi's IPOPT returns ``NonIpopt_Exception_Thrown``) can still tell that the user pressed Ctrl-C.
@@ -237,7 +236,7 @@ class WorkersHandle:
             _stop_now(pool)
 
     def cancel(self) -> None:
-        """Stop the block's work: its running pools' workers end now, a serial loop stops before its next item.
+        """Stop the block's work: its running pools' workers end now (inside the block every map runs in a pool).
 
         Returns
         -------
@@ -441,8 +440,6 @@ def parallel_map(
             handle = getattr(_LOCAL, "handle", None)
             if handle is None and (n == 1 or len(work) == 1):  # beside a busy thread: always in a worker
                 for i, item in enumerate(work):
-                    if handle is not None and handle.cancelled.is_set():
-                        raise Terminated(f"{description}: cancelled")
                     _done(i, func(item))
             else:
                 ctx = None if handle is None else handle.context

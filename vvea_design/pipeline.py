@@ -256,7 +256,8 @@ def _write_unit(req: Requirements, out: Path, *, seed: int, renders: bool, cad: 
 
     The actuator study needs only the design: it runs in a thread beside the CAD, the FE and the bladder check
     (its solves in worker processes started from a fork server, :func:`vvea_design.parallel.clean_workers`; all
-    cores but the one the CAD uses unless ``workers`` says otherwise), and the ``actuator_study`` step waits for it. Its time in ``seconds`` is its own run, overlapping those steps.
+    cores but the one the CAD uses unless ``workers`` says otherwise), and the ``actuator_study`` step waits for
+    it. Its time in ``seconds`` is its own run, overlapping those steps.
     """
     step = _Steps(progress)
     files: dict[str, Path] = {}

@@ -549,7 +549,7 @@ def _polish(prob, x0: np.ndarray, bounds) -> tuple[np.ndarray, bool]:
     A point that cannot be drawn has every margin at -1 (flat: no gradient), and SLSQP may wander there for
     hundreds of iterations without finding its way back (the ring tables' windows and series make such pockets
     common). A polish whose iterates stay undrawable for :data:`UNDRAWABLE_RUN` iterations running is abandoned
-    (the start is kept); no feasible polish seen needed more than 7 such iterations in a row.
+    (the start is kept); the polishes that end feasible on the examples pass through shorter runs.
     """
     lo = np.array([b[0] for b in bounds])
     hi = np.array([b[1] for b in bounds])
